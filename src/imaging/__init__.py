@@ -1,0 +1,1 @@
+"""imaging: port background, radiometry, atmosphere, sensor, metrics."""

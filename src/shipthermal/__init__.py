@@ -1,0 +1,1 @@
+"""shipthermal: finite-volume thermal solver for ships."""
