@@ -1,0 +1,314 @@
+"""Environment of a ship at sea: sun, weather, sky, sea and convection.
+
+Modules (one physical process each):
+
+* :mod:`.sun`         — SPA sun position, clear-sky / cloudy / measured irradiance;
+* :mod:`.weather`     — the :class:`Weather` record, CSV / EPW / TMY3 readers, interpolation;
+* :mod:`.climatology` — built-in Dalian summer and winter design days, sourced;
+* :mod:`.sky`         — sky emissivity, long-wave down, sky temperature;
+* :mod:`.sea`         — SST diurnal cycle, sea emissivity, sea-leaving radiation, albedo;
+* :mod:`.convection`  — forced / natural / mixed convection in air and sea water.
+
+:class:`Environment` wires them: for any array of times it returns the sun vector
+(East-North-Up), DNI, DHI, air temperature, long-wave down, SST and the wind relative
+to the moving ship (:class:`EnvironmentState`). It does no ray tracing: shadows and
+view factors belong to the ship/tracing stage.
+
+Example
+-------
+>>> from shipthermal.environment import Environment, climate_day
+>>> env = Environment.from_climate_day(climate_day("summer"), ship_heading=90.0)
+>>> state = env.at(np.arange(0, 86400, 1800.0))   # seconds after local midnight
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Optional
+
+import numpy as np
+import pandas as pd
+
+from shipthermal.errors import InputError, check_range, require
+from shipthermal.units import SIGMA, ZERO_CELSIUS
+
+from . import climatology, convection, sea, sky, sun, weather
+from .climatology import ClimateDay, climate_day, dalian_summer, dalian_winter
+from .convection import relative_wind
+from .sea import SEA_EMISSIVITY
+from .weather import Weather, read_weather_csv, read_weather_epw, read_weather_tmy3
+
+__all__ = [
+    "Environment",
+    "EnvironmentState",
+    "Weather",
+    "ClimateDay",
+    "climate_day",
+    "dalian_summer",
+    "dalian_winter",
+    "read_weather_csv",
+    "read_weather_epw",
+    "read_weather_tmy3",
+    "sun",
+    "weather",
+    "climatology",
+    "sky",
+    "sea",
+    "convection",
+]
+
+
+@dataclasses.dataclass(frozen=True)
+class EnvironmentState:
+    """Environment at a set of times (all arrays of length n, SI units, kelvin).
+
+    Attributes
+    ----------
+    times : pandas.DatetimeIndex
+        The instants (tz-aware; for periodic weather, folded into the design day).
+    seconds : numpy.ndarray
+        Seconds after the environment start, as requested [s].
+    sun_vector : numpy.ndarray
+        (n, 3) unit vector toward the sun, x = East, y = North, z = Up [-].
+    zenith, azimuth : numpy.ndarray
+        Apparent solar zenith and azimuth (clockwise from north) [deg].
+    dni, dhi, ghi : numpy.ndarray
+        Direct normal, diffuse horizontal, global horizontal irradiance [W m-2]
+        (0 at night; ghi = dni cos(zenith) + dhi).
+    temp_air : numpy.ndarray
+        Air temperature [K].
+    relative_humidity : numpy.ndarray
+        [%].
+    cloud_cover : numpy.ndarray
+        [0-1].
+    longwave_down : numpy.ndarray
+        Downwelling sky long-wave on a horizontal surface [W m-2].
+    temp_sky : numpy.ndarray
+        Effective sky temperature ``(L_down / σ)^(1/4)`` [K].
+    temp_sea : numpy.ndarray
+        Sea surface temperature [K].
+    sea_emissivity : float
+        Hemispherical sea emissivity [-].
+    sea_longwave_up : numpy.ndarray
+        Long-wave leaving the sea (emitted + reflected sky) [W m-2].
+    sea_shortwave_up : numpy.ndarray
+        Short-wave reflected by the sea (albedo direct + diffuse) [W m-2].
+    wind_speed, wind_direction : numpy.ndarray
+        True wind [m s-1], [deg from N, blowing from].
+    wind_speed_relative, wind_direction_relative : numpy.ndarray
+        Apparent wind on the ship [m s-1], [deg from N, blowing from].
+    wind_angle_off_bow : numpy.ndarray
+        Apparent wind direction relative to the bow, clockwise [deg].
+    ship_speed : float
+        [m s-1].
+    ship_heading : float
+        [deg clockwise from N].
+    """
+
+    times: pd.DatetimeIndex
+    seconds: np.ndarray
+    sun_vector: np.ndarray
+    zenith: np.ndarray
+    azimuth: np.ndarray
+    dni: np.ndarray
+    dhi: np.ndarray
+    ghi: np.ndarray
+    temp_air: np.ndarray
+    relative_humidity: np.ndarray
+    cloud_cover: np.ndarray
+    longwave_down: np.ndarray
+    temp_sky: np.ndarray
+    temp_sea: np.ndarray
+    sea_emissivity: float
+    sea_longwave_up: np.ndarray
+    sea_shortwave_up: np.ndarray
+    wind_speed: np.ndarray
+    wind_direction: np.ndarray
+    wind_speed_relative: np.ndarray
+    wind_direction_relative: np.ndarray
+    wind_angle_off_bow: np.ndarray
+    ship_speed: float
+    ship_heading: float
+
+    def to_frame(self) -> pd.DataFrame:
+        """Scalar-per-time fields as a DataFrame (sun vector as sun_x/y/z)."""
+        cols = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)
+                if isinstance(getattr(self, f.name), np.ndarray)
+                and getattr(self, f.name).ndim == 1}
+        df = pd.DataFrame(cols, index=self.times)
+        for i, c in enumerate("xyz"):
+            df[f"sun_{c}"] = self.sun_vector[:, i]
+        return df
+
+
+class Environment:
+    """Wires sun, weather, sky, sea and ship motion for a location and date.
+
+    Parameters
+    ----------
+    latitude, longitude : float
+        Site [deg], north / east positive.
+    weather : Weather
+        Hourly (or any regular) record; periodic for a design day.
+    ship_heading : float
+        Heading, clockwise from north [deg].
+    ship_speed : float
+        Speed over ground [m s-1] (0 when moored).
+    altitude : float
+        Site height above sea level [m] (clear-sky air mass only).
+    date : str, optional
+        Local calendar date the (periodic) weather day represents; default: the
+        weather's first date. Not allowed for non-periodic weather (its times are real).
+    clear_sky_model : {'brutsaert', 'prata', 'swinbank'}
+        Clear-sky emissivity (used unless the weather has measured long-wave).
+    cloud_model : {'unsworth_monteith', 'crawford_duchon'}
+        Long-wave cloud correction.
+    decomposition : {'erbs', 'dirint'}
+        GHI split when the weather carries measured GHI.
+    linke_turbidity : float, optional
+        Override pvlib's Linke turbidity climatology [-].
+    sea_emissivity : float
+        Hemispherical sea emissivity [-].
+
+    Notes
+    -----
+    Times given to :meth:`at` as floats are seconds after :attr:`start` (local
+    midnight of ``date`` for periodic weather, else the first weather instant); for
+    periodic weather they are folded into the design day, so the sun and the weather
+    repeat exactly each day of a spin-up.
+    """
+
+    def __init__(self, latitude: float, longitude: float, weather: Weather,
+                 ship_heading: float = 0.0, ship_speed: float = 0.0, altitude: float = 0.0,
+                 date: Optional[str] = None, clear_sky_model: str = "brutsaert",
+                 cloud_model: str = "unsworth_monteith", decomposition: str = "erbs",
+                 linke_turbidity: Optional[float] = None,
+                 sea_emissivity: float = SEA_EMISSIVITY):
+        check_range("environment.latitude", latitude, -66.0, 66.0, "deg")
+        check_range("environment.longitude", longitude, -180.0, 360.0, "deg")
+        check_range("environment.ship_heading", ship_heading, -360.0, 720.0, "deg")
+        check_range("environment.ship_speed", ship_speed, 0.0, 30.0, "m/s")
+        check_range("environment.sea_emissivity", sea_emissivity, 0.5, 1.0)
+        require(isinstance(weather, Weather), "environment.weather", type(weather).__name__,
+                "must be a shipthermal.environment.Weather")
+        require(clear_sky_model in sky.CLEAR_SKY_MODELS, "environment.clear_sky_model",
+                clear_sky_model, f"must be one of {sorted(sky.CLEAR_SKY_MODELS)}")
+        require(cloud_model in sky.CLOUD_MODELS, "environment.cloud_model", cloud_model,
+                f"must be one of {sorted(sky.CLOUD_MODELS)}")
+        require(decomposition in ("erbs", "dirint"), "environment.decomposition",
+                decomposition, "must be 'erbs' or 'dirint'")
+        self.latitude = float(latitude)
+        self.longitude = float(longitude)
+        self.altitude = float(altitude)
+        self.weather = weather
+        self.ship_heading = float(ship_heading) % 360.0
+        self.ship_speed = float(ship_speed)
+        self.clear_sky_model = clear_sky_model
+        self.cloud_model = cloud_model
+        self.decomposition = decomposition
+        self.sea_emissivity = float(sea_emissivity)
+        tz = weather.tz
+        if date is not None:
+            require(weather.periodic, "environment.date", date,
+                    "can only be set for periodic (design-day) weather",
+                    "Real weather records carry their own dates")
+            start = pd.Timestamp(date).normalize()
+            start = start.tz_localize(tz) if start.tzinfo is None else start.tz_convert(tz)
+            wstart = weather.start
+            require(wstart == wstart.normalize(), "environment.weather.start", str(wstart),
+                    "a periodic weather record must start at local midnight")
+        else:
+            start = weather.start
+        self.start = start
+        if linke_turbidity is None:
+            # daily climatology for the year, looked up once (the HDF5 read is slow)
+            year = pd.date_range(f"{start.year}-01-01 12:00", periods=366, freq="D", tz=tz)
+            self._linke = np.asarray(pvlib_linke(year, self.latitude, self.longitude))
+        else:
+            check_range("environment.linke_turbidity", linke_turbidity, 1.0, 10.0)
+            self._linke = np.full(366, float(linke_turbidity))
+
+    @classmethod
+    def from_climate_day(cls, day: ClimateDay, ship_heading: float = 0.0,
+                         ship_speed: float = 0.0, step_minutes: int = 60, **kwargs):
+        """Environment of a built-in climatological design day (periodic)."""
+        return cls(day.latitude, day.longitude, day.weather(step_minutes),
+                   ship_heading=ship_heading, ship_speed=ship_speed, altitude=day.altitude,
+                   **kwargs)
+
+    def _seconds(self, times) -> np.ndarray:
+        arr = times if isinstance(times, (pd.DatetimeIndex, pd.Timestamp)) else np.asarray(times)
+        if isinstance(arr, (pd.DatetimeIndex, pd.Timestamp)) or arr.dtype.kind in "MO":
+            idx = pd.DatetimeIndex(np.atleast_1d(times))
+            require(idx.tz is not None, "times", idx[:3].astype(str).tolist(),
+                    "must be time-zone aware (or floats in seconds after Environment.start)")
+            return np.asarray((idx - self.start).total_seconds(), dtype=float)
+        s = np.atleast_1d(np.asarray(times, dtype=float))
+        if not np.all(np.isfinite(s)):
+            raise InputError("times", s, "must be finite seconds after Environment.start")
+        return s
+
+    def at(self, times) -> EnvironmentState:
+        """The environment at ``times`` (vectorised; call once with all solver times).
+
+        Parameters
+        ----------
+        times : array_like of float or pandas.DatetimeIndex
+            Seconds after :attr:`start`, or tz-aware instants.
+
+        Returns
+        -------
+        EnvironmentState
+        """
+        s = self._seconds(times)
+        w = self.weather
+        if w.periodic:
+            period = len(w.time) * w.step
+            folded = np.mod(s, period)
+            ws = w.at(folded)
+            instants = self.start + pd.to_timedelta(folded, unit="s")
+        else:
+            ws = w.at(s + (self.start - w.start).total_seconds())
+            instants = self.start + pd.to_timedelta(s, unit="s")
+        instants = pd.DatetimeIndex(instants)
+        pos = sun.solar_position(instants, self.latitude, self.longitude, self.altitude,
+                                 temperature=ws.temp_air - ZERO_CELSIUS)
+        zen = pos["apparent_zenith"].to_numpy()
+        azi = pos["azimuth"].to_numpy()
+        if ws.ghi is not None:
+            irr = sun.decompose_ghi(ws.ghi, instants, zen, self.decomposition,
+                                    temp_dew=sky.dew_point(ws.temp_air, np.maximum(
+                                        ws.relative_humidity, 0.1)) - ZERO_CELSIUS)
+        else:
+            lt = self._linke[np.clip(instants.dayofyear.to_numpy() - 1, 0, 365)]
+            clear = sun.clearsky_irradiance(instants, self.latitude, self.longitude,
+                                            self.altitude, zen, lt)
+            irr = sun.cloudy_sky_irradiance(clear, zen, ws.cloud_cover)
+        up = zen < 90.0
+        dni = np.where(up, irr["dni"].to_numpy(), 0.0)
+        dhi = np.where(up, irr["dhi"].to_numpy(), 0.0)
+        ghi = dni * np.clip(np.cos(np.radians(zen)), 0.0, None) + dhi
+        lw = sky.longwave_down(ws.temp_air, ws.relative_humidity, ws.cloud_cover,
+                               measured=ws.longwave_down, clear_model=self.clear_sky_model,
+                               cloud_model=self.cloud_model)
+        rel_speed, rel_dir, off_bow = relative_wind(ws.wind_speed, ws.wind_direction,
+                                                    self.ship_speed, self.ship_heading)
+        return EnvironmentState(
+            times=instants, seconds=s, sun_vector=sun.sun_vector(zen, azi), zenith=zen,
+            azimuth=azi, dni=dni, dhi=dhi, ghi=ghi, temp_air=ws.temp_air,
+            relative_humidity=ws.relative_humidity, cloud_cover=ws.cloud_cover,
+            longwave_down=lw, temp_sky=sky.sky_temperature(lw), temp_sea=ws.temp_sea,
+            sea_emissivity=self.sea_emissivity,
+            sea_longwave_up=sea.sea_longwave_up(ws.temp_sea, lw, self.sea_emissivity),
+            sea_shortwave_up=sea.sea_reflected_shortwave(dni, dhi, zen),
+            wind_speed=ws.wind_speed, wind_direction=ws.wind_direction,
+            wind_speed_relative=rel_speed, wind_direction_relative=rel_dir,
+            wind_angle_off_bow=off_bow, ship_speed=self.ship_speed,
+            ship_heading=self.ship_heading)
+
+
+def pvlib_linke(times, latitude, longitude):
+    """pvlib's Linke turbidity climatology (Remund et al. 2003) at ``times`` [-]."""
+    import pvlib
+
+    return pvlib.clearsky.lookup_linke_turbidity(times, latitude, longitude)

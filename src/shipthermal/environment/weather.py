@@ -1,0 +1,518 @@
+"""Hourly weather: a validated record, file readers and time interpolation.
+
+:class:`Weather` holds one station record on a regular, time-zone-aware time axis
+(SI units, kelvin). Readers build it from
+
+* a CSV file with documented columns (:func:`read_weather_csv`), which also accepts
+  RadTherm-style names (AIRT, SOLAR, WIND, HUMID, CLOUD, LWIR, WINDIR, SST),
+* an EnergyPlus EPW file (:func:`read_weather_epw`, through ``pvlib.iotools.read_epw``),
+* a TMY3 file (:func:`read_weather_tmy3`, through ``pvlib.iotools.read_tmy3``).
+
+:meth:`Weather.at` interpolates every field to arbitrary solver times (vectorised;
+the wind direction is interpolated as a vector so 350° → 10° passes through north).
+
+CSV format (one header line, one row per time step, comma separated)::
+
+    time,temp_air,relative_humidity,wind_speed,wind_direction,cloud_cover,ghi,longwave_down,temp_sea
+    2024-07-15T00:00:00+08:00,21.0,88,4.0,180,0.5,0,,22.2
+
+=================  =========================================  ====================
+column             meaning                                     unit
+=================  =========================================  ====================
+time               ISO 8601 instant; offset in the string, or  -
+                   naive local time plus ``tz=`` argument
+temp_air (AIRT)    air temperature at screen height            degC (or K, see
+                                                               ``temp_unit``)
+relative_humidity  relative humidity over water                %
+(HUMID)            — or ``temp_dew`` (dew point)               degC / K
+wind_speed (WIND)  true wind speed at 10 m                     m/s
+wind_direction     direction the wind blows FROM, clockwise    deg
+(WINDIR)           from north
+cloud_cover        total cloud fraction                        0–1 (or % / tenths /
+(CLOUD)                                                        oktas: ``cloud_unit``)
+ghi (SOLAR)        global horizontal irradiance — optional     W/m2
+longwave_down      downwelling long-wave — optional            W/m2
+(LWIR)
+temp_sea (SST)     sea surface temperature                     degC (or K)
+=================  =========================================  ====================
+
+Optional columns may be absent or empty; an empty cell in an optional column means
+"not measured" for that column only if the whole column is empty — partial gaps are
+rejected, as are NaN in required columns, unknown units and missing time steps.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from typing import Optional
+
+import numpy as np
+import pandas as pd
+
+from shipthermal.errors import InputError, check_finite, check_range, require
+from shipthermal.units import ZERO_CELSIUS
+
+from .sky import dew_point, relative_humidity_from_dew_point
+
+__all__ = [
+    "Weather",
+    "WeatherSample",
+    "CSV_COLUMNS",
+    "RADTHERM_ALIASES",
+    "read_weather_csv",
+    "read_weather_epw",
+    "read_weather_tmy3",
+]
+
+CSV_COLUMNS = ("time", "temp_air", "relative_humidity", "temp_dew", "wind_speed",
+               "wind_direction", "cloud_cover", "ghi", "longwave_down", "temp_sea")
+"""Canonical CSV column names."""
+
+RADTHERM_ALIASES = {
+    "AIRT": "temp_air", "SOLAR": "ghi", "WIND": "wind_speed", "HUMID": "relative_humidity",
+    "CLOUD": "cloud_cover", "LWIR": "longwave_down", "WINDIR": "wind_direction",
+    "SST": "temp_sea", "DEWPT": "temp_dew", "TIME": "time",
+}
+"""RadTherm-like column names accepted by the CSV reader (case-insensitive)."""
+
+# Physical plausibility limits used by validation (what a user could mistype).
+_LIMITS = {
+    "temp_air": (183.0, 333.0, "K (−90…60 degC)"),
+    "temp_sea": (269.0, 310.0, "K (−4…37 degC; sea water freezes near −1.9 degC)"),
+    "relative_humidity": (0.0, 100.0, "%"),
+    "wind_speed": (0.0, 75.0, "m/s"),
+    "wind_direction": (0.0, 360.0, "deg"),
+    "cloud_cover": (0.0, 1.0, "fraction"),
+    "ghi": (0.0, 1500.0, "W/m2"),
+    "longwave_down": (50.0, 600.0, "W/m2"),
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class WeatherSample:
+    """Weather interpolated to given times (arrays of the same length).
+
+    Attributes: ``temp_air`` [K], ``relative_humidity`` [%], ``wind_speed`` [m/s],
+    ``wind_direction`` [deg from N, blowing from], ``cloud_cover`` [0-1], ``ghi``
+    [W/m2] or None, ``longwave_down`` [W/m2] or None, ``temp_sea`` [K].
+    """
+
+    temp_air: np.ndarray
+    relative_humidity: np.ndarray
+    wind_speed: np.ndarray
+    wind_direction: np.ndarray
+    cloud_cover: np.ndarray
+    ghi: Optional[np.ndarray]
+    longwave_down: Optional[np.ndarray]
+    temp_sea: np.ndarray
+
+
+@dataclasses.dataclass(frozen=True)
+class Weather:
+    """A regular time series of weather at one site (validated on construction).
+
+    Parameters
+    ----------
+    time : pandas.DatetimeIndex
+        Time-zone-aware, strictly increasing, constant step (normally 1 h).
+    temp_air : array_like
+        Air temperature [K].
+    relative_humidity : array_like
+        Relative humidity [%].
+    wind_speed : array_like
+        True wind speed [m/s].
+    wind_direction : array_like
+        Wind direction, blowing FROM, clockwise from north [deg].
+    cloud_cover : array_like
+        Total cloud fraction [0-1].
+    temp_sea : array_like
+        Sea surface (bulk) temperature [K].
+    ghi : array_like, optional
+        Measured global horizontal irradiance [W/m2].
+    longwave_down : array_like, optional
+        Measured downwelling long-wave [W/m2].
+    periodic : bool
+        The record is one period of a repeating cycle (e.g. a climatological day):
+        :meth:`at` wraps times modulo ``len(time) * step`` and interpolates across
+        the wrap from the last sample back to the first.
+    source : str
+        Where the data came from (for reports).
+    """
+
+    time: pd.DatetimeIndex
+    temp_air: np.ndarray
+    relative_humidity: np.ndarray
+    wind_speed: np.ndarray
+    wind_direction: np.ndarray
+    cloud_cover: np.ndarray
+    temp_sea: np.ndarray
+    ghi: Optional[np.ndarray] = None
+    longwave_down: Optional[np.ndarray] = None
+    periodic: bool = False
+    source: str = ""
+
+    def __post_init__(self):
+        time = self.time
+        if not isinstance(time, pd.DatetimeIndex):
+            try:
+                time = pd.DatetimeIndex(time)
+            except (TypeError, ValueError) as exc:
+                raise InputError("weather.time", self.time, "must be datetimes") from exc
+        require(time.tz is not None, "weather.time", time[:3].astype(str).tolist(),
+                "must be time-zone aware",
+                "Give an offset in the time strings or pass tz='Etc/GMT-8' (UTC+8) to the reader")
+        require(len(time) >= 2, "weather.time", len(time), "needs at least 2 time steps")
+        object.__setattr__(self, "time", time)
+        n = len(time)
+        for name in ("temp_air", "relative_humidity", "wind_speed", "wind_direction",
+                     "cloud_cover", "temp_sea", "ghi", "longwave_down"):
+            val = getattr(self, name)
+            if val is None:
+                continue
+            arr = np.broadcast_to(np.asarray(val, dtype=float), (n,)).copy() \
+                if np.ndim(val) == 0 else np.asarray(val, dtype=float)
+            require(arr.shape == (n,), f"weather.{name}", arr.shape,
+                    f"must have one value per time step ({n})")
+            bad = np.flatnonzero(~np.isfinite(arr))
+            if bad.size:
+                raise InputError(f"weather.{name}[{time[bad[0]]}]", float(arr[bad[0]]),
+                                 "must be a finite number (no NaN / missing value)",
+                                 f"{bad.size} missing value(s); fill or drop these rows")
+            lo, hi, unit = _LIMITS[name]
+            out = np.flatnonzero((arr < lo) | (arr > hi))
+            if out.size:
+                fix = ""
+                if name in ("temp_air", "temp_sea"):
+                    fix = "Temperatures are kelvin inside; check the file's temperature unit"
+                elif name == "cloud_cover":
+                    fix = "Cloud cover is a fraction 0-1; convert % / tenths / oktas"
+                raise InputError(f"weather.{name}[{time[out[0]]}]", float(arr[out[0]]),
+                                 f"must lie in [{lo:g}, {hi:g}] {unit}", fix)
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
+        dt = np.diff(time.asi8)
+        if not np.all(dt > 0):
+            raise InputError("weather.time", _first_bad(time, dt <= 0),
+                             "must be strictly increasing (no duplicates, sorted)",
+                             "Sort the file by time; for TMY3 pass coerce_year")
+        if not np.all(dt == dt[0]):
+            i = int(np.flatnonzero(dt != dt[0])[0])
+            step = time[1] - time[0]
+            raise InputError("weather.time", f"{time[i]} -> {time[i + 1]}",
+                             f"must have a constant step of {step} (missing or extra time "
+                             "steps found)", "Fill the missing hours in the file")
+
+    # ------------------------------------------------------------------ helpers
+    @property
+    def step(self) -> float:
+        """Time step [s]."""
+        return (self.time[1] - self.time[0]).total_seconds()
+
+    @property
+    def start(self) -> pd.Timestamp:
+        """First instant (tz-aware)."""
+        return self.time[0]
+
+    @property
+    def temp_dew(self) -> np.ndarray:
+        """Dew point [K] (Magnus)."""
+        return dew_point(self.temp_air, np.maximum(self.relative_humidity, 0.1))
+
+    @property
+    def tz(self):
+        return self.time.tz
+
+    def seconds(self, times) -> np.ndarray:
+        """Convert instants (tz-aware) or floats [s after :attr:`start`] to seconds."""
+        arr = times if isinstance(times, (pd.DatetimeIndex, pd.Timestamp)) else np.asarray(times)
+        if isinstance(arr, (pd.DatetimeIndex, pd.Timestamp)) or arr.dtype.kind in "MO":
+            idx = pd.DatetimeIndex(np.atleast_1d(times))
+            require(idx.tz is not None, "times", idx[:3].astype(str).tolist(),
+                    "must be time-zone aware (or floats in seconds after weather.start)")
+            return np.asarray((idx - self.start).total_seconds(), dtype=float)
+        return np.asarray(times, dtype=float)
+
+    def at(self, times) -> WeatherSample:
+        """Interpolate all fields linearly to ``times``.
+
+        Parameters
+        ----------
+        times : pandas.DatetimeIndex or array_like of float
+            Instants, or seconds after :attr:`start`.
+
+        Returns
+        -------
+        WeatherSample
+            Arrays shaped like ``times``. Wind speed is interpolated as a scalar and the
+            direction from the interpolated wind vector (so the direction never
+            sweeps the long way round); cloud cover, humidity and irradiance linearly.
+
+        Raises
+        ------
+        InputError
+            If a time lies outside the record and the record is not periodic.
+        """
+        s = np.atleast_1d(self.seconds(times)).astype(float)
+        tk = np.asarray((self.time - self.start).total_seconds(), dtype=float)
+        if self.periodic:
+            period = len(tk) * self.step
+            s = np.mod(s, period)
+            tk = np.append(tk, period)
+
+            def wrap(a):
+                return np.append(a, a[0])
+        else:
+            lo, hi = tk[0], tk[-1]
+            bad = np.flatnonzero((s < lo - 1e-6) | (s > hi + 1e-6))
+            if bad.size:
+                t_bad = self.start + pd.Timedelta(seconds=float(s[bad[0]]))
+                raise InputError("times", str(t_bad),
+                                 f"must lie within the weather record {self.time[0]} … "
+                                 f"{self.time[-1]}", "Extend the weather file or make it periodic")
+
+            def wrap(a):
+                return a
+
+        def lin(a):
+            return None if a is None else np.interp(s, tk, wrap(a))
+
+        phi = np.radians(self.wind_direction)
+        # unit vectors weighted by speed; a calm hour then does not steer the direction
+        w = np.maximum(self.wind_speed, 1e-3)
+        u = lin(w * np.sin(phi))
+        v = lin(w * np.cos(phi))
+        direction = np.degrees(np.arctan2(u, v)) % 360.0
+        return WeatherSample(
+            temp_air=lin(self.temp_air),
+            relative_humidity=lin(self.relative_humidity),
+            wind_speed=lin(self.wind_speed),
+            wind_direction=direction,
+            cloud_cover=lin(self.cloud_cover),
+            ghi=lin(self.ghi),
+            longwave_down=lin(self.longwave_down),
+            temp_sea=lin(self.temp_sea),
+        )
+
+    def to_frame(self) -> pd.DataFrame:
+        """The record as a DataFrame (SI units, kelvin)."""
+        cols = {k: getattr(self, k) for k in ("temp_air", "relative_humidity", "wind_speed",
+                                              "wind_direction", "cloud_cover", "temp_sea",
+                                              "ghi", "longwave_down")
+                if getattr(self, k) is not None}
+        return pd.DataFrame(cols, index=self.time)
+
+
+def _first_bad(time, mask):
+    i = int(np.flatnonzero(mask)[0])
+    return f"{time[i]} -> {time[i + 1]}"
+
+
+def _temperature(values, unit: str, field: str):
+    if unit in ("C", "degC", "celsius"):
+        return values + ZERO_CELSIUS
+    if unit in ("K", "kelvin"):
+        return values
+    raise InputError(field, unit, "must be 'C' or 'K'")
+
+
+_CLOUD_SCALE = {"fraction": 1.0, "percent": 100.0, "tenths": 10.0, "oktas": 8.0}
+
+
+def _cloud(values, unit: str):
+    try:
+        return values / _CLOUD_SCALE[unit]
+    except KeyError:
+        raise InputError("cloud_unit", unit, f"must be one of {sorted(_CLOUD_SCALE)}")
+
+
+def read_weather_csv(path, tz: Optional[str] = None, temp_unit: str = "C",
+                     cloud_unit: str = "fraction", temp_sea=None,
+                     periodic: bool = False) -> Weather:
+    """Read a weather CSV file (columns documented in the module docstring).
+
+    Parameters
+    ----------
+    path : str or path-like
+        CSV file.
+    tz : str, optional
+        Time zone for naive time strings, e.g. ``'Etc/GMT-8'`` (UTC+8; note the
+        POSIX sign) or ``'Asia/Shanghai'``. Times with an offset are converted to it.
+    temp_unit : {'C', 'K'}
+        Unit of temp_air, temp_dew and temp_sea in the file.
+    cloud_unit : {'fraction', 'percent', 'tenths', 'oktas'}
+        Unit of cloud_cover in the file.
+    temp_sea : float, optional
+        Constant SST [K] when the file has no temp_sea / SST column.
+    periodic : bool
+        See :class:`Weather`.
+
+    Returns
+    -------
+    Weather
+    """
+    require(os.path.isfile(path), "weather.path", str(path), "must be an existing file")
+    try:
+        df = pd.read_csv(path, comment="#", skipinitialspace=True)
+    except (pd.errors.ParserError, UnicodeDecodeError, pd.errors.EmptyDataError) as exc:
+        raise InputError("weather.path", str(path), f"must be a readable CSV file ({exc})")
+    rename = {}
+    for col in df.columns:
+        key = str(col).strip()
+        if key.upper() in RADTHERM_ALIASES:
+            rename[col] = RADTHERM_ALIASES[key.upper()]
+        elif key.lower() in CSV_COLUMNS:
+            rename[col] = key.lower()
+        else:
+            raise InputError(f"weather.columns[{key!r}]", key,
+                             f"unknown column; allowed: {', '.join(CSV_COLUMNS)} or "
+                             f"{', '.join(RADTHERM_ALIASES)}")
+    df = df.rename(columns=rename)
+    dup = df.columns[df.columns.duplicated()].tolist()
+    require(not dup, "weather.columns", dup, "each quantity may appear only once")
+    required = ["time", "temp_air", "wind_speed", "wind_direction", "cloud_cover"]
+    for col in required:
+        require(col in df.columns, "weather.columns", list(df.columns),
+                f"missing required column {col!r}", f"Add a {col!r} column (see docs)")
+    require("relative_humidity" in df.columns or "temp_dew" in df.columns,
+            "weather.columns", list(df.columns),
+            "needs 'relative_humidity' (HUMID) or 'temp_dew'")
+    require("temp_sea" in df.columns or temp_sea is not None, "weather.columns",
+            list(df.columns), "needs 'temp_sea' (SST) or the temp_sea= argument")
+    try:
+        time = pd.DatetimeIndex(pd.to_datetime(df["time"].astype(str), format="ISO8601"))
+    except (ValueError, TypeError) as exc:
+        raise InputError("weather.time", df["time"].iloc[0], f"must be ISO 8601 times ({exc})")
+    if time.tz is None:
+        require(tz is not None, "weather.time", str(df["time"].iloc[0]),
+                "has no UTC offset", "Pass tz='Etc/GMT-8' (UTC+8) or write offsets in the file")
+        time = time.tz_localize(tz)
+    elif tz is not None:
+        time = time.tz_convert(tz)
+
+    def num(col):
+        vals = pd.to_numeric(df[col], errors="coerce").to_numpy(dtype=float)
+        text_bad = df[col].notna().to_numpy() & ~np.isfinite(vals)
+        if text_bad.any():
+            i = int(np.flatnonzero(text_bad)[0])
+            raise InputError(f"weather.{col}[{time[i]}]", df[col].iloc[i], "must be a number")
+        return vals
+
+    def optional(col):
+        if col not in df.columns:
+            return None
+        vals = num(col)
+        return None if np.all(np.isnan(vals)) else vals
+
+    temp_air = _temperature(num("temp_air"), temp_unit, "temp_unit")
+    if "relative_humidity" in df.columns:
+        rh = num("relative_humidity")
+    else:
+        td = _temperature(num("temp_dew"), temp_unit, "temp_unit")
+        rh = np.minimum(relative_humidity_from_dew_point(temp_air, td), 100.0)
+    sst = _temperature(num("temp_sea"), temp_unit, "temp_unit") if "temp_sea" in df.columns \
+        else temp_sea
+    return Weather(time=time, temp_air=temp_air, relative_humidity=rh,
+                   wind_speed=num("wind_speed"), wind_direction=num("wind_direction") % 360.0,
+                   cloud_cover=_cloud(num("cloud_cover"), cloud_unit),
+                   temp_sea=sst, ghi=optional("ghi"), longwave_down=optional("longwave_down"),
+                   periodic=periodic, source=f"csv:{os.path.basename(str(path))}")
+
+
+def _sst_required(temp_sea, fmt):
+    require(temp_sea is not None, "temp_sea", None,
+            f"{fmt} files carry no sea temperature: pass temp_sea= [K] (scalar or array)")
+    check_finite("temp_sea", temp_sea)
+
+
+def read_weather_epw(path, temp_sea, year: Optional[int] = None,
+                     use_measured_irradiance: bool = True,
+                     use_measured_longwave: bool = True) -> Weather:
+    """Read an EnergyPlus EPW file through ``pvlib.iotools.read_epw``.
+
+    Parameters
+    ----------
+    path : str or path-like
+        EPW file.
+    temp_sea : float or array_like
+        Sea surface temperature [K] (EPW has none).
+    year : int, optional
+        Coerce all rows to this year (typical-year files mix years; without it the
+        index may be unsorted).
+    use_measured_irradiance, use_measured_longwave : bool
+        Keep the file's GHI / horizontal infrared (long-wave down) columns.
+
+    Returns
+    -------
+    Weather
+        Index as pvlib gives it (hour-ending labels, fixed UTC offset from the header).
+        Cloud cover from 'total_sky_cover' (tenths). EPW's 9999 "missing" codes for
+        infrared are mapped to NaN and then rejected by validation unless
+        ``use_measured_longwave=False``.
+    """
+    import pvlib
+
+    _sst_required(temp_sea, "EPW")
+    require(os.path.isfile(path), "weather.path", str(path), "must be an existing file")
+    try:
+        data, meta = pvlib.iotools.read_epw(path, coerce_year=year)
+    except Exception as exc:  # pvlib raises assorted parser errors
+        raise InputError("weather.path", str(path), f"must be a valid EPW file ({exc})")
+    if year is None and not data.index.is_monotonic_increasing:
+        raise InputError("year", None, "the EPW rows mix years and are unsorted",
+                         "Pass year=... to coerce them to one year")
+    lw = None
+    if use_measured_longwave and "ghi_infrared" in data:
+        lw = data["ghi_infrared"].to_numpy(dtype=float)
+        lw = np.where(lw >= 9999, np.nan, lw)
+    return Weather(time=data.index,
+                   temp_air=data["temp_air"].to_numpy(dtype=float) + ZERO_CELSIUS,
+                   relative_humidity=data["relative_humidity"].to_numpy(dtype=float),
+                   wind_speed=data["wind_speed"].to_numpy(dtype=float),
+                   wind_direction=data["wind_direction"].to_numpy(dtype=float) % 360.0,
+                   cloud_cover=data["total_sky_cover"].to_numpy(dtype=float) / 10.0,
+                   temp_sea=temp_sea,
+                   ghi=data["ghi"].to_numpy(dtype=float) if use_measured_irradiance else None,
+                   longwave_down=lw, source=f"epw:{meta.get('city', '')}")
+
+
+def read_weather_tmy3(path, temp_sea, year: int = 2000,
+                      use_measured_irradiance: bool = True) -> Weather:
+    """Read a TMY3 file through ``pvlib.iotools.read_tmy3``.
+
+    Parameters
+    ----------
+    path : str or path-like
+        TMY3 CSV file (e.g. ``pvlib/data/703165TY.csv``, Sand Point, Alaska).
+    temp_sea : float or array_like
+        Sea surface temperature [K] (TMY3 has none).
+    year : int
+        Coerce all rows to this year. Always applied: without it pvlib returns an
+        unsorted mixed-year index. pvlib moves the final "24:00" row into January of
+        the next year; that row is kept (the record stays regular and sorted).
+    use_measured_irradiance : bool
+        Keep the file's GHI.
+
+    Returns
+    -------
+    Weather
+        Cloud cover from 'TotCld' (tenths); TMY3 has no long-wave column.
+    """
+    import pvlib
+
+    _sst_required(temp_sea, "TMY3")
+    require(os.path.isfile(path), "weather.path", str(path), "must be an existing file")
+    try:
+        data, meta = pvlib.iotools.read_tmy3(path, coerce_year=year, map_variables=True)
+    except Exception as exc:
+        raise InputError("weather.path", str(path), f"must be a valid TMY3 file ({exc})")
+    data = data.sort_index()
+    return Weather(time=data.index,
+                   temp_air=data["temp_air"].to_numpy(dtype=float) + ZERO_CELSIUS,
+                   relative_humidity=data["relative_humidity"].to_numpy(dtype=float),
+                   wind_speed=data["wind_speed"].to_numpy(dtype=float),
+                   wind_direction=data["wind_direction"].to_numpy(dtype=float) % 360.0,
+                   cloud_cover=data["TotCld (tenths)"].to_numpy(dtype=float) / 10.0,
+                   temp_sea=temp_sea,
+                   ghi=data["ghi"].to_numpy(dtype=float) if use_measured_irradiance else None,
+                   source=f"tmy3:{str(meta.get('Name', '')).strip(chr(34))}")
