@@ -1,0 +1,230 @@
+"""Diffuse view factors of every face to the sky, the sea and the other faces.
+
+Each face i shoots ``rays_per_face`` rays from points spread uniformly over it, with
+directions cosine-weighted about its outward normal (density cos θ/π). For such rays the
+fraction that first reaches a surface X is the diffuse view factor F_iX (e.g. Howell,
+Mengüç & Siegel, *Thermal Radiation Heat Transfer*, 7th ed., §7.4: Monte Carlo view
+factors). A ray ends
+
+* on face j when the tracer's first hit is j and it is nearer than the sea surface;
+* on the sea when it heads down (d_z < 0) and meets the plane ``z = sea_level_z`` first;
+* in the sky otherwise (it escapes upward, or sideways without ever meeting the sea).
+
+Rays starting below the sea surface (wetted hull) are counted as sea without tracing.
+With ``sea_level_z=None`` there is no sea and every escaping ray counts as sky.
+
+Each row of counts is a multinomial sample, so F_sky, F_sea and each F_ij carry the binomial
+standard error sqrt(F (1 - F) / N). The samples are randomised quasi-Monte Carlo
+(:mod:`~shipthermal.raytrace.sampling`): unbiased, and their true error is usually below
+the binomial figure, which is reported as a conservative estimate.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from tqdm.auto import tqdm
+
+from shipthermal.errors import require
+from shipthermal.raytrace.sampling import (cosine_hemisphere, face_frames, face_geometry,
+                                           triangle_points, unit_samples)
+
+__all__ = ["ViewFactors", "view_factors", "view_factor_rays", "symmetrize"]
+
+_DEFAULT_CHUNK = 1 << 20  # rays per tracer call
+
+
+@dataclass(frozen=True)
+class ViewFactors:
+    """Diffuse view factors of each face [-].
+
+    Attributes
+    ----------
+    F_sky : (n_faces,) float
+        Fraction of the face's diffuse emission reaching the sky.
+    F_sea : (n_faces,) float
+        Fraction reaching the sea surface.
+    F_faces : scipy.sparse.csr_matrix (n_faces, n_faces)
+        F_faces[i, j]: fraction of face i's emission reaching face j first.
+        ``F_sky + F_sea + F_faces.sum(axis=1)`` is 1 for every face.
+    se_sky, se_sea : (n_faces,) float
+        Binomial standard errors of F_sky and F_sea (conservative for the quasi-random
+        samples used).
+    rays_per_face : int
+        Rays shot per face.
+    areas : (n_faces,) float
+        Face areas [m²].
+    symmetric : bool
+        True when reciprocity was imposed (:func:`symmetrize`).
+    """
+
+    F_sky: np.ndarray
+    F_sea: np.ndarray
+    F_faces: sp.csr_matrix
+    se_sky: np.ndarray
+    se_sea: np.ndarray
+    rays_per_face: int
+    areas: np.ndarray
+    symmetric: bool = False
+
+    def standard_error(self, fraction):
+        """Binomial standard error of any fraction estimated from these rays [-]."""
+        f = np.asarray(fraction, dtype=np.float64)
+        return np.sqrt(np.clip(f * (1.0 - f), 0.0, None) / self.rays_per_face)
+
+    @property
+    def row_sums(self) -> np.ndarray:
+        """F_sky + F_sea + Σ_j F_ij per face (1 up to round-off)."""
+        return self.F_sky + self.F_sea + np.asarray(self.F_faces.sum(axis=1)).ravel()
+
+
+def view_factor_rays(tracer, vertices, faces, face_index, rays_per_face: int, seed: int):
+    """Origins and cosine-weighted directions of the rays of the faces in ``face_index``.
+
+    Deterministic for a given ``seed`` whatever the chunking: the base quasi-random set and
+    the per-face shifts are drawn once for the whole mesh.
+
+    Returns
+    -------
+    origins, directions : (len(face_index), rays_per_face, 3) float
+        Ray origins [m] (offset ``tracer.offset`` along the normal) and unit directions.
+    """
+    vertices = np.asarray(vertices, dtype=np.float64)
+    faces = np.asarray(faces)
+    base, shift = unit_samples(len(faces), int(rays_per_face), 4, seed)
+    return _rays(vertices, faces, face_index, base, shift, tracer.offset)
+
+
+def _rays(vertices, faces, idx, base, shift, offset):
+    normals, _, _ = face_geometry(vertices, faces[idx])
+    t1, t2 = face_frames(vertices, faces[idx], normals)
+    s = (base[None] + shift[idx, None]) % 1.0
+    pts = triangle_points(vertices[faces[idx]], s[..., 0], s[..., 1])
+    dirs = cosine_hemisphere(normals, t1, t2, s[..., 2], s[..., 3])
+    return pts + offset * normals[:, None], dirs
+
+
+def view_factors(tracer, vertices, faces, rays_per_face: int = 256, seed: int = 0,
+                 sea_level_z: float | None = 0.0, reciprocity: bool = False,
+                 chunk_rays: int = _DEFAULT_CHUNK, progress: bool | None = None) -> ViewFactors:
+    """Monte-Carlo view factors of every face to the sky, the sea and the other faces.
+
+    Parameters
+    ----------
+    tracer : EmbreeTracer or NumbaTracer
+        Tracer built on the same ``vertices`` and ``faces``.
+    vertices : (n, 3) array_like
+        Vertex coordinates [m].
+    faces : (m, 3) array_like of int
+        Triangles; the outward normal follows the right-hand rule on the vertex order.
+    rays_per_face : int
+        Rays per face; the standard error of a fraction F is sqrt(F(1-F)/rays_per_face).
+    seed : int
+        Seed; the result is a deterministic function of it.
+    sea_level_z : float or None
+        Height of the sea plane [m]; None for no sea (escaping rays all count as sky).
+    reciprocity : bool
+        Impose A_i F_ij = A_j F_ji with :func:`symmetrize`.
+    chunk_rays : int
+        Rays per tracer call (memory bound).
+    progress : bool, optional
+        Show a tqdm bar (None: only on a terminal).
+
+    Returns
+    -------
+    ViewFactors
+    """
+    require(int(rays_per_face) >= 1, "rays_per_face", rays_per_face, "must be >= 1")
+    require(int(chunk_rays) >= 1, "chunk_rays", chunk_rays, "must be >= 1")
+    vertices = np.asarray(vertices, dtype=np.float64)
+    faces = np.asarray(faces)
+    n_faces = len(faces)
+    k = int(rays_per_face)
+    base, shift = unit_samples(n_faces, k, 4, seed)
+    _, areas, _ = face_geometry(vertices, faces)
+
+    n_sky = np.zeros(n_faces, np.int64)
+    n_sea = np.zeros(n_faces, np.int64)
+    keys = []  # i * n_faces + j of every face-to-face ray, reduced per chunk
+    counts = []
+    face_chunk = max(1, int(chunk_rays) // k)
+    with tqdm(total=n_faces * k, unit="ray", unit_scale=True, desc="view-factor rays",
+              disable=(not progress) if progress is not None else None) as bar:
+        for start in range(0, n_faces, face_chunk):
+            idx = np.arange(start, min(n_faces, start + face_chunk))
+            o, d = _rays(vertices, faces, idx, base, shift, tracer.offset)
+            o = o.reshape(-1, 3)
+            d = d.reshape(-1, 3)
+            src = np.repeat(idx, k)
+            if sea_level_z is None:
+                submerged = np.zeros(len(o), bool)
+                t_sea = np.full(len(o), np.inf)
+            else:
+                # distance along the ray to the sea plane (inf for rays going up)
+                submerged = o[:, 2] < sea_level_z
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    t_sea = np.where(d[:, 2] < 0.0, (sea_level_z - o[:, 2]) / d[:, 2], np.inf)
+            traced = ~submerged
+            hit = np.full(len(o), -1, np.int64)
+            hit[traced] = tracer.intersects_first(o[traced], d[traced], t_sea[traced])
+            to_sea = submerged | ((hit < 0) & np.isfinite(t_sea))
+            to_sky = (hit < 0) & ~to_sea
+            n_sea[idx] += np.bincount(src[to_sea] - start, minlength=len(idx))
+            n_sky[idx] += np.bincount(src[to_sky] - start, minlength=len(idx))
+            h = hit >= 0
+            key, cnt = np.unique(src[h] * n_faces + hit[h], return_counts=True)
+            keys.append(key)
+            counts.append(cnt)
+            bar.update(len(o))
+
+    key = np.concatenate(keys) if keys else np.zeros(0, np.int64)
+    cnt = np.concatenate(counts) if counts else np.zeros(0, np.int64)
+    F_faces = sp.csr_matrix((cnt / k, (key // n_faces, key % n_faces)), shape=(n_faces, n_faces))
+    F_faces.sum_duplicates()
+    F_sky = n_sky / k
+    F_sea = n_sea / k
+    se = lambda f: np.sqrt(f * (1.0 - f) / k)  # noqa: E731
+    vf = ViewFactors(F_sky=F_sky, F_sea=F_sea, F_faces=F_faces, se_sky=se(F_sky),
+                     se_sea=se(F_sea), rays_per_face=k, areas=areas)
+    return symmetrize(vf) if reciprocity else vf
+
+
+def symmetrize(vf: ViewFactors) -> ViewFactors:
+    """Impose reciprocity A_i F_ij = A_j F_ji and keep every row summing to 1.
+
+    Notes
+    -----
+    The exchange areas G = A_i F_ij are replaced by (G + Gᵀ)/2, the average of the two
+    independent estimates of the same quantity, so the noise of G drops by up to √2 and
+    long-wave exchange between faces conserves energy exactly. Rows then no longer sum to 1:
+    the remainder 1 − Σ_j F_ij is given back to the environment, split between sky and sea
+    in the ratio of the traced F_sky : F_sea (all to sky when both are 0). Where the
+    remainder would be negative (a face whose neighbours saw it more than it saw them) the
+    row of F_ij is scaled down to sum to 1 with no environment share, which breaks
+    reciprocity for that row only; this happens only when the estimates are very noisy.
+    Zero-area faces keep their traced rows.
+    """
+    A = vf.areas
+    G = sp.diags(A) @ vf.F_faces
+    G = 0.5 * (G + G.T)
+    inv_a = np.divide(1.0, A, out=np.zeros_like(A), where=A > 0)
+    F = (sp.diags(inv_a) @ G).tocsr()
+    zero = A <= 0
+    if zero.any():
+        keep = sp.diags(zero.astype(float)) @ vf.F_faces
+        F = (sp.diags((~zero).astype(float)) @ F + keep).tocsr()
+    row = np.asarray(F.sum(axis=1)).ravel()
+    env_old = vf.F_sky + vf.F_sea
+    rest = 1.0 - row
+    over = rest < 0
+    if over.any():
+        F = (sp.diags(np.where(over, 1.0 / np.where(over, row, 1.0), 1.0)) @ F).tocsr()
+        rest = np.where(over, 0.0, rest)
+    share_sky = np.divide(vf.F_sky, env_old, out=np.ones_like(env_old), where=env_old > 0)
+    F_sky = rest * share_sky
+    F_sea = rest - F_sky
+    F.sum_duplicates()
+    return ViewFactors(F_sky=F_sky, F_sea=F_sea, F_faces=F, se_sky=vf.se_sky, se_sea=vf.se_sea,
+                       rays_per_face=vf.rays_per_face, areas=vf.areas, symmetric=True)
