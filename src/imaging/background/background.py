@@ -1,0 +1,392 @@
+"""The port background pipeline: Landsat LST + classes + kriged met baseline + terrain -> T(x, y, t).
+
+Temporal extension (paper §2.4), per pixel and local hour ``t``::
+
+    land  : T(t) = T0(t) + [b1 Dem + b2 Slope + b3 Southness] + w(t) * (b0[class] + r)
+    water : T(t) = LST + SST(t) - SST(t_ov)
+
+``T0`` is the Ordinary-Kriging baseline of the hourly met grid (eq. 12); the bracket is eq. 15
+with betas fitted by least squares on ``LST - T0(t_ov)`` over land pixels; ``b0[class]`` are
+per-class intercepts of that fit and ``r`` the Landsat residual, so at the overpass
+``T(t_ov) = LST`` exactly (the Landsat detail is kept, organised by class). ``w(t)`` is
+``1`` (``residual_scaling="constant"``, default: the class contrast of the overpass persists)
+or the solar-elevation ratio ``max(sin h(t), 0)/sin h(t_ov)`` (``"solar"``: class contrast is
+daytime heating only; at night eq. 15 alone remains). Water pixels never use land physics:
+they keep their Landsat pattern and follow the diurnal SST cycle of the met file.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import time
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+
+import numpy as np
+import pandas as pd
+from scipy.ndimage import binary_erosion
+
+from shipthermal.errors import InputError, require
+
+from .classify import CLASS_CODES, CLASS_NAMES, ClassificationResult, classify_scene, read_roi
+from .kriging import VariogramFit, krige_hourly, met_points_on_grid
+from .landsat import NIR_BAND, RED_BAND, REFLECTIVE_BANDS, SceneGrid, read_landsat_scene
+from .lst import AtmosphereB10, atmospheric_functions, emissivity_ndvi_threshold, lst_single_channel, ndvi
+from .met import read_met_grid
+from .terrain import TerrainFit, fit_terrain_regression, read_dem, slope_aspect, southness, terrain_term
+
+__all__ = ["PortBackground", "build_background_from_files", "build_port_background"]
+
+WATER = 1
+LAND_CLASSES = (2, 3, 4)
+
+
+@dataclass
+class PortBackground:
+    """Everything the imaging stage needs about the port background.
+
+    Attributes
+    ----------
+    grid : SceneGrid
+        Scene grid (transform, CRS, shape; 30 m).
+    season : str or None
+    class_map : ndarray uint8 (rows, cols)
+        1 water, 2 vegetation, 3 land, 4 building, 0 fill (:data:`CLASS_NAMES`).
+    lst : ndarray float32
+        Landsat land surface temperature at the overpass [K].
+    brightness_temperature : ndarray float32
+        Band-10 at-sensor brightness temperature [K].
+    emissivity, ndvi : ndarray float32
+        Band-10 emissivity [-] and NDVI [-].
+    elevation : ndarray float32
+        DEM on the scene grid [m] (NaN = masked).
+    slope_deg, aspect_deg : ndarray float32
+        Slope [deg] and aspect (compass azimuth of downslope) [deg].
+    terrain : TerrainFit
+        Eq. 15 coefficients and R^2.
+    classification : ClassificationResult
+        JM table, confusion matrix, OA, kappa, class fractions.
+    variograms : list[VariogramFit]
+        Variogram fitted per met time step (ordered by local hour).
+    hours_local : ndarray (24,)
+        Local clock hours of the layers of ``temperature`` [h].
+    temperature : ndarray float32 (24, rows, cols)
+        Background temperature per hour [K].
+    baseline : ndarray float32 (24, rows, cols)
+        Kriged met baseline T0 [K].
+    sst : ndarray (24,)
+        SST per local hour [K].
+    overpass_utc : datetime
+    overpass_hour_local : float
+        [h]
+    atmosphere : AtmosphereB10
+        Band-10 atmosphere used by the LST retrieval.
+    utc_offset_hours : float
+    dem_masked_pixels : int
+        Scene pixels without a DEM value (explicitly masked; 0 unless ``dem_nodata="mask"``).
+    outputs : dict[str, str]
+        Files written (empty without ``out_dir``).
+    timings : dict[str, float]
+        Wall time per stage [s].
+    """
+
+    grid: SceneGrid
+    season: str | None
+    class_map: np.ndarray
+    lst: np.ndarray
+    brightness_temperature: np.ndarray
+    emissivity: np.ndarray
+    ndvi: np.ndarray
+    elevation: np.ndarray
+    slope_deg: np.ndarray
+    aspect_deg: np.ndarray
+    terrain: TerrainFit
+    classification: ClassificationResult
+    variograms: list
+    hours_local: np.ndarray
+    temperature: np.ndarray
+    baseline: np.ndarray
+    sst: np.ndarray
+    overpass_utc: datetime
+    overpass_hour_local: float
+    atmosphere: AtmosphereB10
+    utc_offset_hours: float
+    dem_masked_pixels: int
+    outputs: dict = field(default_factory=dict)
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def class_names(self) -> dict:
+        return dict(CLASS_NAMES)
+
+    def temperature_at(self, hour_local: float) -> np.ndarray:
+        """Background temperature at a local clock time [K], float32 (rows, cols).
+
+        Linear in time between the hourly layers, periodic over 24 h.
+        """
+        h = float(hour_local)
+        require(np.isfinite(h), "hour_local", hour_local, "must be a finite hour")
+        hrs = self.hours_local
+        h = hrs[0] + (h - hrs[0]) % 24.0
+        k = int(np.searchsorted(hrs, h, side="right") - 1)
+        k1 = (k + 1) % hrs.size
+        span = (hrs[k1] - hrs[k]) % 24.0 or 24.0
+        t = (h - hrs[k]) / span
+        return ((1.0 - t) * self.temperature[k] + t * self.temperature[k1]).astype(np.float32)
+
+    def summary(self) -> dict:
+        """JSON-able key figures."""
+        c = self.classification
+        return {
+            "season": self.season,
+            "shape": list(self.grid.shape),
+            "crs": str(self.grid.crs),
+            "overpass_utc": self.overpass_utc.isoformat(),
+            "overpass_hour_local": self.overpass_hour_local,
+            "water_vapour_g_cm2": self.atmosphere.water_vapour,
+            "tau": self.atmosphere.tau, "l_up": self.atmosphere.l_up, "l_down": self.atmosphere.l_down,
+            "overall_accuracy": c.overall_accuracy, "kappa_quadratic": c.kappa_quadratic,
+            "kappa_unweighted": c.kappa_unweighted,
+            "class_fractions": dict(zip(c.fractions["class"], c.fractions["fraction"].round(4))),
+            "beta_elevation_K_per_m": self.terrain.beta_elevation,
+            "beta_slope_K_per_deg": self.terrain.beta_slope,
+            "beta_aspect_K": self.terrain.beta_aspect,
+            "class_intercepts_K": self.terrain.intercepts,
+            "r2": self.terrain.r2,
+            "dem_masked_pixels": self.dem_masked_pixels,
+            "lst_K": [float(np.nanmin(self.lst)), float(np.nanmax(self.lst))],
+            "timings_s": {k: round(v, 3) for k, v in self.timings.items()},
+        }
+
+
+def _sun_sin_elevation(grid: SceneGrid, when_utc) -> np.ndarray:
+    import pvlib
+    from rasterio.warp import transform as warp_transform
+
+    xc = grid.transform.c + grid.shape[1] * grid.transform.a / 2
+    yc = grid.transform.f + grid.shape[0] * grid.transform.e / 2
+    (lon,), (lat,) = warp_transform(grid.crs, "EPSG:4326", [xc], [yc])
+    idx = pd.DatetimeIndex(when_utc).tz_localize("UTC")
+    el = pvlib.solarposition.get_solarposition(idx, lat, lon)["elevation"].to_numpy()
+    return np.sin(np.radians(el))
+
+
+def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, season: str | None = None,
+                                utc_offset_hours: float = 8.0, water_vapour: float | None = None,
+                                variogram_model: str = "spherical", krige_coarsen: int = 5,
+                                lst_method: str = "planck", dem_nodata: str = "error",
+                                residual_scaling: str = "constant", test_fraction: float = 0.5,
+                                seed: int = 0, out_dir=None, progress=None) -> PortBackground:
+    """Run the full background chain on real-format inputs.
+
+    Parameters
+    ----------
+    mtl_path : path-like
+        Landsat C2 L1 ``*_MTL.txt`` or ``*_MTL.json`` (bands 2–7, 10 next to it).
+    dem_path : path-like
+        DEM GeoTIFF (any CRS; resampled bilinearly onto the scene grid).
+    met_path : path-like
+        Hourly met NetCDF (:func:`.met.read_met_grid`), with ``sst``; ``tcwv`` unless
+        ``water_vapour`` is given.
+    roi_path : path-like
+        Training ROIs (label GeoTIFF on the scene grid, or GeoJSON polygons).
+    season : str, optional
+        Label only.
+    utc_offset_hours : float
+        Local standard time minus UTC [h].
+    water_vapour : float, optional
+        Column water vapour [g cm-2]; default: the met file's ``tcwv`` at the overpass.
+    variogram_model : str
+        pykrige model fitted per hour.
+    krige_coarsen : int
+        Krige every n-th pixel then bilinear (1 = every pixel).
+    lst_method : {"planck", "taylor"}
+    dem_nodata : {"error", "mask"}
+        DEM nodata over land: raise, or mask explicitly (terrain term left out there; counted).
+    residual_scaling : {"constant", "solar"}
+        Diurnal weight ``w(t)`` of the Landsat class residual (module docstring).
+    test_fraction : float
+        Share of ROI pixels held out for the confusion matrix.
+    seed : int
+        Seed of the train/test split.
+    out_dir : path-like, optional
+        Write GeoTIFFs, PNGs and CSVs there (:mod:`.outputs`); nothing is written unless the
+        whole chain succeeded.
+
+    Returns
+    -------
+    PortBackground
+    """
+    require(dem_nodata in ("error", "mask"), "dem_nodata", dem_nodata, "must be 'error' or 'mask'")
+    require(residual_scaling in ("constant", "solar"), "residual_scaling", residual_scaling,
+            "must be 'constant' or 'solar'")
+    require(lst_method in ("planck", "taylor"), "lst_method", lst_method, "must be 'planck' or 'taylor'")
+    timings: dict[str, float] = {}
+    t0 = time.perf_counter()
+
+    scene = read_landsat_scene(mtl_path)
+    grid = scene.grid
+    met = read_met_grid(met_path)
+    require(met.sst is not None, "met[sst]", "missing",
+            "the met file must carry sst(time) [K]: water pixels follow the SST cycle",
+            "Add an hourly SST series (e.g. from OISST) to the NetCDF")
+    overpass = np.datetime64(scene.mtl.acquired_utc.replace(tzinfo=None), "s")
+    if water_vapour is None:
+        require(met.tcwv is not None, "met[tcwv]", "missing",
+                "needed for the LST atmosphere unless water_vapour= is given")
+        water_vapour = met.interp_time(met.tcwv, overpass)
+    dem = read_dem(dem_path, grid)
+    timings["read"] = time.perf_counter() - t0
+
+    # --- LST (single channel) ---------------------------------------------------------------
+    t1 = time.perf_counter()
+    red = scene.reflectance(RED_BAND)
+    nir = scene.reflectance(NIR_BAND)
+    ndvi_map = ndvi(red, nir)
+    emissivity = emissivity_ndvi_threshold(ndvi_map, red)
+    atmosphere = atmospheric_functions(water_vapour)
+    radiance = scene.radiance()
+    lst = lst_single_channel(radiance, emissivity, atmosphere, scene.mtl.k1, scene.mtl.k2, lst_method)
+    bt = scene.brightness_temperature()
+    timings["lst"] = time.perf_counter() - t1
+
+    # --- classification -----------------------------------------------------------------------
+    t1 = time.perf_counter()
+    features = np.stack([scene.reflectance(b) for b in REFLECTIVE_BANDS], axis=-1)
+    roi = read_roi(roi_path, grid)
+    classification = classify_scene(features, roi, test_fraction=test_fraction, seed=seed)
+    class_map = classification.class_map
+    timings["classify"] = time.perf_counter() - t1
+
+    # --- DEM checks (before any heavy work or output) ---------------------------------------
+    land = np.isin(class_map, LAND_CLASSES)
+    water = class_map == WATER
+    dem_nan = ~np.isfinite(dem)
+    bad_land = dem_nan & land
+    if bad_land.any() and dem_nodata == "error":
+        r, c = (int(i) for i in np.argwhere(bad_land)[0])
+        raise InputError("dem", f"{int(bad_land.sum())} land pixels without elevation (first at row {r}, col {c})",
+                         "the DEM must cover every land pixel with valid values",
+                         "Fill the voids, use a DEM that covers the scene, or pass dem_nodata='mask'")
+    # Sea pixels without a DEM value are at sea level by definition (many DEMs leave the sea void).
+    dem = np.where(dem_nan & water, 0.0, dem)
+    dem_masked = int((~np.isfinite(dem) & (class_map > 0)).sum())
+    slope, aspect = slope_aspect(dem, grid.resolution)
+    south = southness(aspect)
+
+    # --- kriging of the met grid (eq. 12) -------------------------------------------------------
+    t1 = time.perf_counter()
+    x_met, y_met = met_points_on_grid(met.lat, met.lon, grid)
+    values = met.temperature.reshape(met.temperature.shape[0], -1)
+    baseline_utc, fits = krige_hourly(x_met, y_met, values, grid, model=variogram_model,
+                                      coarsen=krige_coarsen, progress=progress)
+    timings["kriging"] = time.perf_counter() - t1
+
+    # --- eq. 15 on the overpass ---------------------------------------------------------------
+    t1 = time.perf_counter()
+    tsec = (met.times_utc - met.times_utc[0]).astype("timedelta64[s]").astype(float)
+    xo = float((overpass - met.times_utc[0]).astype("timedelta64[s]").astype(float))
+    require(tsec[0] <= xo <= tsec[-1], "met.time", f"{met.times_utc[0]} .. {met.times_utc[-1]}",
+            f"must contain the Landsat overpass {overpass} UTC", "Use the met day of the overpass")
+    k = min(int(np.searchsorted(tsec, xo, side="right") - 1), tsec.size - 2)
+    a = (xo - tsec[k]) / (tsec[k + 1] - tsec[k])
+    t0_ov = (1 - a) * baseline_utc[k] + a * baseline_utc[k + 1]
+    delta = lst - t0_ov
+    # Fit on class interiors: border pixels mix land and water (or two land classes) in the
+    # Landsat radiance and would pull the betas with temperatures that terrain does not explain.
+    interior = np.zeros_like(land)
+    for c in LAND_CLASSES:
+        interior |= binary_erosion(class_map == c, iterations=1)
+    fit_mask = interior & np.isfinite(delta) & np.isfinite(dem)
+    terrain = fit_terrain_regression(np.where(fit_mask, delta, np.nan), dem, slope, south,
+                                     groups=class_map, group_names=CLASS_NAMES)
+    dem0 = np.where(np.isfinite(dem), dem, 0.0)
+    terr = np.where(np.isfinite(dem), terrain_term(terrain, dem0, slope, south), 0.0)
+    residual = delta - terr          # = b0[class] + r: the Landsat detail, organised by class
+    timings["regression"] = time.perf_counter() - t1
+
+    # --- hourly background ---------------------------------------------------------------------
+    t1 = time.perf_counter()
+    sst_ov = met.interp_time(met.sst, overpass)
+    if residual_scaling == "solar":
+        sin_el = _sun_sin_elevation(grid, np.r_[met.times_utc, overpass])
+        weight = np.clip(sin_el[:-1], 0, None) / max(sin_el[-1], 0.05)
+    else:
+        weight = np.ones(met.times_utc.size)
+    hours_utc = (met.times_utc - met.times_utc.astype("datetime64[D]")).astype("timedelta64[s]").astype(float) / 3600
+    hours_local = (hours_utc + utc_offset_hours) % 24.0
+    order = np.argsort(hours_local, kind="stable")
+    temperature = np.empty_like(baseline_utc)
+    for out_k, k in enumerate(order):
+        land_t = baseline_utc[k] + terr + weight[k] * residual
+        water_t = lst + (met.sst[k] - sst_ov)
+        temperature[out_k] = np.where(water, water_t, np.where(land, land_t, np.nan))
+    timings["temporal"] = time.perf_counter() - t1
+
+    acquired = scene.mtl.acquired_utc
+    hour_ov = (acquired.hour + acquired.minute / 60 + acquired.second / 3600 + utc_offset_hours) % 24.0
+    result = PortBackground(
+        grid=grid, season=season, class_map=class_map, lst=lst.astype(np.float32),
+        brightness_temperature=bt.astype(np.float32), emissivity=emissivity.astype(np.float32),
+        ndvi=ndvi_map.astype(np.float32), elevation=dem.astype(np.float32),
+        slope_deg=slope.astype(np.float32), aspect_deg=aspect.astype(np.float32), terrain=terrain,
+        classification=classification, variograms=[fits[k] for k in order],
+        hours_local=hours_local[order], temperature=temperature.astype(np.float32),
+        baseline=baseline_utc[order].astype(np.float32), sst=met.sst[order], overpass_utc=acquired,
+        overpass_hour_local=float(hour_ov), atmosphere=atmosphere, utc_offset_hours=float(utc_offset_hours),
+        dem_masked_pixels=dem_masked, timings=timings)
+    if out_dir is not None:
+        from .outputs import write_outputs
+
+        t1 = time.perf_counter()
+        result.outputs = write_outputs(result, out_dir)
+        timings["outputs"] = time.perf_counter() - t1
+    timings["total"] = time.perf_counter() - t0
+    return result
+
+
+def build_port_background(season: str = "summer", out_dir=None, seed: int = 2026, *, size_px: int = 334,
+                          lat: float = 38.93, lon: float = 121.65, input_dir=None, **kwargs) -> PortBackground:
+    """The embedded default: generate the synthetic port, write it in the real formats, read it
+    back with the real loaders and run the whole background chain.
+
+    Parameters
+    ----------
+    season : {"summer", "winter"}
+    out_dir : path-like, optional
+        Where to write the products (GeoTIFF, PNG, CSV). ``None`` writes nothing.
+    seed : int
+        Seed of the synthetic port (textures, ROIs) and of the train/test split.
+    size_px : int
+        Scene side in 30 m pixels (334 -> 10 km).
+    lat, lon : float
+        Scene centre [deg].
+    input_dir : path-like, optional
+        Keep the generated input files there (default: a temporary directory, removed).
+    **kwargs
+        Passed to :func:`build_background_from_files`.
+
+    Returns
+    -------
+    PortBackground
+        Its ``synthetic_truth`` attribute holds the generator's truth arrays.
+    """
+    from .synthetic import SEASONS, UTC_OFFSET_HOURS, write_synthetic_port
+
+    require(season in SEASONS, "season", season, f"must be one of {sorted(SEASONS)}")
+    t0 = time.perf_counter()
+
+    def run(directory):
+        port = write_synthetic_port(directory, season, seed=seed, size_px=size_px, lat=lat, lon=lon)
+        t_gen = time.perf_counter() - t0
+        bg = build_background_from_files(port.mtl_txt, port.dem, port.met, port.roi, season=season,
+                                         utc_offset_hours=UTC_OFFSET_HOURS, seed=seed, out_dir=out_dir, **kwargs)
+        bg.timings = {"synthetic": t_gen, **bg.timings}
+        bg.synthetic_truth = port.truth
+        return bg
+
+    if input_dir is not None:
+        return run(os.fspath(input_dir))
+    with tempfile.TemporaryDirectory(prefix="shipthermal_port_") as tmp:
+        return run(tmp)

@@ -1,0 +1,161 @@
+"""Products of the background: GeoTIFFs (float32 K), class map, PNGs, CSV tables.
+
+Every file is written under a temporary name and moved into place with ``os.replace``, and
+only after the whole chain has succeeded, so a failed run leaves nothing half-written.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+
+import numpy as np
+import pandas as pd
+import rasterio
+
+from .classify import CLASS_CODES, CLASS_COLOURS, CLASS_NAMES, format_jm_table
+
+__all__ = ["write_outputs", "write_geotiff"]
+
+
+def _tmp(path: str) -> str:
+    return f"{path}.part-{os.getpid()}"
+
+
+def write_geotiff(path, data, grid, nodata=None, descriptions=None, colormap=None) -> str:
+    """Write a (bands, rows, cols) or (rows, cols) array as a GeoTIFF on ``grid`` atomically."""
+    arr = data if data.ndim == 3 else data[None]
+    tmp = _tmp(path)
+    with rasterio.open(tmp, "w", driver="GTiff", height=arr.shape[1], width=arr.shape[2], count=arr.shape[0],
+                       dtype=arr.dtype, crs=grid.crs, transform=grid.transform, nodata=nodata,
+                       compress="deflate") as dst:
+        dst.write(arr)
+        if descriptions:
+            for k, d in enumerate(descriptions, start=1):
+                dst.set_band_description(k, d)
+        if colormap:
+            dst.write_colormap(1, colormap)
+    os.replace(tmp, path)
+    return path
+
+
+def _csv(df: pd.DataFrame, path: str, index=True) -> str:
+    tmp = _tmp(path)
+    df.to_csv(tmp, index=index, float_format="%.6g")
+    os.replace(tmp, path)
+    return path
+
+
+def _savefig(fig, path: str) -> str:
+    tmp = _tmp(path)
+    fig.savefig(tmp, format="png", dpi=110, bbox_inches="tight")
+    os.replace(tmp, path)
+    return path
+
+
+def _hex_rgb(h: str):
+    return tuple(int(h[i:i + 2], 16) for i in (1, 3, 5))
+
+
+def write_outputs(bg, out_dir) -> dict:
+    """Write all products of a :class:`~.background.PortBackground` into ``out_dir``.
+
+    Files: ``lst_K.tif``, ``background_K.tif`` (24 bands, local hours), ``class_map.tif``
+    (uint8 with colour table), ``slope_deg.tif``, ``aspect_deg.tif``, ``class_map.png``,
+    ``lst.png``, ``background_hours.png``, ``jm_separability.csv``/``.txt``,
+    ``confusion_matrix.csv``, ``accuracy.csv``, ``class_fractions.csv``, ``variograms.csv``,
+    ``terrain_regression.csv``, ``summary.json``.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.patches import Patch
+
+    out_dir = os.fspath(out_dir)
+    os.makedirs(out_dir, exist_ok=True)
+    p = lambda name: os.path.join(out_dir, name)  # noqa: E731
+    out: dict[str, str] = {}
+    g = bg.grid
+    nan = np.float32(np.nan)
+    out["lst"] = write_geotiff(p("lst_K.tif"), bg.lst.astype(np.float32), g, nodata=nan,
+                               descriptions=["land surface temperature [K]"])
+    out["background"] = write_geotiff(
+        p("background_K.tif"), bg.temperature.astype(np.float32), g, nodata=nan,
+        descriptions=[f"background temperature [K] at {h:05.2f} h local" for h in bg.hours_local])
+    cmap_tab = {0: (0, 0, 0, 0), **{c: (*_hex_rgb(CLASS_COLOURS[c]), 255) for c in CLASS_CODES}}
+    out["class_map"] = write_geotiff(p("class_map.tif"), bg.class_map.astype(np.uint8), g, nodata=0,
+                                     descriptions=["class: " + ", ".join(f"{c}={n}" for c, n in CLASS_NAMES.items())],
+                                     colormap=cmap_tab)
+    out["slope"] = write_geotiff(p("slope_deg.tif"), bg.slope_deg.astype(np.float32), g, nodata=nan)
+    out["aspect"] = write_geotiff(p("aspect_deg.tif"), bg.aspect_deg.astype(np.float32), g, nodata=nan)
+
+    # --- tables ------------------------------------------------------------------------------
+    c = bg.classification
+    out["jm_csv"] = _csv(c.jm, p("jm_separability.csv"))
+    tmp = _tmp(p("jm_separability.txt"))
+    with open(tmp, "w", encoding="utf-8") as fh:
+        fh.write("Sample separability (Jeffries-Matusita, eqs. 3-4)\n" + format_jm_table(c.jm) + "\n")
+    os.replace(tmp, p("jm_separability.txt"))
+    out["jm_txt"] = p("jm_separability.txt")
+    out["confusion"] = _csv(c.confusion, p("confusion_matrix.csv"))
+    acc = pd.DataFrame({"metric": ["overall_accuracy", "kappa_quadratic_sklearn", "kappa_quadratic_eq5",
+                                   "kappa_unweighted"],
+                        "value": [c.overall_accuracy, c.kappa_quadratic, c.kappa_quadratic_eq5, c.kappa_unweighted]})
+    out["accuracy"] = _csv(acc, p("accuracy.csv"), index=False)
+    out["fractions"] = _csv(c.fractions, p("class_fractions.csv"), index=False)
+    vrows = [{"hour_local": h, "model": f.model, **f.parameters, "n_points": f.n_points, "Q1": f.q1,
+              "Q2": f.q2, "cR": f.cr} for h, f in zip(bg.hours_local, bg.variograms)]
+    out["variograms"] = _csv(pd.DataFrame(vrows), p("variograms.csv"), index=False)
+    t = bg.terrain
+    trows = [{"term": "beta1_elevation", "value": t.beta_elevation, "stderr": t.stderr[0], "unit": "K/m"},
+             {"term": "beta2_slope", "value": t.beta_slope, "stderr": t.stderr[1], "unit": "K/deg"},
+             {"term": "beta3_aspect_southness", "value": t.beta_aspect, "stderr": t.stderr[2], "unit": "K"}]
+    trows += [{"term": f"intercept_{k}", "value": v, "stderr": np.nan, "unit": "K"} for k, v in t.intercepts.items()]
+    trows += [{"term": "R2", "value": t.r2, "stderr": np.nan, "unit": "-"},
+              {"term": "rmse", "value": t.rmse, "stderr": np.nan, "unit": "K"},
+              {"term": "n_pixels", "value": t.n_pixels, "stderr": np.nan, "unit": "-"}]
+    out["terrain"] = _csv(pd.DataFrame(trows), p("terrain_regression.csv"), index=False)
+
+    # --- pictures ----------------------------------------------------------------------------
+    b = g.transform
+    extent = [b.c / 1000, (b.c + g.shape[1] * b.a) / 1000, (b.f + g.shape[0] * b.e) / 1000, b.f / 1000]
+    cmap = ListedColormap(["#000000"] + [CLASS_COLOURS[k] for k in CLASS_CODES])
+    norm = BoundaryNorm(np.arange(-0.5, len(CLASS_CODES) + 1.0), cmap.N)
+    fig, ax = plt.subplots(figsize=(6.5, 6))
+    ax.imshow(bg.class_map, cmap=cmap, norm=norm, extent=extent, interpolation="nearest")
+    frac = dict(zip(c.fractions["class"], c.fractions["fraction"]))
+    ax.legend(handles=[Patch(color=CLASS_COLOURS[k], label=f"{CLASS_NAMES[k]} ({100 * frac[CLASS_NAMES[k]]:.1f} %)")
+                       for k in CLASS_CODES], loc="lower left", fontsize=8)
+    ax.set(title=f"Land-cover classes (OA {c.overall_accuracy:.3f}, kappa_q {c.kappa_quadratic:.3f})",
+           xlabel=f"easting [km] ({g.crs})", ylabel="northing [km]")
+    out["class_map_png"] = _savefig(fig, p("class_map.png"))
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(6.5, 6))
+    im = ax.imshow(bg.lst, cmap="inferno", extent=extent)
+    fig.colorbar(im, ax=ax, label="LST [K]", shrink=0.8)
+    ax.set(title=f"Landsat band-10 LST, {bg.overpass_utc:%Y-%m-%d %H:%M} UTC",
+           xlabel="easting [km]", ylabel="northing [km]")
+    out["lst_png"] = _savefig(fig, p("lst.png"))
+    plt.close(fig)
+
+    vmin, vmax = np.nanpercentile(bg.temperature, [0.5, 99.5])
+    fig, axes = plt.subplots(4, 6, figsize=(15, 10.5), constrained_layout=True)
+    for ax, h, layer in zip(axes.ravel(), bg.hours_local, bg.temperature):
+        im = ax.imshow(layer, cmap="inferno", vmin=vmin, vmax=vmax, extent=extent)
+        ax.set_title(f"{h:05.2f} h", fontsize=9)
+        ax.set_xticks([])
+        ax.set_yticks([])
+    fig.colorbar(im, ax=axes, label="background temperature [K]", shrink=0.6)
+    fig.suptitle(f"Hourly port background ({bg.season or 'input'}; local time UTC{bg.utc_offset_hours:+g})")
+    out["background_png"] = _savefig(fig, p("background_hours.png"))
+    plt.close(fig)
+
+    tmp = _tmp(p("summary.json"))
+    with open(tmp, "w", encoding="utf-8") as fh:
+        json.dump(bg.summary(), fh, indent=2, default=str)
+    os.replace(tmp, p("summary.json"))
+    out["summary"] = p("summary.json")
+    return out
