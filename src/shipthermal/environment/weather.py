@@ -419,6 +419,15 @@ def read_weather_csv(path, tz: Optional[str] = None, temp_unit: str = "C",
                    periodic=periodic, source=f"csv:{os.path.basename(str(path))}")
 
 
+def _hour_ending_to_instant(values):
+    """Re-centre hour-ending means on the hour labels: the mean of the hours ending at t
+    and at t + 1 h is centred on t (the last row is kept)."""
+    v = np.asarray(values, dtype=float)
+    out = v.copy()
+    out[:-1] = 0.5 * (v[:-1] + v[1:])
+    return out
+
+
 def _sst_required(temp_sea, fmt):
     require(temp_sea is not None, "temp_sea", None,
             f"{fmt} files carry no sea temperature: pass temp_sea= [K] (scalar or array)")
@@ -445,7 +454,8 @@ def read_weather_epw(path, temp_sea, year: Optional[int] = None,
     Returns
     -------
     Weather
-        Index as pvlib gives it (hour-ending labels, fixed UTC offset from the header).
+        Index as pvlib gives it (hour-ending labels, fixed UTC offset from the header);
+        GHI and long-wave (hour-ending means) are re-centred on the labels as for TMY3.
         Cloud cover from 'total_sky_cover' (tenths). EPW's 9999 "missing" codes for
         infrared are mapped to NaN and then rejected by validation unless
         ``use_measured_longwave=False``.
@@ -472,8 +482,10 @@ def read_weather_epw(path, temp_sea, year: Optional[int] = None,
                    wind_direction=data["wind_direction"].to_numpy(dtype=float) % 360.0,
                    cloud_cover=data["total_sky_cover"].to_numpy(dtype=float) / 10.0,
                    temp_sea=temp_sea,
-                   ghi=data["ghi"].to_numpy(dtype=float) if use_measured_irradiance else None,
-                   longwave_down=lw, source=f"epw:{meta.get('city', '')}")
+                   ghi=_hour_ending_to_instant(data["ghi"].to_numpy(dtype=float))
+                   if use_measured_irradiance else None,
+                   longwave_down=None if lw is None else _hour_ending_to_instant(lw),
+                   source=f"epw:{meta.get('city', '')}")
 
 
 def read_weather_tmy3(path, temp_sea, year: int = 2000,
@@ -496,7 +508,9 @@ def read_weather_tmy3(path, temp_sea, year: int = 2000,
     Returns
     -------
     Weather
-        Cloud cover from 'TotCld' (tenths); TMY3 has no long-wave column.
+        Cloud cover from 'TotCld' (tenths); TMY3 has no long-wave column. GHI is an
+        hour-ending mean in TMY3; it is re-centred on the hour labels (mean of the two
+        hours around each label) so the interpolation sees instantaneous values.
     """
     import pvlib
 
@@ -514,5 +528,6 @@ def read_weather_tmy3(path, temp_sea, year: int = 2000,
                    wind_direction=data["wind_direction"].to_numpy(dtype=float) % 360.0,
                    cloud_cover=data["TotCld (tenths)"].to_numpy(dtype=float) / 10.0,
                    temp_sea=temp_sea,
-                   ghi=data["ghi"].to_numpy(dtype=float) if use_measured_irradiance else None,
+                   ghi=_hour_ending_to_instant(data["ghi"].to_numpy(dtype=float))
+                   if use_measured_irradiance else None,
                    source=f"tmy3:{str(meta.get('Name', '')).strip(chr(34))}")
