@@ -1,0 +1,658 @@
+"""Radiometry: Planck band radiance, sensor spectral response, emissivities (paper eqs. 1-2).
+
+Everything here is a pure function of numpy arrays. Wavelengths are in micrometres
+(``wavelength_um``), temperatures in kelvin, spectral radiance in W m-2 sr-1 um-1 and band
+radiance in W m-2 sr-1 (the band radiance is the response-weighted integral
+``L_band(T) = int R(lambda) L_lambda(lambda, T) d lambda``, *not* divided by the band width).
+
+Constants
+---------
+The paper (eq. 2) gives ``c1 = 1.191e8 W um4 m-2 sr-1`` and ``c2 = 1.4388e4 um K``; these are
+the defaults (:data:`C1_PAPER`, :data:`C2_PAPER`). The exact CODATA values
+(:data:`C1_CODATA` = 2 h c^2, :data:`C2_CODATA` = h c / k) are available for checks.
+With the paper's four/five significant digits the full-band integral differs from
+``sigma T^4 / pi`` by ``(1.191 / 1.191043) (1.438777 / 1.4388)^4 - 1 = -1.00e-4`` relative
+(c1 contributes -3.6e-5, c2 -6.4e-5); with CODATA constants the agreement is at round-off
+(see the tests).
+
+Paper typo: eq. 2 writes ``eps/pi * int c1 / (lambda^5 (exp(c2/lambda T) - 1))``. With
+``c1 = 1.191e8 W um4 m-2 sr-1`` (that is ``2 h c^2``, the *radiance* constant) the extra
+``1/pi`` would be counted twice; ``1/pi`` belongs with the exitance constant
+``2 pi h c^2 = 3.742e8``. We use ``L = eps * int c1 / (lambda^5 (...))`` which is the
+dimensionally consistent reading and reproduces ``sigma T^4 / pi``.
+
+Band integration
+----------------
+:func:`band_radiance` uses Gauss-Legendre quadrature on each segment of the
+spectral-response table (one segment for a rectangular band). With the default 8 nodes per
+segment the relative error against the exact series of :func:`band_radiance_rectangular_exact`
+is below 3e-12 for 3-5 um and 8-14 um between 150 K and 1000 K (tested). For whole images
+with a long response table, :func:`band_radiance_table` builds a cubic-Hermite table in T
+whose maximum relative interpolation error is measured when it is built (``max_rel_error``;
+at 1 K spacing on 150-450 K: 4.4e-7 for 3-5 um, worst at 150 K where L is steepest in
+relative terms, and 1.8e-9 for 8-14 um).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.special import bernoulli
+
+from shipthermal.errors import InputError, check_finite, check_positive, check_range, require
+
+__all__ = [
+    "C1_PAPER", "C2_PAPER", "C1_CODATA", "C2_CODATA",
+    "SpectralResponse", "rectangular_response", "standard_band",
+    "planck_radiance", "planck_radiance_dt",
+    "band_radiance", "band_radiance_dt", "band_radiance_rectangular_exact",
+    "brightness_temperature", "BandRadianceTable", "band_radiance_table",
+    "SHIP_EMISSIVITY", "BACKGROUND_EMISSIVITY", "EmissivityValue",
+    "ship_emissivity", "background_emissivity",
+    "WATER_INDEX_HALE_QUERRY", "water_refractive_index", "water_band_mean_index",
+    "sea_emissivity", "leaving_radiance",
+]
+
+# ---------------------------------------------------------------------------------------
+# Constants
+# ---------------------------------------------------------------------------------------
+C1_PAPER = 1.191e8
+"""First radiation constant for spectral radiance, paper eq. 2 [W um4 m-2 sr-1]."""
+C2_PAPER = 1.4388e4
+"""Second radiation constant, paper eq. 2 [um K]."""
+
+_H = 6.62607015e-34   # Planck constant [J s] (SI exact)
+_C = 299792458.0      # speed of light [m s-1] (SI exact)
+_K = 1.380649e-23     # Boltzmann constant [J K-1] (SI exact)
+C1_CODATA = 2.0 * _H * _C**2 * 1e24
+"""2 h c^2 = 1.191042972e8 [W um4 m-2 sr-1] (from the exact SI constants)."""
+C2_CODATA = _H * _C / _K * 1e6
+"""h c / k = 1.438776877e4 [um K] (from the exact SI constants)."""
+
+
+# ---------------------------------------------------------------------------------------
+# Spectral response
+# ---------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class SpectralResponse:
+    """Relative spectral response of a sensor band, piecewise linear between knots.
+
+    Attributes
+    ----------
+    name : str
+        Band label, e.g. ``"3-5"``.
+    wavelength_um : numpy.ndarray
+        Strictly increasing knot wavelengths [um]. The response is zero outside
+        ``[wavelength_um[0], wavelength_um[-1]]``.
+    response : numpy.ndarray
+        Relative response at the knots [-], in [0, 1].
+    """
+
+    name: str
+    wavelength_um: np.ndarray
+    response: np.ndarray
+
+    def __post_init__(self):
+        wl = np.array(self.wavelength_um, dtype=float)
+        rs = np.array(self.response, dtype=float)
+        require(wl.ndim == 1 and wl.size >= 2, f"response[{self.name}].wavelength_um", wl,
+                "must be a 1-D table with at least 2 knots")
+        require(rs.shape == wl.shape, f"response[{self.name}].response", rs,
+                f"must have the same length as wavelength_um ({wl.size})")
+        check_positive(f"response[{self.name}].wavelength_um", wl, "um")
+        require(bool(np.all(np.diff(wl) > 0)), f"response[{self.name}].wavelength_um", wl,
+                "must be strictly increasing", "Sort the table by wavelength")
+        check_range(f"response[{self.name}].response", rs, 0.0, 1.0)
+        wl.setflags(write=False)
+        rs.setflags(write=False)
+        object.__setattr__(self, "wavelength_um", wl)
+        object.__setattr__(self, "response", rs)
+
+    @property
+    def mean_wavelength_um(self) -> float:
+        """Response-weighted mean wavelength [um] (e.g. for the diffraction PSF)."""
+        w, x = self.quadrature(4)
+        return float(np.sum(w * x) / np.sum(w))
+
+    @property
+    def width_um(self) -> float:
+        """Equivalent width ``int R d lambda`` [um]."""
+        return float(np.trapezoid(self.response, self.wavelength_um))
+
+    def quadrature(self, nodes_per_segment: int = 8) -> tuple[np.ndarray, np.ndarray]:
+        """Gauss-Legendre weights and nodes for ``int R(lambda) g(lambda) d lambda``.
+
+        Returns ``(weights [um], nodes [um])``; the response (linear on each segment) is
+        folded into the weights, so ``sum(weights * g(nodes))`` is the band integral of
+        ``g``. Exact for ``g`` polynomial of degree ``2 n - 2`` on each segment.
+        """
+        xg, wg = np.polynomial.legendre.leggauss(int(nodes_per_segment))
+        a, b = self.wavelength_um[:-1, None], self.wavelength_um[1:, None]
+        ra, rb = self.response[:-1, None], self.response[1:, None]
+        half = 0.5 * (b - a)
+        nodes = 0.5 * (a + b) + half * xg[None, :]
+        t = 0.5 * (xg[None, :] + 1.0)
+        weights = half * wg[None, :] * (ra + (rb - ra) * t)
+        keep = weights.ravel() != 0.0
+        return weights.ravel()[keep], nodes.ravel()[keep]
+
+
+def rectangular_response(low_um: float, high_um: float, name: str | None = None
+                         ) -> SpectralResponse:
+    """Rectangular (ideal) band response: 1 on ``[low_um, high_um]`` [um], 0 outside."""
+    require(float(high_um) > float(low_um) > 0, "band", (low_um, high_um),
+            "needs 0 < low_um < high_um [um]")
+    return SpectralResponse(name or f"{low_um:g}-{high_um:g}", np.array([low_um, high_um]),
+                            np.array([1.0, 1.0]))
+
+
+_STANDARD_BANDS = {"3-5": (3.0, 5.0), "8-14": (8.0, 14.0)}
+
+
+def standard_band(name: str) -> SpectralResponse:
+    """The paper's rectangular bands: ``"3-5"`` (3-5 um) or ``"8-14"`` (8-14 um)."""
+    if name not in _STANDARD_BANDS:
+        raise InputError("band", name, f"must be one of {sorted(_STANDARD_BANDS)}",
+                         "Or pass a SpectralResponse built from your own table")
+    return rectangular_response(*_STANDARD_BANDS[name], name=name)
+
+
+def _as_response(band) -> SpectralResponse:
+    return band if isinstance(band, SpectralResponse) else standard_band(band)
+
+
+# ---------------------------------------------------------------------------------------
+# Planck
+# ---------------------------------------------------------------------------------------
+def planck_radiance(wavelength_um, temp, c1: float = C1_PAPER, c2: float = C2_PAPER):
+    """Blackbody spectral radiance.
+
+    Parameters
+    ----------
+    wavelength_um : array_like
+        Wavelength [um].
+    temp : array_like
+        Temperature [K]; broadcast against ``wavelength_um``.
+    c1 : float
+        First radiation constant [W um4 m-2 sr-1]; default the paper's 1.191e8.
+    c2 : float
+        Second radiation constant [um K]; default the paper's 1.4388e4.
+
+    Returns
+    -------
+    numpy.ndarray
+        Spectral radiance [W m-2 sr-1 um-1].
+
+    Notes
+    -----
+    Paper eq. 2 integrand, ``L = c1 / (lambda^5 (exp(c2 / (lambda T)) - 1))``; ``expm1``
+    keeps full precision in the Rayleigh-Jeans limit.
+    """
+    wl = np.asarray(wavelength_um, dtype=float)
+    t = np.asarray(temp, dtype=float)
+    return c1 / (wl**5 * np.expm1(c2 / (wl * t)))
+
+
+def planck_radiance_dt(wavelength_um, temp, c1: float = C1_PAPER, c2: float = C2_PAPER):
+    """Temperature derivative of :func:`planck_radiance` [W m-2 sr-1 um-1 K-1].
+
+    ``dL/dT = L * x exp(x) / (T (exp(x) - 1))`` with ``x = c2 / (lambda T)``.
+    Parameters as :func:`planck_radiance` (``wavelength_um`` [um], ``temp`` [K]).
+    """
+    wl = np.asarray(wavelength_um, dtype=float)
+    t = np.asarray(temp, dtype=float)
+    x = c2 / (wl * t)
+    em1 = np.expm1(x)
+    return c1 / (wl**5 * em1) * x * (em1 + 1.0) / (em1 * t)
+
+
+def _band_sum(kernel, temp, band, nodes_per_segment, c1, c2):
+    resp = _as_response(band)
+    w, wl = resp.quadrature(nodes_per_segment)
+    t = np.asarray(temp, dtype=float)
+    out = np.zeros(t.shape, dtype=float)
+    # one pass per node keeps memory at the size of the image (no (npix, nnodes) temporary)
+    for wj, lj in zip(w, wl):
+        out += wj * kernel(lj, t, c1, c2)
+    return out
+
+
+def band_radiance(temp, band="8-14", nodes_per_segment: int = 8,
+                  c1: float = C1_PAPER, c2: float = C2_PAPER):
+    """Blackbody band radiance ``int R(lambda) L_lambda(lambda, T) d lambda``.
+
+    Parameters
+    ----------
+    temp : array_like
+        Temperature [K], any shape (e.g. a whole image).
+    band : str or SpectralResponse
+        ``"3-5"``, ``"8-14"`` (rectangular) or a user response table.
+    nodes_per_segment : int
+        Gauss-Legendre nodes per response-table segment [-].
+    c1, c2 : float
+        Radiation constants [W um4 m-2 sr-1], [um K] (paper values by default).
+
+    Returns
+    -------
+    numpy.ndarray
+        Band radiance [W m-2 sr-1], same shape as ``temp``.
+
+    Notes
+    -----
+    Paper eq. 2, first term (with ``eps = 1``). Relative quadrature error < 3e-12 for the
+    default bands and 8 nodes at 150-1000 K (tested against the exact series).
+    """
+    return _band_sum(planck_radiance, temp, band, nodes_per_segment, c1, c2)
+
+
+def band_radiance_dt(temp, band="8-14", nodes_per_segment: int = 8,
+                     c1: float = C1_PAPER, c2: float = C2_PAPER):
+    """Temperature derivative of :func:`band_radiance` [W m-2 sr-1 K-1].
+
+    Same parameters as :func:`band_radiance` (``temp`` [K]). Used for NETD -> noise-equivalent
+    radiance and for Newton steps in :func:`brightness_temperature`.
+    """
+    return _band_sum(planck_radiance_dt, temp, band, nodes_per_segment, c1, c2)
+
+
+_BERNOULLI = bernoulli(40)
+
+
+def _planck_tail(x):
+    """``G(x) = int_x^inf t^3 / (e^t - 1) dt`` to round-off, vectorised (x >= 0 or inf).
+
+    x >= 1: ``sum_n e^{-n x} (x^3/n + 3x^2/n^2 + 6x/n^3 + 6/n^4)`` (Widger & Woodall 1976),
+    45 terms (``e^{-45} ~ 3e-20``). x < 1: ``pi^4/15 - sum_m B_m x^{m+3} / (m! (m+3))`` from
+    the Bernoulli expansion of ``t/(e^t - 1)`` (radius 2 pi; 40 terms -> ``(1/2pi)^40``).
+    """
+    x = np.asarray(x, dtype=float)
+    out = np.empty_like(x)
+    big = x >= 1.0
+    xb = np.where(big & np.isfinite(x), x, 1.0)
+    n = np.arange(1, 46, dtype=float).reshape((-1,) + (1,) * x.ndim)
+    series = np.exp(-n * xb) * (xb**3 / n + 3 * xb**2 / n**2 + 6 * xb / n**3 + 6 / n**4)
+    out[big] = series.sum(axis=0)[big]
+    out[np.isinf(x)] = 0.0
+    xs = np.where(big, 0.0, x)
+    acc = np.zeros_like(xs)
+    for m in range(40, -1, -1):
+        if _BERNOULLI[m] != 0.0:
+            acc += _BERNOULLI[m] * xs ** (m + 3) / (math.factorial(m) * (m + 3))
+    out[~big] = (math.pi**4 / 15.0 - acc)[~big]
+    return out
+
+
+def band_radiance_rectangular_exact(temp, low_um, high_um,
+                                    c1: float = C1_PAPER, c2: float = C2_PAPER):
+    """Exact blackbody radiance over a rectangular band, from a convergent series.
+
+    Parameters
+    ----------
+    temp : array_like
+        Temperature [K].
+    low_um, high_um : float
+        Band edges [um]; ``low_um = 0`` and ``high_um = inf`` are allowed (full band).
+    c1, c2 : float
+        Radiation constants [W um4 m-2 sr-1], [um K].
+
+    Returns
+    -------
+    numpy.ndarray
+        Band radiance [W m-2 sr-1].
+
+    Notes
+    -----
+    With ``x = c2 / (lambda T)``: ``L = c1 T^4 / c2^4 [G(x_high) - G(x_low)]``, ``G`` from
+    :func:`_planck_tail`. Independent of any wavelength quadrature, so it is the reference
+    for :func:`band_radiance`. Full band: ``c1 pi^4 T^4 / (15 c2^4)`` (= ``sigma T^4 / pi``
+    with CODATA constants).
+    """
+    t = np.asarray(temp, dtype=float)
+    with np.errstate(divide="ignore"):
+        x_low = c2 / (low_um * t) if low_um > 0 else np.full(t.shape, np.inf)
+    x_high = c2 / (high_um * t) if np.isfinite(high_um) else np.zeros(t.shape)
+    return c1 * t**4 / c2**4 * (_planck_tail(x_high) - _planck_tail(x_low))
+
+
+def brightness_temperature(radiance, band="8-14", nodes_per_segment: int = 8,
+                           c1: float = C1_PAPER, c2: float = C2_PAPER, iterations: int = 6):
+    """Invert :func:`band_radiance`: the blackbody temperature giving ``radiance``.
+
+    Parameters
+    ----------
+    radiance : array_like
+        Band radiance [W m-2 sr-1], > 0.
+    band : str or SpectralResponse
+        The band the radiance belongs to.
+    nodes_per_segment : int
+        Quadrature nodes, as in :func:`band_radiance` [-].
+    c1, c2 : float
+        Radiation constants [W um4 m-2 sr-1], [um K].
+    iterations : int
+        Newton steps after the tabulated first guess [-]; 6 reach round-off (tested).
+
+    Returns
+    -------
+    numpy.ndarray
+        Brightness temperature [K].
+
+    Notes
+    -----
+    First guess: linear interpolation in ``log L`` on a 40-1500 K table (log L is nearly
+    linear in 1/T, so the guess is within ~1 K); then Newton on ``L(T) - radiance``.
+    """
+    lum = np.asarray(radiance, dtype=float)
+    check_positive("radiance", lum, "W m-2 sr-1")
+    t_grid = 1.0 / np.linspace(1 / 40.0, 1 / 1500.0, 400)
+    l_grid = band_radiance(t_grid, band, nodes_per_segment, c1, c2)
+    ok = l_grid > 0
+    temp = 1.0 / np.interp(np.log(lum), np.log(l_grid[ok]), 1.0 / t_grid[ok])
+    for _ in range(iterations):
+        f = band_radiance(temp, band, nodes_per_segment, c1, c2) - lum
+        temp = temp - f / band_radiance_dt(temp, band, nodes_per_segment, c1, c2)
+    return temp
+
+
+@dataclass(frozen=True)
+class BandRadianceTable:
+    """Cubic-Hermite table of band radiance in temperature (fast path for big images).
+
+    Attributes
+    ----------
+    temp : numpy.ndarray
+        Uniform temperature knots [K].
+    radiance : numpy.ndarray
+        Band radiance at the knots [W m-2 sr-1].
+    radiance_dt : numpy.ndarray
+        Its temperature derivative at the knots [W m-2 sr-1 K-1].
+    max_rel_error : float
+        Largest relative error against :func:`band_radiance`, measured when built at five
+        points around each interval midpoint (where the Hermite error term
+        ``h^4 L''''/384`` peaks) [-].
+    """
+
+    temp: np.ndarray
+    radiance: np.ndarray
+    radiance_dt: np.ndarray
+    max_rel_error: float
+
+    def __call__(self, temp):
+        """Band radiance [W m-2 sr-1] at ``temp`` [K] (must lie inside the table)."""
+        t = np.asarray(temp, dtype=float)
+        t0, h = self.temp[0], self.temp[1] - self.temp[0]
+        if t.size and (t.min() < t0 or t.max() > self.temp[-1]):
+            raise InputError("temp", t, f"must lie in the table range [{t0:g}, "
+                             f"{self.temp[-1]:g}] K", "Build a wider table")
+        u = (t - t0) / h
+        i = np.minimum(u.astype(np.intp), self.temp.size - 2)
+        s = u - i
+        s2, s3 = s * s, s * s * s
+        return ((2 * s3 - 3 * s2 + 1) * self.radiance[i] + (s3 - 2 * s2 + s) * h
+                * self.radiance_dt[i] + (-2 * s3 + 3 * s2) * self.radiance[i + 1]
+                + (s3 - s2) * h * self.radiance_dt[i + 1])
+
+
+def band_radiance_table(band="8-14", temp_min: float = 150.0, temp_max: float = 450.0,
+                        temp_step: float = 1.0, nodes_per_segment: int = 8,
+                        c1: float = C1_PAPER, c2: float = C2_PAPER) -> BandRadianceTable:
+    """Build a :class:`BandRadianceTable` for ``band`` on ``[temp_min, temp_max]`` [K].
+
+    ``temp_step`` [K] is the knot spacing; the achieved maximum relative error is measured
+    and stored in ``max_rel_error`` (4.4e-7 for 3-5 um, 1.8e-9 for 8-14 um at 1 K).
+    """
+    check_positive("temp_min", temp_min, "K")
+    require(temp_max > temp_min, "temp_max", temp_max, f"must exceed temp_min={temp_min}")
+    check_positive("temp_step", temp_step, "K")
+    n = int(math.ceil((temp_max - temp_min) / temp_step)) + 1
+    t = temp_min + temp_step * np.arange(n)
+    lum = band_radiance(t, band, nodes_per_segment, c1, c2)
+    dl = band_radiance_dt(t, band, nodes_per_segment, c1, c2)
+    table = BandRadianceTable(t, lum, dl, 0.0)
+    # the Hermite error s^2 (1-s)^2 h^4 L''''(xi) / 24 peaks near s = 0.5; probing five
+    # points per interval catches the drift of L'''' across it
+    probe = (t[:-1, None] + temp_step * np.array([0.3, 0.4, 0.5, 0.6, 0.7])[None, :]).ravel()
+    exact = band_radiance(probe, band, nodes_per_segment, c1, c2)
+    err = float(np.max(np.abs(table(probe) / exact - 1.0)))
+    return BandRadianceTable(t, lum, dl, err)
+
+
+# ---------------------------------------------------------------------------------------
+# Emissivities
+# ---------------------------------------------------------------------------------------
+SHIP_EMISSIVITY = {
+    "3-5": {"hull": 0.85, "deck": 0.90, "superstructure": 0.78},
+    "8-14": {"hull": 0.90, "deck": 0.95, "superstructure": 0.88},
+}
+"""Ship part emissivities per band [-], paper §5 (3-5 um and 8-14 um results)."""
+
+
+@dataclass(frozen=True)
+class EmissivityValue:
+    """A band emissivity with its uncertainty and source.
+
+    Attributes
+    ----------
+    value : float
+        Band-mean hemispherical (near-normal) emissivity [-].
+    uncertainty : float
+        Spread of the cited measurements around ``value`` [-].
+    source : str
+        Where the number comes from.
+    """
+
+    value: float
+    uncertainty: float
+    source: str
+
+
+_SD92 = ("Salisbury & D'Aria 1992, Remote Sens. Environ. 42:83-106 (8-14 um, "
+         "directional-hemispherical reflectance -> emissivity by Kirchhoff)")
+_SD94 = ("Salisbury & D'Aria 1994, Remote Sens. Environ. 47:345-361 (3-5 um)")
+_SUTH = "Sutherland 1986, J. Atmos. Oceanic Technol. 3:199-202 (8-14 um radiometer)"
+_HQ = ("Fresnel, flat water, nadir, band-mean complex index of Hale & Querry 1973, "
+       "Appl. Opt. 12:555; see sea_emissivity() for the angular dependence")
+
+BACKGROUND_EMISSIVITY = {
+    "3-5": {
+        "water": EmissivityValue(0.975, 0.005, _HQ),
+        "vegetation": EmissivityValue(0.96, 0.02, "green foliage; " + _SD94),
+        "land": EmissivityValue(0.86, 0.05, "soils / sand / bare concrete yard, dry; " + _SD94),
+        "building": EmissivityValue(0.89, 0.04, "concrete, roofing; " + _SD94),
+    },
+    "8-14": {
+        "water": EmissivityValue(0.988, 0.005, _HQ),
+        "vegetation": EmissivityValue(0.98, 0.01, "green foliage, grass; " + _SD92
+                                      + "; " + _SUTH),
+        "land": EmissivityValue(0.94, 0.03, "soils 0.89-0.96 (quartz sands lowest); " + _SD92
+                                + "; " + _SUTH),
+        "building": EmissivityValue(0.94, 0.02, "concrete, roofing; " + _SD92),
+    },
+}
+"""Background class emissivities per band [-]. Representative band means of the cited
+measurements, rounded to 0.01 with the spread of the materials as ``uncertainty``: they were
+*not* recomputed here from library spectra (no spectral library ships offline). Water is the
+Fresnel value computed by :func:`sea_emissivity` at nadir (the test checks this)."""
+
+
+def ship_emissivity(part: str, band: str) -> float:
+    """Emissivity [-] of ship ``part`` (hull, deck, superstructure) in ``band`` (3-5, 8-14).
+
+    Notes
+    -----
+    Paper §5: 3-5 um hull 0.85, deck 0.90, superstructure 0.78; 8-14 um 0.90, 0.95, 0.88.
+    """
+    if band not in SHIP_EMISSIVITY:
+        raise InputError("band", band, f"must be one of {sorted(SHIP_EMISSIVITY)}")
+    parts = SHIP_EMISSIVITY[band]
+    if part not in parts:
+        raise InputError("part", part, f"must be one of {sorted(parts)}",
+                         "Give other parts their own emissivity explicitly")
+    return parts[part]
+
+
+def background_emissivity(cls: str, band: str) -> float:
+    """Emissivity [-] of a background class (water, vegetation, land, building) in ``band``.
+
+    See :data:`BACKGROUND_EMISSIVITY` for sources and uncertainties.
+    """
+    if band not in BACKGROUND_EMISSIVITY:
+        raise InputError("band", band, f"must be one of {sorted(BACKGROUND_EMISSIVITY)}")
+    classes = BACKGROUND_EMISSIVITY[band]
+    if cls not in classes:
+        raise InputError("class", cls, f"must be one of {sorted(classes)}")
+    return classes[cls].value
+
+
+# Hale & Querry (1973), Appl. Opt. 12:555, Table 1, liquid water at 25 °C, 2.6-16 um:
+# columns wavelength [um], n, k. (Public-domain data, as tabulated in the original paper.)
+WATER_INDEX_HALE_QUERRY = np.array([
+    (2.60, 1.242, 3.17e-3), (2.65, 1.219, 6.70e-3), (2.70, 1.188, 0.019), (2.75, 1.157, 0.059),
+    (2.80, 1.142, 0.115), (2.85, 1.149, 0.185), (2.90, 1.201, 0.268), (2.95, 1.292, 0.298),
+    (3.00, 1.371, 0.272), (3.05, 1.426, 0.240), (3.10, 1.467, 0.192), (3.15, 1.483, 0.135),
+    (3.20, 1.478, 0.0924), (3.25, 1.467, 0.0610), (3.30, 1.450, 0.0368),
+    (3.35, 1.432, 0.0261), (3.40, 1.420, 0.0195), (3.45, 1.410, 0.0132),
+    (3.50, 1.400, 0.0094), (3.6, 1.385, 0.00515), (3.7, 1.374, 0.00360),
+    (3.8, 1.364, 0.00340), (3.9, 1.357, 0.00380), (4.0, 1.351, 0.00460),
+    (4.1, 1.346, 0.00562), (4.2, 1.342, 0.00688), (4.3, 1.338, 0.00845),
+    (4.4, 1.334, 0.0103), (4.5, 1.332, 0.0134), (4.6, 1.330, 0.0147), (4.7, 1.330, 0.0157),
+    (4.8, 1.330, 0.0150), (4.9, 1.328, 0.0137), (5.0, 1.325, 0.0124), (5.1, 1.322, 0.0111),
+    (5.2, 1.317, 0.0101), (5.3, 1.312, 0.0098), (5.4, 1.305, 0.0103), (5.5, 1.298, 0.0116),
+    (5.6, 1.289, 0.0142), (5.7, 1.277, 0.0203), (5.8, 1.262, 0.0330), (5.9, 1.248, 0.0622),
+    (6.0, 1.265, 0.107), (6.1, 1.319, 0.131), (6.2, 1.363, 0.0880), (6.3, 1.357, 0.0570),
+    (6.4, 1.347, 0.0449), (6.5, 1.339, 0.0392), (6.6, 1.334, 0.0356), (6.7, 1.329, 0.0337),
+    (6.8, 1.324, 0.0327), (6.9, 1.321, 0.0322), (7.0, 1.317, 0.0320), (7.1, 1.314, 0.0320),
+    (7.2, 1.312, 0.0321), (7.3, 1.309, 0.0322), (7.4, 1.307, 0.0324), (7.5, 1.304, 0.0326),
+    (7.6, 1.302, 0.0328), (7.7, 1.299, 0.0331), (7.8, 1.297, 0.0335), (7.9, 1.294, 0.0339),
+    (8.0, 1.291, 0.0343), (8.2, 1.286, 0.0351), (8.4, 1.281, 0.0361), (8.6, 1.275, 0.0372),
+    (8.8, 1.269, 0.0385), (9.0, 1.262, 0.0399), (9.2, 1.255, 0.0415), (9.4, 1.247, 0.0433),
+    (9.6, 1.239, 0.0454), (9.8, 1.229, 0.0479), (10.0, 1.218, 0.0508), (10.5, 1.185, 0.0662),
+    (11.0, 1.153, 0.0968), (11.5, 1.126, 0.142), (12.0, 1.111, 0.199), (12.5, 1.123, 0.259),
+    (13.0, 1.146, 0.305), (13.5, 1.177, 0.343), (14.0, 1.210, 0.370), (14.5, 1.241, 0.388),
+    (15.0, 1.270, 0.402), (15.5, 1.297, 0.414), (16.0, 1.325, 0.422),
+])
+WATER_INDEX_HALE_QUERRY.setflags(write=False)
+
+
+def water_refractive_index(wavelength_um):
+    """Complex refractive index ``n + i k`` of liquid water [-] at ``wavelength_um`` [um].
+
+    Linear interpolation in Hale & Querry (1973) Table 1 (2.6-16 um; 25 °C). Sea water's
+    salinity changes n by < 0.01 in the thermal IR (Friedman 1969), neglected here.
+    """
+    wl = np.asarray(wavelength_um, dtype=float)
+    tab = WATER_INDEX_HALE_QUERRY
+    check_range("wavelength_um", wl, tab[0, 0], tab[-1, 0], "um")
+    return np.interp(wl, tab[:, 0], tab[:, 1]) + 1j * np.interp(wl, tab[:, 0], tab[:, 2])
+
+
+def water_band_mean_index(band="8-14") -> complex:
+    """Response-weighted band mean of the Hale & Querry complex index of water [-].
+
+    ``band`` is ``"3-5"``, ``"8-14"`` or a :class:`SpectralResponse` inside 2.6-16 um.
+    Means of n and of k taken separately (``int R n d lambda / int R d lambda``); 3-5 um:
+    1.3706 + 0.0307 i (k raised by the 3.0 um O-H band edge), 8-14 um: 1.1895 + 0.1487 i.
+    """
+    resp = _as_response(band)
+    # band-mean of a piecewise-linear table: integrate on the union of both knot sets
+    knots = np.union1d(resp.wavelength_um, WATER_INDEX_HALE_QUERRY[:, 0])
+    knots = knots[(knots >= resp.wavelength_um[0]) & (knots <= resp.wavelength_um[-1])]
+    r = np.interp(knots, resp.wavelength_um, resp.response)
+    m = water_refractive_index(knots)
+    # product of two linear functions on each knot interval: Simpson is exact
+    mid = 0.5 * (knots[1:] + knots[:-1])
+    rm = np.interp(mid, resp.wavelength_um, resp.response)
+    mm = water_refractive_index(mid)
+    h = np.diff(knots)
+    num = np.sum(h / 6 * (r[:-1] * m[:-1] + 4 * rm * mm + r[1:] * m[1:]))
+    den = np.sum(h / 6 * (r[:-1] + 4 * rm + r[1:]))
+    return complex(num / den)
+
+
+def sea_emissivity(view_zenith, band="8-14", temp=None, nodes_per_segment: int = 8):
+    """Directional emissivity of a flat water surface, ``1 - R_Fresnel(theta)``.
+
+    Parameters
+    ----------
+    view_zenith : array_like
+        Emission (view) zenith angle at the surface [rad], 0..pi/2.
+    band : str or SpectralResponse
+        Band (within 2.6-16 um).
+    temp : float or None
+        If given, water temperature [K]: the emissivity is the Planck-weighted spectral
+        average ``int R eps(lambda) B(lambda,T) / int R B`` with the tabulated spectral index.
+        If None (default), Fresnel with the band-mean index of :func:`water_band_mean_index`.
+    nodes_per_segment : int
+        Quadrature nodes for the spectral average [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        Emissivity [-].
+
+    Notes
+    -----
+    Kirchhoff's law for an opaque specular surface: ``eps(theta) = 1 - (R_s + R_p)/2``
+    with the complex-index Fresnel equations (:func:`imaging.brdf.fresnel_reflectance`).
+    Flat surface: wave slopes raise the emissivity at large view angles (Masuda et al. 1988,
+    Remote Sens. Environ. 24:313); not included.
+    """
+    from imaging.brdf import fresnel_reflectance  # reflection lives in brdf.py
+
+    theta = np.asarray(view_zenith, dtype=float)
+    check_range("view_zenith", theta, 0.0, math.pi / 2, "rad")
+    cos_t = np.cos(theta)
+    if temp is None:
+        return 1.0 - fresnel_reflectance(cos_t, water_band_mean_index(band))
+    resp = _as_response(band)
+    w, wl = resp.quadrature(nodes_per_segment)
+    b = w * planck_radiance(wl, temp)
+    n = water_refractive_index(wl)
+    refl = fresnel_reflectance(cos_t[..., None], n)
+    return 1.0 - np.sum(refl * b, axis=-1) / np.sum(b)
+
+
+# ---------------------------------------------------------------------------------------
+# Surface-leaving radiance (eq. 2)
+# ---------------------------------------------------------------------------------------
+def leaving_radiance(emitted_blackbody, emissivity, brdf=0.0, cos_sun_zenith=0.0,
+                     solar_irradiance=0.0, sky_radiance=0.0, sky_reflectance=None):
+    """Radiance leaving an opaque surface toward the sensor, paper eq. 2.
+
+    Parameters
+    ----------
+    emitted_blackbody : array_like
+        Blackbody band radiance at the surface temperature [W m-2 sr-1]
+        (:func:`band_radiance`).
+    emissivity : array_like
+        Directional band emissivity toward the sensor [-].
+    brdf : array_like
+        BRDF for (sun direction, view direction) [sr-1] (:mod:`imaging.brdf`).
+    cos_sun_zenith : array_like
+        Cosine of the sun's incidence angle on the surface [-]; values < 0 (sun behind the
+        surface) count as 0.
+    solar_irradiance : array_like
+        In-band solar irradiance at ground level on a plane normal to the beam
+        (``tau_s E_sun`` of eq. 2) [W m-2].
+    sky_radiance : array_like
+        Mean in-band downwelling sky radiance [W m-2 sr-1].
+    sky_reflectance : array_like or None
+        Hemispherical-directional reflectance for the sky term [-]; default ``1 -
+        emissivity`` (Kirchhoff, opaque surface).
+
+    Returns
+    -------
+    numpy.ndarray
+        Leaving radiance [W m-2 sr-1].
+
+    Notes
+    -----
+    ``L = eps B(T) + tau_s E_sun cos(theta_i) f_r + rho L_sky`` (eq. 2). The sky term
+    treats the sky as isotropic; ``rho`` is then exactly the directional-hemispherical
+    reflectance by reciprocity.
+    """
+    eps = np.asarray(emissivity, dtype=float)
+    rho = 1.0 - eps if sky_reflectance is None else np.asarray(sky_reflectance, dtype=float)
+    mu = np.maximum(np.asarray(cos_sun_zenith, dtype=float), 0.0)
+    return eps * emitted_blackbody + solar_irradiance * mu * brdf + rho * sky_radiance
