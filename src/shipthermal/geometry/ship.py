@@ -467,19 +467,54 @@ def _grid_faces(ni: int, nj: int, offset: int = 0, flip: bool = False) -> np.nda
 
 
 def _merge_vertices(v: np.ndarray, f: np.ndarray, tol: float):
-    """Merge vertices closer than ~tol (by rounding) and drop collapsed triangles."""
-    key = np.round(v / tol).astype(np.int64)
-    _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
-    inv = inv.ravel()
+    """Merge vertices closer than ``tol`` (clusters of a k-d tree) and drop collapsed triangles."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    pairs = cKDTree(v).query_pairs(tol, output_type="ndarray")
+    n = len(v)
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, inv = connected_components(graph, directed=False)
+    _, first = np.unique(inv, return_index=True)
     f = inv[f]
     ok = (f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 2] != f[:, 0])
     return v[first], f[ok], ok
 
 
+def _zipper(upper, lower, y_upper, y_lower) -> list[tuple[int, int, int]]:
+    """Triangulate the strip between two chains of vertex indices running port → starboard.
+
+    Both chains are monotone in y; the zipper advances along whichever chain is behind in
+    normalised position. The winding matches ``_grid_faces`` with ``upper`` as row i and
+    ``lower`` as row i+1 (outward, -x, on the transom).
+    """
+    p, q = len(upper) - 1, len(lower) - 1
+
+    def norm(y):
+        span = y[0] - y[-1]
+        return (y[0] - y) / span if span > 0 else np.linspace(0.0, 1.0, len(y))
+
+    ta, tb = norm(np.asarray(y_upper)), norm(np.asarray(y_lower))
+    i = k = 0
+    out = []
+    while i < p or k < q:
+        if i == p or (k < q and tb[k + 1] < ta[i + 1]):
+            out.append((upper[i], lower[k], lower[k + 1]))
+            k += 1
+        else:
+            out.append((upper[i], lower[k], upper[i + 1]))
+            i += 1
+    return out
+
+
 def _hull_surface(form: _HullForm, h: float):
     """Closed hull+deck surface: (vertices, faces, is_deck)."""
     p = form.p
-    ns = max(8, int(math.ceil(p.length / h)))
+    # Station and deck-row counts are deliberately a little off round spacings, so that
+    # superstructure walls (usually placed at round positions) never run exactly along a
+    # grid line: coincident edges make the boolean produce zero-area triangles.
+    ns = max(8, int(math.ceil(1.0137 * p.length / h)))
     s = np.linspace(0.0, 1.0, ns + 1)
     # Points per half-section from the midship section, so spacing is ≈ h amidships.
     n_top = max(2, int(math.ceil(p.freeboard / h)))
@@ -487,7 +522,7 @@ def _hull_surface(form: _HullForm, h: float):
                                  form.section_exponent(np.array(0.5)), 400)
     bottom_len = float(np.linalg.norm(np.diff(mid_bottom, axis=0), axis=1).sum())
     n_bot = max(3, int(math.ceil(bottom_len / h)))
-    nk = max(2, 2 * int(math.ceil(form.hb_max / h)))          # even: a centreline row
+    nk = 2 * int(math.ceil(1.0137 * form.hb_max / h)) + 1     # odd: no centreline row
 
     m = n_top + n_bot                                         # half-ring segments
     ring = np.empty((ns + 1, 2 * m + 1, 3))
@@ -522,14 +557,51 @@ def _hull_surface(form: _HullForm, h: float):
     off_d = len(hull_v)
     deck_f = _grid_faces(ns, nk, off_d, flip=True)
 
-    # Transom: horizontal rows between the port and starboard halves of the aft ring.
-    tr = np.empty((m + 1, nk + 1, 3))
+    # Transom (a plane x = -L/2): horizontal rows across from the port to the starboard
+    # half of the aft ring, at ring points at least ~h/2 apart in height (rows closer than
+    # that would make slivers where the bottom is flat); the ring points between two rows
+    # join the lower chain, and consecutive chains are zipped into triangles.
     port = ring[0, :m + 1]
-    tr[:, :, 0] = port[:, None, 0]
-    tr[:, :, 1] = port[:, None, 1] * frac[None, :]
-    tr[:, :, 2] = port[:, None, 2]
-    off_t = off_d + deck.reshape(-1, 3).shape[0]
-    tr_f = _grid_faces(m, nk, off_t)
+    off_t = off_d + (ns + 1) * (nk + 1)
+    ring_idx = np.arange(2 * m + 1)             # indices into the aft ring (station 0)
+    levels = [0]
+    for j in range(1, m + 1):
+        if port[levels[-1], 2] - port[j, 2] >= 0.5 * h and port[j, 1] > 0.5 * h:
+            levels.append(j)
+    tr_pts, chains, count = [], [], 0
+    for j in levels:
+        nrow = nk if j == 0 else int(min(nk, max(1, math.ceil(2 * port[j, 1] / h))))
+        fr = 1.0 - 2.0 * np.arange(nrow + 1) / nrow
+        pts = np.column_stack([np.full(nrow + 1, port[j, 0]), port[j, 1] * fr,
+                               np.full(nrow + 1, port[j, 2])])
+        # Row ends are the ring points themselves; only the interior points are new.
+        tr_pts.append(pts[1:-1])
+        idx = np.concatenate([[ring_idx[j]], off_t + count + np.arange(nrow - 1),
+                              [ring_idx[2 * m - j]]])
+        count += nrow - 1
+        chains.append(idx)
+    bounds = levels + [m]
+    tr = np.concatenate(tr_pts) if tr_pts else np.zeros((0, 3))
+    hull_y = hull_v[:, 1]
+
+    def y_of(idx):
+        idx = np.asarray(idx)
+        return np.where(idx < off_t, hull_y[np.minimum(idx, len(hull_y) - 1)],
+                        tr[np.clip(idx - off_t, 0, max(len(tr) - 1, 0)), 1] if len(tr) else 0.0)
+
+    tri = []
+    for r in range(len(levels)):
+        j1, j2 = bounds[r], bounds[r + 1]
+        upper = chains[r]
+        if r + 1 < len(levels):
+            lower = np.concatenate([ring_idx[j1 + 1:j2], chains[r + 1],
+                                    ring_idx[2 * m - j2 + 1:2 * m - j1]])
+        else:                                   # last strip: down to the keel and up again
+            lower = ring_idx[j1 + 1:2 * m - j1]
+        if len(lower) == 0:
+            continue
+        tri += _zipper(upper, lower, y_of(upper), y_of(lower))
+    tr_f = np.array(tri, dtype=np.int64)
 
     v = np.concatenate([hull_v, deck.reshape(-1, 3), tr.reshape(-1, 3)])
     f = np.concatenate([hull_f, deck_f, tr_f])

@@ -1,0 +1,256 @@
+"""Remeshing a ship surface to a target edge length and building its finite-volume mesh.
+
+* :func:`refine_surface` — conforming refinement: every edge longer than the target is
+  bisected at one shared midpoint (``trimesh.remesh.subdivide_to_size``), so a closed
+  surface stays closed; each new triangle keeps its parent's part. Refinement only: a mesh
+  finer than the target is left as it is.
+* :func:`tetwild_surface` — robust remeshing through pytetwild: tetrahedralise the
+  (possibly messy) surface, take the boundary of the tet mesh, and carry the parts over by
+  the closest input triangle; reports the change of area and volume.
+* :func:`surface_quality` — edge lengths, aspect ratios and angles.
+* :func:`remesh_ship` / :func:`build_ship_mesh` — the same on a :class:`ShipGeometry`
+  (built-in ships are regenerated at the target size), then the cell graph of
+  :mod:`shipthermal.mesh`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import replace
+from typing import Sequence
+
+import numpy as np
+
+from ..errors import InputError, check_positive, require
+from .parts import face_areas, signed_volume, split_at_waterline
+
+__all__ = ["refine_surface", "tetwild_surface", "surface_quality", "remesh_ship",
+           "build_ship_mesh"]
+
+
+def surface_quality(vertices: np.ndarray, faces: np.ndarray) -> dict:
+    """Quality figures of a triangulation.
+
+    Returns
+    -------
+    dict
+        ``n_faces``, ``n_vertices``; edge length ``edge_min/mean/max`` [m]; aspect ratio
+        ``aspect_mean/p99/max`` (longest edge over the altitude to it, × √3/2, so 1 for
+        an equilateral triangle); smallest angle ``min_angle_min/p1/median`` [deg];
+        ``frac_min_angle_below_10`` and ``_below_20`` (fractions of triangles).
+    """
+    v = np.asarray(vertices, float)
+    f = np.asarray(faces, np.int64)
+    p = v[f]                                           # (M, 3, 3)
+    e = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 1], p[:, 0] - p[:, 2]], axis=1)
+    length = np.linalg.norm(e, axis=2)                 # (M, 3)
+    area = face_areas(v, f)
+    lmax = length.max(axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        aspect = np.where(area > 0, lmax * lmax * (math.sqrt(3) / 4.0) / area, np.inf)
+        # Angle at each vertex between its two edges.
+        cosang = np.stack([
+            -np.einsum("ij,ij->i", e[:, 2], e[:, 0]) / (length[:, 2] * length[:, 0]),
+            -np.einsum("ij,ij->i", e[:, 0], e[:, 1]) / (length[:, 0] * length[:, 1]),
+            -np.einsum("ij,ij->i", e[:, 1], e[:, 2]) / (length[:, 1] * length[:, 2])], axis=1)
+    ang = np.degrees(np.arccos(np.clip(np.nan_to_num(cosang, nan=1.0), -1, 1)))
+    amin = ang.min(axis=1)
+    return dict(n_faces=int(len(f)), n_vertices=int(len(np.unique(f))),
+                edge_min=float(length.min()), edge_mean=float(length.mean()),
+                edge_max=float(length.max()),
+                aspect_mean=float(np.mean(aspect)), aspect_p99=float(np.percentile(aspect, 99)),
+                aspect_max=float(np.max(aspect)),
+                min_angle_min=float(amin.min()), min_angle_p1=float(np.percentile(amin, 1)),
+                min_angle_median=float(np.median(amin)),
+                frac_min_angle_below_10=float(np.mean(amin < 10.0)),
+                frac_min_angle_below_20=float(np.mean(amin < 20.0)))
+
+
+def refine_surface(vertices, faces, face_part, edge_length: float):
+    """Bisect edges until none is longer than ``edge_length`` [m]; parts are inherited.
+
+    Returns ``(vertices, faces, face_part, parent)``; ``parent`` is the input triangle of
+    each output triangle.
+    """
+    from trimesh.remesh import subdivide_to_size
+
+    check_positive("edge_length", edge_length, "m")
+    v = np.asarray(vertices, float)
+    f = np.asarray(faces, np.int64)
+    lmax = float(np.linalg.norm(v[f] - v[np.roll(f, 1, axis=1)], axis=2).max())
+    n_iter = max(1, int(math.ceil(math.log2(max(lmax / edge_length, 1.0)))) + 2)
+    require(lmax / edge_length < 2 ** 14, "edge_length", edge_length,
+            f"is too small for this surface (longest edge {lmax:.3g} m)", "Use a larger edge length")
+    v2, f2, parent = subdivide_to_size(v, f, max_edge=edge_length, max_iter=n_iter, return_index=True)
+    return v2, np.asarray(f2, np.int64), np.asarray(face_part)[parent], np.asarray(parent)
+
+
+def tetwild_surface(vertices, faces, face_part, edge_length: float | None = None,
+                    edge_length_fac: float | None = None):
+    """Robust remeshing: pytetwild tetrahedralisation, then the boundary of the tet mesh.
+
+    Gaps and self-intersections of the input are resolved by fTetWild's winding-number
+    inside/outside test (an open surface is *closed*: check it is what you want — the
+    report says how much area and volume changed). Parts are carried over from the closest
+    input triangle.
+
+    Returns
+    -------
+    vertices, faces, face_part, report
+        ``report`` holds ``area_before/after`` [m2], ``volume_before/after`` [m3] (signed,
+        before as given), their relative changes, ``n_tets`` and ``seconds``.
+    """
+    import pytetwild
+    import trimesh
+
+    v = np.asarray(vertices, float)
+    f = np.asarray(faces, np.int64)
+    t0 = time.perf_counter()
+    kwargs = {}
+    if edge_length is not None:
+        kwargs["edge_length_abs"] = float(edge_length)
+    elif edge_length_fac is not None:
+        kwargs["edge_length_fac"] = float(edge_length_fac)
+    pts, tets = pytetwild.tetrahedralize(v, f.astype(np.int32), vtk_ordering=True, **kwargs)
+    if len(tets) == 0:
+        raise InputError("surface", f"{len(f)} triangles", "pytetwild found no enclosed volume",
+                         "The surface is flat or has no inside; check the file")
+    tets = np.asarray(tets, np.int64)
+    # Boundary triangles of the tet mesh: faces used by one tet only, wound outward.
+    local = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
+    tri = tets[:, local].reshape(-1, 3)
+    key = np.sort(tri, axis=1)
+    _, inv, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    btri = tri[counts[inv.ravel()] == 1]
+    # Orientation of the tets (vtk_ordering) makes these outward; check rather than trust.
+    used, inv2 = np.unique(btri, return_inverse=True)
+    nv, nf = np.asarray(pts, float)[used], inv2.reshape(-1, 3)
+    if signed_volume(nv, nf) < 0:
+        nf = nf[:, ::-1]
+    src = trimesh.Trimesh(v, f, process=False, validate=False)
+    cen = nv[nf].mean(axis=1)
+    _, _, tri_id = trimesh.proximity.closest_point(src, cen)
+    labels = np.asarray(face_part)[tri_id]
+    a0, a1 = float(face_areas(v, f).sum()), float(face_areas(nv, nf).sum())
+    v0, v1 = signed_volume(v, f), signed_volume(nv, nf)
+    report = dict(area_before=a0, area_after=a1, area_change=(a1 - a0) / a0,
+                  volume_before=v0, volume_after=v1,
+                  volume_change=(v1 - v0) / abs(v0) if v0 != 0 else float("inf"),
+                  n_tets=int(len(tets)), seconds=time.perf_counter() - t0)
+    return nv, nf, labels, report
+
+
+def remesh_ship(ship, edge_length: float):
+    """The ship at a target edge length [m].
+
+    Built-in ships (``ship.parameters`` set) are regenerated at that size with the same
+    layups and compartment temperatures; user surfaces are refined by edge bisection and
+    the waterline split is redone exactly.
+    """
+    check_positive("edge_length", edge_length, "m")
+    if ship.parameters is not None:
+        from .ship import build_ship
+
+        new = build_ship(ship.parameters, edge_length)
+        require(new.part_names == ship.part_names, "ship.part_names", ship.part_names,
+                "changed on regeneration")
+        return replace(new, layups=dict(ship.layups),
+                       compartment_temperature=dict(ship.compartment_temperature),
+                       outer_medium=dict(ship.outer_medium))
+    v, f, lab, _ = refine_surface(ship.vertices, ship.faces, ship.face_part, edge_length)
+    v, f, lab, _ = split_at_waterline(v, f, lab, 0.0)
+    return replace(ship, vertices=v, faces=f, face_part=lab, edge_length=float(edge_length))
+
+
+def build_ship_mesh(ship, edge_length: float | None = None, solid_parts: Sequence[str] | str = (),
+                    layups=None):
+    """Remesh a ship and build its finite-volume cell graph.
+
+    Parameters
+    ----------
+    ship : ShipGeometry
+    edge_length : float, optional
+        Target surface edge length [m]; default: as the ship is.
+    solid_parts : sequence of str or 'all'
+        Parts meshed as solid tetrahedra instead of plate shells. Only ``()`` (all shells)
+        or all parts (``'all'``: the whole closed ship becomes one tetrahedral solid, used
+        for verification) are supported: coupling shells to tets is not implemented.
+    layups : mapping, optional
+        Layup overrides for this mesh (otherwise ``ship.layups``).
+
+    Returns
+    -------
+    graph : shipthermal.mesh.CellGraph
+    report : dict
+        Surface face counts (total and per part), cell counts per part, surface quality
+        (:func:`surface_quality`), timings [s].
+    """
+    from .. import mesh as fvmesh
+
+    t0 = time.perf_counter()
+    if edge_length is not None and not (abs(edge_length - ship.edge_length) <= 1e-12 * edge_length):
+        ship = remesh_ship(ship, edge_length)
+    t_remesh = time.perf_counter() - t0
+    if layups is not None:
+        ship = ship.with_layups(layups)
+    if isinstance(solid_parts, str):
+        require(solid_parts == "all", "solid_parts", solid_parts, "must be 'all' or a list of part names")
+        solid_parts = ship.part_names
+    solid = tuple(solid_parts)
+    for name in solid:
+        ship.part_index(name)
+    report = dict(edge_length=float(ship.edge_length), n_surface_faces=ship.n_faces,
+                  surface_faces_per_part={n: int(np.sum(ship.face_part == k))
+                                          for k, n in enumerate(ship.part_names)},
+                  quality=surface_quality(ship.vertices, ship.faces),
+                  seconds_remesh=t_remesh)
+    t1 = time.perf_counter()
+    if not solid:
+        graph = fvmesh.build_shell_graph(ship.vertices, ship.faces, ship.face_part,
+                                         ship.part_names, dict(ship.layups))
+        report["kind"] = "shell"
+    elif set(solid) == set(ship.part_names):
+        graph = _solid_ship_graph(ship, fvmesh)
+        report["kind"] = "tetrahedral"
+    else:
+        raise InputError("solid_parts", list(solid),
+                         "must be empty (all plate shells) or every part ('all'): coupling "
+                         "shell cells to tetrahedra of a subset of parts is not implemented",
+                         "Mesh the ship as shells, or declare solid_parts='all'")
+    report["seconds_graph"] = time.perf_counter() - t1
+    report["n_cells"] = graph.n_cells
+    report["cells_per_part"] = {n: int(c) for n, c in zip(
+        graph.part_names, np.bincount(graph.cell_part, minlength=len(graph.part_names)))}
+    return graph, report
+
+
+def _solid_ship_graph(ship, fvmesh):
+    """Whole closed ship as tetrahedra; each tet takes the structural material of the part
+    of its nearest surface triangle, boundary faces are patched ``{part}:outer``."""
+    from scipy.spatial import cKDTree
+
+    pts, tets = fvmesh.tetrahedralize_surface(ship.vertices, ship.faces,
+                                              edge_length=ship.edge_length, field="ship")
+    tree = cKDTree(ship.face_centroids)
+    names = ship.part_names
+    # Structural material of each part: its thickest layer.
+    mats = []
+    part_mat = []
+    for n in names:
+        lay = ship.layups[n]
+        k = int(np.argmax([l.thickness for l in lay.layers]))
+        m = lay.materials[k]
+        if m.name not in [x.name for x in mats]:
+            mats.append(m)
+        part_mat.append([x.name for x in mats].index(m.name))
+    cen = pts[tets].mean(axis=1)
+    _, near = tree.query(cen)
+    cell_mat = np.asarray(part_mat)[ship.face_part[near]]
+
+    def rule(face_centroid, face_normal):
+        _, i = tree.query(face_centroid)
+        return np.array([f"{names[p]}:outer" for p in ship.face_part[i]])
+
+    return fvmesh.build_tet_graph(pts, tets, material=mats, cell_material=cell_mat,
+                                  patches=rule, part_name="ship")
