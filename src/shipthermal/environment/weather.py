@@ -43,6 +43,7 @@ rejected, as are NaN in required columns, unknown units and missing time steps.
 
 from __future__ import annotations
 
+import calendar
 import dataclasses
 import os
 from typing import Optional
@@ -468,6 +469,11 @@ def read_weather_epw(path, temp_sea, year: Optional[int] = None,
         data, meta = pvlib.iotools.read_epw(path, coerce_year=year)
     except Exception as exc:  # pvlib raises assorted parser errors
         raise InputError("weather.path", str(path), f"must be a valid EPW file ({exc})")
+    if year is not None and calendar.isleap(int(year)) and not \
+            ((data.index.month == 2) & (data.index.day == 29)).any() and \
+            (data.index.month == 3).any():
+        raise InputError("year", year, "is a leap year but the file has no 29 February",
+                         "Use a non-leap year, e.g. 2001")
     if year is None and not data.index.is_monotonic_increasing:
         raise InputError("year", None, "the EPW rows mix years and are unsorted",
                          "Pass year=... to coerce them to one year")
@@ -488,7 +494,7 @@ def read_weather_epw(path, temp_sea, year: Optional[int] = None,
                    source=f"epw:{meta.get('city', '')}")
 
 
-def read_weather_tmy3(path, temp_sea, year: int = 2000,
+def read_weather_tmy3(path, temp_sea, year: int = 2001,
                       use_measured_irradiance: bool = True) -> Weather:
     """Read a TMY3 file through ``pvlib.iotools.read_tmy3``.
 
@@ -505,6 +511,11 @@ def read_weather_tmy3(path, temp_sea, year: int = 2000,
     use_measured_irradiance : bool
         Keep the file's GHI.
 
+    Notes
+    -----
+    ``year`` must not be a leap year: typical years have no 29 February and a leap
+    year would leave a 24 h hole.
+
     Returns
     -------
     Weather
@@ -515,6 +526,8 @@ def read_weather_tmy3(path, temp_sea, year: int = 2000,
     import pvlib
 
     _sst_required(temp_sea, "TMY3")
+    require(not calendar.isleap(int(year)), "year", year,
+            "must not be a leap year (TMY3 files have no 29 February)", "Use e.g. 2001")
     require(os.path.isfile(path), "weather.path", str(path), "must be an existing file")
     try:
         data, meta = pvlib.iotools.read_tmy3(path, coerce_year=year, map_variables=True)
