@@ -1,0 +1,518 @@
+"""User ship meshes: reading, part maps, checks and optional repair; writing ship files.
+
+A user ship is either **one file per part** (``{"hull": "hull.stl", "deck": "deck.stl",
+"superstructure": "sup.obj"}``) or **one mesh plus a part map**: a per-triangle array of
+part indices or names, a JSON file / dict of face ranges ``{"deck": [[0, 1200]], ...}``, or a
+``part`` cell array inside a VTK file. Units must be declared (``'m'`` or ``'mm'``).
+
+The surface must be a closed, consistently wound triangulation with outward normals. Checks
+(each raising :class:`~shipthermal.errors.InputError` with what to do):
+
+* scale sanity — a 130 000 m or 1 cm ship is a units mistake, not a ship;
+* axes — the longest dimension must be x (bow +x, y port, z up);
+* degenerate (zero-area) and duplicate triangles — error, or removed with ``clean=True``
+  (counted in the report);
+* watertightness — open edges (gaps, a missing face) and edges shared by more than two
+  triangles; ``repair='tetwild'`` remeshes through pytetwild instead (area and volume
+  change reported);
+* orientation — inconsistent winding or inward normals (signed volume < 0): error, or
+  fixed with ``fix_normals=True`` (reported).
+
+A part named ``hull`` is split exactly at the waterline into ``hull_wetted``/``hull_dry``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from ..errors import InputError, check_finite, require
+from .layups import compartment_temperatures, default_layups, outer_media
+from .parts import (MAIN_PARTS, boundary_edges, face_areas, main_part, signed_volume,
+                    split_at_waterline)
+from .ship import ShipGeometry
+
+__all__ = ["UNITS", "SHIP_LENGTH_RANGE", "load_surface", "read_part_map", "check_surface",
+           "read_ship", "write_ship"]
+
+UNITS = {"m": 1.0, "mm": 1e-3}
+"""Accepted length units and their factor to metres."""
+
+SHIP_LENGTH_RANGE = (5.0, 500.0)
+"""Plausible overall length of a ship [m] (harbour launches to the largest tankers, 458 m)."""
+
+_TRIMESH_EXT = {".stl", ".obj", ".ply", ".off", ".glb", ".gltf"}
+_PYVISTA_EXT = {".vtk", ".vtp", ".vtu"}
+
+
+# ---------------------------------------------------------------------------------------
+# Loading
+# ---------------------------------------------------------------------------------------
+def load_surface(path, units: str):
+    """Read a triangulated surface (STL/OBJ/PLY/OFF via trimesh, VTK/VTP/VTU via pyvista).
+
+    Triangles keep the file's order (polygons are triangulated in place), so face ranges
+    in a part map refer to triangles as loaded. Coincident vertices (STL stores none
+    shared) are merged.
+
+    Returns
+    -------
+    vertices (N, 3) [m], faces (M, 3), cell_part (M,) or None, part_names or None
+    """
+    require(units in UNITS, "units", units, "must be declared: 'm' or 'mm'",
+            "Pass units='m' or units='mm' (the unit the file's coordinates are in)")
+    path = Path(path)
+    require(path.exists(), "path", str(path), "file not found")
+    ext = path.suffix.lower()
+    cell_part = part_names = None
+    if ext in _TRIMESH_EXT:
+        import trimesh
+
+        mesh = trimesh.load(path, force="mesh", process=False)
+        v = np.asarray(mesh.vertices, float)
+        f = np.asarray(mesh.faces, np.int64)
+    elif ext in _PYVISTA_EXT:
+        import pyvista as pv
+
+        data = pv.read(path)
+        if not isinstance(data, pv.PolyData):
+            data = data.extract_surface(pass_cellid=False)
+        tri = data.triangulate()
+        require(tri.is_all_triangles, "file", str(path), "must contain polygons")
+        v = np.asarray(tri.points, float)
+        f = np.asarray(tri.faces).reshape(-1, 4)[:, 1:].astype(np.int64)
+        if "part" in tri.cell_data:
+            cell_part = np.asarray(tri.cell_data["part"]).astype(np.int64)
+        if "part_names" in tri.field_data:
+            part_names = tuple(str(x) for x in tri.field_data["part_names"])
+    else:
+        raise InputError("path", str(path), "unsupported file type",
+                         f"Use one of {', '.join(sorted(_TRIMESH_EXT | _PYVISTA_EXT))}")
+    require(len(f) > 0, "file", str(path), "holds no triangles")
+    check_finite(f"{path.name}.vertices", v)
+    v = v * UNITS[units]
+    v, f = _weld(v, f)
+    return v, f, cell_part, part_names
+
+
+def _weld(v: np.ndarray, f: np.ndarray, rel_tol: float = 1e-9):
+    """Merge coincident vertices (no triangle is dropped: degenerate ones are reported later)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    scale = float(np.ptp(v, axis=0).max()) or 1.0
+    pairs = cKDTree(v).query_pairs(rel_tol * scale, output_type="ndarray")
+    n = len(v)
+    g = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, lab = connected_components(g, directed=False)
+    _, first = np.unique(lab, return_index=True)
+    used = np.unique(lab[f])
+    remap = np.full(lab.max() + 1, -1)
+    remap[used] = np.arange(len(used))
+    return v[first][used], remap[lab[f]]
+
+
+def read_part_map(part_map, n_faces: int, part_names: Sequence[str] | None = None):
+    """Per-triangle part labels from a part map.
+
+    Parameters
+    ----------
+    part_map : array, dict or path
+        * (M,) ints indexing ``part_names``, or (M,) part-name strings;
+        * ``{part: [[start, stop], ...]}`` face ranges (stop exclusive), or a JSON file
+          holding that mapping (optionally under a ``"parts"`` key).
+    n_faces : int
+        Number of triangles of the mesh.
+
+    Returns
+    -------
+    labels (M,) int, names tuple
+    """
+    if isinstance(part_map, (str, os.PathLike)):
+        path = Path(part_map)
+        require(path.exists(), "part_map", str(path), "file not found")
+        with open(path) as fh:
+            part_map = json.load(fh)
+        if isinstance(part_map, dict) and "parts" in part_map:
+            part_map = part_map["parts"]
+    if isinstance(part_map, Mapping):
+        names = tuple(part_map)
+        labels = np.full(n_faces, -1, np.int64)
+        for k, name in enumerate(names):
+            ranges = part_map[name]
+            ranges = [ranges] if len(ranges) == 2 and np.isscalar(ranges[0]) else ranges
+            for r in ranges:
+                require(len(r) == 2 and 0 <= int(r[0]) <= int(r[1]) <= n_faces,
+                        f"part_map[{name!r}]", r, f"must be [start, stop] with 0 <= start <= stop <= {n_faces}")
+                seg = labels[int(r[0]):int(r[1])]
+                clash = seg >= 0
+                if clash.any():
+                    i = int(r[0]) + int(np.argmax(clash))
+                    raise InputError(f"part_map[{name!r}]", r, f"overlaps part {names[seg[clash][0]]!r} "
+                                     f"at face {i}: every face must belong to exactly one part")
+                labels[int(r[0]):int(r[1])] = k
+        missing = np.flatnonzero(labels < 0)
+        if len(missing):
+            raise InputError("part_map", f"{len(missing)} faces without a part",
+                             f"must cover every face exactly once (first uncovered: face {missing[0]})",
+                             f"Add ranges so that faces 0..{n_faces - 1} are all assigned")
+        return labels, names
+    arr = np.asarray(part_map)
+    require(arr.shape == (n_faces,), "part_map", arr.shape, f"must hold one entry per face ({n_faces})")
+    if arr.dtype.kind in "US":
+        names, labels = np.unique(arr, return_inverse=True)
+        return labels.astype(np.int64), tuple(str(n) for n in names)
+    require(part_names is not None, "part_names", None, "are required with an integer part map")
+    labels = arr.astype(np.int64)
+    require(labels.min() >= 0 and labels.max() < len(part_names), "part_map",
+            (int(labels.min()), int(labels.max())), f"must index part_names (0..{len(part_names) - 1})")
+    return labels, tuple(part_names)
+
+
+# ---------------------------------------------------------------------------------------
+# Checks
+# ---------------------------------------------------------------------------------------
+def _check_scale(v: np.ndarray, units: str) -> None:
+    ext = np.ptp(v, axis=0)
+    length = float(ext[0])
+    lo, hi = SHIP_LENGTH_RANGE
+    if int(np.argmax(ext)) != 0:
+        raise InputError("vertices", f"extent x {ext[0]:.4g} m, y {ext[1]:.4g} m, z {ext[2]:.4g} m",
+                         "the longest dimension must lie along x (x forward, y to port, z up)",
+                         "Rotate the mesh so the bow points to +x and the masts to +z")
+    if lo <= length <= hi:
+        return
+    if length > hi:
+        hint = (f"it looks like millimetres: declare units='mm'" if units == "m" and lo <= length / 1e3 <= hi
+                else "check the unit of the file")
+        raise InputError("units", units, f"gives a ship length of {length:.6g} m, outside the plausible "
+                         f"{lo:g}–{hi:g} m", f"Is the unit right? {hint} (or check_scale=False for a "
+                         "deliberate non-ship geometry)")
+    if units == "mm" and lo <= length * 1e3 <= hi:
+        hint = "it looks like metres: declare units='m'"
+    elif lo <= length * 1e2 <= hi:
+        hint = "centimetres or a scale model? rescale the file to metres or millimetres"
+    else:
+        hint = "check the unit of the file"
+    raise InputError("units", units, f"gives a ship length of {length:.6g} m, outside the plausible "
+                     f"{lo:g}–{hi:g} m", f"Is the unit right? {hint} (or check_scale=False for a "
+                     "deliberate small model)")
+
+
+def check_surface(vertices, faces, units: str = "m", *, check_scale: bool = True,
+                  clean: bool = False, fix_normals: bool = False, require_closed: bool = True,
+                  face_part: np.ndarray | None = None):
+    """Check (and on request clean / re-orient) a ship surface.
+
+    Parameters
+    ----------
+    vertices : (N, 3) [m]
+    faces : (M, 3)
+    units : str
+        Declared unit, only to word the scale message.
+    check_scale : bool
+        Reject lengths outside :data:`SHIP_LENGTH_RANGE`.
+    clean : bool
+        Remove zero-area and duplicate triangles instead of rejecting them.
+    fix_normals : bool
+        Make winding consistent and normals outward instead of rejecting them.
+    require_closed : bool
+        Reject open surfaces (needed for shells to know their inside, and for tets).
+    face_part : (M,) array, optional
+        Carried along when triangles are removed.
+
+    Returns
+    -------
+    vertices, faces, face_part, report (dict: ``removed_degenerate``,
+    ``removed_duplicate``, ``flipped_faces``, ``signed_volume`` [m3], ``area`` [m2])
+    """
+    v = np.asarray(vertices, float)
+    f = np.asarray(faces, np.int64)
+    lab = np.zeros(len(f), np.int64) if face_part is None else np.asarray(face_part, np.int64)
+    check_finite("vertices", v)
+    require(f.ndim == 2 and f.shape[1] == 3 and len(f) > 0, "faces", f.shape, "must be (M, 3), M > 0")
+    report = dict(removed_degenerate=0, removed_duplicate=0, flipped_faces=0)
+    if check_scale:
+        _check_scale(v, units)
+    scale = float(np.ptp(v, axis=0).max())
+
+    # Degenerate triangles: a repeated vertex or (numerically) no area.
+    area = face_areas(v, f)
+    degenerate = ((f[:, 0] == f[:, 1]) | (f[:, 1] == f[:, 2]) | (f[:, 2] == f[:, 0])
+                  | (area <= 1e-14 * scale * scale))
+    if degenerate.any():
+        idx = np.flatnonzero(degenerate)
+        if not clean:
+            raise InputError("faces", f"{len(idx)} zero-area triangles (first: face {idx[0]}, "
+                             f"vertices {f[idx[0]].tolist()})",
+                             "every triangle must have a positive area",
+                             "Remove them in the CAD export, or pass clean=True to drop them (reported)")
+        f, lab = f[~degenerate], lab[~degenerate]
+        report["removed_degenerate"] = int(len(idx))
+
+    # Duplicate triangles (same three vertices, either orientation).
+    key = np.sort(f, axis=1)
+    _, first, counts = np.unique(key, axis=0, return_index=True, return_counts=True)
+    if (counts > 1).any():
+        n_dup = int(len(f) - len(first))
+        if not clean:
+            dup_rows = np.flatnonzero(~np.isin(np.arange(len(f)), first))
+            raise InputError("faces", f"{n_dup} duplicate triangles (first: face {dup_rows[0]})",
+                             "every triangle must appear once",
+                             "Remove the duplicates (often a part exported twice), or pass clean=True (reported)")
+        keep = np.sort(first)
+        f, lab = f[keep], lab[keep]
+        report["removed_duplicate"] = n_dup
+
+    open_e, nonman = boundary_edges(f)
+    report["open_edges"] = int(len(open_e))
+    report["nonmanifold_edges"] = int(len(nonman))
+    if require_closed and (len(open_e) or len(nonman)):
+        where = v[open_e[0]].mean(axis=0) if len(open_e) else v[nonman[0]].mean(axis=0)
+        kind = (f"{len(open_e)} open edges (used by one triangle)" if len(open_e)
+                else f"{len(nonman)} edges shared by more than two triangles")
+        raise InputError("surface", kind + f", first near (x, y, z) = ({where[0]:.3f}, {where[1]:.3f}, "
+                         f"{where[2]:.3f}) m",
+                         "the ship surface (hull + deck + superstructure) must be closed (watertight)",
+                         "Close the gap in CAD, or pass repair='tetwild' to remesh it robustly "
+                         "(pytetwild closes gaps; the change in area and volume is reported)")
+
+    # Orientation: consistent winding (each interior edge once in each direction), outward.
+    directed = f[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    _, dcount = np.unique(directed, axis=0, return_counts=True)
+    consistent = bool((dcount == 1).all())
+    if not consistent:
+        if not fix_normals:
+            raise InputError("faces", f"{int((dcount > 1).sum())} edges traversed twice in the same direction",
+                             "triangle winding must be consistent (normals all outward)",
+                             "Re-export with consistent normals, or pass fix_normals=True (reported)")
+        import trimesh
+
+        mesh = trimesh.Trimesh(v, f, process=False, validate=False)
+        before = f.copy()
+        trimesh.repair.fix_winding(mesh)
+        f = np.asarray(mesh.faces, np.int64)
+        report["flipped_faces"] = int(np.sum(np.any(f != before, axis=1)))
+    vol = signed_volume(v, f)
+    if require_closed and vol < 0:
+        if not fix_normals:
+            raise InputError("signed volume", f"{vol:.6g} m3",
+                             "must be > 0: the normals point into the ship",
+                             "Flip the normals in CAD, or pass fix_normals=True to reverse every "
+                             "triangle (reported)")
+        f = f[:, ::-1].copy()
+        report["flipped_faces"] = int(len(f)) - report["flipped_faces"]
+        vol = -vol
+    report["signed_volume"] = float(vol)
+    report["area"] = float(face_areas(v, f).sum())
+    return v, f, lab, report
+
+
+# ---------------------------------------------------------------------------------------
+# Reading a ship
+# ---------------------------------------------------------------------------------------
+def read_ship(source, units: str | None = None, part_map=None, part_names: Sequence[str] | None = None,
+              *, draught: float | None = None, waterline_z: float | None = None,
+              name: str | None = None, layups: Mapping | None = None,
+              compartment_temperature: Mapping | None = None, clean: bool = False,
+              fix_normals: bool = False, repair: str | None = None,
+              repair_edge_length: float | None = None, check_scale: bool = True,
+              recentre: bool = True):
+    """Read a user ship and return it checked, positioned and split into parts.
+
+    Parameters
+    ----------
+    source : path or mapping part → path
+        One mesh file (with ``part_map`` or a ``part`` cell array), or one file per part.
+    units : {'m', 'mm'}
+        Unit of the file coordinates (required).
+    part_map : array, dict or path, optional
+        See :func:`read_part_map`.
+    part_names : sequence of str, optional
+        Names for an integer part map.
+    draught : float, optional
+        Keel depth below the waterline [m]: the waterline is ``min z + draught``.
+    waterline_z : float, optional
+        Height of the waterline in the file's frame [m, after unit conversion]. Without
+        either, the file's z = 0 is taken as the waterline.
+    name : str, optional
+    layups, compartment_temperature : mapping, optional
+        Overrides of the defaults (:mod:`.layups`).
+    clean : bool
+        Drop zero-area and duplicate triangles (reported) instead of failing.
+    fix_normals : bool
+        Fix inconsistent / inward normals (reported) instead of failing.
+    repair : {None, 'tetwild'}
+        Robust remeshing through pytetwild before the checks (closes gaps, resolves
+        self-intersections); area and volume change are reported.
+    repair_edge_length : float, optional
+        Target edge length of the repair [m] (default 1 % of the length).
+    check_scale : bool
+        Reject implausible ship sizes (units mistakes).
+    recentre : bool
+        Move the origin amidships on the centreline (x, y of the bounding-box centre).
+
+    Returns
+    -------
+    ship : ShipGeometry
+    report : dict
+        What was checked and changed (``removed_degenerate``, ``removed_duplicate``,
+        ``flipped_faces``, ``repair`` (area/volume before and after), ``translation`` [m]).
+    """
+    require(units in UNITS, "units", units, "must be declared: 'm' or 'mm'",
+            "Pass units='m' or units='mm' (the unit the file's coordinates are in)")
+    require(repair in (None, "tetwild"), "repair", repair, "must be None or 'tetwild'")
+    report: dict = {"units": units}
+    if isinstance(source, Mapping):
+        vs, fs, labs, names = [], [], [], []
+        off = 0
+        for k, (pname, path) in enumerate(source.items()):
+            v, f, _, _ = load_surface(path, units)
+            vs.append(v)
+            fs.append(f + off)
+            labs.append(np.full(len(f), k))
+            names.append(str(pname))
+            off += len(v)
+        v, f = _weld(np.concatenate(vs), np.concatenate(fs))
+        labels = np.concatenate(labs)
+        names = tuple(names)
+        src_name = name or "user_ship"
+    else:
+        v, f, cell_part, file_names = load_surface(source, units)
+        if part_map is None:
+            require(cell_part is not None, "part_map", None,
+                    "is required: give a per-face array, a JSON/dict of face ranges, or one file per part",
+                    "e.g. part_map={'hull': [[0, 5000]], 'deck': [[5000, 6200]], 'superstructure': [[6200, 9000]]}")
+            labels, names = read_part_map(cell_part, len(f), part_names or file_names)
+        else:
+            labels, names = read_part_map(part_map, len(f), part_names)
+        src_name = name or Path(source).stem
+    for n in names:
+        main_part(n)
+
+    if check_scale:
+        _check_scale(v, units)
+    if repair == "tetwild":
+        from .remesh import tetwild_surface
+
+        length = float(np.ptp(v[:, 0]))
+        h = repair_edge_length or 0.01 * length
+        v, f, labels, rep = tetwild_surface(v, f, labels, edge_length=h)
+        report["repair"] = rep
+    v, f, labels, chk = check_surface(v, f, units, check_scale=False, clean=clean,
+                                      fix_normals=fix_normals, face_part=labels)
+    report.update(chk)
+
+    # Position: waterline at z = 0, origin amidships on the centreline.
+    if draught is not None:
+        require(0 < draught < np.ptp(v[:, 2]), "draught", draught,
+                f"must lie between 0 and the height of the mesh ({np.ptp(v[:, 2]):.3f} m)")
+        z_wl = float(v[:, 2].min() + draught)
+    elif waterline_z is not None:
+        z_wl = float(waterline_z)
+    else:
+        z_wl = 0.0
+    require(v[:, 2].min() < z_wl < v[:, 2].max(), "waterline", z_wl,
+            f"must cut the ship (z from {v[:, 2].min():.3f} to {v[:, 2].max():.3f} m)",
+            "Pass draught=... (keel depth below the waterline) or waterline_z=...")
+    shift = np.array([0.0, 0.0, -z_wl])
+    if recentre:
+        mid = 0.5 * (v.min(axis=0) + v.max(axis=0))
+        shift[:2] = -mid[:2]
+    v = v + shift
+    report["translation"] = shift.tolist()
+
+    # Parts: split 'hull' at the waterline; other parts keep their faces.
+    v, f, labels, _ = split_at_waterline(v, f, labels, 0.0, tol=1e-9 * float(np.ptp(v[:, 0])))
+    zc = v[f, 2].mean(axis=1)
+    final = [n for n in MAIN_PARTS if n in names or (n.startswith("hull_") and "hull" in names)]
+    final += sorted(n for n in names if n not in final and n != "hull")
+    new_lab = np.empty(len(f), np.int64)
+    for k, n in enumerate(names):
+        sel = labels == k
+        if n == "hull":
+            new_lab[sel & (zc < 0)] = final.index("hull_wetted")
+            new_lab[sel & (zc >= 0)] = final.index("hull_dry")
+        else:
+            new_lab[sel] = final.index(n)
+    counts = np.bincount(new_lab, minlength=len(final))
+    keep = [n for k, n in enumerate(final) if counts[k] > 0]
+    remap = np.array([keep.index(n) if n in keep else -1 for n in final])
+    face_part = remap[new_lab]
+    wet = [k for k, n in enumerate(keep) if main_part(n) == "hull_wetted"]
+    report["wetted_faces_above_waterline"] = int(np.sum(np.isin(face_part, wet) & (zc > 1e-9)))
+
+    length = float(np.ptp(v[:, 0]))
+    deck_k = [k for k, n in enumerate(keep) if main_part(n) == "deck"]
+    deck_z = v[f[np.isin(face_part, deck_k)]].reshape(-1, 3)
+    mid = np.abs(deck_z[:, 0]) < 0.1 * length
+    freeboard = float(np.median(deck_z[mid, 2])) if mid.any() else float("nan")
+    hull_k = [k for k, n in enumerate(keep) if main_part(n) in ("hull_wetted", "hull_dry")]
+    hull_v = v[f[np.isin(face_part, hull_k)]].reshape(-1, 3) if hull_k else v
+    ship = ShipGeometry(
+        vertices=v, faces=f, face_part=face_part, part_names=tuple(keep),
+        layups=default_layups(keep, layups), compartment_temperature=compartment_temperatures(
+            keep, compartment_temperature), outer_medium=outer_media(keep),
+        length=length, beam=float(np.ptp(hull_v[:, 1])), draught=float(-v[:, 2].min()),
+        freeboard=freeboard, name=src_name, provenance=f"user mesh ({units})",
+        edge_length=float(np.median(np.linalg.norm(v[f[:, 0]] - v[f[:, 1]], axis=1))))
+    return ship, report
+
+
+# ---------------------------------------------------------------------------------------
+# Writing
+# ---------------------------------------------------------------------------------------
+def write_ship(ship: ShipGeometry, directory, stem: str | None = None) -> dict[str, Path]:
+    """Write a ship as files a user can open and read back with :func:`read_ship`.
+
+    * ``<stem>.ply`` — the whole surface, triangles sorted by part;
+    * ``<stem>_parts.json`` — the part map (face ranges), units, particulars, layups;
+    * ``<stem>_parts/<part>.stl`` — one binary STL per part.
+
+    Returns the written paths by kind.
+    """
+    import trimesh
+
+    directory = Path(directory)
+    stem = stem or ship.name
+    order = np.argsort(ship.face_part, kind="stable")
+    f = ship.faces[order]
+    lab = ship.face_part[order]
+    ranges = {}
+    for k, n in enumerate(ship.part_names):
+        idx = np.flatnonzero(lab == k)
+        if len(idx):
+            ranges[n] = [[int(idx[0]), int(idx[-1]) + 1]]
+    (directory / f"{stem}_parts").mkdir(parents=True, exist_ok=True)
+    out = {}
+    mesh = trimesh.Trimesh(ship.vertices, f, process=False, validate=False)
+    out["ply"] = _atomic(directory / f"{stem}.ply", lambda p: mesh.export(p, file_type="ply"))
+    meta = dict(units="m", parts=ranges, name=ship.name, length=ship.length, beam=ship.beam,
+                draught=ship.draught, freeboard=ship.freeboard, edge_length=ship.edge_length,
+                provenance=ship.provenance,
+                coordinates="x forward (bow +x), y to port, z up, z = 0 at the waterline, origin amidships",
+                layups={n: [[getattr(l.material, "name", l.material), l.thickness, l.cells]
+                            for l in ship.layups[n].layers] for n in ship.part_names},
+                compartment_temperature_K=dict(ship.compartment_temperature))
+    out["json"] = _atomic(directory / f"{stem}_parts.json",
+                          lambda p: Path(p).write_text(json.dumps(meta, indent=1)))
+    for n in ship.part_names:
+        pv_, pf = ship.part_surface(n) if n in ship.part_names else (None, None)
+        sel = ship.faces[ship.face_part == ship.part_names.index(n)]
+        used, inv = np.unique(sel, return_inverse=True)
+        part = trimesh.Trimesh(ship.vertices[used], inv.reshape(-1, 3), process=False, validate=False)
+        out[f"stl:{n}"] = _atomic(directory / f"{stem}_parts" / f"{n}.stl",
+                                  lambda p, part=part: part.export(p, file_type="stl"))
+    return out
+
+
+def _atomic(path: Path, writer) -> Path:
+    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
+    writer(str(tmp))
+    os.replace(tmp, path)
+    return path
