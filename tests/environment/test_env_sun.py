@@ -33,7 +33,7 @@ def test_sun_vector_frame_and_noon_elevation():
     _, transit, _ = sun.sunrise_sunset("2023-07-15", lat, lon, "Etc/GMT-8")
     t = pd.Timestamp("2023-07-15", tz="Etc/GMT-8") + pd.Timedelta(hours=transit)
     pos = sun.solar_position(pd.DatetimeIndex([t]), lat, lon)
-    g = 2 * np.pi * (t.dayofyear - 1 + (transit - 12 - 8 + 24) % 24 / 24.0) / 365.0
+    g = 2 * np.pi * (t.day_of_year - 1 + (transit - 12 - 8 + 24) % 24 / 24.0) / 365.0
     decl = np.degrees(0.006918 - 0.399912 * np.cos(g) + 0.070257 * np.sin(g)
                       - 0.006758 * np.cos(2 * g) + 0.000907 * np.sin(2 * g)
                       - 0.002697 * np.cos(3 * g) + 0.00148 * np.sin(3 * g))

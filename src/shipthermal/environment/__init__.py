@@ -280,7 +280,7 @@ class Environment:
                                     temp_dew=sky.dew_point(ws.temp_air, np.maximum(
                                         ws.relative_humidity, 0.1)) - ZERO_CELSIUS)
         else:
-            lt = self._linke[np.clip(instants.dayofyear.to_numpy() - 1, 0, 365)]
+            lt = self._linke[np.clip(instants.day_of_year.to_numpy() - 1, 0, 365)]
             clear = sun.clearsky_irradiance(instants, self.latitude, self.longitude,
                                             self.altitude, zen, lt)
             irr = sun.cloudy_sky_irradiance(clear, zen, ws.cloud_cover)
