@@ -669,7 +669,7 @@ def _union(meshes: Sequence[tuple[np.ndarray, np.ndarray]]):
     for k, (v, f) in enumerate(meshes):
         fid = np.arange(total, total + len(f), dtype=np.uint32)
         man = Manifold(Mesh64(vert_properties=np.asarray(v, np.float64),
-                              tri_verts=np.asarray(f, np.uint32), face_id=fid))
+                              tri_verts=np.asarray(f, np.uint64), face_id=fid.astype(np.uint64)))
         if man.status().name != "NoError":
             raise RuntimeError(f"mesh {k} is not a closed manifold for the union: {man.status()}")
         parts.append(man)
@@ -797,8 +797,8 @@ def frigate_parameters(length: float = 132.0, beam: float = 15.0, draught: float
     kb = beam / 15.0
     default_blocks = (
         Block("superstructure_gun", 38 * k, 44 * k, 4.5 * kb, 2.6, incline_deg=20.0),
-        Block("superstructure", 8 * k, 30 * k, 13.0 * kb, 5.6, incline_deg=8.0),      # fwd house
-        Block("superstructure", 15 * k, 27 * k, 11.0 * kb, 3.0, base=5.6, incline_deg=8.0),  # bridge
+        Block("superstructure", 8 * k, 30 * k, 12.0 * kb, 5.6, incline_deg=8.0),      # fwd house
+        Block("superstructure", 15 * k, 27 * k, 10.0 * kb, 3.0, base=5.6, incline_deg=8.0),  # bridge
         Block("superstructure_mast", 19 * k, 22.5 * k, 2.6 * kb, 12.0, base=8.6, incline_deg=3.0),
         Block("superstructure", -14 * k, 8.5 * k, 12.0 * kb, 5.6, incline_deg=8.0),  # midships
         Block("superstructure_funnel", -6 * k, 1 * k, 4.5 * kb, 5.0, base=5.6, incline_deg=6.0,
@@ -807,8 +807,8 @@ def frigate_parameters(length: float = 132.0, beam: float = 15.0, draught: float
     )
     return ShipParameters(
         name="frigate", length=length, beam=beam, draught=draught, freeboard=freeboard,
-        sheer_bow=1.5, flare_deg=8.0, stem_rake_deg=30.0, bow_fraction=0.3, stern_fraction=0.15,
-        transom_width=0.8, keel_rise=0.7, forefoot=0.3, section_mid=3.0, section_bow=1.6,
+        sheer_bow=1.5, flare_deg=8.0, stem_rake_deg=30.0, bow_fraction=0.5, stern_fraction=0.35,
+        transom_width=0.7, keel_rise=0.8, forefoot=0.3, section_mid=2.0, section_bow=1.6,
         blocks=tuple(default_blocks if blocks is None else blocks),
         provenance=("Frigate of the size of the Type 054A Jiangkai II (134 m x 16 m x 5 m), the "
                     "Type 23 Duke class (133 m x 16.1 m x 5.5 m incl. sonar dome) and FREMM "
@@ -834,8 +834,8 @@ def patrol_boat_parameters(length: float = 56.0, beam: float = 9.5, draught: flo
     kb = beam / 9.5
     return ShipParameters(
         name="patrol_boat", length=length, beam=beam, draught=draught, freeboard=freeboard,
-        sheer_bow=1.0, flare_deg=10.0, stem_rake_deg=35.0, bow_fraction=0.35, stern_fraction=0.1,
-        transom_width=0.85, keel_rise=0.5, forefoot=0.4, section_mid=2.2, section_bow=1.3,
+        sheer_bow=1.0, flare_deg=10.0, stem_rake_deg=35.0, bow_fraction=0.5, stern_fraction=0.35,
+        transom_width=0.7, keel_rise=0.8, forefoot=0.4, section_mid=2.0, section_bow=1.3,
         blocks=(
             Block("superstructure_gun", 17 * k, 19.5 * k, 1.8 * kb, 1.4, incline_deg=15.0),
             Block("superstructure", 0 * k, 14 * k, 7.0 * kb, 2.6, incline_deg=10.0),
