@@ -186,3 +186,10 @@ def test_interior_iso6946():
     assert 1.5 < nat < 4.0   # natural convection on a 2.5 m wall, 10 K
     with pytest.raises(InputError, match="interior.method"):
         cv.h_interior(300.0, 290.0, 0.0, method="cfd")
+
+
+def test_wind_log_profile():
+    assert cv.wind_speed_at_height(5.0, 10.0) == pytest.approx(5.0)
+    # ln(20/2e-4) / ln(10/2e-4) = 11.5129 / 10.8198 = 1.06406
+    assert cv.wind_speed_at_height(5.0, 20.0) == pytest.approx(5.0 * 1.06406, rel=1e-5)
+    assert np.all(np.diff(cv.wind_speed_at_height(5.0, np.linspace(1, 40, 20))) > 0)

@@ -47,7 +47,7 @@ def test_swinbank_published_constant():
 
 
 def test_clear_sky_models_agree_for_moist_air():
-    # Prata (1996, Table 4) finds Brutsaert and his formula within ~10 W/m2 rms at
+    # Prata (1996) finds Brutsaert and his formula within ~10 W/m2 rms at
     # humid mid-latitude sites: at RH 70 %, 270-300 K the emissivities must agree to
     # 0.06 (~ 20 W/m2 at 330 W/m2) and both grow with humidity and temperature.
     t = np.array([270.0, 280.0, 290.0, 300.0])

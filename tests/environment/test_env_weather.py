@@ -160,6 +160,8 @@ def test_epw_reader(tmp_path):
     w = read_weather_epw(p, temp_sea=295.0, year=2023)
     assert len(w.time) == 48 and w.step == 3600.0
     assert w.time[0].utcoffset() == pd.Timedelta(hours=8)
+    # EPW "hour 1" holds the values at the end of 00:00-01:00
+    assert w.time[0] == pd.Timestamp("2023-07-15 01:00", tz="Etc/GMT-8")
     np.testing.assert_allclose(w.temp_air[:4], 273.15 + 20 + np.arange(4) / 4)
     np.testing.assert_allclose(w.cloud_cover, 0.5)
     np.testing.assert_allclose(w.wind_speed, 3.5)

@@ -16,14 +16,16 @@ Sources
 [A] Monthly normals of Dalian station (CMA): mean, mean daily maximum and minimum air
     temperature per month, as tabulated in the Baidu Baike entry "大连" (climate
     section) and reproduced in "大连气候特点" (cqtresearch.com, 2023-05-27). The
-    averaging period is not stated there (the values match the older 1971–2000
-    normals better than 1991–2020, which are ≈ 0.5–1 K warmer). Jul: mean 23.0,
-    max 26.0, min 20.7 degC; Jan: mean −4.9, max −1.2, min −8.2 degC.
+    averaging period is not stated there, and the same table has an evident typo
+    (May mean 18.5 between Apr 9.1 and Jun 19.4), so treat it as a secondary source.
+    Not checked against the CMA 1991–2020 normals (not reachable offline). Jul:
+    mean 23.0, max 26.0, min 20.7 degC; Jan: mean −4.9, max −1.2, min −8.2 degC.
 [B] weather-atlas.com, "Dalian, China – climate": mean relative humidity from 55 %
-    at the start of the year (January) to 84 % in midsummer; sea temperature from
+    "at the outset of the year" (taken as January) to 84 % "in the midst of the
+    summer monsoon" (taken as July); sea temperature from
     2.8 degC in winter to a peak of 23.6 degC in August.
-[C] weather2visit.com, "Dachangshandao" (island station 60 km east of Dalian in
-    the same waters): mean daily sunshine 7.4 h in July, 6.8 h in January
+[C] weather2visit.com, "Dachangshandao" (island station of Dalian's Changhai
+    County in the northern Yellow Sea): mean daily sunshine 7.4 h in July, 6.8 h in January
     (also used to cross-check [A]: Jul max/min 26.8/20.9, Jan −2.3/−10.3 degC).
 [D] Dalian climate summary (Baidu Baike, as [A]): northerly monsoon prevails in
     winter, southerly in summer.
@@ -31,10 +33,9 @@ Sources
     air temperature", Agric. Meteorol. 23, 205–216: sine by day, exponential decay at
     night; coefficients for air at 150 cm a = 1.86 h, b = 2.20, c = −0.17 h.
 [F] Wu, Z. et al. (2020), Ocean Sci. 16, 83–97: offshore China SST lowest in
-    February, highest in August; Bao, B. & Ren, G. (2014/2016), Adv. Meteorol.,
-    "Climatological characteristics and long-term change of SST over the marginal
-    seas of China" (NOAA OISST, 30 yr): > 90 % of the SST variance is the annual
-    harmonic.
+    February, highest in August; Advances in Meteorology (2016), article 3820720,
+    30 years of NOAA OISST 1/4-degree daily SST over the Bohai, Yellow and East China
+    Seas: > 90 % of the temporal SST variance is the annual harmonic.
 [G] Kawai, Y. & Wada, A. (2007), J. Oceanogr. 63, 721–744: diurnal SST range of a
     few tenths of a kelvin, larger only in calm sunny weather; small in winter.
 """

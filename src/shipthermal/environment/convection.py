@@ -27,6 +27,7 @@ __all__ = [
     "air_properties",
     "seawater_properties",
     "relative_wind",
+    "wind_speed_at_height",
     "reynolds",
     "nusselt_forced_flat_plate",
     "nusselt_vertical_plate",
@@ -122,7 +123,7 @@ def seawater_properties(temp, salinity=0.035) -> FluidProperties:
     -----
     Pure-water viscosity by the Vogel equation μ_w = 2.414e-5·10^(247.8/(T − 140)) Pa s
     (±2 % over 0–100 degC), scaled for salinity by Sharqawy, Lienhard & Zubair (2010),
-    Desalin. Water Treat. 16, 354–380, eq. 22 (μ_sw = μ_w(1 + A S + B S²)).
+    Desalin. Water Treat. 16, 354–380 (μ_sw = μ_w(1 + A S + B S²)).
     Conductivity: pure water, Ramires et al. (1995), J. Phys. Chem. Ref. Data 24,
     1377, k = 0.6065(−1.48445 + 4.12292 τ − 1.63866 τ²), τ = T/298.15 (sea water is
     ≈ 1 % lower at S = 0.035: neglected). Density 1025 kg m-3, cp 3990 J kg-1 K-1 and
@@ -182,6 +183,34 @@ def relative_wind(wind_speed, wind_direction, ship_speed=0.0, ship_heading=0.0):
     direction = np.degrees(np.arctan2(-ax, -ay)) % 360.0
     off_bow = (direction - np.degrees(psi)) % 360.0
     return speed, direction, off_bow
+
+
+def wind_speed_at_height(wind_speed_10m, height, roughness_length=2.0e-4):
+    """Wind speed at another height by the neutral logarithmic profile.
+
+    Parameters
+    ----------
+    wind_speed_10m : array_like
+        Wind speed measured at 10 m [m s-1].
+    height : array_like
+        Height above the sea surface [m] (clipped below at 10 roughness lengths).
+    roughness_length : float
+        Aerodynamic roughness length of the sea [m]; 2e-4 m for open water
+        (Wieringa 1992, J. Wind Eng. Ind. Aerodyn. 41, 357–368).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``u10 ln(z / z0) / ln(10 / z0)`` [m s-1].
+
+    Notes
+    -----
+    Neutral surface layer (Stull 1988, An Introduction to Boundary Layer Meteorology,
+    §9.7); stability and the ship's own flow disturbance are ignored.
+    """
+    z0 = float(roughness_length)
+    z = np.maximum(np.asarray(height, dtype=float), 10.0 * z0)
+    return np.asarray(wind_speed_10m, dtype=float) * np.log(z / z0) / np.log(10.0 / z0)
 
 
 def reynolds(speed, length, kinematic_viscosity):
@@ -296,7 +325,8 @@ def nusselt_horizontal_plate(ra, unstable):
     (10^4–10^7), 0.15 Ra^1/3 (10^7–10^11) (Incropera 6th ed. eqs. 9.30–9.31); used
     beyond those ranges as the nearest branch (the 1/3 law makes h independent of L,
     the usual extrapolation for large decks). Stable side: 0.52 Ra^1/5
-    (10^4–10^9, Pr ≥ 0.7), Incropera 7th ed. eq. 9.32 (Radziemska & Lewandowski 2001).
+    (10^4–10^9, Pr ≥ 0.7), Incropera et al. 7th ed. §9.6.2 (after Radziemska &
+    Lewandowski 2001, Appl. Energy 68, 347–366).
     """
     ra = np.asarray(ra, dtype=float)
     up = np.where(ra < 1.0e7, 0.54 * ra ** 0.25, 0.15 * ra ** (1.0 / 3.0))

@@ -157,7 +157,7 @@ def sea_albedo_direct(zenith):
     -----
     Taylor, J. P., Edwards, J. M., Glew, M. D., Hignett, P. & Slingo, A. (1996),
     "Studies with a flexible new radiation code. II: Comparisons with aircraft
-    short-wave observations", Q. J. R. Meteorol. Soc. 122, 839–861, eq. (A1); a fit to
+    short-wave observations", Q. J. R. Meteorol. Soc. 122, 839–861; a fit to
     Payne's (1972) measured albedos. Values: 0.0296 at μ = 1, 0.247 at μ = 0.
     """
     mu = np.clip(np.cos(np.radians(np.asarray(zenith, dtype=float))), 0.0, 1.0)

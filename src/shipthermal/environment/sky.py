@@ -33,7 +33,7 @@ __all__ = [
 ]
 
 # Magnus coefficients over water, Alduchov & Eskridge (1996), J. Appl. Meteor. 35,
-# 601–609, eq. 21 (AERK): relative error < 0.4 % for -40…50 degC.
+# 601–609 (their recommended "AERK" fit): relative error < 0.4 % for -40…50 degC.
 _MAGNUS_A = 610.94   # [Pa]
 _MAGNUS_B = 17.625   # [-]
 _MAGNUS_C = 243.04   # [degC]
@@ -102,7 +102,7 @@ def emissivity_brutsaert(temp_air, vapour_pressure_pa):
     Notes
     -----
     Brutsaert, W. (1975), "On a derivable formula for long-wave radiation from clear
-    skies", Water Resour. Res. 11, 742–744, eq. 11 (the 1.24 coefficient is for e in
+    skies", Water Resour. Res. 11, 742–744 (the 1.24 coefficient is for e in
     mbar and T in K; derived for a standard-atmosphere lapse rate).
     """
     e_hpa = np.asarray(vapour_pressure_pa, dtype=float) / 100.0
@@ -128,7 +128,7 @@ def emissivity_prata(temp_air, vapour_pressure_pa):
     Notes
     -----
     Prata, A. J. (1996), "A new long-wave formula for estimating downward clear-sky
-    radiation at the surface", Q. J. R. Meteorol. Soc. 122, 1127–1151, eqs. 20 and 21.
+    radiation at the surface", Q. J. R. Meteorol. Soc. 122, 1127–1151.
     """
     e_hpa = np.asarray(vapour_pressure_pa, dtype=float) / 100.0
     w = 46.5 * e_hpa / np.asarray(temp_air, dtype=float)
@@ -198,7 +198,7 @@ def cloud_correction(eps_clear, cloud_cover, model: str = "unsworth_monteith"):
         (1975), Q. J. R. Meteorol. Soc. 101, 13–24 (cloud base radiating as a
         near-black body at screen temperature, 0.84 from their Sutton Bonington data).
         ``crawford_duchon``: ε = c + (1 − c) ε_clr, Crawford & Duchon (1999),
-        J. Appl. Meteor. 38, 474–480, eq. 20 (there c is the cloud fraction inferred
+        J. Appl. Meteor. 38, 474–480 (there c is the cloud fraction inferred
         as 1 − s, s the ratio of measured to clear-sky solar irradiance).
 
     Returns

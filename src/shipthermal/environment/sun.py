@@ -167,7 +167,7 @@ def cloud_attenuation_kasten_czeplak(cloud_cover):
     Notes
     -----
     Kasten, F. & Czeplak, G. (1980), "Solar and terrestrial radiation dependent on the
-    amount and type of cloud", Solar Energy 24, 177–189, eqs. (9) and (11), fitted to
+    amount and type of cloud", Solar Energy 24, 177–189, fitted to
     ten years of Hamburg data; C is N/8 with N the cloud amount in oktas.
     """
     c = np.clip(np.asarray(cloud_cover, dtype=float), 0.0, 1.0)

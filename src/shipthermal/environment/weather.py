@@ -455,8 +455,9 @@ def read_weather_epw(path, temp_sea, year: Optional[int] = None,
     Returns
     -------
     Weather
-        Index as pvlib gives it (hour-ending labels, fixed UTC offset from the header);
-        GHI and long-wave (hour-ending means) are re-centred on the labels as for TMY3.
+        Labelled at the end of each hour (EPW "hour 1" -> 01:00; pvlib labels it 00:00,
+        the start of the interval), fixed UTC offset from the header. GHI and long-wave
+        (means over the hour) are re-centred on the labels as for TMY3.
         Cloud cover from 'total_sky_cover' (tenths). EPW's 9999 "missing" codes for
         infrared are mapped to NaN and then rejected by validation unless
         ``use_measured_longwave=False``.
@@ -481,7 +482,9 @@ def read_weather_epw(path, temp_sea, year: Optional[int] = None,
     if use_measured_longwave and "ghi_infrared" in data:
         lw = data["ghi_infrared"].to_numpy(dtype=float)
         lw = np.where(lw >= 9999, np.nan, lw)
-    return Weather(time=data.index,
+    # pvlib labels EPW row "hour h" at h - 1 (start of the interval); the instantaneous
+    # fields (temperature, humidity, wind) belong to the end of the hour
+    return Weather(time=data.index + pd.Timedelta(hours=1),
                    temp_air=data["temp_air"].to_numpy(dtype=float) + ZERO_CELSIUS,
                    relative_humidity=data["relative_humidity"].to_numpy(dtype=float),
                    wind_speed=data["wind_speed"].to_numpy(dtype=float),
