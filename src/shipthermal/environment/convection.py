@@ -234,8 +234,10 @@ def rayleigh(temp_surface, temp_fluid, length, props: FluidProperties, gravity=G
         Gravity component driving the flow [m s-2].
     """
     dt = np.abs(np.asarray(temp_surface, dtype=float) - np.asarray(temp_fluid, dtype=float))
-    return np.asarray(gravity) * props.expansion * dt * np.asarray(length, dtype=float) ** 3 / \
-        (props.kinematic_viscosity * props.diffusivity)
+    length = np.asarray(length, dtype=float)
+    # ν α = μ k / (ρ² cp)
+    nu_alpha = props.viscosity * props.conductivity / (props.density ** 2 * props.heat_capacity)
+    return np.asarray(gravity) * props.expansion * dt * length * length * length / nu_alpha
 
 
 def nusselt_forced_flat_plate(re, pr, boundary_layer: str = "mixed", re_crit=5.0e5):
@@ -300,7 +302,7 @@ def nusselt_vertical_plate(ra, pr):
     """
     ra = np.asarray(ra, dtype=float)
     psi = (1.0 + (0.492 / np.asarray(pr, dtype=float)) ** (9.0 / 16.0)) ** (8.0 / 27.0)
-    return (0.825 + 0.387 * ra ** (1.0 / 6.0) / psi) ** 2
+    return (0.825 + 0.387 * np.cbrt(np.sqrt(ra)) / psi) ** 2
 
 
 def nusselt_horizontal_plate(ra, unstable):
@@ -329,9 +331,14 @@ def nusselt_horizontal_plate(ra, unstable):
     Lewandowski 2001, Appl. Energy 68, 347–366).
     """
     ra = np.asarray(ra, dtype=float)
-    up = np.where(ra < 1.0e7, 0.54 * ra ** 0.25, 0.15 * ra ** (1.0 / 3.0))
-    down = 0.52 * ra ** 0.2
-    return np.where(np.asarray(unstable, dtype=bool), up, down)
+    unstable = np.broadcast_to(np.asarray(unstable, dtype=bool), ra.shape)
+    out = np.empty(ra.shape)
+    low = unstable & (ra < 1.0e7)
+    high = unstable & ~low
+    out[low] = 0.54 * np.sqrt(np.sqrt(ra[low]))
+    out[high] = 0.15 * np.cbrt(ra[high])
+    out[~unstable] = 0.52 * ra[~unstable] ** 0.2
+    return out
 
 
 def h_forced(speed, length, props: FluidProperties, boundary_layer: str = "mixed",
