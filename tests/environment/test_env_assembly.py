@@ -4,7 +4,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from shipthermal.environment import Environment, Weather, climate_day, sky, sun
+from shipthermal.environment import (Environment, Weather, climate_day, sky, sun,
+                                     to_ship_frame)
 from shipthermal.errors import InputError
 from shipthermal.units import SIGMA
 
@@ -113,3 +114,30 @@ def test_date_override_moves_the_sun():
     b = Environment.from_climate_day(day, date="2023-12-21").at([12 * 3600.0])
     assert b.zenith[0] > a.zenith[0] + 40      # December sun much lower
     assert b.temp_air[0] == pytest.approx(a.temp_air[0])  # same weather day
+
+
+def test_ship_frame_rotation():
+    # heading east: the eastern sun is dead ahead, a northern one on the port beam
+    v = to_ship_frame([[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]], 90.0)
+    np.testing.assert_allclose(v, [[1, 0, 0], [0, 1, 0], [0, 0, 1]], atol=1e-12)
+    rng = np.random.default_rng(3)
+    w = rng.normal(size=(50, 3))
+    r = to_ship_frame(w, 123.0)
+    np.testing.assert_allclose(np.linalg.norm(r, axis=1), np.linalg.norm(w, axis=1))
+    # right-handed: determinant of the rotation +1
+    m = to_ship_frame(np.eye(3), 123.0)
+    assert np.linalg.det(m) == pytest.approx(1.0)
+
+
+def test_perturbed_climate_day_for_sensitivity():
+    day = climate_day("summer")
+    p = day.perturbed(wind=1.0, air=1.0, cloud=0.2)
+    h = np.arange(0, 24, 0.5)
+    np.testing.assert_allclose(p.temp_air(h), day.temp_air(h) + 1.0)
+    assert p.wind_speed == day.wind_speed + 1.0
+    assert p.cloud_cover == pytest.approx(day.cloud_cover + 0.2)
+    assert day.perturbed(wind=-10.0).wind_speed == 0.0
+    assert day.perturbed(cloud=-1.0).cloud_cover == 0.0
+    e0 = Environment.from_climate_day(day).at([12 * 3600.0])
+    e1 = Environment.from_climate_day(day.perturbed(cloud=0.2)).at([12 * 3600.0])
+    assert e1.ghi[0] < e0.ghi[0] and e1.longwave_down[0] > e0.longwave_down[0]

@@ -40,6 +40,7 @@ from .weather import Weather, read_weather_csv, read_weather_epw, read_weather_t
 
 __all__ = [
     "Environment",
+    "to_ship_frame",
     "EnvironmentState",
     "Weather",
     "ClimateDay",
@@ -305,6 +306,30 @@ class Environment:
             wind_speed_relative=rel_speed, wind_direction_relative=rel_dir,
             wind_angle_off_bow=off_bow, ship_speed=self.ship_speed,
             ship_heading=self.ship_heading)
+
+
+def to_ship_frame(vectors_enu, ship_heading):
+    """Rotate East-North-Up vectors into the ship frame (x bow, y port, z up).
+
+    Parameters
+    ----------
+    vectors_enu : array_like
+        Shape (..., 3) vectors in East-North-Up [-].
+    ship_heading : float
+        Heading, clockwise from north [deg].
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (..., 3): components along the bow, the port side and up. The frame is
+        right-handed (bow × port = up). A mesh with another convention (e.g. y to
+        starboard) flips the sign of y.
+    """
+    v = np.asarray(vectors_enu, dtype=float)
+    psi = np.radians(ship_heading)
+    bow = np.array([np.sin(psi), np.cos(psi), 0.0])
+    port = np.array([-np.cos(psi), np.sin(psi), 0.0])
+    return np.stack([v @ bow, v @ port, v[..., 2]], axis=-1)
 
 
 def pvlib_linke(times, latitude, longitude):

@@ -43,7 +43,7 @@ Sources
 from __future__ import annotations
 
 import dataclasses
-from typing import Dict, Tuple
+from typing import Dict, Optional, Tuple
 
 import numpy as np
 import pandas as pd
@@ -165,6 +165,7 @@ class ClimateDay:
     temp_sea_mean: float
     sst_amplitude: float
     sources: Dict[str, Tuple[str, str]]
+    cloud_cover_override: Optional[float] = None
 
     def sun_times(self):
         """Sunrise, transit, sunset [local h] by SPA."""
@@ -178,8 +179,25 @@ class ClimateDay:
 
     @property
     def cloud_cover(self) -> float:
-        """Cloud fraction = 1 − relative sunshine duration [-] (DERIVED, see sources)."""
+        """Cloud fraction = 1 − relative sunshine duration [-] (DERIVED, see sources),
+        unless ``cloud_cover_override`` is set."""
+        if self.cloud_cover_override is not None:
+            return float(self.cloud_cover_override)
         return float(np.clip(1.0 - self.sunshine_hours / self.day_length, 0.0, 1.0))
+
+    def perturbed(self, wind=0.0, air=0.0, cloud=0.0) -> "ClimateDay":
+        """A copy with shifted wind [m/s], air temperature [K] and cloud cover [-].
+
+        For sensitivity tables (wind ±1 m/s, air ±1 K, cloud ±0.2): the whole diurnal
+        air-temperature curve moves by ``air`` (Tmin and Tmax both), wind speed is
+        clipped at 0 and cloud cover to [0, 1]; the relative humidity keeps its mean.
+        """
+        return dataclasses.replace(
+            self, name=f"{self.name}{'' if not (wind or air or cloud) else '*'}",
+            wind_speed=max(self.wind_speed + wind, 0.0),
+            temp_max=self.temp_max + air, temp_min=self.temp_min + air,
+            cloud_cover_override=None if cloud == 0.0 else
+            float(np.clip(self.cloud_cover + cloud, 0.0, 1.0)))
 
     def temp_air(self, hour):
         """Air temperature [K] at local clock hours (Parton & Logan [E])."""
