@@ -30,7 +30,7 @@ import numpy as np
 import pandas as pd
 
 from shipthermal.errors import InputError, check_range, require
-from shipthermal.units import SIGMA, ZERO_CELSIUS
+from shipthermal.units import ZERO_CELSIUS
 
 from . import climatology, convection, sea, sky, sun, weather
 from .climatology import ClimateDay, climate_day, dalian_summer, dalian_winter

@@ -284,8 +284,9 @@ def dalian_summer() -> ClimateDay:
             "temp_mean_source": ("SOURCED", "[A] July mean 23.0 degC (check only)"),
             "relative_humidity_mean": ("SOURCED", "[B] midsummer mean RH 84 %"),
             "sunshine_hours": ("SOURCED", "[C] July mean sunshine 7.4 h/day"),
-            "wind_speed": ("ASSUMPTION", "4.0 m/s: typical coastal summer value, no "
-                           "station normal at hand"),
+            "wind_speed": ("ASSUMPTION", "4.0 m/s: no station normal at hand; inside "
+                           "the 'force 2-3' (1.6-5.4 m/s) summer mean of a secondary "
+                           "source (bkwk.cn, Sina weather statistics)"),
             "wind_direction": ("SOURCED", "[D] southerly monsoon in summer -> 180 deg"),
             "temp_sea_mean": ("DERIVED", "[B]+[F] annual harmonic through 2.8 (Feb) and "
                               "23.6 degC (Aug), at mid-July"),
@@ -310,8 +311,8 @@ def dalian_winter() -> ClimateDay:
             "temp_mean_source": ("SOURCED", "[A] January mean −4.9 degC (check only)"),
             "relative_humidity_mean": ("SOURCED", "[B] January mean RH 55 %"),
             "sunshine_hours": ("SOURCED", "[C] January mean sunshine 6.8 h/day"),
-            "wind_speed": ("ASSUMPTION", "5.0 m/s: winter monsoon stronger than summer "
-                           "([D]); no station normal at hand"),
+            "wind_speed": ("ASSUMPTION", "5.0 m/s: no station normal at hand; gale days "
+                           "most frequent in winter/spring, fewest in summer ([A] page)"),
             "wind_direction": ("SOURCED", "[D] northerly monsoon in winter -> 0 deg"),
             "temp_sea_mean": ("DERIVED", "[B]+[F] annual harmonic through 2.8 (Feb) and "
                               "23.6 degC (Aug), at mid-January"),

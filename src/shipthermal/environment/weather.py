@@ -51,7 +51,7 @@ from typing import Optional
 import numpy as np
 import pandas as pd
 
-from shipthermal.errors import InputError, check_finite, check_range, require
+from shipthermal.errors import InputError, check_finite, require
 from shipthermal.units import ZERO_CELSIUS
 
 from .sky import dew_point, relative_humidity_from_dew_point
