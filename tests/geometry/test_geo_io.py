@@ -1,0 +1,161 @@
+"""User meshes: round trips, part maps, and each kind of bad mesh gets its own answer."""
+
+import json
+
+import numpy as np
+import pytest
+import trimesh
+
+from shipthermal.errors import InputError
+from shipthermal.geometry import frigate
+from shipthermal.geometry.io import check_surface, read_part_map, read_ship, write_ship
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory):
+    d = tmp_path_factory.mktemp("ships")
+    s = frigate(2.0)
+    write_ship(s, d)
+    return s, d
+
+
+def _box(tmp_path, name="box.stl", scale=1.0, drop=0, flip=False, extra=None):
+    """A 100 m x 12 m x 10 m box barge, keel at z = -4 (so z = 0 is a waterline)."""
+    m = trimesh.creation.box((100.0, 12.0, 10.0))
+    v = np.array(m.vertices) + [0.0, 0.0, 1.0]
+    f = np.array(m.faces)
+    top = np.flatnonzero(m.face_normals[:, 2] > 0.5)
+    if drop:
+        f = np.delete(f, top[:drop], axis=0)
+    if flip:
+        f = f[:, ::-1]
+    if extra is not None:
+        f = np.vstack([f, extra(f)])
+    path = tmp_path / name
+    trimesh.Trimesh(v * scale, f, process=False).export(path)
+    return path, len(f)
+
+
+def test_roundtrip_ply_with_json_part_map(written):
+    s, d = written
+    u, rep = read_ship(d / "frigate.ply", units="m", part_map=d / "frigate_parts.json")
+    assert u.part_names == s.part_names
+    # PLY stores float32 coordinates: relative area error ~1e-7.
+    for name, a in s.part_areas().items():
+        assert u.part_areas()[name] == pytest.approx(a, rel=1e-5)
+    assert rep["flipped_faces"] == 0 and rep["removed_degenerate"] == 0
+    meta = json.loads((d / "frigate_parts.json").read_text())
+    assert meta["units"] == "m" and set(meta["parts"]) == set(s.part_names)
+
+
+def test_roundtrip_one_stl_per_part(written):
+    s, d = written
+    files = {n: d / "frigate_parts" / f"{n}.stl" for n in s.part_names}
+    u, _ = read_ship(files, units="m")
+    assert u.is_watertight and u.signed_volume > 0
+    assert u.total_area == pytest.approx(s.total_area, rel=1e-5)
+    assert u.n_faces == s.n_faces
+
+
+def test_hull_part_is_split_at_given_draught(tmp_path):
+    path, n = _box(tmp_path)
+    # Keel at z = -4 in the file: draught 3 puts the waterline at z = -1.
+    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]}, draught=3.0)
+    areas = u.part_areas()
+    # Box 100 x 12, wetted to 3 m: bottom 1200 + sides 2*(100+12)*3 = 1872 m2 exactly.
+    assert areas["hull_wetted"] == pytest.approx(1200 + 2 * 112 * 3.0, rel=1e-12)
+    assert areas["hull_wetted"] + areas["hull_dry"] == pytest.approx(1200 * 2 + 2 * 112 * 10, rel=1e-12)
+    assert rep["translation"][2] == pytest.approx(1.0)
+    assert u.vertices[u.faces[u.part_mask("hull_wetted")], 2].max() <= 0.0
+
+
+def test_open_box_is_rejected(tmp_path):
+    path, n = _box(tmp_path, drop=2)
+    with pytest.raises(InputError, match="open edges"):
+        read_ship(path, units="m", part_map={"hull": [[0, n]]})
+
+
+def test_open_box_repaired_with_tetwild_reports_change(tmp_path):
+    path, n = _box(tmp_path, drop=2)
+    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]}, repair="tetwild")
+    r = rep["repair"]
+    assert rep["open_edges"] == 0 and u.signed_volume > 0
+    # The missing 100 x 12 m lid is closed: area 3440 -> 4640 m2 (+35 %), volume of the
+    # closed box 12 000 m3. fTetWild keeps the surface within its envelope (1e-3 of the
+    # bounding-box diagonal) but its winding-number lid is not exactly flat: 2 % tolerance.
+    assert r["area_before"] == pytest.approx(3440.0, rel=1e-12)
+    assert r["area_after"] == pytest.approx(4640.0, rel=2e-2)
+    assert r["area_change"] == pytest.approx(1200 / 3440, abs=0.02)
+    assert r["volume_after"] == pytest.approx(12000.0, rel=2e-2)
+    assert u.total_area == pytest.approx(r["area_after"], rel=1e-9)
+
+
+def test_inverted_normals_error_and_reported_fix(tmp_path):
+    path, n = _box(tmp_path, flip=True)
+    with pytest.raises(InputError, match="normals point into the ship"):
+        read_ship(path, units="m", part_map={"hull": [[0, n]]})
+    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]}, fix_normals=True)
+    assert rep["flipped_faces"] == n
+    assert u.signed_volume == pytest.approx(12000.0, rel=1e-12)
+
+
+def test_zero_area_face_error_and_clean(tmp_path):
+    # A triangle with a repeated vertex (zero area) appended to the closed box.
+    path, n = _box(tmp_path, extra=lambda f: np.array([[f[0, 0], f[0, 1], f[0, 1]]]))
+    with pytest.raises(InputError, match="zero-area"):
+        read_ship(path, units="m", part_map={"hull": [[0, n]]})
+    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]}, clean=True)
+    assert rep["removed_degenerate"] == 1 and u.n_faces >= 12
+
+
+def test_duplicate_face_error_and_clean(tmp_path):
+    path, n = _box(tmp_path, extra=lambda f: f[:1])
+    with pytest.raises(InputError, match="duplicate"):
+        read_ship(path, units="m", part_map={"hull": [[0, n]]})
+    _, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]}, clean=True)
+    assert rep["removed_duplicate"] == 1
+
+
+def test_mm_declared_as_m_gets_a_question(tmp_path):
+    path, n = _box(tmp_path, scale=1000.0)
+    with pytest.raises(InputError, match="looks like millimetres: declare units='mm'"):
+        read_ship(path, units="m", part_map={"hull": [[0, n]]})
+    u, _ = read_ship(path, units="mm", part_map={"hull": [[0, n]]})
+    assert u.length == pytest.approx(100.0)
+
+
+def test_centimetre_ship_and_wrong_axes(tmp_path):
+    path, n = _box(tmp_path, scale=1e-4)              # a 1 cm "ship"
+    with pytest.raises(InputError, match="outside the plausible"):
+        read_ship(path, units="m", part_map={"hull": [[0, n]]})
+    m = trimesh.creation.box((12.0, 100.0, 10.0))
+    p2 = tmp_path / "sideways.stl"
+    m.export(p2)
+    with pytest.raises(InputError, match="longest dimension must lie along x"):
+        read_ship(p2, units="m", part_map={"hull": [[0, 12]]})
+
+
+def test_units_must_be_declared(tmp_path):
+    path, n = _box(tmp_path)
+    with pytest.raises(InputError, match="must be declared"):
+        read_ship(path, units=None, part_map={"hull": [[0, n]]})
+
+
+def test_part_map_must_cover_each_face_once():
+    with pytest.raises(InputError, match="overlaps"):
+        read_part_map({"hull": [[0, 8]], "deck": [[6, 12]]}, 12)
+    with pytest.raises(InputError, match="uncovered: face 10"):
+        read_part_map({"hull": [[0, 8]], "deck": [[8, 10]]}, 12)
+    labels, names = read_part_map(np.array(["deck", "hull", "hull"]), 3)
+    assert names == ("deck", "hull") and labels.tolist() == [0, 1, 1]
+    with pytest.raises(InputError):
+        read_part_map({"funnel": [[0, 3]]}, 3) and None
+        from shipthermal.geometry import main_part
+        main_part("funnel")
+
+
+def test_check_surface_on_builtin_ship_is_clean():
+    s = frigate(2.0)
+    v, f, lab, rep = check_surface(s.vertices, s.faces, face_part=s.face_part)
+    assert rep["open_edges"] == 0 and rep["flipped_faces"] == 0
+    assert rep["signed_volume"] == pytest.approx(s.signed_volume)

@@ -1,0 +1,80 @@
+"""Plate layups, masses and compartment temperatures against hand-computed values."""
+
+import pytest
+
+from shipthermal.geometry import frigate
+from shipthermal.geometry.layups import (compartment_temperatures, default_layups, outer_media)
+from shipthermal.materials import Layer, Layup
+
+
+@pytest.fixture(scope="module")
+def ship():
+    return frigate(2.0)
+
+
+def test_default_layups_thickness_and_areal_mass(ship):
+    L = ship.layups
+    # Hand-computed: thickness sums; areal mass Σ ρ t with ρ steel 7850, paint 1200,
+    # deck covering 1200, mineral wool 100, aluminium 5083 2660 kg/m3.
+    assert L["hull_wetted"].thickness == pytest.approx(0.0143, abs=1e-12)
+    assert L["hull_wetted"].areal_mass == pytest.approx(0.0003 * 1200 + 0.014 * 7850, rel=1e-12)   # 110.26
+    assert L["hull_dry"] is L["hull_wetted"]
+    assert L["deck"].thickness == pytest.approx(0.013, abs=1e-12)
+    assert L["deck"].areal_mass == pytest.approx(0.003 * 1200 + 0.010 * 7850, rel=1e-12)          # 82.10
+    assert L["superstructure"].thickness == pytest.approx(0.0563, abs=1e-12)
+    assert L["superstructure"].areal_mass == pytest.approx(0.36 + 0.006 * 7850 + 0.05 * 100, rel=1e-12)  # 52.46
+    assert L["superstructure_funnel"] == L["superstructure"]
+    assert L["superstructure_mast"].areal_mass == pytest.approx(0.36 + 0.008 * 7850, rel=1e-12)
+    # Cells through the thickness: paint 1, steel 2, wool 4.
+    assert [l.cells for l in L["superstructure"].layers] == [1, 2, 4]
+    assert [l.material for l in L["deck"].layers] == ["deck_covering", "mild_steel"]
+
+
+def test_part_masses_are_area_times_areal_mass(ship):
+    areas = ship.part_areas()
+    masses = ship.part_masses()
+    hand = {"hull_wetted": 110.26, "hull_dry": 110.26, "deck": 82.10, "superstructure": 52.46,
+            "superstructure_funnel": 52.46, "superstructure_gun": 52.46, "superstructure_mast": 63.16}
+    for name, a in areas.items():
+        assert masses[name] == pytest.approx(a * hand[name], rel=1e-9), name
+    # Heat capacity per area of the hull: ρc t = 1200*1800*0.0003 + 7850*440*0.014.
+    hc = ship.part_heat_capacities()["hull_dry"] / areas["hull_dry"]
+    assert hc == pytest.approx(648.0 + 48356.0, rel=1e-12)
+
+
+def test_aluminium_option_and_overrides():
+    names = ("hull_wetted", "hull_dry", "deck", "superstructure", "superstructure_funnel")
+    lay = default_layups(names, superstructure_material="aluminium_5083")
+    assert lay["superstructure"].areal_mass == pytest.approx(0.36 + 0.006 * 2660 + 5.0, rel=1e-12)
+    custom = Layup((Layer("mild_steel", 0.012, 3),), name="thin hull")
+    lay = default_layups(names, {"hull": custom, "superstructure": [("aluminium_5083", 0.008, 2)],
+                                 "superstructure_funnel": [("mild_steel", 0.010, 2)]})
+    assert lay["hull_wetted"] is custom and lay["hull_dry"] is custom
+    assert lay["superstructure"].thickness == pytest.approx(0.008)
+    assert lay["superstructure_funnel"].thickness == pytest.approx(0.010)
+    from shipthermal.errors import InputError
+    with pytest.raises(InputError):
+        default_layups(names, {"keel": custom})
+    with pytest.raises(InputError, match="unknown material"):
+        default_layups(names, {"deck": [("teak_wood", 0.05, 1)]})
+
+
+def test_ship_with_layups_and_temperatures(ship):
+    s2 = ship.with_layups({"deck": [("mild_steel", 0.008, 2)]})
+    assert s2.layups["deck"].areal_mass == pytest.approx(0.008 * 7850)
+    assert s2.layups["hull_dry"] is ship.layups["hull_dry"]
+    s3 = ship.with_compartment_temperature({"superstructure": 300.0})
+    assert s3.compartment_temperature["superstructure_funnel"] == 300.0
+    assert s3.compartment_temperature["deck"] == pytest.approx(295.15)
+
+
+def test_compartment_temperature_defaults_and_media():
+    names = ("hull_wetted", "hull_dry", "deck", "superstructure")
+    t = compartment_temperatures(names)
+    assert all(v == pytest.approx(273.15 + 22.0) for v in t.values())     # ISO 7547 winter
+    assert compartment_temperatures(names, season="summer")["deck"] == pytest.approx(300.15)
+    from shipthermal.errors import InputError
+    with pytest.raises(InputError):
+        compartment_temperatures(names, {"deck": 22.0})                 # °C given for K
+    assert outer_media(names) == {"hull_wetted": "sea", "hull_dry": "air", "deck": "air",
+                                  "superstructure": "air"}
