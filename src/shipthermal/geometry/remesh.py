@@ -104,8 +104,8 @@ def tetwild_surface(vertices, faces, face_part, edge_length: float | None = None
     import pytetwild
     import trimesh
 
-    v = np.asarray(vertices, float)
-    f = np.asarray(faces, np.int64)
+    v = np.array(vertices, dtype=float)           # writable copies for the fTetWild binding
+    f = np.array(faces, dtype=np.int64)
     t0 = time.perf_counter()
     kwargs = {}
     if edge_length is not None:
@@ -230,7 +230,8 @@ def _solid_ship_graph(ship, fvmesh):
     of its nearest surface triangle, boundary faces are patched ``{part}:outer``."""
     from scipy.spatial import cKDTree
 
-    pts, tets = fvmesh.tetrahedralize_surface(ship.vertices, ship.faces,
+    # Writable copies: the wrapped fTetWild rejects read-only numpy arrays.
+    pts, tets = fvmesh.tetrahedralize_surface(np.array(ship.vertices), np.array(ship.faces),
                                               edge_length=ship.edge_length, field="ship")
     tree = cKDTree(ship.face_centroids)
     names = ship.part_names

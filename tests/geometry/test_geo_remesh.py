@@ -1,0 +1,105 @@
+"""Remeshing to a target size, the waterline split, quality figures, FV mesh building."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+import trimesh
+
+from shipthermal.errors import InputError
+from shipthermal.geometry import frigate, split_at_waterline
+from shipthermal.geometry.parts import boundary_edges, face_areas, signed_volume
+from shipthermal.geometry.remesh import build_ship_mesh, refine_surface, surface_quality
+
+
+def test_split_box_exact_areas_and_closed():
+    m = trimesh.creation.box((2.0, 4.0, 2.0))
+    v = np.array(m.vertices) + [0, 0, 0.3]           # z from -0.7 to 1.3
+    f = np.array(m.faces)
+    v2, f2, lab, parent = split_at_waterline(v, f, np.zeros(len(f), int), 0.0)
+    zc = v2[f2, 2].mean(axis=1)
+    a = face_areas(v2, f2)
+    # Below z = 0: bottom 2x4 + sides 2*(2+4)*0.7 = 16.4 m2 exactly.
+    assert a[zc < 0].sum() == pytest.approx(16.4, rel=1e-12)
+    assert a.sum() == pytest.approx(face_areas(v, f).sum(), rel=1e-12)
+    assert signed_volume(v2, f2) == pytest.approx(16.0, rel=1e-12)    # orientation kept
+    assert not (np.ptp(np.sign(np.round(v2[f2, 2], 12)), axis=1) > 1).any()  # nothing crosses
+    o, nm = boundary_edges(f2)
+    assert len(o) == 0 and len(nm) == 0
+
+
+def test_split_tilted_sphere_every_piece_one_side():
+    m = trimesh.creation.icosphere(subdivisions=3, radius=5.0)
+    v = np.array(m.vertices) + [0, 0, 0.37]
+    f = np.array(m.faces)
+    v2, f2, _, _ = split_at_waterline(v, f, np.zeros(len(f), int), 0.0)
+    z = v2[f2, 2]
+    assert ((z.max(axis=1) <= 0) | (z.min(axis=1) >= 0)).all()
+    assert signed_volume(v2, f2) == pytest.approx(signed_volume(v, f), rel=1e-12)
+    assert len(boundary_edges(f2)[0]) == 0
+
+
+def test_refine_surface_keeps_parts_area_volume():
+    s = frigate(3.0)
+    v, f, lab, parent = refine_surface(s.vertices, s.faces, s.face_part, 1.0)
+    q = surface_quality(v, f)
+    assert q["edge_max"] <= 1.0 + 1e-12
+    # Midpoint bisection of flat triangles changes neither areas nor volume (round-off).
+    a_new = np.bincount(lab, weights=face_areas(v, f), minlength=len(s.part_names))
+    assert np.allclose(a_new, list(s.part_areas().values()), rtol=1e-10)
+    assert signed_volume(v, f) == pytest.approx(s.signed_volume, rel=1e-10)
+    assert len(boundary_edges(f)[0]) == 0 and len(boundary_edges(f)[1]) == 0
+
+
+def test_quality_of_known_triangles():
+    v = np.array([[0, 0, 0], [1, 0, 0], [0.5, math.sqrt(3) / 2, 0], [0, 1, 0]], float)
+    q = surface_quality(v, np.array([[0, 1, 2]]))
+    assert q["aspect_max"] == pytest.approx(1.0) and q["min_angle_min"] == pytest.approx(60.0)
+    q = surface_quality(v, np.array([[0, 1, 3]]))        # right isosceles
+    assert q["min_angle_min"] == pytest.approx(45.0)
+    assert q["aspect_max"] == pytest.approx(2 * math.sqrt(3) / 4 / 0.5)
+
+
+def test_default_ship_quality_figures():
+    s = frigate()
+    q = surface_quality(s.vertices, s.faces)
+    assert q["n_faces"] >= 50_000
+    # Structured hull and blocks: median smallest angle ~43-45°; the boolean junctions
+    # of deckhouses and deck leave a few slivers — these bounds record that state.
+    assert q["min_angle_median"] > 40.0
+    assert q["frac_min_angle_below_10"] < 0.05
+
+
+def test_build_ship_mesh_shells_conserve_area_and_capacity():
+    s = frigate(3.0)
+    g, rep = build_ship_mesh(s)
+    n_cells = sum(int(np.sum(s.face_part == k)) * sum(l.cells for l in s.layups[n].layers)
+                  for k, n in enumerate(s.part_names))
+    assert g.n_cells == n_cells == rep["n_cells"]
+    for n, a in s.part_areas().items():
+        assert g.patch_area[f"{n}:outer"] == pytest.approx(a, rel=1e-12)
+    # Total heat capacity of the cells = Σ area × Σ ρ c t of the layups (thin-shell volumes).
+    assert g.heat_capacity.sum() == pytest.approx(sum(s.part_heat_capacities().values()), rel=1e-9)
+    assert rep["quality"]["n_faces"] == s.n_faces
+
+
+def test_build_ship_mesh_remeshes_user_surface():
+    s = dataclasses.replace(frigate(4.0), parameters=None)
+    g, rep = build_ship_mesh(s, edge_length=2.0)
+    assert rep["quality"]["edge_max"] <= 2.0 + 1e-12
+    assert rep["n_surface_faces"] > s.n_faces
+    with pytest.raises(InputError, match="not implemented"):
+        build_ship_mesh(s, solid_parts=("superstructure_mast",))
+
+
+@pytest.mark.slow
+def test_build_ship_mesh_all_solid():
+    from shipthermal.geometry import patrol_boat
+
+    s = patrol_boat(2.0)
+    g, rep = build_ship_mesh(s, solid_parts="all")
+    assert rep["kind"] == "tetrahedral" and g.n_cells > 1000
+    # Tet volume equals the enclosed volume within fTetWild's envelope (~1 %).
+    assert g.cell_volume.sum() == pytest.approx(s.signed_volume, rel=0.02)
+    assert set(g.patch_names) <= {f"{n}:outer" for n in s.part_names}
