@@ -208,3 +208,19 @@ def test_bad_input_names_the_field():
         make_tracer(V, F, backend="optix")
     with pytest.raises(InputError, match="faces"):
         make_tracer(V, F + 10)
+
+
+def test_subset_of_faces_shoots_against_the_whole_mesh():
+    floor = rectangle([0, 0, 0], [1, 0, 0], [0, 1, 0], 2, 2)
+    wall = rectangle([0, 0, 0], [0, 0, 1], [1, 0, 0], 2, 2)
+    V, F = combine(floor, wall)
+    tracer = make_tracer(V, F)
+    n = len(floor[1])
+    full = view_factors(tracer, V, F, rays_per_face=200, seed=8)
+    part = view_factors(tracer, V, F[:n], rays_per_face=200, seed=8)
+    assert part.F_faces.shape == (n, len(F))
+    # the floor's rows do not depend on which other faces shoot rays
+    np.testing.assert_array_equal(part.F_faces.toarray(), full.F_faces[:n].toarray())
+    np.testing.assert_array_equal(part.F_sky, full.F_sky[:n])
+    with pytest.raises(InputError, match="F_faces"):
+        symmetrize(part)

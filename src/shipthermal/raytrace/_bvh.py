@@ -263,6 +263,9 @@ def trace_bvh(node_min, node_max, node_left, node_start, node_count, order, v0, 
     """
     n = origins.shape[0]
     out = np.full(n, -1, np.int64)
+    # one direction / one distance may be shared by all rays
+    one_dir = 1 if directions.shape[0] == 1 else 0
+    one_dist = 1 if max_distance.shape[0] == 1 else 0
     n_blocks = (n + _RAY_BLOCK - 1) // _RAY_BLOCK
     for blk in prange(n_blocks):
         # an ordered walk holds at most one pending sibling per level: depth + 1 entries
@@ -272,13 +275,14 @@ def trace_bvh(node_min, node_max, node_left, node_start, node_count, order, v0, 
             ox = origins[r, 0]
             oy = origins[r, 1]
             oz = origins[r, 2]
-            dx = directions[r, 0]
-            dy = directions[r, 1]
-            dz = directions[r, 2]
+            rd = r if one_dir == 0 else 0
+            dx = directions[rd, 0]
+            dy = directions[rd, 1]
+            dz = directions[rd, 2]
             ix = _inv(dx)
             iy = _inv(dy)
             iz = _inv(dz)
-            t_best = max_distance[r]
+            t_best = max_distance[r if one_dist == 0 else 0]
             best = -1
             if _box_entry(node_min, node_max, 0, ox, oy, oz, ix, iy, iz, t_best) == np.inf:
                 continue
@@ -328,12 +332,15 @@ def brute_force_first(v0, e1, e2, origins, directions, max_distance):
     n = origins.shape[0]
     m = v0.shape[0]
     out = np.full(n, -1, np.int64)
+    step_dir = 0 if directions.shape[0] == 1 else 1
+    step_dist = 0 if max_distance.shape[0] == 1 else 1
     for r in prange(n):
-        t_best = max_distance[r]
+        rd = r * step_dir
+        t_best = max_distance[r * step_dist]
         best = -1
         for t in range(m):
-            th = _hit_triangle(origins[r, 0], origins[r, 1], origins[r, 2], directions[r, 0],
-                               directions[r, 1], directions[r, 2], v0, e1, e2, t)
+            th = _hit_triangle(origins[r, 0], origins[r, 1], origins[r, 2], directions[rd, 0],
+                               directions[rd, 1], directions[rd, 2], v0, e1, e2, t)
             if th > 0.0 and th < t_best:
                 t_best = th
                 best = t

@@ -59,7 +59,12 @@ def combine(*meshes):
 
 def benchmark_scene(target_faces: int = 100_000):
     """A ship-sized scene of about ``target_faces`` triangles: an 80 m × 12 m hull-like box
-    with superstructure boxes and a radar-dome sphere (trimesh icosphere), on z ≥ 0."""
+    with superstructure boxes and a radar-dome sphere (trimesh icosphere), on z ≥ 0.
+
+    The boxes interpenetrate rather than touch, so no two triangles are coplanar and
+    overlapping (coincident faces make first-hit ties that either tracer may break either
+    way, which would blur the backend comparison).
+    """
     import trimesh
 
     sphere = trimesh.creation.icosphere(subdivisions=5)  # 20 480 faces
@@ -67,8 +72,8 @@ def benchmark_scene(target_faces: int = 100_000):
     n_box = max(1, int(np.sqrt(max(target_faces - len(sphere.faces), 12) / (12 * 3))))
     parts = [
         box([-40.0, -6.0, 0.0], [40.0, 6.0, 6.0], n_box),
-        box([-5.0, -5.0, 6.0], [20.0, 5.0, 12.0], n_box),
-        box([5.0, -2.0, 12.0], [15.0, 2.0, 15.0], n_box),
+        box([-5.0, -5.0, 5.5], [20.0, 5.0, 12.0], n_box),
+        box([5.0, -2.0, 11.5], [15.0, 2.0, 15.0], n_box),
         (sv, sphere.faces),
     ]
     return combine(*parts)

@@ -21,12 +21,13 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from shipthermal.errors import require
-from shipthermal.raytrace.sampling import face_geometry, triangle_points, unit_samples
+from shipthermal.raytrace import _raygen
+from shipthermal.raytrace.sampling import face_frames, face_geometry, unit_samples
 
 __all__ = ["ReceiverPlane", "SunLit", "sun_lit_fraction", "shadow_area_on_plane",
            "lit_rays"]
 
-_DEFAULT_CHUNK = 1 << 20  # rays per tracer call: ~50 MB of float64 rays, amortises call cost
+_DEFAULT_CHUNK = 1 << 18  # rays per tracer call: ~10 MB of rays, amortises call cost
 
 
 @dataclass(frozen=True)
@@ -133,9 +134,12 @@ def lit_rays(tracer, vertices, faces, samples_per_face: int = 16, seed: int = 0)
     faces = np.asarray(faces)
     normals, _, _ = face_geometry(vertices, faces)
     base, shift = unit_samples(len(faces), int(samples_per_face), 2, seed)
-    uv = (base[None] + shift[:, None]) % 1.0
-    pts = triangle_points(vertices[faces], uv[..., 0], uv[..., 1])
-    return pts + tracer.offset * normals[:, None], normals
+    tri = vertices[faces]
+    # fused numba version of sampling.triangle_points (the tests compare the two)
+    pts, _ = _raygen.face_rays(tri[:, 0], tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0],
+                               normals, normals, normals, base, shift,
+                               np.arange(len(faces)), float(tracer.offset), False)
+    return pts.reshape(len(faces), int(samples_per_face), 3), normals
 
 
 def _chunks(index, chunk):
@@ -150,7 +154,7 @@ def _trace_plane(tracer, points, samples_per_cell, sun, chunk_rays, out, bar):
     cells = np.arange(len(points) // m)
     for idx in _chunks(cells, max(1, int(chunk_rays) // m)):
         o = points.reshape(-1, m, 3)[idx].reshape(-1, 3)
-        blocked = tracer.any_hit(o, np.broadcast_to(sun, o.shape))
+        blocked = tracer.any_hit(o, sun, validate=False)
         out[idx] = (~blocked).reshape(len(idx), m).mean(axis=1)
         if bar is not None:
             bar.update(len(o))
@@ -166,11 +170,12 @@ def sun_lit_fraction(tracer, vertices, faces, sun_dirs, samples_per_face: int = 
     Parameters
     ----------
     tracer : EmbreeTracer or NumbaTracer
-        Tracer built on the same ``vertices`` and ``faces`` (the occluders).
+        Tracer over the occluders (usually built on the same ``vertices`` and ``faces``).
     vertices : (n, 3) array_like
         Vertex coordinates [m].
     faces : (m, 3) array_like of int
-        Triangles; the outward normal follows the right-hand rule on the vertex order.
+        Receiving triangles; the outward normal follows the right-hand rule on the vertex
+        order. They may be a subset of the tracer's mesh (e.g. outer faces only).
     sun_dirs : (3,) or (n_sun, 3) array_like
         Vectors towards the sun [-] (normalised here). Many directions in one call share the
         sample points.
@@ -231,7 +236,7 @@ def sun_lit_fraction(tracer, vertices, faces, sun_dirs, samples_per_face: int = 
             front = np.flatnonzero(cos_inc[:, j] > 0.0)
             for idx in _chunks(front, face_chunk):
                 o = origins[idx].reshape(-1, 3)
-                blocked = tracer.any_hit(o, np.broadcast_to(sun[j], o.shape))
+                blocked = tracer.any_hit(o, sun[j], validate=False)
                 lit = ~blocked.reshape(len(idx), k)
                 if under is not None:
                     lit &= ~under[idx]

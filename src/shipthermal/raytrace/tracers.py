@@ -62,9 +62,11 @@ class Tracer(Protocol):
     scale: float  # bounding-box diagonal [m]
     offset: float  # ray origin offset from surfaces [m]
 
-    def intersects_first(self, origins, directions, max_distance=np.inf) -> np.ndarray: ...
+    def intersects_first(self, origins, directions, max_distance=np.inf, *,
+                         validate: bool = True) -> np.ndarray: ...
 
-    def any_hit(self, origins, directions, max_distance=np.inf) -> np.ndarray: ...
+    def any_hit(self, origins, directions, max_distance=np.inf, *,
+                validate: bool = True) -> np.ndarray: ...
 
 
 def _check_mesh(vertices, faces):
@@ -87,18 +89,29 @@ def _check_mesh(vertices, faces):
     return vertices, faces
 
 
-def _check_rays(origins, directions, max_distance):
+def _check_rays(origins, directions, max_distance, validate=True):
+    """Rays as float64 arrays: origins (n, 3); unit directions (n, 3) or (1, 3) for one
+    direction shared by all rays; distances (n,) or (1,)."""
     origins = np.asarray(origins, dtype=np.float64)
     directions = np.asarray(directions, dtype=np.float64)
+    if directions.ndim == 1:
+        directions = directions[None]
+    dist = np.asarray(max_distance, dtype=np.float64).reshape(-1)
+    if not validate:
+        return origins, directions, dist
     require(origins.ndim == 2 and origins.shape[1] == 3, "origins", origins,
             "must be an (n, 3) array [m]")
-    require(directions.shape == origins.shape, "directions", directions,
-            f"must have the shape of origins {origins.shape}")
+    require(directions.ndim == 2 and directions.shape[1] == 3
+            and len(directions) in (1, len(origins)), "directions", directions,
+            f"must be (3,) or have the shape of origins {origins.shape}")
     norm = np.linalg.norm(directions, axis=1)
-    require(bool((norm > 0).all()), "directions", directions, "must be non-zero vectors")
+    require(bool((norm > 0).all() and np.isfinite(norm).all()), "directions", directions,
+            "must be finite, non-zero vectors")
     directions = directions / norm[:, None]
-    dist = np.broadcast_to(np.asarray(max_distance, dtype=np.float64), (len(origins),))
+    require(len(dist) in (1, len(origins)), "max_distance", max_distance,
+            "must be a number or one per ray")
     require(bool((dist > 0).all()), "max_distance", max_distance, "must be > 0 [m]")
+    require(bool(np.isfinite(origins).all()), "origins", origins, "must be finite")
     return origins, directions, dist
 
 
@@ -157,33 +170,59 @@ class EmbreeTracer(_MeshTracer):
         # commit now (the first query would otherwise) so builds are timed with construction
         self._scene.run(np.zeros((1, 3), np.float32), np.ones((1, 3), np.float32))
 
-    def _run(self, origins, directions, max_distance, query):
-        origins, directions, dist = _check_rays(origins, directions, max_distance)
-        o32 = np.ascontiguousarray(origins - self.center, dtype=np.float32)
-        d32 = np.ascontiguousarray(directions, dtype=np.float32)
-        t32 = np.minimum(dist, _FLOAT32_TFAR_MAX).astype(np.float32)
-        n = len(o32)
+    def _run(self, origins, directions, max_distance, query, validate):
+        origins, directions, dist = _check_rays(origins, directions, max_distance, validate)
+        n = len(origins)
         if n == 0:
             return np.zeros(0, np.int64)
+        # shift and cast in one pass (no float64 temporary)
+        o32 = np.empty((n, 3), np.float32)
+        np.subtract(origins, self.center, out=o32, casting="same_kind")
+        d32 = np.ascontiguousarray(directions, dtype=np.float32)
+        t32 = np.empty(n, np.float32)
+        t32[:] = np.minimum(dist, _FLOAT32_TFAR_MAX)
         if self.n_threads == 1 or n < _PARALLEL_MIN_RAYS:
             return self._scene.run(o32, d32, dists=t32, query=query).astype(np.int64)
         bounds = np.linspace(0, n, self.n_threads + 1).astype(int)
+        one_dir = len(d32) == 1
+
+        def part(k):
+            sl = slice(bounds[k], bounds[k + 1])
+            return self._scene.run(o32[sl], d32 if one_dir else d32[sl], dists=t32[sl],
+                                   query=query)
+
         with ThreadPoolExecutor(self.n_threads) as pool:
-            parts = pool.map(
-                lambda k: self._scene.run(o32[bounds[k]:bounds[k + 1]],
-                                          d32[bounds[k]:bounds[k + 1]],
-                                          dists=t32[bounds[k]:bounds[k + 1]], query=query),
-                range(self.n_threads))
-            return np.concatenate(list(parts)).astype(np.int64)
+            return np.concatenate(list(pool.map(part, range(self.n_threads)))).astype(np.int64)
 
-    def intersects_first(self, origins, directions, max_distance=np.inf) -> np.ndarray:
-        """Nearest triangle hit by each ray within ``max_distance`` [m]; -1 for a miss."""
-        return self._run(origins, directions, max_distance, "INTERSECT")
+    def intersects_first(self, origins, directions, max_distance=np.inf, *,
+                         validate: bool = True) -> np.ndarray:
+        """Nearest triangle hit by each ray within ``max_distance``; -1 for a miss.
 
-    def any_hit(self, origins, directions, max_distance=np.inf) -> np.ndarray:
-        """True where the ray meets any triangle before ``max_distance`` [m]."""
+        Parameters
+        ----------
+        origins : (n, 3) array_like
+            Ray origins [m].
+        directions : (n, 3) or (3,) array_like
+            Ray directions (one shared direction allowed) [-]; normalised here.
+        max_distance : float or (n,) array_like
+            Largest hit distance along the ray [m].
+        validate : bool
+            Check shapes and normalise directions. Internal callers passing unit
+            directions and valid arrays set False to save a pass over the rays.
+
+        Returns
+        -------
+        (n,) int64
+            Triangle index, -1 for no hit.
+        """
+        return self._run(origins, directions, max_distance, "INTERSECT", validate)
+
+    def any_hit(self, origins, directions, max_distance=np.inf, *,
+                validate: bool = True) -> np.ndarray:
+        """True where the ray meets any triangle before ``max_distance`` [m] (same
+        parameters as :meth:`intersects_first`)."""
         # embreex's occlusion query returns the geometry id (0) when blocked, -1 otherwise
-        return self._run(origins, directions, max_distance, "OCCLUDED") >= 0
+        return self._run(origins, directions, max_distance, "OCCLUDED", validate) >= 0
 
 
 class NumbaTracer(_MeshTracer):
@@ -222,21 +261,24 @@ class NumbaTracer(_MeshTracer):
                                               tri.mean(axis=1), int(leaf_size))
         self.depth = int(depth)
 
-    def _run(self, origins, directions, max_distance, any_hit):
-        origins, directions, dist = _check_rays(origins, directions, max_distance)
+    def _run(self, origins, directions, max_distance, any_hit, validate):
+        origins, directions, dist = _check_rays(origins, directions, max_distance, validate)
         return self._bvh.trace_bvh(
             self._node_min, self._node_max, self._node_left, self._node_start,
             self._node_count, self._order, self._v0, self._e1, self._e2,
             np.ascontiguousarray(origins - self.center), np.ascontiguousarray(directions),
             np.ascontiguousarray(dist), any_hit, self.depth + 2)
 
-    def intersects_first(self, origins, directions, max_distance=np.inf) -> np.ndarray:
-        """Nearest triangle hit by each ray within ``max_distance`` [m]; -1 for a miss."""
-        return self._run(origins, directions, max_distance, False)
+    def intersects_first(self, origins, directions, max_distance=np.inf, *,
+                         validate: bool = True) -> np.ndarray:
+        """Nearest triangle hit by each ray within ``max_distance`` [m]; -1 for a miss
+        (parameters as :meth:`EmbreeTracer.intersects_first`)."""
+        return self._run(origins, directions, max_distance, False, validate)
 
-    def any_hit(self, origins, directions, max_distance=np.inf) -> np.ndarray:
+    def any_hit(self, origins, directions, max_distance=np.inf, *,
+                validate: bool = True) -> np.ndarray:
         """True where the ray meets any triangle before ``max_distance`` [m]."""
-        return self._run(origins, directions, max_distance, True) >= 0
+        return self._run(origins, directions, max_distance, True, validate) >= 0
 
     def brute_force_first(self, origins, directions, max_distance=np.inf) -> np.ndarray:
         """Same answer as :meth:`intersects_first` by testing every triangle (reference)."""

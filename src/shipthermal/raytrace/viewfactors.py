@@ -28,12 +28,12 @@ import scipy.sparse as sp
 from tqdm.auto import tqdm
 
 from shipthermal.errors import require
-from shipthermal.raytrace.sampling import (cosine_hemisphere, face_frames, face_geometry,
-                                           triangle_points, unit_samples)
+from shipthermal.raytrace import _raygen
+from shipthermal.raytrace.sampling import face_frames, face_geometry, unit_samples
 
 __all__ = ["ViewFactors", "view_factors", "view_factor_rays", "symmetrize"]
 
-_DEFAULT_CHUNK = 1 << 20  # rays per tracer call
+_DEFAULT_CHUNK = 1 << 18  # rays per tracer call: ~10 MB of rays, stays in cache-friendly sizes
 
 
 @dataclass(frozen=True)
@@ -46,8 +46,9 @@ class ViewFactors:
         Fraction of the face's diffuse emission reaching the sky.
     F_sea : (n_faces,) float
         Fraction reaching the sea surface.
-    F_faces : scipy.sparse.csr_matrix (n_faces, n_faces)
-        F_faces[i, j]: fraction of face i's emission reaching face j first.
+    F_faces : scipy.sparse.csr_matrix (n_faces, n_tracer_faces)
+        F_faces[i, j]: fraction of face i's emission reaching triangle j of the tracer's
+        mesh first (square when the faces are the tracer's own mesh, the usual case).
         ``F_sky + F_sea + F_faces.sum(axis=1)`` is 1 for every face.
     se_sky, se_sea : (n_faces,) float
         Binomial standard errors of F_sky and F_sea (conservative for the quasi-random
@@ -94,16 +95,27 @@ def view_factor_rays(tracer, vertices, faces, face_index, rays_per_face: int, se
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces)
     base, shift = unit_samples(len(faces), int(rays_per_face), 4, seed)
-    return _rays(vertices, faces, face_index, base, shift, tracer.offset)
+    frames = _Frames(vertices, faces)
+    idx = np.asarray(face_index, dtype=np.int64)
+    o, d = frames.rays(idx, base, shift, tracer.offset)
+    return o.reshape(len(idx), -1, 3), d.reshape(len(idx), -1, 3)
 
 
-def _rays(vertices, faces, idx, base, shift, offset):
-    normals, _, _ = face_geometry(vertices, faces[idx])
-    t1, t2 = face_frames(vertices, faces[idx], normals)
-    s = (base[None] + shift[idx, None]) % 1.0
-    pts = triangle_points(vertices[faces[idx]], s[..., 0], s[..., 1])
-    dirs = cosine_hemisphere(normals, t1, t2, s[..., 2], s[..., 3])
-    return pts + offset * normals[:, None], dirs
+class _Frames:
+    """Per-face corner, edges and orthonormal frame, computed once per mesh."""
+
+    def __init__(self, vertices, faces):
+        tri = vertices[faces]
+        self.v0 = np.ascontiguousarray(tri[:, 0])
+        self.e1 = np.ascontiguousarray(tri[:, 1] - tri[:, 0])
+        self.e2 = np.ascontiguousarray(tri[:, 2] - tri[:, 0])
+        self.normals, self.areas, _ = face_geometry(vertices, faces)
+        self.t1, self.t2 = face_frames(vertices, faces, self.normals)
+
+    def rays(self, idx, base, shift, offset):
+        # fused numba version of sampling.triangle_points + cosine_hemisphere
+        return _raygen.face_rays(self.v0, self.e1, self.e2, self.normals, self.t1, self.t2,
+                                 base, shift, idx, float(offset), True)
 
 
 def view_factors(tracer, vertices, faces, rays_per_face: int = 256, seed: int = 0,
@@ -118,7 +130,9 @@ def view_factors(tracer, vertices, faces, rays_per_face: int = 256, seed: int = 
     vertices : (n, 3) array_like
         Vertex coordinates [m].
     faces : (m, 3) array_like of int
-        Triangles; the outward normal follows the right-hand rule on the vertex order.
+        Triangles that shoot rays; the outward normal follows the right-hand rule on the
+        vertex order. Usually the tracer's own mesh; may be a subset (e.g. outer faces only),
+        then the columns of F_faces still index the tracer's triangles.
     rays_per_face : int
         Rays per face; the standard error of a fraction F is sqrt(F(1-F)/rays_per_face).
     seed : int
@@ -141,9 +155,11 @@ def view_factors(tracer, vertices, faces, rays_per_face: int = 256, seed: int = 
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces)
     n_faces = len(faces)
+    n_cols = len(tracer.faces)  # hits are indices into the tracer's triangles
     k = int(rays_per_face)
     base, shift = unit_samples(n_faces, k, 4, seed)
-    _, areas, _ = face_geometry(vertices, faces)
+    frames = _Frames(vertices, faces)
+    areas = frames.areas
 
     n_sky = np.zeros(n_faces, np.int64)
     n_sea = np.zeros(n_faces, np.int64)
@@ -154,9 +170,7 @@ def view_factors(tracer, vertices, faces, rays_per_face: int = 256, seed: int = 
               disable=(not progress) if progress is not None else None) as bar:
         for start in range(0, n_faces, face_chunk):
             idx = np.arange(start, min(n_faces, start + face_chunk))
-            o, d = _rays(vertices, faces, idx, base, shift, tracer.offset)
-            o = o.reshape(-1, 3)
-            d = d.reshape(-1, 3)
+            o, d = frames.rays(idx, base, shift, tracer.offset)
             src = np.repeat(idx, k)
             if sea_level_z is None:
                 submerged = np.zeros(len(o), bool)
@@ -168,20 +182,24 @@ def view_factors(tracer, vertices, faces, rays_per_face: int = 256, seed: int = 
                     t_sea = np.where(d[:, 2] < 0.0, (sea_level_z - o[:, 2]) / d[:, 2], np.inf)
             traced = ~submerged
             hit = np.full(len(o), -1, np.int64)
-            hit[traced] = tracer.intersects_first(o[traced], d[traced], t_sea[traced])
+            if traced.all():
+                hit = tracer.intersects_first(o, d, t_sea, validate=False)
+            else:
+                hit[traced] = tracer.intersects_first(o[traced], d[traced], t_sea[traced],
+                                                      validate=False)
             to_sea = submerged | ((hit < 0) & np.isfinite(t_sea))
             to_sky = (hit < 0) & ~to_sea
             n_sea[idx] += np.bincount(src[to_sea] - start, minlength=len(idx))
             n_sky[idx] += np.bincount(src[to_sky] - start, minlength=len(idx))
             h = hit >= 0
-            key, cnt = np.unique(src[h] * n_faces + hit[h], return_counts=True)
+            key, cnt = np.unique(src[h] * n_cols + hit[h], return_counts=True)
             keys.append(key)
             counts.append(cnt)
             bar.update(len(o))
 
     key = np.concatenate(keys) if keys else np.zeros(0, np.int64)
     cnt = np.concatenate(counts) if counts else np.zeros(0, np.int64)
-    F_faces = sp.csr_matrix((cnt / k, (key // n_faces, key % n_faces)), shape=(n_faces, n_faces))
+    F_faces = sp.csr_matrix((cnt / k, (key // n_cols, key % n_cols)), shape=(n_faces, n_cols))
     F_faces.sum_duplicates()
     F_sky = n_sky / k
     F_sea = n_sea / k
@@ -206,6 +224,8 @@ def symmetrize(vf: ViewFactors) -> ViewFactors:
     reciprocity for that row only; this happens only when the estimates are very noisy.
     Zero-area faces keep their traced rows.
     """
+    require(vf.F_faces.shape[0] == vf.F_faces.shape[1], "vf.F_faces.shape", vf.F_faces.shape,
+            "must be square (faces = the tracer's mesh) to impose reciprocity")
     A = vf.areas
     G = sp.diags(A) @ vf.F_faces
     G = 0.5 * (G + G.T)
