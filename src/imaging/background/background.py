@@ -271,9 +271,11 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
                          "Fill the voids, use a DEM that covers the scene, or pass dem_nodata='mask'")
     # Sea pixels without a DEM value are at sea level by definition (many DEMs leave the sea void).
     dem = np.where(dem_nan & water, 0.0, dem)
-    dem_masked = int((~np.isfinite(dem) & (class_map > 0)).sum())
     slope, aspect = slope_aspect(dem, grid.resolution)
     south = southness(aspect)
+    # Pixels whose 3x3 neighbourhood touches a void have no slope either: masked with the voids.
+    terrain_ok = np.isfinite(dem) & np.isfinite(slope)
+    dem_masked = int((~terrain_ok & (class_map > 0)).sum())
 
     # --- kriging of the met grid (eq. 12) -------------------------------------------------------
     t1 = time.perf_counter()
@@ -298,11 +300,11 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     interior = np.zeros_like(land)
     for c in LAND_CLASSES:
         interior |= binary_erosion(class_map == c, iterations=1)
-    fit_mask = interior & np.isfinite(delta) & np.isfinite(dem)
+    fit_mask = interior & np.isfinite(delta) & terrain_ok
     terrain = fit_terrain_regression(np.where(fit_mask, delta, np.nan), dem, slope, south,
                                      groups=class_map, group_names=CLASS_NAMES)
-    dem0 = np.where(np.isfinite(dem), dem, 0.0)
-    terr = np.where(np.isfinite(dem), terrain_term(terrain, dem0, slope, south), 0.0)
+    terr = np.where(terrain_ok, terrain_term(terrain, np.where(terrain_ok, dem, 0.0),
+                                             np.where(terrain_ok, slope, 0.0), south), 0.0)
     residual = delta - terr          # = b0[class] + r: the Landsat detail, organised by class
     timings["regression"] = time.perf_counter() - t1
 

@@ -48,7 +48,7 @@ def _csv(df: pd.DataFrame, path: str, index=True) -> str:
 
 def _savefig(fig, path: str) -> str:
     tmp = _tmp(path)
-    fig.savefig(tmp, format="png", dpi=110, bbox_inches="tight")
+    fig.savefig(tmp, format="png", dpi=100)
     os.replace(tmp, path)
     return path
 
@@ -142,14 +142,16 @@ def write_outputs(bg, out_dir) -> dict:
     plt.close(fig)
 
     vmin, vmax = np.nanpercentile(bg.temperature, [0.5, 99.5])
-    fig, axes = plt.subplots(4, 6, figsize=(15, 10.5), constrained_layout=True)
-    for ax, h, layer in zip(axes.ravel(), bg.hours_local, bg.temperature):
-        im = ax.imshow(layer, cmap="inferno", vmin=vmin, vmax=vmax, extent=extent)
-        ax.set_title(f"{h:05.2f} h", fontsize=9)
+    # Every third hour keeps the montage readable and cheap (the GeoTIFF has all 24 layers).
+    panels = list(range(0, bg.hours_local.size, 3))
+    fig, axes = plt.subplots(2, 4, figsize=(13, 6.8), constrained_layout=True)
+    for ax, k in zip(axes.ravel(), panels):
+        im = ax.imshow(bg.temperature[k], cmap="inferno", vmin=vmin, vmax=vmax, extent=extent)
+        ax.set_title(f"{bg.hours_local[k]:05.2f} h", fontsize=9)
         ax.set_xticks([])
         ax.set_yticks([])
-    fig.colorbar(im, ax=axes, label="background temperature [K]", shrink=0.6)
-    fig.suptitle(f"Hourly port background ({bg.season or 'input'}; local time UTC{bg.utc_offset_hours:+g})")
+    fig.colorbar(im, ax=axes, label="background temperature [K]", shrink=0.7)
+    fig.suptitle(f"Port background every 3 h ({bg.season or 'input'}; local time UTC{bg.utc_offset_hours:+g})")
     out["background_png"] = _savefig(fig, p("background_hours.png"))
     plt.close(fig)
 
