@@ -35,6 +35,7 @@ sys.path.insert(0, str(ROOT / "src"))
 
 from imaging.atmosphere import aerosol as aer  # noqa: E402
 from imaging.atmosphere import lowtran_backend as lb  # noqa: E402
+from imaging.atmosphere import scattered as sc  # noqa: E402
 from imaging.atmosphere import tables as tb  # noqa: E402
 from imaging.atmosphere._fortran_data import extract_aerosol_tables  # noqa: E402
 from imaging.atmosphere.bands import BANDS, band_integrate  # noqa: E402
@@ -47,6 +48,7 @@ SUN_ZENITH = np.array([0, 10, 20, 30, 40, 50, 60, 65, 70, 74, 78, 81, 84, 86, 88
                       dtype=float)
 SKY_ZENITH = np.array([0, 10, 20, 30, 40, 50, 55, 60, 65, 70, 75, 80, 83, 86, 88, 89, 89.9])
 SKY_QUADRATURE_NODES = 16  # Gauss–Legendre in cos(zenith), live backend uses the same
+AIR_MASS_ZENITH = np.linspace(0.0, 90.0, 361)  # aerosol air-mass table, linear interpolation
 REL_FLOOR = 0.01  # relative errors only where the value exceeds 1 % of its maximum
 
 
@@ -64,7 +66,18 @@ def spectral_tables(model: int, lt, aero_tables, view=VIEW_ZENITH, sun=SUN_ZENIT
     sol = [lb.direct_solar(model, s, {}, lt, aero_tables)["solar_irradiance"] if s < 90
            else np.zeros_like(lam) for s in sun]
     sk = [lb.sky(model, k, {}, lt, aero_tables)["sky_radiance"] for k in sky]
+    optics = aer.column_optics(lam, model, tables=aero_tables)
+    am = aer.air_mass(AIR_MASS_ZENITH, model, tables=aero_tables)
+
+    def air_mass(z):
+        return np.interp(z, AIR_MASS_ZENITH, am)
+
+    sky_sol = [sc.single_scatter_sky_irradiance(e, *optics, s, air_mass) if s < 90
+               else np.zeros_like(lam) for e, s in zip(sol, sun)]
     out = {"wavelength_um": lam,
+           "aerosol_tau": optics[0], "aerosol_omega": optics[1], "aerosol_g": optics[2],
+           "aerosol_air_mass": am,
+           "sky_irradiance_solar_spectral": np.array(sky_sol),
            "solar_irradiance_spectral": np.array(sol),
            "sky_radiance_spectral": np.array(sk)}
     for key in ("transmittance", "transmittance_gas", "path_radiance", "path_radiance_gas"):
@@ -78,7 +91,8 @@ def band_tables(spec: dict) -> dict:
     for band, lim in BANDS.items():
         for key in ("transmittance", "transmittance_gas"):
             out[(band, key)] = band_integrate(lam, spec[key + "_spectral"], lim, mean=True)
-        for key in ("path_radiance", "path_radiance_gas", "solar_irradiance", "sky_radiance"):
+        for key in ("path_radiance", "path_radiance_gas", "solar_irradiance", "sky_radiance",
+                    "sky_irradiance_solar"):
             out[(band, key)] = band_integrate(lam, spec[key + "_spectral"], lim)
     return out
 
@@ -102,7 +116,7 @@ def main() -> None:
     aero = aer.load_aerosol_tables()
 
     arrays = {"view_zenith_deg": VIEW_ZENITH, "sun_zenith_deg": SUN_ZENITH,
-              "sky_zenith_deg": SKY_ZENITH}
+              "sky_zenith_deg": SKY_ZENITH, "air_mass_zenith_deg": AIR_MASS_ZENITH}
     errors, checks = {}, {}
     mid = lambda a: 0.5 * (a[1:] + a[:-1])  # noqa: E731
     for season, model in SEASONS.items():
@@ -111,7 +125,8 @@ def main() -> None:
         arrays["wavelength_um"] = lam
         for key, val in spec.items():
             if key != "wavelength_um":
-                arrays[f"{season}__{key}"] = val.astype(np.float32)
+                arrays[f"{season}__{key}"] = val.astype(
+                    np.float64 if key.startswith("aerosol_") else np.float32)
         # float32 storage: band values computed from what is stored
         stored = {k: (v.astype(np.float32).astype(float) if k != "wavelength_um" else v)
                   for k, v in spec.items()}
@@ -132,6 +147,7 @@ def main() -> None:
                     ("transmittance", "view", VIEW_ZENITH, "1"),
                     ("path_radiance", "view", VIEW_ZENITH, "W m-2 sr-1"),
                     ("solar_irradiance", "sun", SUN_ZENITH, "W m-2"),
+                    ("sky_irradiance_solar", "sun", SUN_ZENITH, "W m-2"),
                     ("sky_radiance", "sky", SKY_ZENITH, "W m-2 sr-1")):
                 interp = tb.interpolate_axis(axis, nodes, bands[(band, key)], mid(nodes))
                 e[key] = _err(interp, live[(band, key)], unit)
@@ -162,7 +178,8 @@ def main() -> None:
         "seasons": {"summer": "LOWTRAN model 2, mid-latitude summer",
                     "winter": "LOWTRAN model 3, mid-latitude winter"},
         "bands_um": BANDS,
-        "units": {"transmittance": "1", "path_radiance": "W m-2 sr-1 (spectral: per um)",
+        "units": {"transmittance": "1", "sky_irradiance_solar": "W m-2 (spectral: per um)",
+                  "path_radiance": "W m-2 sr-1 (spectral: per um)",
                   "solar_irradiance": "W m-2, beam-normal at the ground (spectral: per um)",
                   "sky_radiance": "W m-2 sr-1 (spectral: per um)",
                   "sky_irradiance": "W m-2 on a horizontal surface (spectral: per um)"},
@@ -172,6 +189,8 @@ def main() -> None:
                                     f"table interval; rel over values > {REL_FLOOR:g} x max",
         "reference_values": checks,
         "sky_quadrature_nodes": SKY_QUADRATURE_NODES,
+        "scattered_solar": "aerosol single scattering, Henyey-Greenstein "
+                           "(imaging.atmosphere.scattered); not from LOWTRAN",
     }
     arrays["meta_json"] = np.array(json.dumps(meta))
     _save_npz(DATA / tb.TABLE_FILE, arrays)

@@ -231,3 +231,34 @@ def test_bad_input_names_the_field(kwargs, field):
     with pytest.raises(InputError) as exc:
         atmosphere(**kwargs)
     assert exc.value.field == field
+
+
+# ---------------------------------------------------------------- scattered solar
+def test_single_scatter_thin_isotropic_limit():
+    from imaging.atmosphere import scattered as sc
+
+    # A thin conservative isotropic layer scatters E*tau of the beam (per unit
+    # horizontal area) and sends half of it down: E_diff = E tau / 2. Residual O(tau m)
+    # plus the Gauss rule near the horizon: 1e-3.
+    tau, om, g, e = np.array([1e-4]), np.array([1.0]), np.array([0.0]), np.array([2.0])
+    for sun in (0.0, 30.0, 60.0):
+        got = sc.single_scatter_sky_irradiance(e, tau, om, g, sun)
+        assert got[0] == pytest.approx(e[0] * tau[0] / 2.0, rel=1e-3)
+    # forward-peaked phase function (g = 0.7) sends most of it down
+    fwd = sc.single_scatter_sky_irradiance(e, tau, om, np.array([0.7]), 30.0)
+    assert e[0] * tau[0] / 2.0 < fwd[0] < e[0] * tau[0]
+
+
+def test_scattered_solar_peaks_toward_the_sun():
+    rs = [atmosphere("summer", "3-5", 40.0, 40.0, sky_zenith_deg=40.0,
+                     sky_azimuth_from_sun_deg=a, spectral=False).sky_radiance_solar
+          for a in (5.0, 90.0, 180.0)]
+    assert rs[0] > rs[1] > rs[2] > 0.0
+    night = atmosphere("summer", "3-5", 40.0, 100.0, spectral=False)
+    assert night.sky_radiance_solar == 0.0 and night.sky_irradiance_solar == 0.0
+    # consistency of the band value with the spectra
+    r = atmosphere("winter", "3-5", 20.0, 35.0)
+    assert band_integrate(r.wavelength_um, r.sky_radiance_solar_spectral, (3, 5)) == \
+        pytest.approx(r.sky_radiance_solar, rel=1e-12)
+    # and the hemispherical value is smaller than the direct beam it comes from
+    assert 0.0 < r.sky_irradiance_solar < r.solar_irradiance_horizontal

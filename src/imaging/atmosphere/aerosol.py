@@ -55,6 +55,9 @@ __all__ = [
     "tropospheric_coefficients",
     "extinction_profiles",
     "aerosol_optical_depth",
+    "asymmetry_factors",
+    "column_optics",
+    "air_mass",
 ]
 
 EARTH_RADIUS_KM = 6371.23
@@ -198,16 +201,22 @@ def extinction_profiles(z_km, model: int, vis_km: float, tables: dict):
 
 def _slant_columns(z_levels_km, zenith_deg: float, model: int, vis_km: float,
                    tables: dict, z_ground_km: float = 0.0, dz_km: float = 0.005):
-    """Cumulative slant columns of 0.55 µm extinction from the ground to each level [-]."""
+    """Cumulative slant columns of 0.55 µm extinction from the ground to each level [-].
+
+    Each altitude cell gets its exact spherical path length s(z_{i+1}) − s(z_i) with
+    ``s(z) = sqrt((R + z)² − (R + z0)² sin²θ) − (R + z0) cos θ`` (finite at the
+    horizon, where ds/dz is singular) times the cell-mean extinction.
+    """
     z = np.arange(z_ground_km, 12.0 + dz_km, dz_km)
-    r = EARTH_RADIUS_KM
-    s = np.sin(np.radians(zenith_deg))
-    dsdz = (r + z) / np.sqrt((r + z) ** 2 - (r + z_ground_km) ** 2 * s * s)
+    r0 = EARTH_RADIUS_KM + z_ground_km
+    th = np.radians(zenith_deg)
+    s_path = np.sqrt(np.maximum((EARTH_RADIUS_KM + z) ** 2 - (r0 * np.sin(th)) ** 2, 0.0)) \
+        - r0 * np.cos(th)
+    ds = np.diff(s_path)
     bl, tr = extinction_profiles(z, model, vis_km, tables)
     cum = []
     for beta in (bl, tr):
-        f = beta * dsdz
-        c = np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * dz_km)])
+        c = np.concatenate([[0.0], np.cumsum(0.5 * (beta[1:] + beta[:-1]) * ds)])
         cum.append(np.interp(np.asarray(z_levels_km, dtype=float), z, c))
     return cum[0], cum[1]
 
@@ -253,3 +262,59 @@ def aerosol_optical_depth(wavelength_um, z_levels_km, zenith_deg: float, model: 
     tau_ext = col_bl[:, None] * ext_m[None, :] + col_tr[:, None] * ext_t[None, :]
     tau_abs = col_bl[:, None] * abs_m[None, :] + col_tr[:, None] * abs_t[None, :]
     return tau_ext, tau_abs
+
+
+def asymmetry_factors(wavelength_um, rel_humidity: float, tables: dict):
+    """Asymmetry parameters g of the boundary-layer and tropospheric aerosol [-].
+
+    Boundary layer: Shettle–Fenn maritime ``OCNSYM`` (LOWTRAN 7 uses it for the Navy
+    maritime model), interpolated in ln(100 − RH) between RH 0/70/80/99 % as in
+    ``EXABIN``; troposphere: ``TROSYM`` at RH 70 %.
+    """
+    rh_nodes = tables["aer_rh_percent"]
+    rh = float(np.clip(rel_humidity, 0.0, 98.999))
+    i = int(np.clip(np.searchsorted(rh_nodes, rh, side="right"), 1, 3))
+    x, x1, x2 = np.log(100.0 - rh), np.log(100.0 - rh_nodes[i - 1]), np.log(100.0 - rh_nodes[i])
+    f = (x - x1) / (x2 - x1)
+    # linear in the weight (LOWTRAN interpolates the logarithm; the table's zero at
+    # 300 um forbids that here, and inside 3-14 um the two differ by < 1e-3)
+    g_bl = tables["ocean_asym"][i - 1] + f * (tables["ocean_asym"][i] - tables["ocean_asym"][i - 1])
+    lam = tables["aer_wavelength_um"]
+    w = np.asarray(wavelength_um, dtype=float)
+    return np.interp(w, lam, g_bl), np.interp(w, lam, tables["tropo_asym"][1])
+
+
+def column_optics(wavelength_um, model: int, vis_km: float = 23.0,
+                  wind_speed: float | None = None, wind_speed_24h: float | None = None,
+                  rel_humidity: float | None = None, air_mass: int = DEFAULT_AIR_MASS,
+                  tables: dict | None = None):
+    """Vertical aerosol column: extinction optical depth [-], single-scattering albedo [-]
+    and scattering-weighted asymmetry parameter [-] per wavelength (arguments and
+    defaults as :func:`aerosol_optical_depth`)."""
+    tables = load_aerosol_tables() if tables is None else tables
+    wh = DEFAULT_WIND_SPEED[model] if wind_speed_24h is None else wind_speed_24h
+    ws = wh if wind_speed is None else wind_speed
+    rh = surface_relative_humidity(model, tables) if rel_humidity is None else rel_humidity
+    ext_m, abs_m = navy_maritime_coefficients(wavelength_um, rh, ws, wh, tables, air_mass)
+    ext_t, abs_t = tropospheric_coefficients(wavelength_um, tables)
+    g_m, g_t = asymmetry_factors(wavelength_um, rh, tables)
+    col_bl, col_tr = _slant_columns([12.0], 0.0, model, vis_km, tables)
+    sca_m, sca_t = col_bl[0] * (ext_m - abs_m), col_tr[0] * (ext_t - abs_t)
+    tau = col_bl[0] * ext_m + col_tr[0] * ext_t
+    omega = (sca_m + sca_t) / tau
+    g = (sca_m * g_m + sca_t * g_t) / (sca_m + sca_t)
+    return tau, omega, g
+
+
+def air_mass(zenith_deg, model: int, vis_km: float = 23.0, tables: dict | None = None):
+    """Aerosol air mass: slant / vertical 0.55 µm aerosol column at a ground zenith [-].
+
+    Spherical earth (finite at the horizon, ≈ 1/cos θ overhead). Used where a
+    plane-parallel 1/cos θ would blow up near the horizon.
+    """
+    tables = load_aerosol_tables() if tables is None else tables
+    z = np.atleast_1d(np.asarray(zenith_deg, dtype=float))
+    vert = sum(c[0] for c in _slant_columns([12.0], 0.0, model, vis_km, tables))
+    out = np.array([sum(c[0] for c in _slant_columns([12.0], min(zi, 90.0), model, vis_km,
+                                                      tables)) for zi in z.ravel()]) / vert
+    return out.reshape(np.shape(zenith_deg))

@@ -11,8 +11,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from shipthermal.errors import InputError, check_range
+from shipthermal.errors import InputError, check_finite, check_range
 
+from . import scattered as sc
 from . import tables as tb
 from .bands import band_integrate, parse_band
 
@@ -59,6 +60,11 @@ class AtmosphereResult:
     sky_radiance: float
     #: Hemispherical thermal sky irradiance on a horizontal surface [W m⁻²]
     sky_irradiance: float
+    #: Solar radiance scattered by the aerosol (single scattering) from the sky direction
+    #: (``sky_zenith_deg``, ``sky_azimuth_from_sun_deg``) [W m⁻² sr⁻¹]; 0 at night
+    sky_radiance_solar: float
+    #: Hemispherical scattered-solar sky irradiance on a horizontal surface [W m⁻²]
+    sky_irradiance_solar: float
     #: Gas-only (no aerosol) band transmittance and path radiance, for comparison [-], [W m⁻² sr⁻¹]
     transmittance_gas: float
     path_radiance_gas: float
@@ -74,6 +80,11 @@ class AtmosphereResult:
     sky_radiance_spectral: np.ndarray = field(repr=False)
     #: Spectral hemispherical sky irradiance [W m⁻² µm⁻¹]
     sky_irradiance_spectral: np.ndarray = field(repr=False)
+    #: Spectral scattered-solar sky radiance [W m⁻² sr⁻¹ µm⁻¹] and irradiance [W m⁻² µm⁻¹]
+    sky_radiance_solar_spectral: np.ndarray = field(repr=False)
+    sky_irradiance_solar_spectral: np.ndarray = field(repr=False)
+    #: Azimuth of the sky direction measured from the sun's azimuth [deg]
+    sky_azimuth_from_sun_deg: float = 180.0
     #: Stated maximum table interpolation errors for this season and band (None: live)
     interpolation_error: dict | None = field(default=None, repr=False)
 
@@ -87,7 +98,8 @@ def _check_geometry(view_zenith_deg, sun_zenith_deg, sky_zenith_deg, backend):
 def atmosphere(season, band, view_zenith_deg: float, sun_zenith_deg: float,
                backend: str = "table", sky_zenith_deg: float | None = None,
                response=None, aerosol: dict | None = None,
-               spectral: bool = True) -> AtmosphereResult:
+               spectral: bool = True,
+               sky_azimuth_from_sun_deg: float = 180.0) -> AtmosphereResult:
     """Transmittance, path radiance, solar irradiance and sky radiance for one geometry.
 
     Parameters
@@ -112,8 +124,12 @@ def atmosphere(season, band, view_zenith_deg: float, sun_zenith_deg: float,
         (``vis_km``, ``wind_speed``, ``wind_speed_24h``, ``rel_humidity``,
         ``air_mass``). Default: Navy maritime, 23 km, LOWTRAN 7 defaults.
     spectral : bool
-        Fill the ``*_spectral`` fields (False: None, ~10× faster table lookups for the
+        Fill the ``*_spectral`` fields (False: None, faster table lookups for the
         default bands).
+    sky_azimuth_from_sun_deg : float
+        Azimuth of the sky direction from the sun's azimuth [deg] for the scattered-solar
+        sky radiance (180: facing away from the sun; the specular sky of a level surface
+        seen by a sensor at view azimuth ψv is at ψv + 180).
 
     Returns
     -------
@@ -126,6 +142,7 @@ def atmosphere(season, band, view_zenith_deg: float, sun_zenith_deg: float,
     sky_z = view_zenith_deg if sky_zenith_deg is None else sky_zenith_deg
     _check_geometry(view_zenith_deg, sun_zenith_deg, sky_z, backend)
     fast = backend == "table" and response is None and band_name in ("3-5", "8-14")
+    check_finite("sky_azimuth_from_sun_deg", sky_azimuth_from_sun_deg)
     if backend == "table":
         if aerosol is not None:
             raise InputError("aerosol", aerosol, "only with backend='lowtran'",
@@ -135,8 +152,17 @@ def atmosphere(season, band, view_zenith_deg: float, sun_zenith_deg: float,
     else:
         spec = _live_spectral(model, view_zenith_deg, sun_zenith_deg, sky_z,
                               {} if aerosol is None else dict(aerosol))
+    # scattered solar needs the spectral beam at the ground and the aerosol optics
+    sol_spec = (spec["solar_irradiance"] if spec is not None else tb.table_lookup(
+        "sun", name, "solar_irradiance_spectral", None, min(sun_zenith_deg, 90.0)))
+    optics = spec["aerosol_optics"] if spec is not None else _table_optics(name)
+    l_sc = sc.single_scatter_sky_radiance(
+        sol_spec, *optics[:3], sun_zenith_deg, min(sky_z, 89.9), sky_azimuth_from_sun_deg,
+        optics[3])
+    lam_all = tb.load_table().wavelength_um if spec is None else spec["wavelength_um"]
     if fast:
         vals = _table_band(name, band_name, view_zenith_deg, sun_zenith_deg, sky_z)
+        vals["sky_radiance_solar"] = float(band_integrate(lam_all, l_sc, band_um))
     else:
         lam = spec["wavelength_um"]
 
@@ -148,12 +174,18 @@ def atmosphere(season, band, view_zenith_deg: float, sun_zenith_deg: float,
                 "path_radiance_gas": integ("path_radiance_gas"),
                 "solar_irradiance": integ("solar_irradiance"),
                 "sky_radiance": integ("sky_radiance"),
-                "sky_irradiance": integ("sky_irradiance")}
+                "sky_irradiance": integ("sky_irradiance"),
+                "sky_irradiance_solar": integ("sky_irradiance_solar"),
+                "sky_radiance_solar": float(band_integrate(lam, l_sc, band_um, response))}
     e_sun = vals["solar_irradiance"] if sun_zenith_deg < 90.0 else 0.0
+    night = sun_zenith_deg >= 90.0
     if not spectral:
         spec = dict.fromkeys(("wavelength_um", "transmittance", "path_radiance",
-                              "solar_irradiance", "sky_radiance", "sky_irradiance"))
-    night = sun_zenith_deg >= 90.0
+                              "solar_irradiance", "sky_radiance", "sky_irradiance",
+                              "sky_irradiance_solar"))
+        l_sc = None
+    if night:
+        vals["sky_irradiance_solar"] = 0.0
     err = None
     if backend == "table":
         err = tb.interpolation_errors()[name].get(band_name) if response is None else None
@@ -164,40 +196,56 @@ def atmosphere(season, band, view_zenith_deg: float, sun_zenith_deg: float,
         solar_irradiance_ground=e_sun,
         solar_irradiance_horizontal=float(e_sun * max(np.cos(np.radians(sun_zenith_deg)), 0.0)),
         sky_radiance=vals["sky_radiance"], sky_irradiance=vals["sky_irradiance"],
+        sky_radiance_solar=vals["sky_radiance_solar"],
+        sky_irradiance_solar=float(vals["sky_irradiance_solar"]),
         transmittance_gas=vals["transmittance_gas"], path_radiance_gas=vals["path_radiance_gas"],
         wavelength_um=spec["wavelength_um"], transmittance_spectral=spec["transmittance"],
         path_radiance_spectral=spec["path_radiance"],
         solar_irradiance_spectral=(spec["solar_irradiance"] * 0.0 if night and spectral
                                    else spec["solar_irradiance"]),
         sky_radiance_spectral=spec["sky_radiance"],
-        sky_irradiance_spectral=spec["sky_irradiance"], interpolation_error=err)
+        sky_irradiance_spectral=spec["sky_irradiance"],
+        sky_radiance_solar_spectral=l_sc,
+        sky_irradiance_solar_spectral=(spec["sky_irradiance_solar"] * 0.0
+                                       if night and spectral else spec["sky_irradiance_solar"]),
+        sky_azimuth_from_sun_deg=float(sky_azimuth_from_sun_deg), interpolation_error=err)
 
 
 def _table_spectral(season, view_z, sun_z, sky_z) -> dict:
     t = tb.load_table()
-    v, s, k = t.nodes("view"), t.nodes("sun"), t.nodes("sky")
     out = {"wavelength_um": t.wavelength_um}
     for key in ("transmittance", "transmittance_gas", "path_radiance", "path_radiance_gas"):
-        out[key] = tb.interpolate_axis("view", v, t.get(season, key + "_spectral"), view_z)
-    out["solar_irradiance"] = tb.interpolate_axis(
-        "sun", s, t.get(season, "solar_irradiance_spectral"), min(sun_z, 90.0))
-    out["sky_radiance"] = tb.interpolate_axis("sky", k, t.get(season, "sky_radiance_spectral"),
-                                              sky_z)
+        out[key] = tb.table_lookup("view", season, key + "_spectral", None, view_z)
+    sun = min(sun_z, 90.0)
+    out["solar_irradiance"] = tb.table_lookup("sun", season, "solar_irradiance_spectral", None,
+                                              sun)
+    out["sky_radiance"] = tb.table_lookup("sky", season, "sky_radiance_spectral", None, sky_z)
     out["sky_irradiance"] = t.get(season, "sky_irradiance_spectral")
+    out["sky_irradiance_solar"] = tb.table_lookup("sun", season, "sky_irradiance_solar_spectral",
+                                                  None, sun)
+    out["aerosol_optics"] = _table_optics(season)
     return out
+
+
+def _table_optics(season) -> tuple:
+    """(tau, omega, g, air_mass function) of the aerosol column stored with the table."""
+    t = tb.load_table()
+    grid, am = t.arrays["air_mass_zenith_deg"], t.get(season, "aerosol_air_mass")
+    return tuple(t.get(season, f"aerosol_{q}") for q in ("tau", "omega", "g")) + (
+        lambda z: np.interp(z, grid, am),)
 
 
 def _table_band(season, band, view_z, sun_z, sky_z) -> dict:
     t = tb.load_table()
-    v, s, k = t.nodes("view"), t.nodes("sun"), t.nodes("sky")
     out = {}
     for key in ("transmittance", "transmittance_gas", "path_radiance", "path_radiance_gas"):
-        out[key] = float(tb.interpolate_axis("view", v, t.get(season, key, band), view_z))
-    out["solar_irradiance"] = float(tb.interpolate_axis(
-        "sun", s, t.get(season, "solar_irradiance", band), min(sun_z, 90.0)))
-    out["sky_radiance"] = float(tb.interpolate_axis("sky", k, t.get(season, "sky_radiance", band),
-                                                    sky_z))
+        out[key] = float(tb.table_lookup("view", season, key, band, view_z))
+    sun = min(sun_z, 90.0)
+    out["solar_irradiance"] = float(tb.table_lookup("sun", season, "solar_irradiance", band, sun))
+    out["sky_radiance"] = float(tb.table_lookup("sky", season, "sky_radiance", band, sky_z))
     out["sky_irradiance"] = float(t.get(season, "sky_irradiance", band))
+    out["sky_irradiance_solar"] = float(tb.table_lookup("sun", season, "sky_irradiance_solar",
+                                                        band, sun))
     return out
 
 
@@ -214,7 +262,15 @@ def _live_spectral(model, view_z, sun_z, sky_z, aerosol: dict) -> dict:
         sol = np.zeros_like(lam)
     sky = lb.sky(model, min(sky_z, 89.9), aerosol, lt, tables)["sky_radiance"]
     _, e_sky = lb.sky_irradiance(model, aerosol, lowtran=lt, tables=tables)
-    return {"wavelength_um": lam, "transmittance": up["transmittance"],
+    grid = np.linspace(0.0, 90.0, 361)  # same air-mass table as the embedded one
+    vis = aerosol.get("vis_km", 23.0)
+    am = lb.aer.air_mass(grid, model, vis, tables)
+    optics = lb.aer.column_optics(lam, model, tables=tables, **aerosol) + (
+        lambda z: np.interp(z, grid, am),)
+    e_sc = (sc.single_scatter_sky_irradiance(sol, *optics[:3], sun_z, optics[3]) if sun_z < 90.0
+            else np.zeros_like(lam))
+    return {"wavelength_um": lam, "aerosol_optics": optics, "sky_irradiance_solar": e_sc,
+            "transmittance": up["transmittance"],
             "transmittance_gas": up["transmittance_gas"], "path_radiance": up["path_radiance"],
             "path_radiance_gas": up["path_radiance_gas"], "solar_irradiance": sol,
             "sky_radiance": sky, "sky_irradiance": e_sky}
@@ -231,12 +287,10 @@ def sky_radiance(season, band, zenith_deg, backend: str = "table"):
     z = np.asarray(zenith_deg, dtype=float)
     check_range("zenith_deg", z, 0.0, 90.0, "deg")
     if backend == "table":
-        t = tb.load_table()
         if band_name in ("3-5", "8-14"):
-            return tb.interpolate_axis("sky", t.nodes("sky"),
-                                       t.get(name, "sky_radiance", band_name), z)
-        spec = tb.interpolate_axis("sky", t.nodes("sky"), t.get(name, "sky_radiance_spectral"), z)
-        return band_integrate(t.wavelength_um, spec, band_um)
+            return tb.table_lookup("sky", name, "sky_radiance", band_name, z)
+        spec = tb.table_lookup("sky", name, "sky_radiance_spectral", None, z)
+        return band_integrate(tb.load_table().wavelength_um, spec, band_um)
     if backend != "lowtran":
         raise InputError("backend", backend, "'table' or 'lowtran'")
     from . import lowtran_backend as lb

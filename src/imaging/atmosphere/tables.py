@@ -29,7 +29,7 @@ import numpy as np
 from scipy.interpolate import PchipInterpolator
 
 __all__ = ["AtmosphereTable", "load_table", "interpolation_errors", "axis_coordinate",
-           "interpolate_axis", "TABLE_FILE"]
+           "interpolate_axis", "pchip", "table_lookup", "TABLE_FILE"]
 
 TABLE_FILE = "atmosphere_tables.npz"
 
@@ -44,16 +44,35 @@ def axis_coordinate(axis: str, zenith_deg):
     return 1.0 / mu if axis == "view" else mu
 
 
+def pchip(axis: str, nodes_deg, values) -> PchipInterpolator:
+    """PCHIP interpolant of ``values`` (nodes along axis 0) in the axis coordinate."""
+    x = axis_coordinate(axis, nodes_deg)
+    order = np.argsort(x)
+    return PchipInterpolator(x[order], np.asarray(values)[order], axis=0, extrapolate=False)
+
+
 def interpolate_axis(axis: str, nodes_deg, values, zenith_deg):
     """PCHIP interpolation of ``values`` (nodes along axis 0) at ``zenith_deg``.
 
     Exact at the nodes; monotone between nodes wherever the node data are.
     """
-    x = axis_coordinate(axis, nodes_deg)
-    order = np.argsort(x)
-    f = PchipInterpolator(x[order], np.asarray(values)[order], axis=0, extrapolate=False)
     xq = axis_coordinate(axis, np.clip(zenith_deg, np.min(nodes_deg), np.max(nodes_deg)))
-    return f(xq)
+    return pchip(axis, nodes_deg, values)(xq)
+
+
+@lru_cache(maxsize=256)  # interpolants of the immutable embedded table, built once
+def _table_pchip(axis: str, key: str) -> PchipInterpolator:
+    t = load_table()
+    return pchip(axis, t.nodes(axis), t.arrays[key])
+
+
+def table_lookup(axis: str, season: str, name: str, band: str | None, zenith_deg):
+    """Interpolate an embedded-table quantity at zenith angle(s) [deg] (see
+    :func:`interpolate_axis`)."""
+    key = f"{season}__{name}" if band is None else f"{season}__{band}__{name}"
+    nodes = load_table().nodes(axis)
+    xq = axis_coordinate(axis, np.clip(zenith_deg, nodes.min(), nodes.max()))
+    return _table_pchip(axis, key)(xq)
 
 
 @dataclass(frozen=True)
