@@ -138,3 +138,15 @@ def test_bad_rays_are_rejected():
         tracer.any_hit(np.zeros((2, 3)), np.ones((3, 3)))
     with pytest.raises(InputError, match="max_distance"):
         tracer.any_hit(np.zeros((1, 3)), np.ones((1, 3)), -1.0)
+
+
+@pytest.mark.parametrize("backend", ["embree", "numba"])
+def test_tracers_pickle(backend):
+    # tracers travel to dask workers: a pickled copy must answer the same
+    import pickle
+
+    V, F = scene()
+    tracer = make_tracer(V, F, backend)
+    copy = pickle.loads(pickle.dumps(tracer))
+    o, d = random_rays(1000, 3, V)
+    np.testing.assert_array_equal(copy.intersects_first(o, d), tracer.intersects_first(o, d))

@@ -29,6 +29,7 @@ from typing import Protocol
 import numpy as np
 
 from shipthermal.errors import InputError, require
+from shipthermal.raytrace import _bvh
 
 __all__ = ["RAY_OFFSET_FACTOR", "Tracer", "EmbreeTracer", "NumbaTracer", "make_tracer",
            "ray_offset", "has_embree"]
@@ -170,6 +171,10 @@ class EmbreeTracer(_MeshTracer):
         # commit now (the first query would otherwise) so builds are timed with construction
         self._scene.run(np.zeros((1, 3), np.float32), np.ones((1, 3), np.float32))
 
+    def __reduce__(self):
+        # the Embree scene is a C object: pickle the mesh and rebuild (for dask workers)
+        return (type(self), (self.vertices, self.faces, self.n_threads))
+
     def _run(self, origins, directions, max_distance, query, validate):
         origins, directions, dist = _check_rays(origins, directions, max_distance, validate)
         n = len(origins)
@@ -246,10 +251,7 @@ class NumbaTracer(_MeshTracer):
 
     def __init__(self, vertices, faces, leaf_size: int = 4):
         super().__init__(vertices, faces)
-        from shipthermal.raytrace import _bvh
-
         require(int(leaf_size) >= 1, "leaf_size", leaf_size, "must be >= 1")
-        self._bvh = _bvh
         # same centring as Embree so both backends do arithmetic on the same numbers
         v = self.vertices - self.center
         tri = v[self.faces]
@@ -263,7 +265,7 @@ class NumbaTracer(_MeshTracer):
 
     def _run(self, origins, directions, max_distance, any_hit, validate):
         origins, directions, dist = _check_rays(origins, directions, max_distance, validate)
-        return self._bvh.trace_bvh(
+        return _bvh.trace_bvh(
             self._node_min, self._node_max, self._node_left, self._node_start,
             self._node_count, self._order, self._v0, self._e1, self._e2,
             np.ascontiguousarray(origins - self.center), np.ascontiguousarray(directions),
@@ -283,7 +285,7 @@ class NumbaTracer(_MeshTracer):
     def brute_force_first(self, origins, directions, max_distance=np.inf) -> np.ndarray:
         """Same answer as :meth:`intersects_first` by testing every triangle (reference)."""
         origins, directions, dist = _check_rays(origins, directions, max_distance)
-        return self._bvh.brute_force_first(
+        return _bvh.brute_force_first(
             self._v0, self._e1, self._e2, np.ascontiguousarray(origins - self.center),
             np.ascontiguousarray(directions), np.ascontiguousarray(dist))
 
