@@ -26,7 +26,8 @@ def test_table_reproduces_grid_nodes_exactly(season, band):
     for i, v in enumerate(t.nodes("view")):
         r = _band(season, band, v)
         assert r.transmittance == pytest.approx(t.get(season, "transmittance", band)[i], rel=1e-12)
-        assert r.path_radiance == pytest.approx(t.get(season, "path_radiance", band)[i], rel=1e-12)
+        assert r.path_radiance_thermal == pytest.approx(t.get(season, "path_radiance", band)[i],
+                                                        rel=1e-12)
     for i, s in enumerate(t.nodes("sun")[:-1]):
         r = atmosphere(season, band, 0.0, s, spectral=False)
         assert r.solar_irradiance_ground == pytest.approx(
@@ -55,7 +56,7 @@ def test_stated_interpolation_error_is_small(season, band):
 @pytest.mark.parametrize("band", list(BANDS))
 def test_monotonic_in_view_zenith(season, band):
     tau = np.array([_band(season, band, v).transmittance for v in FINE_VIEW])
-    lp = np.array([_band(season, band, v).path_radiance for v in FINE_VIEW])
+    lp = np.array([_band(season, band, v).path_radiance_thermal for v in FINE_VIEW])
     assert np.all(np.diff(tau) < 0), "transmittance must fall with a longer slant path"
     # Path radiance grows with the slant path while the band is partly transparent.
     # In summer 3-5 um the 4.4-5 um water-vapour/CO2 wings saturate beyond ~70 deg and
@@ -95,7 +96,7 @@ def test_radiance_bounds(season, band):
     for view in (0.0, 45.0, 80.0):
         r = _band(season, band, view)
         # an atmosphere no warmer than T_max emits at most B(T_max) (1 - tau)
-        assert 0.0 < r.path_radiance < b_max * (1.0 - r.transmittance)
+        assert 0.0 < r.path_radiance_thermal < b_max * (1.0 - r.transmittance)
     r = atmosphere(season, band, 0.0, 30.0)
     # hemispherical irradiance lies between pi x the zenith and pi x the horizon radiance
     lo, hi = sky_radiance(season, band, [0.0, 89.9]) * np.pi
@@ -135,7 +136,7 @@ def test_aerosol_lowers_transmittance_and_adds_path_radiance():
             assert r.transmittance < r.transmittance_gas
     # in the LWIR the aerosol emits: path radiance rises (summer +0.36 W m-2 sr-1)
     r = _band("summer", "8-14", 0.0)
-    assert 0.1 < r.path_radiance - r.path_radiance_gas < 1.0
+    assert 0.1 < r.path_radiance_thermal - r.path_radiance_gas < 1.0
 
 
 # ---------------------------------------------------------------- aerosol model
@@ -212,6 +213,8 @@ def test_spectral_arrays_consistent_with_band_values():
         r.transmittance, rel=1e-9)
     assert band_integrate(lam, r.path_radiance_spectral, (8, 14)) == pytest.approx(
         r.path_radiance, rel=1e-9)
+    assert r.path_radiance == pytest.approx(r.path_radiance_thermal + r.path_radiance_solar,
+                                            rel=1e-12)
     assert band_integrate(lam, r.sky_irradiance_spectral, (8, 14)) == pytest.approx(
         r.sky_irradiance, rel=1e-9)
     # a user response is applied to the spectra
@@ -234,6 +237,16 @@ def test_bad_input_names_the_field(kwargs, field):
 
 
 # ---------------------------------------------------------------- scattered solar
+def test_single_scatter_path_radiance_thin_limit():
+    from imaging.atmosphere import scattered as sc
+
+    # thin layer: L = omega E P tau m / (4 pi) T_gas (first order in tau), isotropic P = 1
+    tau, om, g, e, tg = (np.array([1e-5]), np.array([0.9]), np.array([0.0]), np.array([3.0]),
+                         np.array([0.5]))
+    got = sc.single_scatter_path_radiance(e, tau, om, g, 30.0, 60.0, 45.0, tg)
+    assert got[0] == pytest.approx(0.9 * 3.0 * 1e-5 * 2.0 / (4 * np.pi) * 0.5, rel=1e-4)
+
+
 def test_single_scatter_thin_isotropic_limit():
     from imaging.atmosphere import scattered as sc
 
@@ -254,8 +267,14 @@ def test_scattered_solar_peaks_toward_the_sun():
                      sky_azimuth_from_sun_deg=a, spectral=False).sky_radiance_solar
           for a in (5.0, 90.0, 180.0)]
     assert rs[0] > rs[1] > rs[2] > 0.0
+    # upward: forward scattering when the sensor looks away from the sun (azimuth 180)
+    up = [atmosphere("summer", "3-5", 40.0, 40.0, view_azimuth_from_sun_deg=a,
+                     spectral=False).path_radiance_solar for a in (0.0, 90.0, 180.0)]
+    assert up[2] > up[1] > 0.0 and up[2] > up[0] > 0.0
     night = atmosphere("summer", "3-5", 40.0, 100.0, spectral=False)
-    assert night.sky_radiance_solar == 0.0 and night.sky_irradiance_solar == 0.0
+    assert night.sky_radiance_solar == night.sky_irradiance_solar == 0.0
+    assert night.path_radiance_solar == 0.0
+    assert night.path_radiance == night.path_radiance_thermal
     # consistency of the band value with the spectra
     r = atmosphere("winter", "3-5", 20.0, 35.0)
     assert band_integrate(r.wavelength_um, r.sky_radiance_solar_spectral, (3, 5)) == \

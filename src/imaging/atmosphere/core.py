@@ -38,19 +38,26 @@ def season_model(season) -> tuple[str, int]:
 @dataclass(frozen=True)
 class AtmosphereResult:
     """Atmosphere for one season, band and geometry (band values integrated with the
-    sensor response; ``*_spectral`` on ``wavelength_um``)."""
+    sensor response; ``*_spectral`` on ``wavelength_um``, None when not requested)."""
 
     season: str
     band: str
     band_um: tuple
     view_zenith_deg: float
     sun_zenith_deg: float
+    view_azimuth_from_sun_deg: float
     sky_zenith_deg: float
+    sky_azimuth_from_sun_deg: float
     backend: str
     #: Band-mean slant transmittance ground → space along the view, ∫τR dλ/∫R dλ [-]
     transmittance: float
-    #: Upward atmospheric path radiance at the sensor, ∫L R dλ [W m⁻² sr⁻¹]
+    #: Upward atmospheric path radiance at the sensor, thermal + scattered solar,
+    #: ∫L R dλ [W m⁻² sr⁻¹] (La↑ of the paper's eq. 1)
     path_radiance: float
+    #: Thermal emission part of the path radiance (LOWTRAN + aerosol) [W m⁻² sr⁻¹]
+    path_radiance_thermal: float
+    #: Aerosol single-scattered solar part of the path radiance (0 at night) [W m⁻² sr⁻¹]
+    path_radiance_solar: float
     #: Direct solar irradiance at the ground on a surface normal to the beam [W m⁻²]
     solar_irradiance_ground: float
     #: Direct solar irradiance on a horizontal surface, × cos θs (0 at night) [W m⁻²]
@@ -65,41 +72,47 @@ class AtmosphereResult:
     sky_radiance_solar: float
     #: Hemispherical scattered-solar sky irradiance on a horizontal surface [W m⁻²]
     sky_irradiance_solar: float
-    #: Gas-only (no aerosol) band transmittance and path radiance, for comparison [-], [W m⁻² sr⁻¹]
+    #: Gas-only (no aerosol) band transmittance [-] and thermal path radiance [W m⁻² sr⁻¹]
     transmittance_gas: float
     path_radiance_gas: float
     #: Wavelengths of the spectral arrays [µm]
-    wavelength_um: np.ndarray = field(repr=False)
+    wavelength_um: np.ndarray | None = field(default=None, repr=False)
     #: Spectral transmittance along the view [-]
-    transmittance_spectral: np.ndarray = field(repr=False)
-    #: Spectral path radiance [W m⁻² sr⁻¹ µm⁻¹]
-    path_radiance_spectral: np.ndarray = field(repr=False)
+    transmittance_spectral: np.ndarray | None = field(default=None, repr=False)
+    #: Spectral total path radiance and its scattered-solar part [W m⁻² sr⁻¹ µm⁻¹]
+    path_radiance_spectral: np.ndarray | None = field(default=None, repr=False)
+    path_radiance_solar_spectral: np.ndarray | None = field(default=None, repr=False)
     #: Spectral beam-normal direct solar irradiance at the ground [W m⁻² µm⁻¹]
-    solar_irradiance_spectral: np.ndarray = field(repr=False)
-    #: Spectral sky radiance from ``sky_zenith_deg`` [W m⁻² sr⁻¹ µm⁻¹]
-    sky_radiance_spectral: np.ndarray = field(repr=False)
-    #: Spectral hemispherical sky irradiance [W m⁻² µm⁻¹]
-    sky_irradiance_spectral: np.ndarray = field(repr=False)
+    solar_irradiance_spectral: np.ndarray | None = field(default=None, repr=False)
+    #: Spectral thermal sky radiance from the sky direction [W m⁻² sr⁻¹ µm⁻¹]
+    sky_radiance_spectral: np.ndarray | None = field(default=None, repr=False)
+    #: Spectral hemispherical thermal sky irradiance [W m⁻² µm⁻¹]
+    sky_irradiance_spectral: np.ndarray | None = field(default=None, repr=False)
     #: Spectral scattered-solar sky radiance [W m⁻² sr⁻¹ µm⁻¹] and irradiance [W m⁻² µm⁻¹]
-    sky_radiance_solar_spectral: np.ndarray = field(repr=False)
-    sky_irradiance_solar_spectral: np.ndarray = field(repr=False)
-    #: Azimuth of the sky direction measured from the sun's azimuth [deg]
-    sky_azimuth_from_sun_deg: float = 180.0
-    #: Stated maximum table interpolation errors for this season and band (None: live)
+    sky_radiance_solar_spectral: np.ndarray | None = field(default=None, repr=False)
+    sky_irradiance_solar_spectral: np.ndarray | None = field(default=None, repr=False)
+    #: Stated maximum table interpolation errors for this season and band (None: live
+    #: backend or a user response)
     interpolation_error: dict | None = field(default=None, repr=False)
 
 
-def _check_geometry(view_zenith_deg, sun_zenith_deg, sky_zenith_deg, backend):
+def _check_geometry(view_zenith_deg, sun_zenith_deg, sky_zenith_deg, azimuths, backend):
     check_range("view_zenith_deg", view_zenith_deg, 0.0, MAX_VIEW_ZENITH[backend], "deg")
     check_range("sun_zenith_deg", sun_zenith_deg, 0.0, 180.0, "deg")
     check_range("sky_zenith_deg", sky_zenith_deg, 0.0, 90.0, "deg")
+    for name, value in azimuths.items():
+        check_finite(name, value)
+
+
+_SOLAR_KEYS = ("solar_irradiance", "sky_irradiance_solar", "sky_radiance_solar",
+               "path_radiance_solar")
 
 
 def atmosphere(season, band, view_zenith_deg: float, sun_zenith_deg: float,
-               backend: str = "table", sky_zenith_deg: float | None = None,
-               response=None, aerosol: dict | None = None,
-               spectral: bool = True,
-               sky_azimuth_from_sun_deg: float = 180.0) -> AtmosphereResult:
+               backend: str = "table", view_azimuth_from_sun_deg: float = 90.0,
+               sky_zenith_deg: float | None = None,
+               sky_azimuth_from_sun_deg: float | None = None, response=None,
+               aerosol: dict | None = None, spectral: bool = True) -> AtmosphereResult:
     """Transmittance, path radiance, solar irradiance and sky radiance for one geometry.
 
     Parameters
@@ -111,12 +124,16 @@ def atmosphere(season, band, view_zenith_deg: float, sun_zenith_deg: float,
     view_zenith_deg : float
         Sensor view zenith angle at the ground [deg], ≤ 80 (table) or 85 (live).
     sun_zenith_deg : float
-        Sun zenith angle [deg]; ≥ 90 gives zero direct irradiance.
+        Sun zenith angle [deg]; ≥ 90 gives zero solar terms.
     backend : {"table", "lowtran"}
         Embedded tables (default, no Fortran) or a live LOWTRAN 7 run (optional
-        dependency, ~3 s per call).
-    sky_zenith_deg : float, optional
-        Zenith angle of the sky radiance returned [deg]; default the view zenith.
+        dependency, ~2–3 s per call).
+    view_azimuth_from_sun_deg : float
+        Azimuth of the sensor seen from the ground minus the sun's azimuth [deg]
+        (0: sensor toward the sun, backscatter); only the scattered-solar terms use it.
+    sky_zenith_deg, sky_azimuth_from_sun_deg : float, optional
+        Sky direction of ``sky_radiance`` [deg]; default the specular direction of a
+        level surface: zenith = view zenith, azimuth = view azimuth + 180.
     response : tuple of arrays, optional
         ``(wavelength_um, relative_response)`` sensor response replacing the rectangle.
     aerosol : dict, optional
@@ -124,12 +141,7 @@ def atmosphere(season, band, view_zenith_deg: float, sun_zenith_deg: float,
         (``vis_km``, ``wind_speed``, ``wind_speed_24h``, ``rel_humidity``,
         ``air_mass``). Default: Navy maritime, 23 km, LOWTRAN 7 defaults.
     spectral : bool
-        Fill the ``*_spectral`` fields (False: None, faster table lookups for the
-        default bands).
-    sky_azimuth_from_sun_deg : float
-        Azimuth of the sky direction from the sun's azimuth [deg] for the scattered-solar
-        sky radiance (180: facing away from the sun; the specular sky of a level surface
-        seen by a sensor at view azimuth ψv is at ψv + 180).
+        Return the ``*_spectral`` arrays (False: None).
 
     Returns
     -------
@@ -140,75 +152,77 @@ def atmosphere(season, band, view_zenith_deg: float, sun_zenith_deg: float,
     if backend not in MAX_VIEW_ZENITH:
         raise InputError("backend", backend, "'table' or 'lowtran'")
     sky_z = view_zenith_deg if sky_zenith_deg is None else sky_zenith_deg
-    _check_geometry(view_zenith_deg, sun_zenith_deg, sky_z, backend)
-    fast = backend == "table" and response is None and band_name in ("3-5", "8-14")
-    check_finite("sky_azimuth_from_sun_deg", sky_azimuth_from_sun_deg)
+    sky_az = (view_azimuth_from_sun_deg + 180.0 if sky_azimuth_from_sun_deg is None
+              else sky_azimuth_from_sun_deg)
+    _check_geometry(view_zenith_deg, sun_zenith_deg, sky_z,
+                    {"view_azimuth_from_sun_deg": view_azimuth_from_sun_deg,
+                     "sky_azimuth_from_sun_deg": sky_az}, backend)
+    night = sun_zenith_deg >= 90.0
     if backend == "table":
         if aerosol is not None:
             raise InputError("aerosol", aerosol, "only with backend='lowtran'",
                              "The tables hold the paper's setting (Navy maritime, 23 km)")
-        spec = (_table_spectral(name, view_zenith_deg, sun_zenith_deg, sky_z)
-                if (spectral or not fast) else None)
+        spec = _table_spectral(name, view_zenith_deg, sun_zenith_deg, sky_z)
     else:
         spec = _live_spectral(model, view_zenith_deg, sun_zenith_deg, sky_z,
                               {} if aerosol is None else dict(aerosol))
-    # scattered solar needs the spectral beam at the ground and the aerosol optics
-    sol_spec = (spec["solar_irradiance"] if spec is not None else tb.table_lookup(
-        "sun", name, "solar_irradiance_spectral", None, min(sun_zenith_deg, 90.0)))
-    optics = spec["aerosol_optics"] if spec is not None else _table_optics(name)
-    l_sc = sc.single_scatter_sky_radiance(
-        sol_spec, *optics[:3], sun_zenith_deg, min(sky_z, 89.9), sky_azimuth_from_sun_deg,
-        optics[3])
-    lam_all = tb.load_table().wavelength_um if spec is None else spec["wavelength_um"]
-    if fast:
-        vals = _table_band(name, band_name, view_zenith_deg, sun_zenith_deg, sky_z)
-        vals["sky_radiance_solar"] = float(band_integrate(lam_all, l_sc, band_um))
-    else:
-        lam = spec["wavelength_um"]
-
-        def integ(key, mean=False):
-            return float(band_integrate(lam, spec[key], band_um, response, mean=mean))
-        vals = {"transmittance": integ("transmittance", True),
-                "transmittance_gas": integ("transmittance_gas", True),
-                "path_radiance": integ("path_radiance"),
-                "path_radiance_gas": integ("path_radiance_gas"),
-                "solar_irradiance": integ("solar_irradiance"),
-                "sky_radiance": integ("sky_radiance"),
-                "sky_irradiance": integ("sky_irradiance"),
-                "sky_irradiance_solar": integ("sky_irradiance_solar"),
-                "sky_radiance_solar": float(band_integrate(lam, l_sc, band_um, response))}
-    e_sun = vals["solar_irradiance"] if sun_zenith_deg < 90.0 else 0.0
-    night = sun_zenith_deg >= 90.0
-    if not spectral:
-        spec = dict.fromkeys(("wavelength_um", "transmittance", "path_radiance",
-                              "solar_irradiance", "sky_radiance", "sky_irradiance",
-                              "sky_irradiance_solar"))
-        l_sc = None
+    tau, omega, g, air_mass = spec.pop("aerosol_optics")
+    spec["sky_radiance_solar"] = sc.single_scatter_sky_radiance(
+        spec["solar_irradiance"], tau, omega, g, sun_zenith_deg, min(sky_z, 89.9), sky_az,
+        air_mass)
+    spec["path_radiance_solar"] = sc.single_scatter_path_radiance(
+        spec["solar_irradiance"], tau, omega, g, sun_zenith_deg, view_zenith_deg,
+        view_azimuth_from_sun_deg, spec["transmittance_gas"], air_mass)
     if night:
-        vals["sky_irradiance_solar"] = 0.0
+        for key in _SOLAR_KEYS:
+            spec[key] = np.zeros_like(spec["wavelength_um"])
+    lam = spec["wavelength_um"]
+
+    def integ(key, mean=False):
+        return float(band_integrate(lam, spec[key], band_um, response, mean=mean))
+
+    fast = backend == "table" and response is None and band_name in ("3-5", "8-14")
+    vals = (_table_band(name, band_name, view_zenith_deg, sun_zenith_deg, sky_z) if fast else {
+        "transmittance": integ("transmittance", True),
+        "transmittance_gas": integ("transmittance_gas", True),
+        **{k: integ(k) for k in ("path_radiance", "path_radiance_gas", "solar_irradiance",
+                                 "sky_radiance", "sky_irradiance", "sky_irradiance_solar")}})
+    for key in ("sky_radiance_solar", "path_radiance_solar"):
+        vals[key] = integ(key)
+    if night:
+        for key in _SOLAR_KEYS:
+            vals[key] = 0.0
     err = None
-    if backend == "table":
-        err = tb.interpolation_errors()[name].get(band_name) if response is None else None
+    if backend == "table" and response is None:
+        err = tb.interpolation_errors()[name].get(band_name)
+    arrays = {}
+    if spectral:
+        arrays = dict(
+            wavelength_um=lam, transmittance_spectral=spec["transmittance"],
+            path_radiance_spectral=spec["path_radiance"] + spec["path_radiance_solar"],
+            path_radiance_solar_spectral=spec["path_radiance_solar"],
+            solar_irradiance_spectral=spec["solar_irradiance"],
+            sky_radiance_spectral=spec["sky_radiance"],
+            sky_irradiance_spectral=spec["sky_irradiance"],
+            sky_radiance_solar_spectral=spec["sky_radiance_solar"],
+            sky_irradiance_solar_spectral=spec["sky_irradiance_solar"])
+    e_sun = vals["solar_irradiance"]
     return AtmosphereResult(
         season=name, band=band_name, band_um=band_um, view_zenith_deg=float(view_zenith_deg),
-        sun_zenith_deg=float(sun_zenith_deg), sky_zenith_deg=float(sky_z), backend=backend,
-        transmittance=vals["transmittance"], path_radiance=vals["path_radiance"],
+        sun_zenith_deg=float(sun_zenith_deg),
+        view_azimuth_from_sun_deg=float(view_azimuth_from_sun_deg),
+        sky_zenith_deg=float(sky_z), sky_azimuth_from_sun_deg=float(sky_az), backend=backend,
+        transmittance=vals["transmittance"],
+        path_radiance=vals["path_radiance"] + vals["path_radiance_solar"],
+        path_radiance_thermal=vals["path_radiance"],
+        path_radiance_solar=vals["path_radiance_solar"],
         solar_irradiance_ground=e_sun,
         solar_irradiance_horizontal=float(e_sun * max(np.cos(np.radians(sun_zenith_deg)), 0.0)),
         sky_radiance=vals["sky_radiance"], sky_irradiance=vals["sky_irradiance"],
         sky_radiance_solar=vals["sky_radiance_solar"],
-        sky_irradiance_solar=float(vals["sky_irradiance_solar"]),
+        sky_irradiance_solar=vals["sky_irradiance_solar"],
         transmittance_gas=vals["transmittance_gas"], path_radiance_gas=vals["path_radiance_gas"],
-        wavelength_um=spec["wavelength_um"], transmittance_spectral=spec["transmittance"],
-        path_radiance_spectral=spec["path_radiance"],
-        solar_irradiance_spectral=(spec["solar_irradiance"] * 0.0 if night and spectral
-                                   else spec["solar_irradiance"]),
-        sky_radiance_spectral=spec["sky_radiance"],
-        sky_irradiance_spectral=spec["sky_irradiance"],
-        sky_radiance_solar_spectral=l_sc,
-        sky_irradiance_solar_spectral=(spec["sky_irradiance_solar"] * 0.0
-                                       if night and spectral else spec["sky_irradiance_solar"]),
-        sky_azimuth_from_sun_deg=float(sky_azimuth_from_sun_deg), interpolation_error=err)
+        interpolation_error=err, **arrays)
 
 
 def _table_spectral(season, view_z, sun_z, sky_z) -> dict:

