@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.special import bernoulli
 
-from shipthermal.errors import InputError, check_finite, check_positive, check_range, require
+from shipthermal.errors import InputError, check_positive, check_range, require
 
 __all__ = [
     "C1_PAPER", "C2_PAPER", "C1_CODATA", "C2_CODATA",
