@@ -39,7 +39,8 @@ def build_bvh(tri_min, tri_max, centroid, leaf_size):
 
     Returns (node_min, node_max, node_left, node_start, node_count, order, max_depth).
 
-    ``node_left[i] == -1`` marks a leaf holding ``order[node_start[i]:node_start[i]+node_count[i]]``.
+    ``node_left[i] == -1`` marks a leaf holding triangles
+    ``order[node_start[i] : node_start[i] + node_count[i]]``.
     """
     n = centroid.shape[0]
     order = np.arange(n)

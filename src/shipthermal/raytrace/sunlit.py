@@ -22,7 +22,7 @@ from tqdm.auto import tqdm
 
 from shipthermal.errors import require
 from shipthermal.raytrace import _raygen
-from shipthermal.raytrace.sampling import face_frames, face_geometry, unit_samples
+from shipthermal.raytrace.sampling import face_geometry, unit_samples
 
 __all__ = ["ReceiverPlane", "SunLit", "sun_lit_fraction", "shadow_area_on_plane",
            "lit_rays"]

@@ -163,7 +163,7 @@ def view_factors(tracer, vertices, faces, rays_per_face: int = 256, seed: int = 
 
     n_sky = np.zeros(n_faces, np.int64)
     n_sea = np.zeros(n_faces, np.int64)
-    keys = []  # i * n_faces + j of every face-to-face ray, reduced per chunk
+    keys = []  # i * n_cols + j of every face-to-face ray, reduced per chunk
     counts = []
     face_chunk = max(1, int(chunk_rays) // k)
     with tqdm(total=n_faces * k, unit="ray", unit_scale=True, desc="view-factor rays",
@@ -180,13 +180,13 @@ def view_factors(tracer, vertices, faces, rays_per_face: int = 256, seed: int = 
                 submerged = o[:, 2] < sea_level_z
                 with np.errstate(divide="ignore", invalid="ignore"):
                     t_sea = np.where(d[:, 2] < 0.0, (sea_level_z - o[:, 2]) / d[:, 2], np.inf)
-            traced = ~submerged
-            hit = np.full(len(o), -1, np.int64)
-            if traced.all():
-                hit = tracer.intersects_first(o, d, t_sea, validate=False)
-            else:
+            if submerged.any():
+                traced = ~submerged
+                hit = np.full(len(o), -1, np.int64)
                 hit[traced] = tracer.intersects_first(o[traced], d[traced], t_sea[traced],
                                                       validate=False)
+            else:
+                hit = tracer.intersects_first(o, d, t_sea, validate=False)
             to_sea = submerged | ((hit < 0) & np.isfinite(t_sea))
             to_sky = (hit < 0) & ~to_sea
             n_sea[idx] += np.bincount(src[to_sea] - start, minlength=len(idx))
