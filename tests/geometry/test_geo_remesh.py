@@ -103,3 +103,27 @@ def test_build_ship_mesh_all_solid():
     # Tet volume equals the enclosed volume within fTetWild's envelope (~1 %).
     assert g.cell_volume.sum() == pytest.approx(s.signed_volume, rel=0.02)
     assert set(g.patch_names) <= {f"{n}:outer" for n in s.part_names}
+
+
+def test_flips_keep_geometry_and_parts():
+    from shipthermal.geometry.remesh import flip_coplanar_edges
+
+    # A flat 10 x 1 strip of long thin triangles (fan from one corner) inside a closed box:
+    # flips must raise the minimum angle and change neither area, volume nor closedness.
+    m = trimesh.creation.box((10.0, 10.0, 10.0))
+    v, f, lab, _ = refine_surface(np.array(m.vertices), np.array(m.faces),
+                                  (np.array(m.face_normals)[:, 2] > 0.5).astype(int), 2.5)
+    # Skew the top grid into slivers by moving interior top vertices along x.
+    v = v.copy()
+    top = (np.abs(v[:, 2] - 5.0) < 1e-12) & (np.abs(v[:, 0]) < 4.9) & (np.abs(v[:, 1]) < 4.9)
+    v[top, 0] += 1.2 * np.sign(v[top, 1] + 1e-9)
+    q0 = surface_quality(v, f)
+    f2, n = flip_coplanar_edges(v, f, lab)
+    q1 = surface_quality(v, f2)
+    assert n > 0 and q1["min_angle_min"] > q0["min_angle_min"]
+    assert face_areas(v, f2).sum() == pytest.approx(face_areas(v, f).sum(), rel=1e-12)
+    assert signed_volume(v, f2) == pytest.approx(signed_volume(v, f), rel=1e-12)
+    assert len(boundary_edges(f2)[0]) == 0 and len(boundary_edges(f2)[1]) == 0
+    # Flips stay inside one part: part areas unchanged.
+    for k in (0, 1):
+        assert face_areas(v, f2)[lab == k].sum() == pytest.approx(face_areas(v, f)[lab == k].sum(), rel=1e-12)

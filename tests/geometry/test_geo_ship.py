@@ -133,3 +133,14 @@ def test_bad_parameters_raise():
         frigate(2.0, blocks=[Block("deck_house", 0, 10, 5.0, 3.0)])
     with pytest.raises(InputError, match="length"):
         frigate(2.0, length=2000.0)
+
+
+@pytest.mark.parametrize("k", range(3))
+def test_superstructure_stands_on_the_deck(coarse_ships, k):
+    s = coarse_ships[k]
+    sup = s.vertices[s.faces[s.part_mask("superstructure")]].reshape(-1, 3)
+    # Deckhouses are united with the hull: nothing of them is left below the deck
+    # (freeboard amidships; the deck only rises forward).
+    assert sup[:, 2].min() >= s.freeboard - 1e-9
+    deck = s.vertices[s.faces[s.part_mask("deck")]].reshape(-1, 3)
+    assert deck[:, 2].min() == pytest.approx(s.freeboard, abs=1e-9)

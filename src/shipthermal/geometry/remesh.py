@@ -25,8 +25,8 @@ import numpy as np
 from ..errors import InputError, check_positive, require
 from .parts import face_areas, signed_volume, split_at_waterline
 
-__all__ = ["refine_surface", "tetwild_surface", "surface_quality", "remesh_ship",
-           "build_ship_mesh"]
+__all__ = ["refine_surface", "tetwild_surface", "surface_quality", "flip_coplanar_edges",
+           "remesh_ship", "build_ship_mesh"]
 
 
 def surface_quality(vertices: np.ndarray, faces: np.ndarray) -> dict:
@@ -65,6 +65,79 @@ def surface_quality(vertices: np.ndarray, faces: np.ndarray) -> dict:
                 min_angle_median=float(np.median(amin)),
                 frac_min_angle_below_10=float(np.mean(amin < 10.0)),
                 frac_min_angle_below_20=float(np.mean(amin < 20.0)))
+
+
+def _angles(p0, p1, p2):
+    """Interior angles at p0, p1, p2 of triangles (rows) [rad]."""
+    def ang(o, u, w):
+        a, b = u - o, w - o
+        cos = np.einsum("ij,ij->i", a, b) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1))
+        return np.arccos(np.clip(np.nan_to_num(cos, nan=1.0), -1.0, 1.0))
+    return ang(p0, p1, p2), ang(p1, p2, p0), ang(p2, p0, p1)
+
+
+def flip_coplanar_edges(vertices, faces, face_part, max_passes: int = 30,
+                        coplanar_tol: float = 1e-10):
+    """Improve triangle shapes by flipping edges inside flat regions of one part.
+
+    An edge shared by two triangles of the same part whose normals agree to
+    ``1 - n1·n2 < coplanar_tol`` is flipped when that raises the smaller of the two
+    triangles' minimum angles (Lawson-type flips). Geometry, areas, volume, closedness,
+    orientation and part boundaries are unchanged: only the triangulation of planes
+    (deck, deckhouse walls) is, which removes most slivers a boolean leaves along
+    intersection lines.
+
+    Returns the new faces (same count) and the number of flips.
+    """
+    v = np.asarray(vertices, float)
+    f = np.array(faces, dtype=np.int64, copy=True)
+    lab = np.asarray(face_part)
+    n_flips = 0
+    for _ in range(max_passes):
+        e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+        face_of = np.tile(np.arange(len(f)), 3)
+        opp = np.concatenate([f[:, 2], f[:, 0], f[:, 1]])
+        key = np.sort(e, axis=1)
+        _, inv, cnt = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+        inv = inv.ravel()
+        two = cnt[inv] == 2
+        idx = np.flatnonzero(two)
+        order = idx[np.argsort(inv[idx], kind="stable")]
+        i1, i2 = order[0::2], order[1::2]
+        f1, f2 = face_of[i1], face_of[i2]
+        a, b, c, d = e[i1, 0], e[i1, 1], opp[i1], opp[i2]
+        ok = (lab[f1] == lab[f2]) & (e[i2, 0] == b) & (c != d)
+        p = v[f]
+        nrm = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+        nlen = np.linalg.norm(nrm, axis=1)
+        unit = nrm / np.where(nlen > 0, nlen, 1.0)[:, None]
+        ok &= 1.0 - np.einsum("ij,ij->i", unit[f1], unit[f2]) < coplanar_tol
+        ok &= (nlen[f1] > 0) & (nlen[f2] > 0)
+        if not ok.any():
+            break
+        a, b, c, d, f1, f2 = a[ok], b[ok], c[ok], d[ok], f1[ok], f2[ok]
+        old = np.minimum(np.min(_angles(v[a], v[b], v[c]), axis=0), np.min(_angles(v[b], v[a], v[d]), axis=0))
+        new = np.minimum(np.min(_angles(v[a], v[d], v[c]), axis=0), np.min(_angles(v[d], v[b], v[c]), axis=0))
+        # The new pair must keep the orientation (convex quadrilateral).
+        n_new1 = np.cross(v[d] - v[a], v[c] - v[a])
+        n_new2 = np.cross(v[b] - v[d], v[c] - v[d])
+        same = ((np.einsum("ij,ij->i", n_new1, unit[f1]) > 0)
+                & (np.einsum("ij,ij->i", n_new2, unit[f1]) > 0))
+        good = np.flatnonzero(same & (new > old + 1e-9))
+        if len(good) == 0:
+            break
+        good = good[np.argsort(-(new - old)[good])]
+        used = np.zeros(len(f), bool)
+        chosen = []
+        for g in good:                      # independent set: a face flips once per pass
+            if not used[f1[g]] and not used[f2[g]]:
+                used[f1[g]] = used[f2[g]] = True
+                chosen.append(g)
+        chosen = np.asarray(chosen)
+        f[f1[chosen]] = np.stack([a[chosen], d[chosen], c[chosen]], 1)
+        f[f2[chosen]] = np.stack([d[chosen], b[chosen], c[chosen]], 1)
+        n_flips += len(chosen)
+    return f, n_flips
 
 
 def refine_surface(vertices, faces, face_part, edge_length: float):

@@ -546,23 +546,34 @@ def _hull_surface(form: _HullForm, h: float):
     hull_v = ring.reshape(-1, 3)
     hull_f = _grid_faces(ns, 2 * m)
 
-    # Deck: rows across from the port deck edge to the starboard one.
-    frac = 1.0 - 2.0 * np.arange(nk + 1) / nk
-    deck = np.empty((ns + 1, nk + 1, 3))
-    deck[:, :, 0] = form.x_deck(s)[:, None]
-    deck[:, :, 1] = hbd[:, None] * frac[None, :]
-    deck[:, :, 2] = zd[:, None]
-    deck[:, 0] = ring[:, 0]
-    deck[:, -1] = ring[:, -1]
+    # Deck: rows across from the port deck edge to the starboard one, with as many points
+    # as each row's width needs (odd counts, see above), zipped station to station; rows
+    # shrink towards the stem without making slivers.
     off_d = len(hull_v)
-    deck_f = _grid_faces(ns, nk, off_d, flip=True)
+    deck_pts, deck_rows, count = [], [], 0
+    row_n = np.where(hbd > 0, 2 * np.ceil(1.0137 * hbd / h).astype(int) + 1, 1)
+    for i in range(ns + 1):
+        n_i = int(row_n[i])
+        fr = 1.0 - 2.0 * np.arange(n_i + 1) / n_i
+        pts = np.column_stack([np.full(n_i + 1, form.x_deck(s[i])), hbd[i] * fr,
+                               np.full(n_i + 1, zd[i])])
+        pts[0], pts[-1] = ring[i, 0], ring[i, -1]
+        deck_pts.append(pts)
+        deck_rows.append(off_d + count + np.arange(n_i + 1))
+        count += n_i + 1
+    deck = np.concatenate(deck_pts)
+    deck_y = deck[:, 1]
+    deck_f = np.array([t for i in range(ns) for t in
+                       _zipper(deck_rows[i], deck_rows[i + 1], deck_y[deck_rows[i] - off_d],
+                               deck_y[deck_rows[i + 1] - off_d])], dtype=np.int64)[:, ::-1]
+    nk = int(row_n[0])                       # the transom's top row matches the deck's aft row
 
     # Transom (a plane x = -L/2): horizontal rows across from the port to the starboard
     # half of the aft ring, at ring points at least ~h/2 apart in height (rows closer than
     # that would make slivers where the bottom is flat); the ring points between two rows
     # join the lower chain, and consecutive chains are zipped into triangles.
     port = ring[0, :m + 1]
-    off_t = off_d + (ns + 1) * (nk + 1)
+    off_t = off_d + len(deck)
     ring_idx = np.arange(2 * m + 1)             # indices into the aft ring (station 0)
     levels = [0]
     for j in range(1, m + 1):
@@ -603,7 +614,7 @@ def _hull_surface(form: _HullForm, h: float):
         tri += _zipper(upper, lower, y_of(upper), y_of(lower))
     tr_f = np.array(tri, dtype=np.int64)
 
-    v = np.concatenate([hull_v, deck.reshape(-1, 3), tr.reshape(-1, 3)])
+    v = np.concatenate([hull_v, deck, tr.reshape(-1, 3)])
     f = np.concatenate([hull_f, deck_f, tr_f])
     is_deck = np.zeros(len(f), bool)
     is_deck[len(hull_f):len(hull_f) + len(deck_f)] = True
@@ -777,6 +788,11 @@ def build_ship(params: ShipParameters, edge_length: float | None = None,
 
     if signed_volume(v, f) < 0:           # never expected; kept as a guard for edits
         f = f[:, ::-1]
+    # Re-triangulate flat regions (deck, deckhouse walls) to remove the slivers the boolean
+    # leaves along the deck/deckhouse junctions.
+    from .remesh import flip_coplanar_edges
+
+    f, _ = flip_coplanar_edges(v, f, face_part, max_passes=4)
     return ShipGeometry(
         vertices=v, faces=f, face_part=face_part, part_names=tuple(order),
         layups=default_layups(order, layups, superstructure_material),
