@@ -190,3 +190,10 @@ def test_bad_arguments():
         build_port_background("monsoon")
     with pytest.raises(InputError, match="size_px"):
         build_port_background("summer", size_px=10)
+
+
+def test_met_grid_not_covering_the_scene(port_files, tmp_path):
+    ds = xr.open_dataset(port_files.met).load()
+    ds.assign_coords(lon=ds.lon + 1.0).to_netcdf(tmp_path / "shifted.nc", engine="h5netcdf")
+    with pytest.raises(InputError, match=r"met\.extent.*must cover the scene"):
+        build_background_from_files(port_files.mtl_txt, port_files.dem, tmp_path / "shifted.nc", port_files.roi)

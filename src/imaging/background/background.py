@@ -172,6 +172,23 @@ def _sun_sin_elevation(grid: SceneGrid, when_utc) -> np.ndarray:
     return np.sin(np.radians(el))
 
 
+def _check_met_covers_scene(met, grid: SceneGrid) -> None:
+    """Kriging far outside the data only returns the mean: require the met grid to span the scene."""
+    from rasterio.warp import transform as warp_transform
+
+    t = grid.transform
+    xs = [t.c, t.c + grid.shape[1] * t.a] * 2
+    ys = [t.f, t.f, t.f + grid.shape[0] * t.e, t.f + grid.shape[0] * t.e]
+    lon, lat = warp_transform(grid.crs, "EPSG:4326", xs, ys)
+    half_lat = 0.5 * abs(np.diff(met.lat).mean()) if met.lat.size > 1 else 0.0
+    half_lon = 0.5 * abs(np.diff(met.lon).mean()) if met.lon.size > 1 else 0.0
+    inside = (met.lat.min() - half_lat <= min(lat) and max(lat) <= met.lat.max() + half_lat
+              and met.lon.min() - half_lon <= min(lon) and max(lon) <= met.lon.max() + half_lon)
+    require(inside, "met.extent", f"lat {met.lat.min():.4f}..{met.lat.max():.4f}, lon {met.lon.min():.4f}..{met.lon.max():.4f}",
+            f"must cover the scene (lat {min(lat):.4f}..{max(lat):.4f}, lon {min(lon):.4f}..{max(lon):.4f})",
+            "Cut the met grid with a margin of a few cells around the scene")
+
+
 def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, season: str | None = None,
                                 utc_offset_hours: float = 8.0, water_vapour: float | None = None,
                                 variogram_model: str = "spherical", krige_coarsen: int = 5,
@@ -236,6 +253,7 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
         require(met.tcwv is not None, "met[tcwv]", "missing",
                 "needed for the LST atmosphere unless water_vapour= is given")
         water_vapour = met.interp_time(met.tcwv, overpass)
+    _check_met_covers_scene(met, grid)
     dem = read_dem(dem_path, grid)
     timings["read"] = time.perf_counter() - t0
 
