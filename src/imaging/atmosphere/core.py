@@ -17,7 +17,8 @@ from . import scattered as sc
 from . import tables as tb
 from .bands import band_integrate, parse_band
 
-__all__ = ["SEASONS", "AtmosphereResult", "atmosphere", "sky_radiance", "season_model"]
+__all__ = ["SEASONS", "AtmosphereResult", "atmosphere", "sky_radiance", "season_model",
+           "planck_weighted_transmittance"]
 
 #: Season name → LOWTRAN model atmosphere (paper §4: MODTRAN mid-latitude summer/winter)
 SEASONS = {"summer": 2, "winter": 3}
@@ -75,6 +76,12 @@ class AtmosphereResult:
     #: Gas-only (no aerosol) band transmittance [-] and thermal path radiance [W m⁻² sr⁻¹]
     transmittance_gas: float
     path_radiance_gas: float
+    #: View transmittance weighted with the direct-sun spectrum, ∫τ E R dλ / ∫E R dλ,
+    #: for reflected sunlight (plain ``transmittance`` at night) [-]
+    transmittance_solar_weighted: float
+    #: View transmittance weighted with the sky-radiance spectrum from the sky direction,
+    #: for reflected sky [-]
+    transmittance_sky_weighted: float
     #: Wavelengths of the spectral arrays [µm]
     wavelength_um: np.ndarray | None = field(default=None, repr=False)
     #: Spectral transmittance along the view [-]
@@ -189,6 +196,10 @@ def atmosphere(season, band, view_zenith_deg: float, sun_zenith_deg: float,
                                  "sky_radiance", "sky_irradiance", "sky_irradiance_solar")}})
     for key in ("sky_radiance_solar", "path_radiance_solar"):
         vals[key] = integ(key)
+    # the band-mean tau times a band radiance is off by up to 15 % in 3-5 um, where tau
+    # and the source spectra both vary strongly: weight tau with each source spectrum
+    tau_sol = _weighted(lam, spec["transmittance"], spec["solar_irradiance"], band_um, response)
+    tau_sky = _weighted(lam, spec["transmittance"], spec["sky_radiance"], band_um, response)
     if night:
         for key in _SOLAR_KEYS:
             vals[key] = 0.0
@@ -222,7 +233,48 @@ def atmosphere(season, band, view_zenith_deg: float, sun_zenith_deg: float,
         sky_radiance_solar=vals["sky_radiance_solar"],
         sky_irradiance_solar=vals["sky_irradiance_solar"],
         transmittance_gas=vals["transmittance_gas"], path_radiance_gas=vals["path_radiance_gas"],
+        transmittance_solar_weighted=vals["transmittance"] if tau_sol is None else tau_sol,
+        transmittance_sky_weighted=vals["transmittance"] if tau_sky is None else tau_sky,
         interpolation_error=err, **arrays)
+
+
+def _weighted(lam, tau, weight, band_um, response):
+    den = band_integrate(lam, weight, band_um, response)
+    if not den > 0.0:
+        return None
+    return float(band_integrate(lam, tau * weight, band_um, response) / den)
+
+
+def planck_weighted_transmittance(season, band, view_zenith_deg: float, temp_k,
+                                  backend: str = "table", response=None):
+    """View transmittance weighted with a blackbody spectrum, ∫τ B(T) R dλ / ∫B(T) R dλ.
+
+    The right band transmittance for emitted radiance (grey emissivity within the band)
+    in the paper's eq. (1): τ̄·∫B differs from ∫τB by +10–15 % (3–5 µm) and −2–3 %
+    (8–14 µm) at 300 K.
+
+    Parameters
+    ----------
+    season, band, view_zenith_deg, backend, response
+        As :func:`atmosphere`.
+    temp_k : array_like
+        Source temperature(s) [K]. For whole images pass a temperature grid (e.g.
+        200–400 K in 0.5 K steps) and interpolate: the cost is n_T × 550 samples.
+
+    Returns
+    -------
+    ndarray, shape of ``temp_k``
+        Planck-weighted band transmittance [-].
+    """
+    from .bands import planck_radiance_um
+
+    t = np.asarray(temp_k, dtype=float)
+    check_range("temp_k", t, 100.0, 2000.0, "K")
+    r = atmosphere(season, band, view_zenith_deg, 45.0, backend=backend, response=response)
+    b = planck_radiance_um(r.wavelength_um[None, :], t.reshape(-1, 1))
+    num = band_integrate(r.wavelength_um, r.transmittance_spectral * b, r.band_um, response)
+    den = band_integrate(r.wavelength_um, b, r.band_um, response)
+    return (num / den).reshape(t.shape)
 
 
 def _table_spectral(season, view_z, sun_z, sky_z) -> dict:
