@@ -159,3 +159,20 @@ def test_check_surface_on_builtin_ship_is_clean():
     v, f, lab, rep = check_surface(s.vertices, s.faces, face_part=s.face_part)
     assert rep["open_edges"] == 0 and rep["flipped_faces"] == 0
     assert rep["signed_volume"] == pytest.approx(s.signed_volume)
+
+
+def test_vtu_with_part_cell_array_and_obj_with_face_array(tmp_path):
+    from shipthermal.geometry.pictures import write_parts_vtu
+
+    s = frigate(3.0)
+    write_parts_vtu(s, tmp_path)
+    u, _ = read_ship(tmp_path / "all_parts.vtu", units="m")     # parts from the 'part' array
+    assert u.part_names == s.part_names
+    for n, a in s.part_areas().items():
+        assert u.part_areas()[n] == pytest.approx(a, rel=1e-9)
+    obj = tmp_path / "ship.obj"
+    s.to_trimesh().export(obj)
+    names = np.array(s.part_names)[s.face_part]
+    u2, _ = read_ship(obj, units="m", part_map=names)
+    assert u2.total_area == pytest.approx(s.total_area, rel=1e-6)
+    assert u2.main_part_areas()["deck"] == pytest.approx(s.main_part_areas()["deck"], rel=1e-6)

@@ -38,3 +38,14 @@ def test_vtu_per_part_round_trip(ship, tmp_path):
     assert total == ship.n_faces
     all_parts = pv.read(tmp_path / "all_parts.vtu")
     assert np.array_equal(np.asarray(all_parts.cell_data["part"]), ship.face_part)
+
+
+def test_falls_back_to_matplotlib_when_vtk_fails(ship, tmp_path, monkeypatch):
+    import shipthermal.geometry.pictures as pics
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("no OpenGL context")
+
+    monkeypatch.setattr(pics, "_render_pyvista", broken)
+    used = pics.render_parts_png(ship, tmp_path / "fallback.png", size=(320, 200))
+    assert used == "matplotlib" and (tmp_path / "fallback.png").stat().st_size > 1000

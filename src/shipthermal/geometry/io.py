@@ -80,7 +80,7 @@ def load_surface(path, units: str):
 
         data = pv.read(path)
         if not isinstance(data, pv.PolyData):
-            data = data.extract_surface(pass_cellid=False)
+            data = data.extract_surface(pass_cellid=False, algorithm="dataset_surface")
         tri = data.triangulate()
         require(tri.is_all_triangles, "file", str(path), "must contain polygons")
         v = np.asarray(tri.points, float)
