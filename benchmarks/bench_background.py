@@ -30,15 +30,14 @@ import numpy as np
 def bench_kriging(size: int, hours: int, full_hours: int) -> None:
     import gstools as gs
     from rasterio.crs import CRS
-    from rasterio.transform import from_origin
-
+    
     from imaging.background.kriging import krige_hourly
-    from imaging.background.landsat import SceneGrid
+    from imaging.background.landsat import SceneGrid, north_up_transform
 
     rng = np.random.default_rng(0)
     res = 30.0
     extent = size * res
-    grid = SceneGrid(from_origin(0.0, extent, res, res), CRS.from_epsg(32651), (size, size))
+    grid = SceneGrid(north_up_transform(0.0, extent, res, res), CRS.from_epsg(32651), (size, size))
     # 11 x 11 met cells at ~6 km spacing centred on the scene; the south-east half is sea (NaN).
     cx = np.linspace(-30e3, 30e3, 11) + extent / 2
     mx, my = np.meshgrid(cx, cx)

@@ -10,9 +10,8 @@ from sklearn.metrics import cohen_kappa_score
 
 from imaging.background.classify import (CLASS_CODES, bhattacharyya_distance, classify_scene, format_jm_table,
                                          jm_distance, jm_distance_univariate, jm_table, kappa_weighted, read_roi)
-from imaging.background.landsat import SceneGrid
+from imaging.background.landsat import SceneGrid, north_up_transform
 from rasterio.crs import CRS
-from rasterio.transform import from_origin
 from shipthermal.errors import InputError
 
 
@@ -140,7 +139,7 @@ def test_nan_features_are_left_unclassified():
 
 
 def test_geojson_roi_is_rasterised(tmp_path):
-    grid = SceneGrid(from_origin(1000.0, 2000.0, 30.0, 30.0), CRS.from_epsg(32651), (20, 20))
+    grid = SceneGrid(north_up_transform(1000.0, 2000.0, 30.0, 30.0), CRS.from_epsg(32651), (20, 20))
     poly = {"type": "Polygon", "coordinates": [[[1030, 1970], [1150, 1970], [1150, 1880], [1030, 1880], [1030, 1970]]]}
     doc = {"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": poly,
                                                        "properties": {"class": "building"}}]}

@@ -5,10 +5,9 @@ import pandas as pd
 import pytest
 import xarray as xr
 from rasterio.crs import CRS
-from rasterio.transform import from_origin
 
 from imaging.background.kriging import krige_hourly, krige_points, linear_weights
-from imaging.background.landsat import SceneGrid
+from imaging.background.landsat import SceneGrid, north_up_transform
 from imaging.background.met import read_met_grid
 from shipthermal.errors import InputError
 
@@ -60,7 +59,7 @@ def test_coarse_kriging_plus_bilinear_matches_full_resolution():
     # The speed shortcut: krige every 5th pixel and interpolate. On a met field sampled every
     # ~6 km the kriged surface is smooth at 150 m, so the difference is tiny (< 5 mK).
     _, x, y, z = _data(n=80)
-    grid = SceneGrid(from_origin(20e3, 30e3, 30.0, 30.0), CRS.from_epsg(32651), (120, 130))
+    grid = SceneGrid(north_up_transform(20e3, 30e3, 30.0, 30.0), CRS.from_epsg(32651), (120, 130))
     vals = np.stack([z, z + 1.0])
     full, fits = krige_hourly(x, y, vals, grid, coarsen=1)
     coarse, _ = krige_hourly(x, y, vals, grid, coarsen=5)
@@ -71,7 +70,7 @@ def test_coarse_kriging_plus_bilinear_matches_full_resolution():
 
 def test_too_few_points_in_a_step():
     _, x, y, z = _data(n=20)
-    grid = SceneGrid(from_origin(20e3, 30e3, 30.0, 30.0), CRS.from_epsg(32651), (10, 10))
+    grid = SceneGrid(north_up_transform(20e3, 30e3, 30.0, 30.0), CRS.from_epsg(32651), (10, 10))
     vals = np.stack([z, np.where(np.arange(20) < 3, z, np.nan)])
     with pytest.raises(InputError, match=r"time 1.*valid_points = 3"):
         krige_hourly(x, y, vals, grid)

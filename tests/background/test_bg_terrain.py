@@ -4,10 +4,9 @@ import numpy as np
 import pytest
 import rasterio
 from rasterio.crs import CRS
-from rasterio.transform import from_origin
 from rasterio.warp import transform as warp_transform
 
-from imaging.background.landsat import SceneGrid
+from imaging.background.landsat import SceneGrid, north_up_transform
 from imaging.background.terrain import fit_terrain_regression, read_dem, slope_aspect, southness
 from shipthermal.errors import InputError
 
@@ -95,7 +94,7 @@ def _geo_dem(path, nodata_hole=False):
     if nodata_hole:
         z[200:220, 200:220] = -9999
     with rasterio.open(path, "w", driver="GTiff", height=n, width=n, count=1, dtype="float32",
-                       crs="EPSG:4326", transform=from_origin(lon0, lat0, sec, sec), nodata=-9999) as dst:
+                       crs="EPSG:4326", transform=north_up_transform(lon0, lat0, sec, sec), nodata=-9999) as dst:
         dst.write(z, 1)
     return lon0, lat0
 
@@ -103,7 +102,7 @@ def _geo_dem(path, nodata_hole=False):
 def test_dem_is_reprojected_onto_the_scene_grid(tmp_path):
     lon0, lat0 = _geo_dem(tmp_path / "dem.tif")
     (x0,), (y0,) = warp_transform("EPSG:4326", "EPSG:32651", [lon0 + 0.02], [lat0 - 0.02])
-    grid = SceneGrid(from_origin(x0, y0, 30, 30), CRS.from_epsg(32651), (50, 60))
+    grid = SceneGrid(north_up_transform(x0, y0, 30, 30), CRS.from_epsg(32651), (50, 60))
     dem = read_dem(tmp_path / "dem.tif", grid)
     cols, rows = np.meshgrid(np.arange(60) + 0.5, np.arange(50) + 0.5)
     lon, lat = warp_transform("EPSG:32651", "EPSG:4326", (x0 + cols * 30).ravel(), (y0 - rows * 30).ravel())
@@ -118,6 +117,6 @@ def test_dem_is_reprojected_onto_the_scene_grid(tmp_path):
 def test_dem_nodata_is_masked_not_filled(tmp_path):
     lon0, lat0 = _geo_dem(tmp_path / "dem.tif", nodata_hole=True)
     (x0,), (y0,) = warp_transform("EPSG:4326", "EPSG:32651", [lon0 + 0.04], [lat0 - 0.04])
-    grid = SceneGrid(from_origin(x0, y0, 30, 30), CRS.from_epsg(32651), (80, 80))
+    grid = SceneGrid(north_up_transform(x0, y0, 30, 30), CRS.from_epsg(32651), (80, 80))
     dem = read_dem(tmp_path / "dem.tif", grid)
     assert np.isnan(dem).sum() > 100 and np.isfinite(dem).sum() > 5000

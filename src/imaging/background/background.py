@@ -21,7 +21,7 @@ import os
 import tempfile
 import time
 from dataclasses import dataclass, field
-from datetime import datetime, timezone
+from datetime import datetime
 
 import numpy as np
 import pandas as pd
@@ -29,8 +29,8 @@ from scipy.ndimage import binary_erosion
 
 from shipthermal.errors import InputError, require
 
-from .classify import CLASS_CODES, CLASS_NAMES, ClassificationResult, classify_scene, read_roi
-from .kriging import VariogramFit, krige_hourly, met_points_on_grid
+from .classify import CLASS_NAMES, ClassificationResult, classify_scene, read_roi
+from .kriging import krige_hourly, met_points_on_grid
 from .landsat import NIR_BAND, RED_BAND, REFLECTIVE_BANDS, SceneGrid, read_landsat_scene
 from .lst import AtmosphereB10, atmospheric_functions, emissivity_ndvi_threshold, lst_single_channel, ndvi
 from .met import read_met_grid
@@ -89,6 +89,8 @@ class PortBackground:
         Files written (empty without ``out_dir``).
     timings : dict[str, float]
         Wall time per stage [s].
+    synthetic_truth : dict or None
+        The generator's truth arrays when built by :func:`build_port_background`.
     """
 
     grid: SceneGrid
@@ -115,6 +117,7 @@ class PortBackground:
     dem_masked_pixels: int
     outputs: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
+    synthetic_truth: dict | None = field(default=None, repr=False)
 
     @property
     def class_names(self) -> dict:

@@ -29,6 +29,7 @@ from shipthermal.errors import InputError, require
 
 __all__ = [
     "SceneGrid",
+    "north_up_transform",
     "MtlMetadata",
     "read_mtl",
     "parse_mtl_text",
@@ -49,6 +50,12 @@ THERMAL_BAND = 10
 """TIRS band 10 (10.6–11.19 um), the band of the single-channel algorithm."""
 RED_BAND = 4
 NIR_BAND = 5
+
+
+def north_up_transform(west: float, north: float, xres: float, yres: float | None = None) -> Affine:
+    """Affine of a north-up grid from its upper-left corner [m or deg] and pixel size
+    (same as ``rasterio.transform.from_origin``, without its pending-deprecation warning)."""
+    return Affine(xres, 0.0, west, 0.0, -(xres if yres is None else yres), north)
 
 
 @dataclass(frozen=True)

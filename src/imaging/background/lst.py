@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from shipthermal.errors import InputError, check_finite, check_range
+from shipthermal.errors import InputError, check_range
 
 from .landsat import brightness_temperature_to_radiance, radiance_to_brightness_temperature
 

@@ -49,13 +49,12 @@ import pandas as pd
 import rasterio
 import xarray as xr
 from rasterio.crs import CRS
-from rasterio.transform import Affine, from_origin
 from rasterio.warp import transform as warp_transform
 from scipy.ndimage import binary_erosion, gaussian_filter
 
 from shipthermal.errors import InputError
 
-from .landsat import REFLECTIVE_BANDS, THERMAL_BAND, SceneGrid, brightness_temperature_to_radiance
+from .landsat import REFLECTIVE_BANDS, THERMAL_BAND, SceneGrid, north_up_transform
 from .lst import at_sensor_radiance, atmospheric_functions, emissivity_ndvi_threshold, ndvi
 from .terrain import slope_aspect, southness
 
@@ -303,7 +302,7 @@ def write_synthetic_port(directory: str | os.PathLike, season: str = "summer", s
     (xc,), (yc,) = warp_transform("EPSG:4326", crs, [lon], [lat])
     x0 = np.round((xc - n * res / 2) / res) * res
     y0 = np.round((yc + n * res / 2) / res) * res
-    transform = from_origin(x0, y0, res, res)
+    transform = north_up_transform(x0, y0, res, res)
     grid = SceneGrid(transform, crs, (n, n))
     layout = _Layout()
 
@@ -387,7 +386,7 @@ def write_synthetic_port(directory: str | os.PathLike, season: str = "summer", s
     lat_min, lat_max = np.floor(min(lats) / arcsec) * arcsec, np.ceil(max(lats) / arcsec) * arcsec
     dem_w = int(round((lon_max - lon_min) / arcsec))
     dem_h = int(round((lat_max - lat_min) / arcsec))
-    dem_t = from_origin(lon_min, lat_max, arcsec, arcsec)
+    dem_t = north_up_transform(lon_min, lat_max, arcsec, arcsec)
     dlon = lon_min + (np.arange(dem_w) + 0.5) * arcsec
     dlat = lat_max - (np.arange(dem_h) + 0.5) * arcsec
     glon, glat = np.meshgrid(dlon, dlat)
