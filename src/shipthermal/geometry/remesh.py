@@ -26,7 +26,7 @@ from ..errors import InputError, check_positive, require
 from .parts import face_areas, signed_volume, split_at_waterline
 
 __all__ = ["refine_surface", "tetwild_surface", "surface_quality", "flip_coplanar_edges",
-           "remesh_ship", "build_ship_mesh"]
+           "collapse_short_edges", "remesh_ship", "build_ship_mesh"]
 
 
 def surface_quality(vertices: np.ndarray, faces: np.ndarray) -> dict:
@@ -138,6 +138,104 @@ def flip_coplanar_edges(vertices, faces, face_part, max_passes: int = 30,
         f[f2[chosen]] = np.stack([d[chosen], b[chosen], c[chosen]], 1)
         n_flips += len(chosen)
     return f, n_flips
+
+
+def collapse_short_edges(vertices, faces, face_part, min_length: float, plane_tol: float,
+                         max_passes: int = 5):
+    """Remove edges shorter than ``min_length`` [m] where that changes no geometry.
+
+    Vertex ``q`` is moved onto its neighbour ``p`` only if ``p`` lies (within ``plane_tol``
+    [m]) in the plane of every triangle around ``q`` that survives, no triangle flips or
+    degenerates, the collapse keeps the surface manifold (link condition), and part
+    boundaries stay where they are (across a part boundary only along a straight boundary
+    line). Areas, volume, part areas and closedness are therefore unchanged; the slivers a
+    boolean leaves where two grids meet (short edges along the intersection lines) go.
+
+    Returns ``(vertices, faces, face_part, n_collapsed)`` with unused vertices removed.
+    """
+    v = np.asarray(vertices, float)
+    f = np.array(faces, dtype=np.int64, copy=True)
+    lab = np.array(face_part, copy=True)
+    alive = np.ones(len(f), bool)
+    n_done = 0
+    for _ in range(max_passes):
+        e = np.sort(np.concatenate([f[alive][:, [0, 1]], f[alive][:, [1, 2]], f[alive][:, [2, 0]]]), axis=1)
+        e = np.unique(e, axis=0)
+        length = np.linalg.norm(v[e[:, 0]] - v[e[:, 1]], axis=1)
+        cand = e[length < min_length]
+        cand = cand[np.argsort(length[length < min_length])]
+        if len(cand) == 0:
+            break
+        # vertex -> alive faces (CSR)
+        ids = np.flatnonzero(alive)
+        fv = f[ids].ravel()
+        order = np.argsort(fv, kind="stable")
+        starts = np.searchsorted(fv[order], np.arange(len(v) + 1))
+        owner = np.repeat(ids, 3)[order]
+        def faces_of(x):
+            return owner[starts[x]:starts[x + 1]]
+        locked = np.zeros(len(v), bool)
+        done_pass = 0
+        for p0, q0 in cand:
+            if locked[p0] or locked[q0]:
+                continue
+            for p, q in ((p0, q0), (q0, p0)):
+                fq = [F for F in faces_of(q) if alive[F]]
+                fp = [F for F in faces_of(p) if alive[F]]
+                shared = [F for F in fq if p in f[F]]
+                if len(shared) != 2:
+                    break
+                others = [F for F in fq if F not in shared]
+                opp = {int(x) for F in shared for x in f[F] if x != p and x != q}
+                nq = {int(x) for F in fq for x in f[F]} - {q}
+                np_ = {int(x) for F in fp for x in f[F]} - {p}
+                if (nq & np_) != opp:
+                    continue
+                ok = True
+                for F in others:
+                    a, b, c = v[f[F]]
+                    n = np.cross(b - a, c - a)
+                    nn = np.linalg.norm(n)
+                    if nn == 0 or abs(np.dot(n / nn, v[p] - v[q])) > plane_tol:
+                        ok = False
+                        break
+                    tri = np.where(f[F] == q, p, f[F])
+                    a2, b2, c2 = v[tri]
+                    n2 = np.cross(b2 - a2, c2 - a2)
+                    if np.dot(n2, n) <= 1e-3 * nn * nn:
+                        ok = False
+                        break
+                if not ok:
+                    continue
+                labels_q = {int(lab[F]) for F in fq}
+                if len(labels_q) > 1:
+                    if lab[shared[0]] == lab[shared[1]] or len(labels_q) > 2:
+                        continue
+                    # q's other boundary edge (q, r) must continue the line p-q.
+                    bnd = []
+                    for r in nq - {p}:
+                        fr = [F for F in fq if r in f[F]]
+                        if len(fr) == 2 and lab[fr[0]] != lab[fr[1]]:
+                            bnd.append(r)
+                    if len(bnd) != 1:
+                        continue
+                    d1, d2 = v[p] - v[q], v[bnd[0]] - v[q]
+                    if (np.linalg.norm(np.cross(d1, d2)) > plane_tol * np.linalg.norm(d2)
+                            or np.dot(d1, d2) >= 0):
+                        continue
+                for F in shared:
+                    alive[F] = False
+                for F in others:
+                    f[F] = np.where(f[F] == q, p, f[F])
+                locked[list(nq | np_ | {p, q})] = True
+                done_pass += 1
+                break
+        n_done += done_pass
+        if done_pass == 0:
+            break
+    f, lab = f[alive], lab[alive]
+    used, inv = np.unique(f, return_inverse=True)
+    return v[used], inv.reshape(-1, 3), lab, n_done
 
 
 def refine_surface(vertices, faces, face_part, edge_length: float):
