@@ -163,8 +163,7 @@ def view_factors(tracer, vertices, faces, rays_per_face: int = 256, seed: int = 
 
     n_sky = np.zeros(n_faces, np.int64)
     n_sea = np.zeros(n_faces, np.int64)
-    keys = []  # i * n_cols + j of every face-to-face ray, reduced per chunk
-    counts = []
+    blocks = []  # one CSR block of rows per chunk of faces (chunks are disjoint row ranges)
     face_chunk = max(1, int(chunk_rays) // k)
     with tqdm(total=n_faces * k, unit="ray", unit_scale=True, desc="view-factor rays",
               disable=(not progress) if progress is not None else None) as bar:
@@ -192,14 +191,12 @@ def view_factors(tracer, vertices, faces, rays_per_face: int = 256, seed: int = 
             n_sea[idx] += np.bincount(src[to_sea] - start, minlength=len(idx))
             n_sky[idx] += np.bincount(src[to_sky] - start, minlength=len(idx))
             h = hit >= 0
-            key, cnt = np.unique(src[h] * n_cols + hit[h], return_counts=True)
-            keys.append(key)
-            counts.append(cnt)
+            # COO -> CSR sums the duplicate (i, j) pairs in linear time, no sort
+            blocks.append(sp.csr_matrix(
+                (np.ones(int(h.sum())), (src[h] - start, hit[h])), shape=(len(idx), n_cols)))
             bar.update(len(o))
 
-    key = np.concatenate(keys) if keys else np.zeros(0, np.int64)
-    cnt = np.concatenate(counts) if counts else np.zeros(0, np.int64)
-    F_faces = sp.csr_matrix((cnt / k, (key // n_cols, key % n_cols)), shape=(n_faces, n_cols))
+    F_faces = sp.vstack(blocks, format="csr") / k
     F_faces.sum_duplicates()
     F_sky = n_sky / k
     F_sea = n_sea / k
