@@ -17,7 +17,7 @@ def main(argv=None) -> None:
     ap.add_argument("--residual-scaling", default="constant", choices=["constant", "solar"])
     args = ap.parse_args(argv)
     bg = build_port_background(args.season, out_dir=args.out, seed=args.seed, size_px=args.size,
-                               residual_scaling=args.residual_scaling)
+                               residual_scaling=args.residual_scaling, progress=True)
     print("Sample separability (JM, eqs. 3-4)")
     print(format_jm_table(bg.classification.jm))
     print(json.dumps(bg.summary(), indent=2, default=str))

@@ -175,6 +175,12 @@ def _sun_sin_elevation(grid: SceneGrid, when_utc) -> np.ndarray:
     return np.sin(np.radians(el))
 
 
+def _tqdm(desc: str):
+    from tqdm import tqdm
+
+    return lambda it: tqdm(it, desc=desc, unit="h")
+
+
 def _check_met_covers_scene(met, grid: SceneGrid) -> None:
     """Kriging far outside the data only returns the mean: require the met grid to span the scene."""
     from rasterio.warp import transform as warp_transform
@@ -197,7 +203,7 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
                                 variogram_model: str = "spherical", krige_coarsen: int = 5,
                                 lst_method: str = "planck", dem_nodata: str = "error",
                                 residual_scaling: str = "constant", test_fraction: float = 0.5,
-                                seed: int = 0, out_dir=None, progress=None) -> PortBackground:
+                                seed: int = 0, out_dir=None, progress: bool = False) -> PortBackground:
     """Run the full background chain on real-format inputs.
 
     Parameters
@@ -233,6 +239,8 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     out_dir : path-like, optional
         Write GeoTIFFs, PNGs and CSVs there (:mod:`.outputs`); nothing is written unless the
         whole chain succeeded.
+    progress : bool
+        Show a tqdm progress bar over the hourly kriging.
 
     Returns
     -------
@@ -303,7 +311,7 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     x_met, y_met = met_points_on_grid(met.lat, met.lon, grid)
     values = met.temperature.reshape(met.temperature.shape[0], -1)
     baseline_utc, fits = krige_hourly(x_met, y_met, values, grid, model=variogram_model,
-                                      coarsen=krige_coarsen, progress=progress)
+                                      coarsen=krige_coarsen, progress=_tqdm("kriging") if progress else None)
     timings["kriging"] = time.perf_counter() - t1
 
     # --- eq. 15 on the overpass ---------------------------------------------------------------
