@@ -86,6 +86,8 @@ SUPERSTRUCTURE_LAYUP = superstructure_layup()
 _BY_MAIN = {"hull_wetted": HULL_LAYUP, "hull_dry": HULL_LAYUP, "hull": HULL_LAYUP,
             "deck": DECK_LAYUP, "superstructure": SUPERSTRUCTURE_LAYUP}
 
+HULL_ALIASES = ("hull_wetted", "hull_dry")
+
 ISO7547_INDOOR_C = {"winter": 22.0, "summer": 27.0}
 """ISO 7547:2002 indoor design air temperatures of ship accommodation [°C]."""
 
@@ -135,9 +137,6 @@ def default_layups(part_names: Sequence[str], overrides: Mapping | None = None,
         else:
             out[name] = _BY_MAIN[main]
     return out
-
-
-HULL_ALIASES = ("hull_wetted", "hull_dry")
 
 
 def compartment_temperatures(part_names: Sequence[str], overrides: Mapping | None = None,

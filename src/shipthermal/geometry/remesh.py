@@ -312,12 +312,13 @@ def tetwild_surface(vertices, faces, face_part, edge_length: float | None = None
     return nv, nf, labels, report
 
 
-def remesh_ship(ship, edge_length: float):
+def remesh_ship(ship, edge_length: float, improve: bool = True):
     """The ship at a target edge length [m].
 
     Built-in ships (``ship.parameters`` set) are regenerated at that size with the same
-    layups and compartment temperatures; user surfaces are refined by edge bisection and
-    the waterline split is redone exactly.
+    layups and compartment temperatures; user surfaces are refined by edge bisection, the
+    waterline split is redone exactly and (``improve``) slivers are cleaned up without
+    moving the surface.
     """
     check_positive("edge_length", edge_length, "m")
     if ship.parameters is not None:
@@ -331,6 +332,11 @@ def remesh_ship(ship, edge_length: float):
                        outer_medium=dict(ship.outer_medium))
     v, f, lab, _ = refine_surface(ship.vertices, ship.faces, ship.face_part, edge_length)
     v, f, lab, _ = split_at_waterline(v, f, lab, 0.0)
+    if improve:
+        # Geometry-preserving clean-up: collapses of short edges that move no surface, then
+        # flips inside flat regions (see the two functions).
+        v, f, lab, _ = collapse_short_edges(v, f, lab, 0.25 * edge_length, 1e-9 * ship.length)
+        f, _ = flip_coplanar_edges(v, f, lab, max_passes=4)
     return replace(ship, vertices=v, faces=f, face_part=lab, edge_length=float(edge_length))
 
 

@@ -834,11 +834,11 @@ def frigate_parameters(length: float = 132.0, beam: float = 15.0, draught: float
         sheer_bow=1.5, flare_deg=8.0, stem_rake_deg=30.0, bow_fraction=0.5, stern_fraction=0.35,
         transom_width=0.7, keel_rise=0.8, forefoot=0.3, section_mid=2.0, section_bow=1.6,
         blocks=tuple(default_blocks if blocks is None else blocks),
-        provenance=("Frigate of the size of the Type 054A Jiangkai II (134 m x 16 m x 5 m), the "
-                    "Type 23 Duke class (133 m x 16.1 m x 5.5 m incl. sonar dome) and FREMM "
-                    "(142-144 m x 19.7 m x 5 m), particulars as published in Jane's Fighting "
-                    "Ships; rounded to 132 m overall, 15 m beam, 4.5 m hull draught, 5 m "
-                    "freeboard amidships. Hull form and superstructure layout are generic."))
+        provenance=("Frigate of the size of the Type 054A Jiangkai II (about 134 m x 16 m x 5 m), "
+                    "the Type 23 Duke class (about 133 m x 16.1 m) and FREMM (about 142-144 m x "
+                    "19.7-20 m x 5 m), approximate published particulars (Jane's Fighting Ships, "
+                    "class articles); rounded to 132 m overall, 15 m beam, 4.5 m hull draught "
+                    "(no sonar dome), 5 m freeboard amidships. Hull form and superstructure layout are generic."))
 
 
 def frigate(edge_length: float | None = None, length: float = 132.0, beam: float = 15.0,
