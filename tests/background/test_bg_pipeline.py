@@ -197,3 +197,27 @@ def test_met_grid_not_covering_the_scene(port_files, tmp_path):
     ds.assign_coords(lon=ds.lon + 1.0).to_netcdf(tmp_path / "shifted.nc", engine="h5netcdf")
     with pytest.raises(InputError, match=r"met\.extent.*must cover the scene"):
         build_background_from_files(port_files.mtl_txt, port_files.dem, tmp_path / "shifted.nc", port_files.roi)
+
+
+def test_synthetic_port_has_the_described_features(summer):
+    # sea, harbour basin, piers, breakwater, buildings, vegetation, hills -- in the truth.
+    truth = summer[0].synthetic_truth
+    cls, z = truth["class_map"], truth["elevation"]
+    frac = np.bincount(cls.ravel(), minlength=5)[1:] / cls.size
+    assert 0.3 < frac[0] < 0.6 and frac[1] > 0.05 and frac[2] > 0.2 and frac[3] > 0.02
+    assert z.max() > 200 and z[cls == 1].max() == 0.0            # hills; sea at sea level
+    basin = truth["basin"]
+    assert basin.sum() > 1000 and (cls[basin] == 1).mean() > 0.99
+    n = cls.shape[0]
+    row_bw = int(0.66 * n)                                         # breakwater across the basin mouth
+    line = cls[row_bw, int(0.40 * n):int(0.68 * n)]
+    assert (line == 3).all() and (cls[row_bw + 3, int(0.40 * n):int(0.68 * n)] == 1).all()
+    pier_row = cls[int(0.5 * n), int(0.42 * n):int(0.74 * n)]
+    assert np.count_nonzero(np.diff((pier_row == 3).astype(int)) == 1) == 3   # three piers
+
+
+@pytest.mark.slow
+def test_default_coarse_kriging_matches_full_resolution_on_the_port():
+    a = build_port_background("summer", seed=1)
+    b = build_port_background("summer", seed=1, krige_coarsen=1)
+    assert np.abs(a.baseline - b.baseline).max() < 0.01

@@ -176,7 +176,8 @@ class _Layout:
         piers = (((u > 0.48) & (u < 0.50)) | ((u > 0.56) & (u < 0.58)) | ((u > 0.64) & (u < 0.66))) \
             & (v > 0.40) & (v < 0.58)
         breakwater = (v > 0.655) & (v < 0.665) & (u > 0.36) & (u < 0.70)
-        return land | piers | breakwater, basin & ~piers, piers | breakwater
+        sheltered = basin & (v < 0.655) & ~piers          # basin water inside the breakwater
+        return land | piers | breakwater, sheltered, piers | breakwater
 
     def elevation(self, u, v):
         land, _, structures = self.land(u, v)
