@@ -49,6 +49,12 @@ def main():
               f"min angle median {q['min_angle_median']:.1f}°, p1 {q['min_angle_p1']:.1f}°, "
               f"{100 * q['frac_min_angle_below_10']:.1f} % below 10°")
 
+    from shipthermal.geometry.ship import build_ship, frigate_parameters
+
+    t_raw, _ = timed(build_ship, frigate_parameters(), sizes[1], improve=False, repeat=2)
+    print(f"  of which sliver clean-up (collapses + flips) at {sizes[1]} m: "
+          f"{ships[sizes[1]][1] - t_raw:.2f} s (surface without it {t_raw:.2f} s)")
+
     coarse, t_gen_c, _ = ships[sizes[0]]
     fine, t_gen_f, _ = ships[sizes[1]]
     v = np.array(coarse.vertices)
