@@ -296,13 +296,8 @@ def check_surface(vertices, faces, units: str = "m", *, check_scale: bool = True
             raise InputError("faces", f"{int((dcount > 1).sum())} edges traversed twice in the same direction",
                              "triangle winding must be consistent (normals all outward)",
                              "Re-export with consistent normals, or pass fix_normals=True (reported)")
-        import trimesh
-
-        mesh = trimesh.Trimesh(v, f, process=False, validate=False)
-        before = f.copy()
-        trimesh.repair.fix_winding(mesh)
-        f = np.asarray(mesh.faces, np.int64)
-        report["flipped_faces"] = int(np.sum(np.any(f != before, axis=1)))
+        f, flipped = _fix_winding(f)
+        report["flipped_faces"] = int(flipped.sum())
     vol = signed_volume(v, f)
     if require_closed and vol < 0:
         if not fix_normals:
@@ -316,6 +311,55 @@ def check_surface(vertices, faces, units: str = "m", *, check_scale: bool = True
     report["signed_volume"] = float(vol)
     report["area"] = float(face_areas(v, f).sum())
     return v, f, lab, report
+
+
+def _fix_winding(f: np.ndarray):
+    """Make the winding consistent by breadth-first search over edge neighbours.
+
+    Each connected component keeps the orientation of its majority (fewest flips); the
+    caller then fixes the global sign from the signed volume. Returns the new faces and a
+    mask of flipped triangles.
+    """
+    from collections import deque
+
+    m = len(f)
+    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    face_of = np.tile(np.arange(m), 3)
+    key = np.sort(e, axis=1)
+    _, inv = np.unique(key, axis=0, return_inverse=True)
+    inv = inv.ravel()
+    order = np.argsort(inv, kind="stable")
+    starts = np.searchsorted(inv[order], np.arange(inv.max() + 2))
+    # same[i]: directed edge i runs the same way as its key (u < v).
+    same = e[:, 0] < e[:, 1]
+    flip = np.zeros(m, bool)
+    seen = np.zeros(m, bool)
+    for seed in range(m):
+        if seen[seed]:
+            continue
+        comp = [seed]
+        seen[seed] = True
+        queue = deque([seed])
+        while queue:
+            t = queue.popleft()
+            for k in range(3):
+                i = t + k * m
+                g = inv[i]
+                for j in order[starts[g]:starts[g + 1]]:
+                    u = face_of[j]
+                    if u == t or seen[u]:
+                        continue
+                    # Consistent neighbours traverse the shared edge in opposite directions.
+                    flip[u] = flip[t] ^ (same[i] == same[j])
+                    seen[u] = True
+                    comp.append(u)
+                    queue.append(u)
+        comp = np.asarray(comp)
+        if flip[comp].sum() * 2 > len(comp):
+            flip[comp] = ~flip[comp]
+    out = f.copy()
+    out[flip] = out[flip][:, ::-1]
+    return out, flip
 
 
 # ---------------------------------------------------------------------------------------
