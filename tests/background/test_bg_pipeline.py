@@ -221,3 +221,10 @@ def test_default_coarse_kriging_matches_full_resolution_on_the_port():
     a = build_port_background("summer", seed=1)
     b = build_port_background("summer", seed=1, krige_coarsen=1)
     assert np.abs(a.baseline - b.baseline).max() < 0.01
+
+
+def test_met_day_must_contain_the_overpass(port_files, tmp_path):
+    ds = xr.open_dataset(port_files.met).load()
+    ds.assign_coords(time=ds.time + np.timedelta64(1, "D")).to_netcdf(tmp_path / "nextday.nc", engine="h5netcdf")
+    with pytest.raises(InputError, match=r"met_grid\.time.*must lie within"):
+        build_background_from_files(port_files.mtl_txt, port_files.dem, tmp_path / "nextday.nc", port_files.roi)

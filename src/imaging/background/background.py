@@ -27,7 +27,7 @@ import numpy as np
 import pandas as pd
 from scipy.ndimage import binary_erosion
 
-from shipthermal.errors import InputError, require
+from shipthermal.errors import InputError, check_range, require
 
 from .classify import CLASS_NAMES, ClassificationResult, classify_scene, read_roi
 from .kriging import krige_hourly, met_points_on_grid
@@ -250,6 +250,7 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     require(residual_scaling in ("constant", "solar"), "residual_scaling", residual_scaling,
             "must be 'constant' or 'solar'")
     require(lst_method in ("planck", "taylor"), "lst_method", lst_method, "must be 'planck' or 'taylor'")
+    check_range("utc_offset_hours", utc_offset_hours, -12.0, 14.0, unit="h")
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
 
@@ -260,6 +261,7 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
             "the met file must carry sst(time) [K]: water pixels follow the SST cycle",
             "Add an hourly SST series (e.g. from OISST) to the NetCDF")
     overpass = np.datetime64(scene.mtl.acquired_utc.replace(tzinfo=None), "s")
+    sst_ov = met.interp_time(met.sst, overpass)      # also checks the met day contains the overpass
     if water_vapour is None:
         require(met.tcwv is not None, "met[tcwv]", "missing",
                 "needed for the LST atmosphere unless water_vapour= is given")
@@ -339,7 +341,6 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
 
     # --- hourly background ---------------------------------------------------------------------
     t1 = time.perf_counter()
-    sst_ov = met.interp_time(met.sst, overpass)
     if residual_scaling == "solar":
         sin_el = _sun_sin_elevation(grid, np.r_[met.times_utc, overpass])
         weight = np.clip(sin_el[:-1], 0, None) / max(sin_el[-1], 0.05)
