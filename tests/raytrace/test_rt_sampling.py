@@ -68,3 +68,17 @@ def test_distribution_moments():
     assert lam.min() >= -1e-12 and lam.sum(0).max() <= 1 + 1e-12
     spread = np.linalg.norm(tri[0] - centroid[0], axis=1).max()
     np.testing.assert_allclose(o.mean(0), centroid[0], atol=4 * spread / np.sqrt(n))
+
+
+def test_fused_frames_match_numpy_reference():
+    V, F = random_mesh(300, 4)
+    F[7] = [F[7, 0], F[7, 0], F[7, 1]]  # a zero-area face
+    normals, areas, _ = face_geometry(V, F)
+    t1, t2 = face_frames(V, F, normals)
+    v0, e1, e2, n, a, u1, u2 = _raygen.face_frames(V, F)
+    np.testing.assert_allclose(v0, V[F[:, 0]], atol=0)
+    np.testing.assert_allclose(e1, V[F[:, 1]] - V[F[:, 0]], atol=0)
+    np.testing.assert_allclose(e2, V[F[:, 2]] - V[F[:, 0]], atol=0)
+    for got, ref in ((n, normals), (a, areas), (u1, t1), (u2, t2)):
+        np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12)
+    assert a[7] == 0 and not n[7].any()

@@ -48,3 +48,57 @@ def face_rays(v0, e1, e2, normals, t1, t2, base, shift, face_idx, offset, with_d
                 for c in range(3):
                     dirs[r, c] = x * t1[i, c] + y * t2[i, c] + z * normals[i, c]
     return origins, dirs
+
+
+@njit(parallel=True, cache=True)
+def face_frames(vertices, faces):
+    """Corner v0, edges e1 = v1 - v0, e2 = v2 - v0, unit normal n = e1 × e2 / |e1 × e2|,
+    area, and tangents t1 (e1 made orthogonal to n, normalised), t2 = n × t1 of each face.
+
+    Fused version of :func:`.sampling.face_geometry` + :func:`.sampling.face_frames`;
+    zero-area faces get n = t1 = t2 = 0 as there.
+    """
+    m = faces.shape[0]
+    v0 = np.empty((m, 3))
+    e1 = np.empty((m, 3))
+    e2 = np.empty((m, 3))
+    n = np.zeros((m, 3))
+    t1 = np.zeros((m, 3))
+    t2 = np.zeros((m, 3))
+    area = np.empty(m)
+    for i in prange(m):
+        a = faces[i, 0]
+        b = faces[i, 1]
+        c = faces[i, 2]
+        for k in range(3):
+            v0[i, k] = vertices[a, k]
+            e1[i, k] = vertices[b, k] - vertices[a, k]
+            e2[i, k] = vertices[c, k] - vertices[a, k]
+        cx = e1[i, 1] * e2[i, 2] - e1[i, 2] * e2[i, 1]
+        cy = e1[i, 2] * e2[i, 0] - e1[i, 0] * e2[i, 2]
+        cz = e1[i, 0] * e2[i, 1] - e1[i, 1] * e2[i, 0]
+        twice = np.sqrt(cx * cx + cy * cy + cz * cz)
+        area[i] = 0.5 * twice
+        if twice <= 0.0:
+            continue
+        nx = cx / twice
+        ny = cy / twice
+        nz = cz / twice
+        n[i, 0] = nx
+        n[i, 1] = ny
+        n[i, 2] = nz
+        dot = e1[i, 0] * nx + e1[i, 1] * ny + e1[i, 2] * nz
+        ux = e1[i, 0] - dot * nx
+        uy = e1[i, 1] - dot * ny
+        uz = e1[i, 2] - dot * nz
+        un = np.sqrt(ux * ux + uy * uy + uz * uz)
+        ux /= un
+        uy /= un
+        uz /= un
+        t1[i, 0] = ux
+        t1[i, 1] = uy
+        t1[i, 2] = uz
+        t2[i, 0] = ny * uz - nz * uy
+        t2[i, 1] = nz * ux - nx * uz
+        t2[i, 2] = nx * uy - ny * ux
+    return v0, e1, e2, n, area, t1, t2

@@ -22,7 +22,7 @@ from tqdm.auto import tqdm
 
 from shipthermal.errors import require
 from shipthermal.raytrace import _raygen
-from shipthermal.raytrace.sampling import face_geometry, unit_samples
+from shipthermal.raytrace.sampling import unit_samples
 
 __all__ = ["ReceiverPlane", "SunLit", "sun_lit_fraction", "shadow_area_on_plane",
            "lit_rays"]
@@ -132,12 +132,11 @@ def lit_rays(tracer, vertices, faces, samples_per_face: int = 16, seed: int = 0)
     require(int(samples_per_face) >= 1, "samples_per_face", samples_per_face, "must be >= 1")
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces)
-    normals, _, _ = face_geometry(vertices, faces)
     base, shift = unit_samples(len(faces), int(samples_per_face), 2, seed)
-    tri = vertices[faces]
-    # fused numba version of sampling.triangle_points (the tests compare the two)
-    pts, _ = _raygen.face_rays(tri[:, 0], tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0],
-                               normals, normals, normals, base, shift,
+    # fused numba versions of sampling.face_geometry and triangle_points (tests compare)
+    v0, e1, e2, normals, _, t1, t2 = _raygen.face_frames(
+        np.ascontiguousarray(vertices), np.ascontiguousarray(faces, dtype=np.int64))
+    pts, _ = _raygen.face_rays(v0, e1, e2, normals, t1, t2, base, shift,
                                np.arange(len(faces)), float(tracer.offset), False)
     return pts.reshape(len(faces), int(samples_per_face), 3), normals
 
