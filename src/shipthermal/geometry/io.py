@@ -15,6 +15,8 @@ The surface must be a closed, consistently wound triangulation with outward norm
 * watertightness — open edges (gaps, a missing face) and edges shared by more than two
   triangles; ``repair='tetwild'`` remeshes through pytetwild instead (area and volume
   change reported);
+* self-intersections — e.g. overlapping solids exported without a union: error, or
+  ``repair='tetwild'``;
 * orientation — inconsistent winding or inward normals (signed volume < 0): error, or
   fixed with ``fix_normals=True`` (reported).
 
@@ -206,7 +208,8 @@ def _check_scale(v: np.ndarray, units: str) -> None:
 
 def check_surface(vertices, faces, units: str = "m", *, check_scale: bool = True,
                   clean: bool = False, fix_normals: bool = False, require_closed: bool = True,
-                  face_part: np.ndarray | None = None, allow_nonmanifold: bool = False):
+                  face_part: np.ndarray | None = None, allow_nonmanifold: bool = False,
+                  check_intersections: bool = True):
     """Check (and on request clean / re-orient) a ship surface.
 
     Parameters
@@ -228,6 +231,9 @@ def check_surface(vertices, faces, units: str = "m", *, check_scale: bool = True
     allow_nonmanifold : bool
         Accept edges shared by more than two triangles (the boundary of a tetrahedral
         mesh can touch itself along an edge); they are counted in the report.
+    check_intersections : bool
+        Reject self-intersecting surfaces (edges piercing triangles, found with Embree
+        ray casts; coplanar overlaps are not detected).
 
     Returns
     -------
@@ -286,6 +292,20 @@ def check_surface(vertices, faces, units: str = "m", *, check_scale: bool = True
                          "the ship surface (hull + deck + superstructure) must be closed (watertight)",
                          "Close the gap in CAD, or pass repair='tetwild' to remesh it robustly "
                          "(pytetwild closes gaps; the change in area and volume is reported)")
+
+    if require_closed and check_intersections:
+        from ..mesh import find_self_intersections
+
+        pairs = find_self_intersections(v, f, max_report=1)
+        report["self_intersections_found"] = int(len(pairs) > 0)
+        if len(pairs):
+            i, j = (int(x) for x in pairs[0])
+            where = v[f[i]].mean(axis=0)
+            raise InputError("surface", f"triangles {i} and {j} cross near (x, y, z) = "
+                             f"({where[0]:.3f}, {where[1]:.3f}, {where[2]:.3f}) m",
+                             "the ship surface must not intersect itself (overlapping solids "
+                             "exported without a boolean union, or a folded face)",
+                             "Unite the solids in CAD, or pass repair='tetwild' (reported)")
 
     # Orientation: consistent winding (each interior edge once in each direction), outward.
     directed = f[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
