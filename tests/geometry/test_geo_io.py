@@ -221,3 +221,15 @@ def test_overlapping_solids_rejected_then_united_by_repair(tmp_path):
     assert r["volume_before"] == pytest.approx(9600.0, rel=1e-12)
     assert r["volume_after"] == pytest.approx(8100.0, rel=1e-2)
     assert u.signed_volume == pytest.approx(r["volume_after"], rel=1e-9)
+
+
+def test_json_part_map_carries_layups_and_temperatures(tmp_path):
+    s = frigate(3.0).with_layups({"deck": [("mild_steel", 0.008, 2)]}).with_compartment_temperature(
+        {"superstructure": 300.0})
+    write_ship(s, tmp_path)
+    u, _ = read_ship(tmp_path / "frigate.ply", units="m", part_map=tmp_path / "frigate_parts.json")
+    assert u.layups["deck"].thickness == pytest.approx(0.008)
+    assert u.layups["hull_dry"].thickness == pytest.approx(s.layups["hull_dry"].thickness)
+    assert u.compartment_temperature["superstructure_mast"] == pytest.approx(300.0)
+    assert (u.face_outer_medium[u.part_mask("hull_wetted")] == "sea").all()
+    assert (u.face_outer_medium[~u.part_mask("hull_wetted")] == "air").all()

@@ -461,6 +461,14 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
             labels, names = read_part_map(cell_part, len(f), part_names or file_names)
         else:
             labels, names = read_part_map(part_map, len(f), part_names)
+            # A part-map JSON written by write_ship also carries layups and temperatures.
+            if isinstance(part_map, (str, os.PathLike)):
+                meta = json.loads(Path(part_map).read_text())
+                if layups is None and isinstance(meta.get("layups"), dict):
+                    layups = {k: [tuple(x) for x in val] for k, val in meta["layups"].items()}
+                if compartment_temperature is None and isinstance(
+                        meta.get("compartment_temperature_K"), dict):
+                    compartment_temperature = meta["compartment_temperature_K"]
         src_name = name or Path(source).stem
     for n in names:
         main_part(n)
@@ -571,7 +579,6 @@ def write_ship(ship: ShipGeometry, directory, stem: str | None = None) -> dict[s
     out["json"] = _atomic(directory / f"{stem}_parts.json",
                           lambda p: Path(p).write_text(json.dumps(meta, indent=1)))
     for n in ship.part_names:
-        pv_, pf = ship.part_surface(n) if n in ship.part_names else (None, None)
         sel = ship.faces[ship.face_part == ship.part_names.index(n)]
         used, inv = np.unique(sel, return_inverse=True)
         part = trimesh.Trimesh(ship.vertices[used], inv.reshape(-1, 3), process=False, validate=False)

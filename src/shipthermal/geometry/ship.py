@@ -160,6 +160,18 @@ class ShipGeometry:
         """Part name → main part name."""
         return {n: main_part(n) for n in self.part_names}
 
+    @property
+    def face_outer_medium(self) -> np.ndarray:
+        """What each triangle's outer side faces: ``'sea'`` or ``'air'`` (M,) str."""
+        table = np.array([self.outer_medium[n] for n in self.part_names])
+        return table[self.face_part]
+
+    @property
+    def face_compartment_temperature(self) -> np.ndarray:
+        """Air temperature behind each triangle (inside the ship) [K] (M,)."""
+        table = np.array([self.compartment_temperature[n] for n in self.part_names])
+        return table[self.face_part]
+
     def part_index(self, name: str) -> int:
         if name not in self.part_names:
             raise InputError("part", name, f"unknown part; parts are {', '.join(self.part_names)}")
