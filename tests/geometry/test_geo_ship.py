@@ -2,7 +2,6 @@
 
 import numpy as np
 import pytest
-import trimesh
 
 from shipthermal.geometry import (MAIN_PARTS, cargo_ship, frigate, main_part, patrol_boat)
 from shipthermal.geometry.parts import boundary_edges

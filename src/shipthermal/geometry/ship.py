@@ -24,7 +24,7 @@ Particulars and their provenance are in each builder's docstring and in
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from types import MappingProxyType
 from typing import Mapping, Sequence
 
