@@ -143,3 +143,16 @@ def test_superstructure_stands_on_the_deck(coarse_ships, k):
     assert sup[:, 2].min() >= s.freeboard - 1e-9
     deck = s.vertices[s.faces[s.part_mask("deck")]].reshape(-1, 3)
     assert deck[:, 2].min() == pytest.approx(s.freeboard, abs=1e-9)
+
+
+@pytest.mark.parametrize("length,beam,draught,freeboard", [
+    (120.0, 14.0, 4.0, 4.5), (140.0, 16.0, 5.0, 6.0), (130.0, 15.0, 4.5, 5.0)])
+def test_parameter_variations_stay_closed_and_exact(length, beam, draught, freeboard):
+    s = frigate(2.0, length=length, beam=beam, draught=draught, freeboard=freeboard)
+    assert s.is_watertight and s.signed_volume > 0
+    assert s.to_trimesh().is_winding_consistent
+    ext = np.ptp(s.vertices, axis=0)
+    assert ext[0] == pytest.approx(length, abs=1e-6) and ext[1] == pytest.approx(beam, abs=1e-6)
+    assert s.vertices[:, 2].min() == pytest.approx(-draught, abs=1e-9)
+    assert s.vertices[s.faces[s.part_mask("hull_wetted")], 2].max() <= 0.0
+    assert s.vertices[s.faces[s.part_mask("deck")], 2].min() == pytest.approx(freeboard, abs=1e-9)
