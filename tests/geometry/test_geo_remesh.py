@@ -112,8 +112,38 @@ def test_build_ship_mesh_remeshes_user_surface():
     for n, a in s.part_areas().items():
         assert g.patch_area[f"{n}:outer"] == pytest.approx(a, rel=1e-10)
     assert rep["n_surface_faces"] > s.n_faces
-    with pytest.raises(InputError, match="not implemented"):
-        build_ship_mesh(s, solid_parts=("superstructure_mast",))
+    with pytest.raises(InputError, match="unknown part"):
+        build_ship_mesh(s, solid_parts=("funnel",))
+
+
+def test_mixed_solid_mast_on_shell_ship():
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import connected_components
+
+    s = frigate(1.0)
+    g, rep = build_ship_mesh(s, solid_parts=("superstructure_mast",))
+    assert rep["kind"] == "mixed" and rep["n_tets"] > 100
+    # One connected conduction network (the mast is coupled to the bridge roof) whose
+    # two-point operator is symmetric with zero row sums (conservation), to round-off.
+    adj = sp.csr_matrix((np.ones(g.n_faces), (g.face_cells[:, 0], g.face_cells[:, 1])),
+                        shape=(g.n_cells, g.n_cells))
+    assert connected_components(adj, directed=False)[0] == 1
+    K = g.conduction_matrix
+    assert abs(K - K.T).max() == 0.0
+    assert abs(K @ np.ones(g.n_cells)).max() < 1e-9 * abs(K).max()
+    # Every rim edge couples each layer cell of its shell column (roof: 7 cells) to a tet.
+    roof_cells = sum(l.cells for l in s.layups["superstructure"].layers)
+    shell_tet_faces = np.sum((g.face_cells[:, 0] < rep["n_shell_cells"])
+                             != (g.face_cells[:, 1] < rep["n_shell_cells"]))
+    assert shell_tet_faces == rep["n_rim_edges"] * roof_cells
+    # The mast's outer patch matches its surface area within fTetWild's envelope (2 %),
+    # its cap faces the inside, and the shell parts keep their exact areas.
+    assert g.patch_area["superstructure_mast:outer"] == pytest.approx(
+        s.part_areas()["superstructure_mast"], rel=0.02)
+    assert "superstructure_mast:inner" in g.patch_names
+    assert g.patch_area["deck:outer"] == pytest.approx(s.part_areas()["deck"], rel=1e-12)
+    tets = g.cell_part == g.part_names.index("superstructure_mast")
+    assert np.all(g.cell_types[tets] == 10)
 
 
 @pytest.mark.slow

@@ -350,9 +350,10 @@ def build_ship_mesh(ship, edge_length: float | None = None, solid_parts: Sequenc
     edge_length : float, optional
         Target surface edge length [m]; default: as the ship is.
     solid_parts : sequence of str or 'all'
-        Parts meshed as solid tetrahedra instead of plate shells. Only ``()`` (all shells)
-        or all parts (``'all'``: the whole closed ship becomes one tetrahedral solid, used
-        for verification) are supported: coupling shells to tets is not implemented.
+        Parts meshed as solid tetrahedra instead of plate shells. ``'all'``: the whole
+        closed ship becomes one tetrahedral solid (verification). A subset: tets for those
+        parts, shells for the rest, coupled along the rim where they meet
+        (:mod:`.mixed`).
     layups : mapping, optional
         Layup overrides for this mesh (otherwise ``ship.layups``).
 
@@ -391,10 +392,11 @@ def build_ship_mesh(ship, edge_length: float | None = None, solid_parts: Sequenc
         graph = _solid_ship_graph(ship, fvmesh)
         report["kind"] = "tetrahedral"
     else:
-        raise InputError("solid_parts", list(solid),
-                         "must be empty (all plate shells) or every part ('all'): coupling "
-                         "shell cells to tetrahedra of a subset of parts is not implemented",
-                         "Mesh the ship as shells, or declare solid_parts='all'")
+        from .mixed import mixed_ship_graph
+
+        graph, info = mixed_ship_graph(ship, solid, fvmesh)
+        report["kind"] = "mixed"
+        report.update(info)
     report["seconds_graph"] = time.perf_counter() - t1
     report["n_cells"] = graph.n_cells
     report["cells_per_part"] = {n: int(c) for n, c in zip(
