@@ -4,7 +4,7 @@ import json
 
 import numpy as np
 import pytest
-from scipy.integrate import quad
+from scipy.integrate import quad, trapezoid
 from scipy.stats import multivariate_normal, norm
 from sklearn.metrics import cohen_kappa_score
 
@@ -42,7 +42,7 @@ def test_jm_correlated_2d_vs_numerical_integral():
     xx, yy = np.meshgrid(x, x)
     pts = np.dstack([xx, yy])
     f = np.sqrt(multivariate_normal(m1, c1).pdf(pts) * multivariate_normal(m2, c2).pdf(pts))
-    bc = np.trapezoid(np.trapezoid(f, x, axis=1), x)
+    bc = trapezoid(trapezoid(f, x, axis=1), x)
     assert jm_distance(m1, c1, m2, c2) == pytest.approx(2 * (1 - bc), abs=1e-6)
 
 
