@@ -8,9 +8,12 @@
   (possibly messy) surface, take the boundary of the tet mesh, and carry the parts over by
   the closest input triangle; reports the change of area and volume.
 * :func:`surface_quality` — edge lengths, aspect ratios and angles.
+* :func:`collapse_short_edges`, :func:`flip_coplanar_edges` — sliver clean-up that moves
+  no surface (areas, volume, part boundaries unchanged);
 * :func:`remesh_ship` / :func:`build_ship_mesh` — the same on a :class:`ShipGeometry`
   (built-in ships are regenerated at the target size), then the cell graph of
-  :mod:`shipthermal.mesh`.
+  :mod:`shipthermal.mesh`: shells, all tetrahedra, or solid parts as tetrahedra coupled
+  to the shells (:mod:`.mixed`).
 """
 
 from __future__ import annotations

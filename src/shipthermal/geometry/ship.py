@@ -40,7 +40,7 @@ __all__ = ["ShipGeometry", "ShipParameters", "Block", "build_ship", "frigate", "
            "cargo_ship", "BUILTIN_SHIPS", "DEFAULT_EDGE_LENGTH"]
 
 DEFAULT_EDGE_LENGTH = 0.5
-"""Default target surface edge length of the built-in frigate [m] (≈ 80 000 triangles)."""
+"""Default target surface edge length of the built-in frigate [m] (≈ 60 000 triangles)."""
 
 
 # ---------------------------------------------------------------------------------------
