@@ -222,14 +222,19 @@ def build_tet_graph(points, tets, material: str | Material | Sequence = "mild_st
     dp = np.abs(np.einsum("ij,ij->i", cen_f - centroid[f_own], n_f))
     dn = np.abs(np.einsum("ij,ij->i", centroid[f_nei] - cen_f, n_f))
     k_f = (dp + dn) / (dp / k_cell[f_own] + dn / k_cell[f_nei])
-    cos_c = np.maximum(cos, 0.05)  # guard for sliver tets; the correction restores the flux
-    g_f = k_f * area_f * cos_c / dlen
+    # Over-relaxed split S = E + t with E = |S|²/(S·e) e (Jasak 1996, §3.3.1.3): the implicit
+    # part grows as the face turns away from the centroid join, which keeps the deferred
+    # correction a contraction on skewed tets (the minimum-correction split diverged on
+    # pytetwild cubes with cos θ down to 0.45). Guard for slivers; the correction restores
+    # the flux.
+    cos_c = np.maximum(cos, 0.05)
+    g_f = k_f * area_f / (cos_c * dlen)
 
     bvec = cen_b - centroid[b_cell]
     blen = np.linalg.norm(bvec, axis=1)
     eb = bvec / blen[:, None]
     cos_b = np.maximum(np.einsum("ij,ij->i", normal_b, eb), 0.05)
-    g_b = k_cell[b_cell] * area_b * cos_b / blen
+    g_b = k_cell[b_cell] * area_b / (cos_b * blen)
 
     # Boundary patches.
     if isinstance(patches, str):
@@ -246,8 +251,8 @@ def build_tet_graph(points, tets, material: str | Material | Sequence = "mild_st
     correction = None
     if correct_nonorthogonality:
         grad = least_squares_gradient(centroid, np.stack([f_own, f_nei], 1), b_cell, cen_b)
-        face_kt = k_f[:, None] * (s_f - (area_f * cos_c)[:, None] * e)
-        bface_kt = k_cell[b_cell][:, None] * (s_b - (area_b * cos_b)[:, None] * eb)
+        face_kt = k_f[:, None] * (s_f - (area_f / cos_c)[:, None] * e)
+        bface_kt = k_cell[b_cell][:, None] * (s_b - (area_b / cos_b)[:, None] * eb)
         # Gradient at the face by linear interpolation along the centroid join.
         w = dn / (dp + dn)
         correction = NonOrthogonalCorrection(grad, w, face_kt, bface_kt)

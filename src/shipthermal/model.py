@@ -1,0 +1,263 @@
+"""The thermal model: a cell graph, its boundary conditions and the flux operators.
+
+Physics (per cell ``P`` of heat capacity ``C_P = ρ c V`` [J K-1])::
+
+    C_P dT_P/dt = Σ_faces G_f (T_N − T_P)            two-point conduction (operator K)
+                + Σ_faces k_f ∇T_f·(S_f − A_f cos θ e_f)  non-orthogonal correction (tets)
+                + Σ_bfaces Q_b                        boundary heat flows into the body
+
+Each boundary face ``b`` (area ``A``, cell-to-face conductance ``g``) carries a surface
+temperature ``T_s`` that satisfies its own energy balance (no heat is stored in a
+surface)::
+
+    g (T_P − T_s) − c_b + A q(T_s) = 0,
+    q(T_s) = q0 + h (T_fl − T_s) + ε L_in − e σ T_s⁴ + s_x                    [W m-2]
+
+with ``q0`` absorbed short-wave / prescribed flux, ``h``/``T_fl`` convection, ``ε L_in``
+absorbed long-wave, ``e = ε + Σ_j R_bj / A`` the emitting weight (own emission to the
+surroundings plus to other faces of a :class:`RadiativeExchange`), ``s_x = σ/A Σ_j R_bj
+T_j⁴`` the long-wave received from those faces and ``c_b`` the non-orthogonal part of the
+conduction flux at the face. The heat flow into the cell is then ``Q_b = A q(T_s)``. The
+balance is solved per face by Newton's method (the function is concave and decreasing in
+``T_s``, so Newton converges monotonically from any positive start), which makes T⁴ fully
+implicit: nothing is lagged across a time step. Its derivative gives the boundary part of
+the global Jacobian, ``∂Q_b/∂T_P = −A γ κ/(γ + κ)`` with ``γ = g/A``, ``κ = h + 4 e σ T_s³``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+import scipy.sparse as sp
+
+from .conditions import BoundaryCondition, FaceForcing, evaluate, fill
+from .errors import InputError, check_finite, require
+from .mesh.graph import CellGraph
+from .units import SIGMA
+
+__all__ = ["RadiativeExchange", "ThermalModel", "BoundaryState", "surface_balance",
+           "nonorthogonal_flows", "conduction_flows"]
+
+
+@dataclass(frozen=True, eq=False)
+class RadiativeExchange:
+    """Grey long-wave exchange between boundary faces (e.g. ship faces that see each other).
+
+    Parameters
+    ----------
+    bfaces : (k,) int array
+        Boundary-face indices of the exchanging faces.
+    area_exchange : (k, k) sparse matrix [m2]
+        ``R_ij = A_i ε_i ε_j F_ij`` (symmetric by reciprocity ``A_i F_ij = A_j F_ji``). The net
+        long-wave flow into face i is ``σ Σ_j R_ij (T_j⁴ − T_i⁴)`` [W]; with R symmetric the
+        exchange conserves energy exactly.
+    """
+
+    bfaces: np.ndarray
+    area_exchange: sp.csr_matrix
+
+    def __post_init__(self):
+        bf = np.asarray(self.bfaces, dtype=np.int64)
+        r = sp.csr_matrix(self.area_exchange, dtype=float)
+        require(bf.ndim == 1 and len(np.unique(bf)) == len(bf), "exchange.bfaces", bf.shape,
+                "must be a 1-D array of distinct boundary-face indices")
+        require(r.shape == (len(bf), len(bf)), "exchange.area_exchange", r.shape,
+                f"must be square with one row per exchanging face ({len(bf)})")
+        check_finite("exchange.area_exchange", r.data)
+        require(bool(np.all(r.data >= 0)), "exchange.area_exchange", float(r.data.min(initial=0)),
+                "entries A_i ε_i ε_j F_ij must be ≥ 0")
+        asym = abs(r - r.T).max() if r.nnz else 0.0
+        scale = abs(r).max() if r.nnz else 1.0
+        require(asym <= 1e-9 * scale, "exchange.area_exchange", f"asymmetry {asym:.3g} m2",
+                "must be symmetric (reciprocity A_i F_ij = A_j F_ji)",
+                "Impose reciprocity first (shipthermal.raytrace.symmetrize)")
+        r.setdiag(0.0)     # a flat face does not see itself; self-exchange is zero net anyway
+        r.eliminate_zeros()
+        object.__setattr__(self, "bfaces", bf)
+        object.__setattr__(self, "area_exchange", r)
+
+    @property
+    def row_sum(self) -> np.ndarray:
+        """``Σ_j R_ij`` per exchanging face [m2]."""
+        return np.asarray(self.area_exchange.sum(axis=1)).ravel()
+
+
+class ThermalModel:
+    """A cell graph with boundary conditions per patch and an initial temperature.
+
+    Parameters
+    ----------
+    graph : CellGraph
+    conditions : mapping patch name → boundary condition
+        Patches left out are adiabatic.
+    initial_temperature : float or (n_cells,) array [K]
+    exchange : RadiativeExchange, optional
+        Face-to-face long-wave exchange, solved implicitly with the rest.
+    heat_source : float, (n_cells,) array or f(t), optional
+        Volumetric heat source [W m-3] (e.g. machinery, or a manufactured solution).
+    """
+
+    def __init__(self, graph: CellGraph, conditions: Mapping[str, BoundaryCondition] | None = None,
+                 initial_temperature=293.15, exchange: RadiativeExchange | None = None,
+                 heat_source=None):
+        require(isinstance(graph, CellGraph), "graph", type(graph).__name__, "must be a CellGraph")
+        conditions = dict(conditions or {})
+        for name in conditions:
+            if name not in graph.patch_names:
+                import difflib
+
+                close = difflib.get_close_matches(name, graph.patch_names, n=1)
+                raise InputError(f"conditions[{name!r}]", name,
+                                 f"unknown patch; the graph has: {', '.join(graph.patch_names)}",
+                                 f"Did you mean {close[0]!r}?" if close else "")
+        t0 = np.asarray(initial_temperature, dtype=float)
+        if t0.ndim == 0:
+            t0 = np.full(graph.n_cells, float(t0))
+        require(t0.shape == (graph.n_cells,), "initial_temperature", t0.shape,
+                f"must be a number or one value per cell ({graph.n_cells})")
+        check_finite("initial_temperature", t0)
+        require(bool(np.all(t0 > 0)), "initial_temperature", float(t0.min()), "must be > 0 K")
+        if exchange is not None:
+            require(isinstance(exchange, RadiativeExchange), "exchange", type(exchange).__name__,
+                    "must be a RadiativeExchange")
+            require(exchange.bfaces.max(initial=-1) < graph.n_bfaces and exchange.bfaces.min(initial=0) >= 0,
+                    "exchange.bfaces", (int(exchange.bfaces.min()), int(exchange.bfaces.max())),
+                    f"must index boundary faces 0..{graph.n_bfaces - 1}")
+        self.graph = graph
+        self.heat_source = heat_source
+        self.conditions = conditions
+        self.initial_temperature = t0
+        self.exchange = exchange
+        self._patch_idx = {name: graph.patch_faces(name) for name in conditions}
+        # Check the conditions once at t = 0 so that a bad value fails before any solve.
+        self.forcing(0.0)
+        self.source(0.0)
+
+    def forcing(self, t: float) -> FaceForcing:
+        """Per-boundary-face forcing at time ``t`` [s]."""
+        f = FaceForcing.zeros(self.graph.n_bfaces)
+        for name, bc in self.conditions.items():
+            fill(f, self._patch_idx[name], bc, t, f"conditions[{name!r}]")
+        return f
+
+    def source(self, t: float) -> np.ndarray:
+        """Heat generated in each cell at time ``t`` [W]."""
+        g = self.graph
+        if self.heat_source is None:
+            return np.zeros(g.n_cells)
+        q = evaluate(self.heat_source, t, g.n_cells, "heat_source")
+        return q * g.cell_volume
+
+    @property
+    def has_sink(self) -> bool:
+        """True when some boundary can exchange heat with a fixed reference (needed for a
+        steady state)."""
+        f = self.forcing(0.0)
+        return bool(np.any(f.fixed) or np.any(f.h > 0) or np.any(f.emissivity > 0))
+
+
+@dataclass
+class BoundaryState:
+    """Boundary faces at one Newton iterate."""
+
+    temp_face: np.ndarray   # (b,) surface temperature [K]
+    flow: np.ndarray        # (b,) heat flow into the body [W]
+    conductance: np.ndarray  # (b,) −∂flow/∂T_cell [W K-1]
+
+
+def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarray,
+                    temp_guess: np.ndarray, correction_flow: np.ndarray | None = None,
+                    exchange: RadiativeExchange | None = None,
+                    exchange_temp: np.ndarray | None = None, tol: float = 1e-12,
+                    max_iterations: int = 60) -> BoundaryState:
+    """Solve every boundary face's energy balance for its surface temperature (see module
+    docstring) and return the flows into the cells and their derivatives.
+
+    Parameters
+    ----------
+    temp_cell : (n,) cell temperatures [K]
+    temp_guess : (b,) starting surface temperatures [K] (e.g. the previous iterate)
+    correction_flow : (b,) non-orthogonal conduction flow from the face into the cell ``c_b``
+        [W], lagged (None: zero)
+    exchange_temp : (b,) surface temperatures used for the radiation received from other
+        faces (lagged within the nonlinear iteration) [K]
+    """
+    area = graph.bface_area
+    g = graph.bface_conductance
+    tc = temp_cell[graph.bface_cell]
+    cb = np.zeros_like(area) if correction_flow is None else correction_flow
+    gamma = g / area
+    e = forcing.emissivity.copy()
+    a = forcing.q0 + forcing.h * forcing.temp_fluid + forcing.emissivity * forcing.longwave_in
+    if exchange is not None:
+        idx = exchange.bfaces
+        e[idx] += exchange.row_sum / area[idx]
+        tx4 = exchange_temp[idx] ** 4
+        a[idx] += SIGMA * (exchange.area_exchange @ tx4) / area[idx]
+    rhs = gamma * tc - cb / area + a          # f(T) = rhs − (γ + h) T − e σ T⁴
+    lin = gamma + forcing.h
+    es = e * SIGMA
+    radiating = es > 0
+    ts = np.where(radiating, np.maximum(temp_guess, 1.0), rhs / lin)
+    if radiating.any():
+        r_idx = np.flatnonzero(radiating)
+        t = ts[r_idx]
+        rr, ll, ee = rhs[r_idx], lin[r_idx], es[r_idx]
+        for _ in range(max_iterations):
+            t3 = t * t * t
+            f = rr - ll * t - ee * t3 * t
+            df = -ll - 4.0 * ee * t3
+            step = f / df
+            t = t - step
+            if np.max(np.abs(step)) <= tol * np.max(t):
+                break
+        else:
+            raise RuntimeError("surface energy balance did not converge "
+                               f"(max step {np.max(np.abs(step)):.3g} K)")
+        ts[r_idx] = t
+    kappa = forcing.h + 4.0 * es * ts ** 3
+    flow = area * (a - forcing.h * ts - es * ts ** 4)
+    cond = area * gamma * kappa / (gamma + kappa)
+    fixed = forcing.fixed
+    if fixed.any():
+        ts = np.where(fixed, forcing.temp_fixed, ts)
+        flow = np.where(fixed, g * (forcing.temp_fixed - tc) + cb, flow)
+        cond = np.where(fixed, g, cond)
+    return BoundaryState(ts, flow, cond)
+
+
+def conduction_flows(graph: CellGraph, temp_cell: np.ndarray) -> np.ndarray:
+    """Net two-point conductive heat flow into each cell, ``−K T`` [W].
+
+    Evaluated face by face from temperature *differences*, not as ``K @ T``: the products
+    ``G T`` of the matrix form carry a round-off of ~1e-16·G·T per cell (W-sized for stiff
+    plates at 300 K), which would show up as an energy imbalance; the flux form is
+    antisymmetric face by face, so interior flows cancel to round-off of the fluxes
+    themselves.
+    """
+    own, nei = graph.face_cells[:, 0], graph.face_cells[:, 1]
+    flux = graph.face_conductance * (temp_cell[nei] - temp_cell[own])   # into the owner
+    n = graph.n_cells
+    return np.bincount(own, flux, n) - np.bincount(nei, flux, n)
+
+
+def nonorthogonal_flows(graph: CellGraph, temp_cell: np.ndarray, temp_face: np.ndarray):
+    """Explicit non-orthogonal correction (deferred correction).
+
+    Returns
+    -------
+    cell_flow : (n,) net correction heat flow into each cell from interior faces [W]
+    bface_flow : (b,) correction flow from each boundary face into its cell ``c_b`` [W]
+    """
+    corr = graph.correction
+    n = graph.n_cells
+    grad = (corr.gradient @ np.concatenate([temp_cell, temp_face])).reshape(3, n).T
+    own, nei = graph.face_cells[:, 0], graph.face_cells[:, 1]
+    w = corr.face_weight[:, None]
+    grad_f = w * grad[own] + (1.0 - w) * grad[nei]
+    flux = np.einsum("ij,ij->i", corr.face_kt, grad_f)   # into the owner
+    cell_flow = np.bincount(own, flux, n) - np.bincount(nei, flux, n)
+    bface_flow = np.einsum("ij,ij->i", corr.bface_kt, grad[graph.bface_cell])
+    return cell_flow, bface_flow

@@ -1,0 +1,494 @@
+"""Implicit time stepping and steady state of a :class:`~shipthermal.model.ThermalModel`.
+
+Schemes (constant step Δt; ``T*`` the history, ``F(T, t) = −K T + Σ Q_b + S_corr`` the net
+heat flow into each cell)::
+
+    backward_euler   C (T¹ − T⁰)/Δt              = F(T¹, t¹)                  order 1
+    crank_nicolson   C (T¹ − T⁰)/Δt              = ½ F(T¹, t¹) + ½ F(T⁰, t⁰)   order 2
+    bdf2             C (3T² − 4T¹ + T⁰)/(2Δt)    = F(T², t²)                  order 2
+                     (first step backward Euler)
+
+Each step is a nonlinear system (T⁴ radiation, non-orthogonal and face-to-face exchange
+terms) solved by Newton's method with the exact boundary Jacobian (:mod:`.model`); the
+explicit parts (non-orthogonal correction, radiation received from other faces) are
+iterated to convergence inside the same loop, so the step is fully implicit. Convergence:
+the Jacobi-scaled residual ``max |R_i| / J_ii`` (an estimate of the next correction [K])
+and the change of the lagged surface temperatures are both below ``tolerance`` [K].
+
+Energy bookkeeping (every step)::
+
+    stored    = Σ C (a T^{n+1} − T*)        the scheme's own stored-energy change [J]
+    boundary  = Δt Σ_b [θ Q_b^{n+1} + (1 − θ) Q_b^n]    heat in through the boundary [J]
+
+Interior fluxes cancel pairwise, so ``stored − boundary = Δt Σ_i R_i``, the sum of the
+nonlinear residuals: at convergence it is at round-off level. For BDF2 the conserved
+stored quantity is ``Σ C (3T^{n+1} − T^n)/2``, which differs from ``Σ C T`` by half the
+last step's change (reported separately as ``stored_plain``).
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+
+from .errors import InputError, check_finite, check_positive, require
+from .linear import Anderson, choose_backend, make_preconditioner, pcg
+from .model import ThermalModel, conduction_flows, nonorthogonal_flows, surface_balance
+from .results import EnergyLog, Results
+
+__all__ = ["SCHEMES", "Simulation", "steady_state", "SimulationError"]
+
+SCHEMES = ("backward_euler", "crank_nicolson", "bdf2")
+
+
+class SimulationError(RuntimeError):
+    """The solve failed (NaN, no convergence): not a user input error."""
+
+
+@dataclass
+class _Timing:
+    forcing: float = 0.0
+    boundary: float = 0.0
+    assembly: float = 0.0
+    solve: float = 0.0
+    setup: float = 0.0
+    newton_iterations: int = 0
+    linear_iterations: int = 0
+    preconditioner_builds: int = 0
+
+    def as_dict(self) -> dict:
+        return dict(self.__dict__)
+
+
+@dataclass
+class _State:
+    time: float
+    step: int
+    temp: np.ndarray
+    temp_prev: np.ndarray | None
+    temp_face: np.ndarray
+    flow_face: np.ndarray          # boundary flows at ``time`` [W]
+    source: np.ndarray             # volumetric heat per cell at ``time`` [W]
+    cell_flow: np.ndarray          # net F(T, t) at ``time`` [W]
+    recorded_times: list = field(default_factory=list)
+    recorded_cell: list = field(default_factory=list)
+    recorded_face: list = field(default_factory=list)
+    recorded_flow: list = field(default_factory=list)
+    energy: dict = field(default_factory=lambda: {k: [] for k in EnergyLog.FIELDS})
+
+
+class Simulation:
+    """Time integration of a thermal model.
+
+    Parameters
+    ----------
+    model : ThermalModel
+    time_step : float
+        Δt [s], > 0.
+    stop_time : float
+        End of :meth:`run` [s] (clock of the boundary conditions).
+    start_time : float
+        Start [s].
+    scheme : {'backward_euler', 'crank_nicolson', 'bdf2'}
+    output_interval : float, optional
+        Record every this many seconds of the clock (a multiple of ``time_step``); default:
+        every step.
+    output_times : array_like, optional
+        Explicit record times [s] on the step grid (instead of ``output_interval``).
+    tolerance : float
+        Nonlinear convergence tolerance on the estimated temperature correction [K].
+    max_iterations : int
+        Newton iterations per step before :class:`SimulationError`.
+    linear_solver : {'auto', 'direct', 'amg'}
+        Preconditioner backend (:mod:`.linear`).
+    progress : bool
+        Show a tqdm progress bar.
+    """
+
+    def __init__(self, model: ThermalModel, time_step: float, stop_time: float,
+                 start_time: float = 0.0, scheme: str = "bdf2", output_interval: float | None = None,
+                 output_times=None, tolerance: float = 1e-9, max_iterations: int = 50,
+                 linear_solver: str = "auto", progress: bool = False):
+        require(isinstance(model, ThermalModel), "model", type(model).__name__,
+                "must be a ThermalModel")
+        check_positive("time_step", time_step, "s")
+        check_finite("start_time", start_time)
+        check_finite("stop_time", stop_time)
+        require(stop_time > start_time, "stop_time", stop_time, f"must be > start_time ({start_time} s)")
+        require(scheme in SCHEMES, "scheme", scheme, f"must be one of {SCHEMES}")
+        check_positive("tolerance", tolerance, "K")
+        self.model = model
+        self.graph = model.graph
+        self.dt = float(time_step)
+        self.start_time = float(start_time)
+        self.stop_time = float(stop_time)
+        self.scheme = scheme
+        self.tolerance = float(tolerance)
+        self.max_iterations = int(max_iterations)
+        self.backend = choose_backend(linear_solver, self.graph.n_cells, self.graph.kind)
+        self.progress = progress
+        self._output_interval = None
+        self._output_times = None
+        if output_times is not None:
+            ot = np.atleast_1d(np.asarray(output_times, dtype=float))
+            check_finite("output_times", ot)
+            k = (ot - self.start_time) / self.dt
+            require(bool(np.all(np.abs(k - np.round(k)) < 1e-6)), "output_times", ot,
+                    f"must lie on the step grid start_time + k·time_step (time_step {self.dt} s)")
+            self._output_times = np.round(k).astype(np.int64)
+        elif output_interval is not None:
+            check_positive("output_interval", output_interval, "s")
+            k = output_interval / self.dt
+            require(abs(k - round(k)) < 1e-9 and round(k) >= 1, "output_interval", output_interval,
+                    f"must be a whole multiple of time_step ({self.dt} s)")
+            self._output_interval = int(round(k))
+        self.timing = _Timing()
+        self._precond = None
+        self._precond_key = None
+        self._state = self._initial_state()
+
+    # ------------------------------------------------------------------ state --------------
+    def _initial_state(self) -> _State:
+        m = self.model
+        t0 = self.start_time
+        temp = m.initial_temperature.copy()
+        forcing = m.forcing(t0)
+        guess = temp[self.graph.bface_cell]
+        source = m.source(t0)
+        cell_flow, bstate = self._flows(temp, forcing, guess, converge=True)
+        st = _State(t0, 0, temp, None, bstate.temp_face, bstate.flow, source, cell_flow + source)
+        self._maybe_record(st, force=True)
+        return st
+
+    @property
+    def time(self) -> float:
+        """Current clock [s]."""
+        return self._state.time
+
+    @property
+    def temperature(self) -> np.ndarray:
+        """Current cell temperatures [K] (a copy)."""
+        return self._state.temp.copy()
+
+    @property
+    def face_temperature(self) -> np.ndarray:
+        """Current boundary-face surface temperatures [K] (a copy)."""
+        return self._state.temp_face.copy()
+
+    def _is_output_step(self, step: int) -> bool:
+        if self._output_times is not None:
+            return bool(np.any(self._output_times == step))
+        if self._output_interval is not None:
+            return step % self._output_interval == 0
+        return True
+
+    def _maybe_record(self, st: _State, force: bool = False) -> None:
+        if not (force and self._output_times is None) and not self._is_output_step(st.step):
+            return
+        if st.recorded_times and abs(st.recorded_times[-1] - st.time) < 1e-9:
+            return
+        st.recorded_times.append(st.time)
+        st.recorded_cell.append(st.temp.copy())
+        st.recorded_face.append(st.temp_face.copy())
+        st.recorded_flow.append(st.flow_face.copy())
+
+    # ----------------------------------------------------------- operators -----------------
+    def _flows(self, temp, forcing, face_guess, converge=False, corr_face=None):
+        """Net heat flow into each cell F(T) and the boundary state; with ``converge`` the
+        lagged parts (non-orthogonal, exchange) are iterated to a fixed point (used for the
+        initial state only, where no Newton loop runs)."""
+        g = self.graph
+        exch = self.model.exchange
+        tf = face_guess
+        for _ in range(200 if converge else 1):
+            cb = None
+            corr_cell = 0.0
+            if g.correction is not None:
+                corr_cell, cb = nonorthogonal_flows(g, temp, tf)
+            bs = surface_balance(g, forcing, temp, tf, cb, exch, tf)
+            change = np.max(np.abs(bs.temp_face - tf)) if len(tf) else 0.0
+            tf = bs.temp_face
+            if not converge or change < 1e-10 or (g.correction is None and exch is None):
+                break
+        flow = conduction_flows(g, temp) + np.bincount(g.bface_cell, bs.flow, g.n_cells) + corr_cell
+        return flow, bs
+
+    def _coefficients(self, first_step: bool):
+        """(a, θ) of the scheme for this step (BDF2 starts with a backward Euler step)."""
+        if self.scheme == "backward_euler" or (self.scheme == "bdf2" and first_step):
+            return 1.0, 1.0
+        if self.scheme == "crank_nicolson":
+            return 1.0, 0.5
+        return 1.5, 1.0
+
+    def _preconditioner(self, base_key, matrix):
+        if self._precond is None or self._precond_key != base_key:
+            t0 = time.perf_counter()
+            self._precond = make_preconditioner(matrix, self.backend)
+            self._precond_key = base_key
+            self.timing.setup += time.perf_counter() - t0
+            self.timing.preconditioner_builds += 1
+        return self._precond
+
+    # ------------------------------------------------------------------ step ---------------
+    def step(self) -> None:
+        """Advance one time step."""
+        st = self._state
+        g = self.graph
+        dt = self.dt
+        t_new = self.start_time + (st.step + 1) * dt
+        first = st.temp_prev is None
+        a, theta = self._coefficients(first)
+        cap = g.heat_capacity
+        if a == 1.0:
+            hist = st.temp
+        else:
+            hist = 2.0 * st.temp - 0.5 * st.temp_prev
+        explicit = (1.0 - theta) * st.cell_flow   # CN: the old-time half
+
+        t0 = time.perf_counter()
+        forcing = self.model.forcing(t_new)
+        source = self.model.source(t_new)
+        self.timing.forcing += time.perf_counter() - t0
+
+        # Initial guess: linear extrapolation (exact for linear-in-time solutions).
+        temp = st.temp.copy() if first else 2.0 * st.temp - st.temp_prev
+        face_lag = st.temp_face.copy()
+        diag_c = a * cap / dt
+        k_theta = theta * g.conduction_matrix
+        key = (dt, a, theta)
+        scale = None
+        converged = False
+        lagged = g.correction is not None or self.model.exchange is not None
+        accel = Anderson(5) if lagged else None
+        for it in range(self.max_iterations):
+            t1 = time.perf_counter()
+            cb = None
+            corr_cell = 0.0
+            if g.correction is not None:
+                corr_cell, cb = nonorthogonal_flows(g, temp, face_lag)
+            bs = surface_balance(g, forcing, temp, face_lag, cb, self.model.exchange, face_lag)
+            self.timing.boundary += time.perf_counter() - t1
+            t2 = time.perf_counter()
+            flow = (conduction_flows(g, temp)
+                    + np.bincount(g.bface_cell, bs.flow, g.n_cells) + corr_cell + source)
+            resid = cap / dt * (a * temp - hist) - theta * flow - explicit
+            jdiag_b = theta * np.bincount(g.bface_cell, bs.conductance, g.n_cells)
+            jac = k_theta + sp.diags(diag_c + jdiag_b)
+            jdiag = jac.diagonal()
+            lag_change = np.max(np.abs(bs.temp_face - face_lag)) if lagged else 0.0
+            face_lag = bs.temp_face
+            self.timing.assembly += time.perf_counter() - t2
+            est = np.max(np.abs(resid) / jdiag)
+            if not np.isfinite(est):
+                raise SimulationError(f"non-finite temperature at t = {t_new:.6g} s "
+                                      f"(step {st.step + 1}); reduce time_step or check the "
+                                      "boundary conditions")
+            if est <= self.tolerance and lag_change <= self.tolerance:
+                converged = True
+                break
+            t3 = time.perf_counter()
+            if scale is None:
+                # The preconditioner is built from the first Jacobian of a (dt, scheme) pair
+                # and reused while the Jacobian only drifts (boundary diagonal).
+                prec = self._preconditioner(key, jac)
+            delta, nit, rel = pcg(jac.tocsr(), -resid, prec.apply, rtol=1e-13, max_iterations=60)
+            if rel > 1e-10:
+                # The Jacobian has drifted too far from the preconditioner: rebuild once.
+                self._precond_key = None
+                prec = self._preconditioner(key, jac)
+                delta, nit2, rel = pcg(jac.tocsr(), -resid, prec.apply, rtol=1e-13,
+                                       max_iterations=200)
+                nit += nit2
+            elif nit > 20:
+                self._precond_key = None   # converged, but slowly: rebuild for the next step
+            self.timing.linear_iterations += nit
+            self.timing.solve += time.perf_counter() - t3
+            temp = temp + delta if accel is None else accel.update(temp, delta)
+            scale = 1
+        self.timing.newton_iterations += it + 1
+        if not converged:
+            raise SimulationError(f"Newton did not converge in {self.max_iterations} iterations "
+                                  f"at t = {t_new:.6g} s (correction estimate {est:.3g} K); "
+                                  "reduce time_step")
+        # Energy bookkeeping.
+        stored = float(np.sum(cap * (a * temp - hist)))
+        b_new = float(np.sum(bs.flow))
+        b_old = float(np.sum(st.flow_face))
+        boundary = dt * (theta * b_new + (1.0 - theta) * b_old)
+        src = dt * (theta * float(np.sum(source)) + (1.0 - theta) * float(np.sum(st.source)))
+        gross = dt * (theta * float(np.sum(np.abs(bs.flow))) + (1.0 - theta) * float(np.sum(np.abs(st.flow_face))))
+        e = st.energy
+        e["time"].append(t_new)
+        e["stored"].append(stored)
+        e["stored_plain"].append(float(np.sum(cap * (temp - st.temp))))
+        e["boundary"].append(boundary)
+        e["source"].append(src)
+        e["gross"].append(gross)
+        e["imbalance"].append(stored - boundary - src)
+        st.temp_prev = st.temp
+        st.temp = temp
+        st.temp_face = bs.temp_face
+        st.flow_face = bs.flow
+        st.source = source
+        st.cell_flow = flow
+        st.time = t_new
+        st.step += 1
+        self._maybe_record(st)
+
+    def run_until(self, end_time: float, progress: bool | None = None, desc: str = "thermal") -> None:
+        """Step until the clock reaches ``end_time`` (on the step grid) [s]."""
+        n = int(round((end_time - self._state.time) / self.dt))
+        require(n >= 0, "end_time", end_time, f"must be ≥ the current time {self._state.time} s")
+        show = self.progress if progress is None else progress
+        from tqdm.auto import tqdm
+
+        with tqdm(total=n, desc=desc, unit="step", disable=not show, leave=False) as bar:
+            for _ in range(n):
+                self.step()
+                bar.update(1)
+
+    def run(self, progress: bool | None = None) -> Results:
+        """Integrate to ``stop_time`` and return the results."""
+        self.run_until(self.stop_time, progress)
+        return self.results()
+
+    def results(self) -> Results:
+        """Everything recorded so far."""
+        st = self._state
+        return Results(
+            graph=self.graph, times=np.array(st.recorded_times),
+            cell_temperature=np.array(st.recorded_cell), face_temperature=np.array(st.recorded_face),
+            face_flow=np.array(st.recorded_flow),
+            energy=EnergyLog.from_lists(st.energy), scheme=self.scheme, time_step=self.dt,
+            timing=self.timing.as_dict(), backend=self.backend)
+
+    def clear_records(self) -> None:
+        """Forget recorded outputs and the energy log (e.g. after a spin-up)."""
+        st = self._state
+        st.recorded_times, st.recorded_cell, st.recorded_face, st.recorded_flow = [], [], [], []
+        st.energy = {k: [] for k in EnergyLog.FIELDS}
+
+    def record_now(self) -> None:
+        """Record the current state (whatever the output grid)."""
+        st = self._state
+        if st.recorded_times and abs(st.recorded_times[-1] - st.time) < 1e-9:
+            return
+        st.recorded_times.append(st.time)
+        st.recorded_cell.append(st.temp.copy())
+        st.recorded_face.append(st.temp_face.copy())
+        st.recorded_flow.append(st.flow_face.copy())
+
+    # ------------------------------------------------------------ checkpoints ---------------
+    def save_checkpoint(self, path) -> Path:
+        """Write the full state (and what was recorded) to ``path`` (.npz), atomically."""
+        st = self._state
+        path = Path(path)
+        arrays = dict(
+            time=st.time, step=st.step, temp=st.temp,
+            temp_prev=st.temp_prev if st.temp_prev is not None else np.zeros(0),
+            has_prev=st.temp_prev is not None, temp_face=st.temp_face, flow_face=st.flow_face,
+            source=st.source,
+            cell_flow=st.cell_flow, rec_times=np.array(st.recorded_times),
+            rec_cell=np.array(st.recorded_cell), rec_face=np.array(st.recorded_face),
+            rec_flow=np.array(st.recorded_flow),
+            signature=np.array([self.dt, self.start_time, SCHEMES.index(self.scheme),
+                                self.graph.n_cells, self.graph.n_bfaces], dtype=float),
+            **{f"energy_{k}": np.array(v) for k, v in st.energy.items()})
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp.npz")
+        os.close(fd)
+        try:
+            np.savez(tmp, **arrays)
+            os.replace(tmp, path)
+        finally:
+            if os.path.exists(tmp):
+                os.remove(tmp)
+        return path
+
+    def load_checkpoint(self, path) -> None:
+        """Continue from a checkpoint written by :meth:`save_checkpoint` of the same setup."""
+        with np.load(path) as d:
+            sig = d["signature"]
+            want = np.array([self.dt, self.start_time, SCHEMES.index(self.scheme),
+                             self.graph.n_cells, self.graph.n_bfaces], dtype=float)
+            if not np.allclose(sig, want):
+                raise InputError("checkpoint", str(path),
+                                 "was written by a different setup (time step, start, scheme or "
+                                 "mesh size differ)", "Start afresh without --resume")
+            st = _State(float(d["time"]), int(d["step"]), d["temp"].copy(),
+                        d["temp_prev"].copy() if bool(d["has_prev"]) else None,
+                        d["temp_face"].copy(), d["flow_face"].copy(), d["source"].copy(),
+                        d["cell_flow"].copy())
+            st.recorded_times = list(d["rec_times"])
+            st.recorded_cell = list(d["rec_cell"])
+            st.recorded_face = list(d["rec_face"])
+            st.recorded_flow = list(d["rec_flow"])
+            st.energy = {k: list(d[f"energy_{k}"]) for k in EnergyLog.FIELDS}
+        self._state = st
+
+
+def steady_state(model: ThermalModel, time: float = 0.0, tolerance: float = 1e-9,
+                 max_iterations: int = 100, linear_solver: str = "auto",
+                 max_change: float = 100.0) -> Results:
+    """Steady temperatures under the boundary conditions at ``time`` (Newton, damped so that
+    no cell moves by more than ``max_change`` K per iteration).
+
+    Needs a heat sink (a fixed, convective or radiative boundary): with adiabatic or
+    flux-only boundaries no steady state exists.
+    """
+    g = model.graph
+    if not model.has_sink:
+        raise InputError("conditions", "no fixed, convective or radiative boundary",
+                         "a steady state needs at least one boundary that exchanges heat with "
+                         "a reference temperature", "Add a FixedTemperature, Convection, "
+                         "Radiation or SurfaceBalance condition")
+    forcing = model.forcing(time)
+    source = model.source(time)
+    temp = model.initial_temperature.copy()
+    face = temp[g.bface_cell]
+    backend = choose_backend(linear_solver, g.n_cells, g.kind)
+    prec = None
+    accel = Anderson(5) if (g.correction is not None or model.exchange is not None) else None
+    for it in range(max_iterations):
+        cb = None
+        corr_cell = 0.0
+        if g.correction is not None:
+            corr_cell, cb = nonorthogonal_flows(g, temp, face)
+        bs = surface_balance(g, forcing, temp, face, cb, model.exchange, face)
+        lag = np.max(np.abs(bs.temp_face - face)) if g.n_bfaces else 0.0
+        face = bs.temp_face
+        flow = (conduction_flows(g, temp) + np.bincount(g.bface_cell, bs.flow, g.n_cells)
+                + corr_cell + source)
+        jac = (g.conduction_matrix + sp.diags(np.bincount(g.bface_cell, bs.conductance, g.n_cells))).tocsr()
+        est = np.max(np.abs(flow) / jac.diagonal())
+        if est <= tolerance and lag <= tolerance:
+            break
+        if prec is None:
+            prec = make_preconditioner(jac, backend)
+        delta, _, rel = pcg(jac, flow, prec.apply, rtol=1e-13, max_iterations=100)
+        if rel > 1e-10:
+            prec = make_preconditioner(jac, backend)
+            delta, _, rel = pcg(jac, flow, prec.apply, rtol=1e-13, max_iterations=300)
+        big = np.max(np.abs(delta))
+        if big > max_change:
+            delta *= max_change / big
+        temp = temp + delta if accel is None else accel.update(temp, delta)
+    else:
+        raise SimulationError(f"steady state did not converge in {max_iterations} iterations "
+                              f"(correction estimate {est:.3g} K)")
+    log = EnergyLog.from_lists({"time": [time], "stored": [0.0], "stored_plain": [0.0],
+                                "boundary": [float(np.sum(bs.flow))],
+                                "source": [float(np.sum(source))],
+                                "gross": [float(np.sum(np.abs(bs.flow)))],
+                                "imbalance": [-float(np.sum(bs.flow)) - float(np.sum(source))]})
+    return Results(graph=g, times=np.array([time]), cell_temperature=temp[None, :],
+                   face_temperature=face[None, :], face_flow=bs.flow[None, :], energy=log,
+                   scheme="steady", time_step=0.0, timing={"newton_iterations": it + 1},
+                   backend=backend)
