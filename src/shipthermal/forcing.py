@@ -1,0 +1,1046 @@
+"""Per-face boundary forcing of a ship for a periodic diurnal run.
+
+This module wires the environment (:mod:`shipthermal.environment`), the ray tracer
+(:mod:`shipthermal.raytrace`) and the ship (:mod:`shipthermal.geometry`) into boundary
+conditions in the solver's format (:mod:`shipthermal.conditions`, ``docs/SOLVER-API.md``).
+It adds no new physics kernel: it evaluates the published ones once, on a table of times
+of one design day, and serves them to the solver by interpolation.
+
+Data flow::
+
+    ship surface (outer boundary faces of the cell graph)
+        ├─ Embree: lit fraction per face and sun direction (cached per direction)
+        ├─ Embree: view factors F_sky, F_sea, F_ij (reciprocity imposed)
+    environment.at(table times)  ──►  tables (n_times, n_faces) of absorbed short-wave,
+                                      convection coefficients; scalar series of T_air,
+                                      L_down, sea long-wave, SST
+    ShipForcing.conditions()      ──►  {patch: SurfaceBalance / Convection} with f(t)
+    ShipForcing.radiative_exchange() ──► (bfaces, A_i ε_i ε_j F_ij) for RadiativeExchange
+
+Physics per outer face i (normal n_i, area A_i, solar absorptivity α_i, long-wave
+emissivity ε_i), at time t with sun direction s in the ship frame:
+
+* **absorbed short-wave** [W m-2]
+  ``q_i = α_i (E0_i + E1_i)`` with the incident irradiance
+  ``E0_i = DNI·max(n_i·s, 0)·lit_i + DHI·F_sky,i + SW_sea↑·F_sea,i``
+  (direct beam with traced self-shadowing; isotropic diffuse sky — the "isotropic sky"
+  model, Liu & Jordan 1963 — seen through the traced sky view factor; sea-reflected
+  short-wave as a Lambertian sea of radiosity SW_sea↑, reciprocity A_sea F_sea→i =
+  A_i F_i→sea) and the first diffuse bounce off other ship faces
+  ``E1_i = Σ_j F_ij (1 − α_j) E0_j`` (``ship_reflection=True``). The ship's shadow on the
+  sea is not subtracted from SW_sea↑.
+* **incident long-wave** from the environment ``L_env,i = F_sky,i L↓ + F_sea,i L_sea↑``.
+  ``L↓`` is the hemispherical downwelling flux on a horizontal surface; using it with the
+  sky view factor treats the sky radiance as isotropic. For vertical faces this is the
+  isotropic approximation: the real clear sky is brighter near the horizon, so vertical
+  faces receive somewhat more than ``F_sky L↓`` (a few to ~10 % of the sky part).
+* **long-wave exchange between ship faces** (grey, diffuse, one absorption): the pair
+  :meth:`ShipForcing.radiative_exchange` gives ``R_ij = A_i ε_i ε_j F_ij``. With it, the
+  surface balance must only carry the environment share of the face's emission, so
+  :meth:`ShipForcing.conditions` (``with_exchange=True``) sets the balance's emissivity to
+  ``ε_i (F_sky,i + F_sea,i)`` and its ``longwave_in`` to ``L_env,i / (F_sky,i + F_sea,i)``:
+  then ``ε_eff (L_in − σT⁴) + σ Σ_j R_ij (T_j⁴ − T_i⁴) / A_i`` is the face's net long-wave,
+  conserving energy between faces exactly (the part (1 − ε_j) of i's emission reflected
+  by j is taken to return to i). Without the exchange (``with_exchange=False``) the
+  other ship faces a face sees are replaced by black bodies at the air temperature.
+* **convection, air faces**: mixed forced + natural convection of
+  :func:`~shipthermal.environment.convection.h_exterior_air` (Churchill 1977, n = 3).
+  Forced: flat plate at the apparent wind at the face's height (true wind brought from
+  10 m to the centroid height by the neutral log profile, then the ship's velocity
+  subtracted); flow length = extent of the part's horizontal bounding box along the
+  apparent wind. Natural: per face tilt (``n_z``), plate height = the part's height,
+  ``A/P`` of the part's horizontal bounding box.
+* **convection, wetted faces**: :func:`~shipthermal.environment.convection.h_hull_water`
+  to sea water at the SST (ship speed + ``current_speed``, waterline length, draught);
+  no sun, no long-wave.
+* **inner faces**: convection to the compartment air ``ship.compartment_temperature``
+  per part, ISO 6946:2017 Annex C coefficients *including* the linearised interior
+  radiation ``ε 4σT_m³`` (interior radiation is not modelled otherwise), or a constant
+  ``interior_h``.
+
+Convection coefficients depend on the surface temperature (natural convection, film
+properties, the heat-flow direction of ISO 6946), which a boundary value f(t) cannot know.
+They are evaluated at a quasi-steady estimate of the surface temperature: the root of the
+face's energy balance with the heat capacity neglected and conduction through the part's
+layup to the compartment air (Newton, 4 steps). A thin plate follows that estimate within
+a few kelvin; natural convection scales as ΔT^(1/3), so the coefficients are insensitive
+to its error.
+
+Tables. Everything that varies per face and time is tabulated at the given ``times``
+(seconds after local midnight, one periodic design day) as ``(n_times, n_faces)`` arrays
+(float32 by default: 7 significant digits, far below the model's accuracy) and linearly
+interpolated between table times, with ``t`` folded modulo 86 400 s, so day k of a
+spin-up sees exactly day 0's forcing. Values are exact at the table times.
+"""
+
+from __future__ import annotations
+
+import time as _time
+from dataclasses import dataclass, field
+from typing import Callable, Mapping
+
+import numpy as np
+import pandas as pd
+import scipy.sparse as sp
+
+from .conditions import Convection, SurfaceBalance
+from .environment import Environment, to_ship_frame
+from .environment import convection as conv
+from .errors import InputError, check_range, require
+from .geometry.parts import MAIN_PARTS, main_part
+from .raytrace import make_tracer, sun_lit_fraction, view_factors
+from .raytrace.viewfactors import ViewFactors
+from .units import DAY, SIGMA
+
+__all__ = ["SOLAR_ABSORPTIVITY", "LONGWAVE_EMISSIVITY", "MAX_TABLE_GAP", "TracedShip",
+           "ShipForcing", "trace_ship", "build_ship_forcing", "part_values",
+           "quasi_steady_surface_temperature", "PeriodicTable"]
+
+SOLAR_ABSORPTIVITY: dict[str, float] = {
+    "hull_wetted": 0.70,
+    "hull_dry": 0.70,
+    "deck": 0.85,
+    "superstructure": 0.70,
+}
+"""Default solar (short-wave) absorptivity per main part [-].
+
+ASSUMPTION bracketed by a source: ASHRAE Handbook — Fundamentals (2017), ch. 18, sol-air
+temperature, takes α/h_o = 0.026 m² K W-1 for light-coloured and 0.052 for dark surfaces
+with h_o = 17 W m-2 K-1, i.e. α ≈ 0.45 (light) and α ≈ 0.9 (dark). Naval haze-grey topside
+paint is a medium grey: 0.70 (the hull below the waterline never sees the sun; its value
+is unused). Weather decks carry a dark-grey epoxy non-skid covering: 0.85, near the dark
+end. Fixed before any comparison with the paper's reference deck temperatures; override
+with ``absorptivity={...}`` when paint data are known. Low-solar-absorbance navy paints
+(US Navy since the 1990s) are lower.
+"""
+
+LONGWAVE_EMISSIVITY: dict[str, float] = {
+    "hull_wetted": 0.90,
+    "hull_dry": 0.90,
+    "deck": 0.90,
+    "superstructure": 0.90,
+}
+"""Default broadband (thermal, ~4–50 µm) hemispherical emissivity per main part [-].
+
+0.90: the hemispherical emissivity ISO 6946:2017 Annex C uses for ordinary building and
+painted surfaces (Incropera et al., 6th ed., Table A.11, lists 0.90–0.98 for paints, oil
+and acrylic, of all colours). The paper's §5 band emissivities (8–14 µm: hull 0.90, deck
+0.95, superstructure 0.88; 3–5 µm: 0.85 / 0.90 / 0.78) are for imaging; the broadband
+value is dominated by 6–30 µm, where paints are near-black, and the 8–14 µm values bracket
+0.90. Kirchhoff: the same value absorbs the incident long-wave.
+"""
+
+MAX_TABLE_GAP = 3600.0
+"""Largest allowed step between table times (with the wrap from the last to the first
+time of the next day) [s]: the sun moves 15° per hour, so linear interpolation of lit
+fractions across longer gaps would smear the shadows."""
+
+_T_SURFACE_NEWTON_STEPS = 4
+_MIN_DELTA_T_WATER = 0.1  # [K] natural convection in water needs some ΔT; below this it is noise
+_ROW_CHUNK_ELEMENTS = 1 << 21  # elements per vectorised block of (times × faces)
+
+
+# ---------------------------------------------------------------------------------------
+# Inputs
+# ---------------------------------------------------------------------------------------
+def part_values(part_names, defaults: Mapping[str, float], overrides, field_name: str,
+                low: float, high: float, low_open: bool = False) -> dict[str, float]:
+    """A value per part from per-main-part defaults and user overrides.
+
+    Parameters
+    ----------
+    part_names : sequence of str
+        Parts of the ship (``'superstructure_funnel'`` …).
+    defaults : mapping
+        Value per main part.
+    overrides : float or mapping or None
+        One number for every part, or ``{part: value}`` where a key may be a part, a main
+        part (applies to its sub-parts unless they are given too) or ``'hull'`` (both hull
+        parts).
+    field_name : str
+        Name used in error messages (``'absorptivity'``).
+    low, high : float
+        Allowed range [-].
+    low_open : bool
+        Exclude ``low``.
+
+    Returns
+    -------
+    dict
+        Part name → value.
+    """
+    if overrides is None:
+        overrides = {}
+    if not isinstance(overrides, Mapping):
+        check_range(field_name, overrides, low, high, low_open=low_open)
+        return {n: float(overrides) for n in part_names}
+    allowed = set(part_names) | set(MAIN_PARTS) | {"hull"}
+    for key, value in overrides.items():
+        require(key in allowed, f"{field_name}[{key!r}]", key,
+                f"unknown part; parts are {', '.join(part_names)} (or a main part / 'hull')")
+        check_range(f"{field_name}[{key!r}]", value, low, high, low_open=low_open)
+    out = {}
+    for name in part_names:
+        main = main_part(name)
+        if name in overrides:
+            out[name] = float(overrides[name])
+        elif main in overrides:
+            out[name] = float(overrides[main])
+        elif main.startswith("hull") and "hull" in overrides:
+            out[name] = float(overrides["hull"])
+        else:
+            out[name] = float(defaults["hull_dry" if main == "hull" else main])
+    return out
+
+
+def _check_times(times) -> np.ndarray:
+    """Table times folded into [0, DAY), strictly increasing, covering the day."""
+    t = np.atleast_1d(np.asarray(times, dtype=float))
+    require(t.ndim == 1 and len(t) >= 2, "times", t,
+            "must be a 1-D array of at least two times [s after local midnight]")
+    check_range("times", t, 0.0, DAY, "s")
+    require(bool(np.all(np.diff(t) > 0)), "times", t, "must be strictly increasing")
+    if t[-1] == DAY:
+        # 86 400 s is midnight of the next day: the same instant as 0 after folding
+        t = t[:-1] if t[0] == 0.0 else np.concatenate([[0.0], t[:-1]])
+    gaps = np.diff(np.concatenate([t, [t[0] + DAY]]))
+    worst = int(np.argmax(gaps))
+    require(len(t) >= 2 and gaps[worst] <= MAX_TABLE_GAP, "times",
+            f"{len(t)} times, largest gap {gaps[worst]:.0f} s after t = {t[worst]:.0f} s",
+            f"must cover the whole day [0, 86400) s with gaps (also from the last time to "
+            f"the first time + 86400 s) of at most {MAX_TABLE_GAP:.0f} s",
+            "Pass e.g. times=numpy.arange(0, 86400, 600.0)")
+    return t
+
+
+# ---------------------------------------------------------------------------------------
+# Interpolation
+# ---------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class PeriodicTable:
+    """Linear interpolation in a periodic table of times.
+
+    Attributes
+    ----------
+    times : (n,) float
+        Strictly increasing times in [0, period) [s].
+    period : float
+        [s].
+    """
+
+    times: np.ndarray
+    period: float = DAY
+
+    def weights(self, t: float) -> tuple[int, int, float]:
+        """Rows ``i``, ``j`` and weight ``w`` with value(t) = (1 − w) row_i + w row_j.
+
+        ``t`` is folded modulo the period (``np.mod`` of floats is exact, so t and
+        t + k·period give the same rows and weight).
+        """
+        tf = float(np.mod(float(t), self.period))
+        tt = self.times
+        n = len(tt)
+        i = int(np.searchsorted(tt, tf, side="right")) - 1
+        if i < 0:  # before the first time: interval from the previous day's last time
+            i = n - 1
+            tf += self.period
+        j = i + 1
+        if j < n:
+            t_j = tt[j]
+        else:
+            j = 0
+            t_j = tt[0] + self.period
+        w = (tf - tt[i]) / (t_j - tt[i])
+        return i, j, w
+
+    def __call__(self, table: np.ndarray, t: float):
+        """Interpolate ``table`` (n, ...) at ``t`` (float64 result)."""
+        i, j, w = self.weights(t)
+        if w == 0.0:
+            return np.asarray(table[i], dtype=np.float64).copy() if np.ndim(table) > 1 \
+                else float(table[i])
+        a = np.asarray(table[i], dtype=np.float64)
+        b = np.asarray(table[j], dtype=np.float64)
+        out = a * (1.0 - w) + b * w
+        return out if out.ndim else float(out)
+
+
+# ---------------------------------------------------------------------------------------
+# Ray tracing (cached per sun direction)
+# ---------------------------------------------------------------------------------------
+@dataclass(eq=False)
+class TracedShip:
+    """The outer surface of a ship with its tracer, view factors and a lit-fraction cache.
+
+    Build it with :func:`trace_ship`. Reusable across environments (sensitivity runs): the
+    view factors do not depend on the environment and lit fractions are cached per sun
+    direction (same date and place ⇒ same directions, nothing is traced again).
+
+    Attributes
+    ----------
+    vertices : (N, 3) float [m]
+    faces : (K, 3) int
+        Outer triangles (right-hand normal points out of the ship).
+    receivers : (k,) int
+        Faces that receive sun (air faces); lit fractions are stored for these.
+    normals, areas, centroids : arrays
+        Per face [-], [m²], [m].
+    tracer : EmbreeTracer or NumbaTracer
+    view : ViewFactors
+        Over all K faces (reciprocity imposed); F_faces columns index ``faces``.
+    samples_per_face : int
+    seed : int
+    n_rays : dict
+        Rays traced so far: ``{'sun': …, 'view': …}``.
+    seconds : dict
+        Wall time spent [s]: ``{'build': …, 'sun': …, 'view': …}``.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    receivers: np.ndarray
+    normals: np.ndarray
+    areas: np.ndarray
+    centroids: np.ndarray
+    tracer: object
+    view: ViewFactors
+    samples_per_face: int
+    seed: int
+    n_rays: dict = field(default_factory=dict)
+    seconds: dict = field(default_factory=dict)
+    _lit: dict = field(default_factory=dict, repr=False)
+
+    @staticmethod
+    def _key(direction) -> tuple:
+        # 1e-12 of a unit vector: directions equal to round-off are one cache entry
+        return tuple(np.round(np.asarray(direction, dtype=float), 12) + 0.0)
+
+    def lit_fractions(self, sun_dirs, progress=None) -> np.ndarray:
+        """Lit fraction of each receiver for each sun direction, traced once per direction.
+
+        Parameters
+        ----------
+        sun_dirs : (n, 3) array_like
+            Unit vectors towards the sun in the ship frame [-]; directions below the horizon
+            give 0.
+        progress : bool, optional
+            tqdm bar for the rays traced.
+
+        Returns
+        -------
+        (n, k) float32
+            Lit fraction [-].
+        """
+        sun = np.atleast_2d(np.asarray(sun_dirs, dtype=float))
+        keys = [self._key(s) for s in sun]
+        missing = {}
+        for k, s in zip(keys, sun):
+            if k not in self._lit and k not in missing and s[2] > 0.0:
+                missing[k] = s
+        if missing:
+            t0 = _time.perf_counter()
+            res = sun_lit_fraction(self.tracer, self.vertices, self.faces[self.receivers],
+                                   np.array(list(missing.values())),
+                                   samples_per_face=self.samples_per_face, seed=self.seed,
+                                   sea_level_z=0.0, progress=progress)
+            for col, k in enumerate(missing):
+                self._lit[k] = res.face[:, col].astype(np.float32)
+            self.n_rays["sun"] = self.n_rays.get("sun", 0) + res.n_rays
+            self.seconds["sun"] = self.seconds.get("sun", 0.0) + _time.perf_counter() - t0
+        out = np.zeros((len(sun), len(self.receivers)), np.float32)
+        for row, k in enumerate(keys):
+            if k in self._lit:
+                out[row] = self._lit[k]
+        return out
+
+
+def _merge_triangles(tri: np.ndarray):
+    """(K, 3, 3) corner coordinates → shared vertices and faces (exact duplicates merged)."""
+    flat = tri.reshape(-1, 3)
+    verts, inv = np.unique(flat, axis=0, return_inverse=True)
+    return verts, inv.reshape(-1, 3).astype(np.int64)
+
+
+def trace_ship(vertices, faces, receivers=None, *, samples_per_face: int = 16,
+               rays_per_face: int = 256, seed: int = 0, backend: str = "auto",
+               progress=None) -> TracedShip:
+    """Build the tracer over a ship's outer surface and trace its view factors.
+
+    Parameters
+    ----------
+    vertices : (N, 3) array_like
+        Vertex coordinates in the ship frame (x bow, y port, z up, z = 0 the sea) [m].
+    faces : (K, 3) array_like of int
+        Outer triangles, normals out of the ship by the right-hand rule.
+    receivers : (k,) array_like of int, optional
+        Faces that receive sun (default: every face with its centroid above the sea).
+    samples_per_face : int
+        Sun-ray sample points per face.
+    rays_per_face : int
+        View-factor rays per face (binomial SE of a fraction F: sqrt(F(1−F)/rays)).
+    seed : int
+        Seed of every sample; results are a deterministic function of it.
+    backend : {'auto', 'embree', 'numba'}
+        Tracer (:func:`~shipthermal.raytrace.make_tracer`).
+    progress : bool, optional
+        tqdm bars.
+
+    Returns
+    -------
+    TracedShip
+    """
+    require(int(samples_per_face) >= 1, "samples_per_face", samples_per_face, "must be >= 1")
+    require(int(rays_per_face) >= 1, "rays_per_face", rays_per_face, "must be >= 1")
+    t0 = _time.perf_counter()
+    tracer = make_tracer(vertices, faces, backend=backend)
+    v, f = tracer.vertices, tracer.faces
+    tri = v[f]
+    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    twice = np.linalg.norm(cross, axis=1)
+    normals = cross / np.where(twice > 0, twice, 1.0)[:, None]
+    centroids = tri.mean(axis=1)
+    if receivers is None:
+        receivers = np.flatnonzero(centroids[:, 2] > 0.0)
+    receivers = np.asarray(receivers, dtype=np.int64)
+    t1 = _time.perf_counter()
+    view = view_factors(tracer, v, f, rays_per_face=int(rays_per_face), seed=int(seed),
+                        sea_level_z=0.0, reciprocity=True, progress=progress)
+    t2 = _time.perf_counter()
+    # rays started under the sea are not traced (they count as sea)
+    n_view = int(np.sum(centroids[:, 2] >= 0.0)) * int(rays_per_face)
+    return TracedShip(vertices=v, faces=f, receivers=receivers, normals=normals,
+                      areas=0.5 * twice, centroids=centroids, tracer=tracer, view=view,
+                      samples_per_face=int(samples_per_face), seed=int(seed),
+                      n_rays={"sun": 0, "view": n_view},
+                      seconds={"build": t1 - t0, "view": t2 - t1, "sun": 0.0})
+
+
+# ---------------------------------------------------------------------------------------
+# Quasi-steady surface temperature (for temperature-dependent coefficients)
+# ---------------------------------------------------------------------------------------
+def quasi_steady_surface_temperature(absorbed, emissivity, longwave_in, temp_air,
+                                     h_of_temperature: Callable, u_back, temp_back,
+                                     steps: int = _T_SURFACE_NEWTON_STEPS):
+    """Surface temperature balancing the face's fluxes with its heat capacity neglected.
+
+    Solves ``q + ε (L_in − σT⁴) + h(T) (T_air − T) + U (T_back − T) = 0`` by Newton steps
+    from ``T = T_air`` with ``h`` frozen in each derivative.
+
+    Parameters
+    ----------
+    absorbed : array_like
+        Absorbed short-wave [W m-2].
+    emissivity : array_like
+        Effective long-wave emissivity [-].
+    longwave_in : array_like
+        Incident long-wave irradiance [W m-2].
+    temp_air : array_like
+        Air (fluid) temperature [K].
+    h_of_temperature : callable
+        ``h(T_surface)`` [W m-2 K-1].
+    u_back : array_like
+        Conductance from the surface to ``temp_back`` (layup + inner film) [W m-2 K-1].
+    temp_back : array_like
+        Compartment air temperature [K].
+    steps : int
+        Newton steps.
+
+    Returns
+    -------
+    numpy.ndarray
+        Surface temperature [K].
+    """
+    q = np.asarray(absorbed, dtype=float)
+    eps = np.asarray(emissivity, dtype=float)
+    lw = np.asarray(longwave_in, dtype=float)
+    ta = np.asarray(temp_air, dtype=float)
+    u = np.asarray(u_back, dtype=float)
+    tb = np.asarray(temp_back, dtype=float)
+    temp = np.broadcast_to(ta, np.broadcast_shapes(q.shape, ta.shape)).astype(float)
+    for _ in range(steps):
+        h = h_of_temperature(temp)
+        f = q + eps * (lw - SIGMA * temp ** 4) + h * (ta - temp) + u * (tb - temp)
+        df = -4.0 * eps * SIGMA * temp ** 3 - h - u
+        temp = temp - f / df
+    return temp
+
+
+def _row_chunks(n_rows, n_cols):
+    step = max(1, _ROW_CHUNK_ELEMENTS // max(n_cols, 1))
+    for start in range(0, n_rows, step):
+        yield slice(start, min(n_rows, start + step))
+
+
+# ---------------------------------------------------------------------------------------
+# The forcing
+# ---------------------------------------------------------------------------------------
+@dataclass(eq=False)
+class _Patch:
+    name: str
+    part: str
+    kind: str            # 'air' | 'sea' | 'inner'
+    bfaces: np.ndarray   # boundary-face indices, graph.patch_faces order
+    cols: np.ndarray     # columns into the outer-face arrays (air/sea) or inner arrays
+
+
+@dataclass(eq=False)
+class ShipForcing:
+    """Precomputed per-face forcing of a ship for one periodic design day.
+
+    Build with :func:`build_ship_forcing`. All tables are indexed by table time (rows) and
+    by face in ``graph.patch_faces(patch)`` order (columns).
+
+    Attributes
+    ----------
+    times : (n,) float
+        Table times, seconds after local midnight in [0, 86400) [s].
+    table : PeriodicTable
+        The interpolator (t folded modulo 86 400 s).
+    outer_bfaces : (K,) int
+        Boundary faces of the outer patches (increasing); ``traced.faces[c]`` is the
+        triangle of ``outer_bfaces[c]``.
+    traced : TracedShip
+        Geometry, tracer, view factors, lit-fraction cache.
+    absorptivity, emissivity : dict
+        Per part [-].
+    alpha, epsilon : (K,) float
+        Per outer face [-].
+    temp_air, longwave_down, sea_longwave_up, temp_sea, h_water : (n,) float
+        Scalar series at the table times [K], [W m-2], [W m-2], [K], [W m-2 K-1].
+    seconds : dict
+        Wall time of each stage [s].
+    """
+
+    times: np.ndarray
+    table: PeriodicTable
+    outer_bfaces: np.ndarray
+    outer_part: np.ndarray
+    outer_is_air: np.ndarray
+    traced: TracedShip
+    part_names: tuple
+    absorptivity: dict
+    emissivity: dict
+    alpha: np.ndarray
+    epsilon: np.ndarray
+    temp_air: np.ndarray
+    longwave_down: np.ndarray
+    sea_longwave_up: np.ndarray
+    temp_sea: np.ndarray
+    h_water: np.ndarray
+    compartment_temperature: dict
+    patches: dict
+    _sw: dict          # patch -> (n, m) absorbed short-wave (air patches)
+    _h: dict           # patch -> (n, m) convection coefficient (air and inner patches)
+    _lit: np.ndarray   # (n, k) lit fraction of the receivers
+    inner_bfaces: np.ndarray
+    unforced_patches: tuple
+    sun_ship: np.ndarray
+    seconds: dict = field(default_factory=dict)
+
+    # ---- geometry and view factors per outer face -----------------------------------
+    @property
+    def F_sky(self) -> np.ndarray:
+        """Sky view factor per outer face [-]."""
+        return self.traced.view.F_sky
+
+    @property
+    def F_sea(self) -> np.ndarray:
+        """Sea view factor per outer face [-]."""
+        return self.traced.view.F_sea
+
+    @property
+    def F_ship(self) -> np.ndarray:
+        """View factor to other ship faces per outer face [-]."""
+        return np.asarray(self.traced.view.F_faces.sum(axis=1)).ravel()
+
+    @property
+    def n_rays(self) -> dict:
+        """Rays traced: sun and view factors."""
+        return dict(self.traced.n_rays)
+
+    # ---- time series -----------------------------------------------------------------
+    def _column_values(self, tables: dict, t: float, kind: str) -> np.ndarray:
+        out = np.zeros(len(self.outer_bfaces))
+        for name, p in self.patches.items():
+            if p.kind == kind and name in tables:
+                out[p.cols] = self.table(tables[name], t)
+        return out
+
+    def absorbed_shortwave(self, t: float) -> np.ndarray:
+        """Absorbed short-wave of every outer face at ``t`` [W m-2] (0 on wetted faces),
+        in ``outer_bfaces`` order."""
+        return self._column_values(self._sw, t, "air")
+
+    def convection_coefficient(self, t: float) -> np.ndarray:
+        """Convection coefficient of every outer face at ``t`` [W m-2 K-1] (air faces: to
+        the air, wetted faces: to the sea), in ``outer_bfaces`` order."""
+        out = self._column_values(self._h, t, "air")
+        sea = ~self.outer_is_air
+        out[sea] = self.table(self.h_water, t)
+        return out
+
+    def longwave_environment(self, t: float) -> np.ndarray:
+        """``F_sky L↓ + F_sea L_sea↑`` of every outer face at ``t`` [W m-2]."""
+        return (self.F_sky * self.table(self.longwave_down, t)
+                + self.F_sea * self.table(self.sea_longwave_up, t))
+
+    def lit_fraction(self, t: float) -> np.ndarray:
+        """Lit fraction of the sun-receiving faces (``traced.receivers``) at ``t`` [-],
+        linear in time between table times."""
+        return self.table(self._lit, t)
+
+    # ---- solver conditions -------------------------------------------------------------
+    def conditions(self, with_exchange: bool = True) -> dict:
+        """Boundary conditions ``{patch: SurfaceBalance | Convection}`` for the solver.
+
+        Parameters
+        ----------
+        with_exchange : bool
+            True when the model also gets :meth:`radiative_exchange` (the surface balance
+            then carries only the environment share of each face's emission, see the
+            module notes); False to replace the ship faces a face sees by black bodies at
+            the air temperature.
+
+        Returns
+        -------
+        dict
+            Values are numbers, per-face arrays or ``f(t)`` returning per-face arrays in
+            ``graph.patch_faces(patch)`` order (t in seconds after local midnight of day 0;
+            folded modulo 86 400 s).
+        """
+        out = {}
+        tab = self.table
+        t_air = self.temp_air
+        lw_down = self.longwave_down
+        lw_sea = self.sea_longwave_up
+        f_ship_all = self.F_ship
+        for name, p in self.patches.items():
+            if p.kind == "air":
+                c = p.cols
+                f_sky = self.F_sky[c].copy()
+                f_sea = self.F_sea[c].copy()
+                eps = self.epsilon[c].copy()
+                if with_exchange:
+                    env = f_sky + f_sea
+                    inv = np.divide(1.0, env, out=np.zeros_like(env), where=env > 0)
+                    w_sky, w_sea, w_ship = f_sky * inv, f_sea * inv, None
+                    eps_eff = eps * env
+                else:
+                    w_sky, w_sea, w_ship = f_sky, f_sea, f_ship_all[c].copy()
+                    eps_eff = eps
+
+                def longwave_in(t, w_sky=w_sky, w_sea=w_sea, w_ship=w_ship):
+                    lw = w_sky * tab(lw_down, t) + w_sea * tab(lw_sea, t)
+                    if w_ship is not None:
+                        lw = lw + w_ship * (SIGMA * tab(t_air, t) ** 4)
+                    return lw
+
+                sw = self._sw[name]
+                hh = self._h[name]
+                out[name] = SurfaceBalance(
+                    absorbed_shortwave=lambda t, sw=sw: tab(sw, t),
+                    emissivity=eps_eff,
+                    longwave_in=longwave_in,
+                    h=lambda t, hh=hh: tab(hh, t),
+                    temp_air=lambda t: tab(t_air, t))
+            elif p.kind == "sea":
+                out[name] = Convection(h=lambda t: tab(self.h_water, t),
+                                       temp_fluid=lambda t: tab(self.temp_sea, t))
+            else:
+                hh = self._h[name]
+                out[name] = Convection(h=lambda t, hh=hh: tab(hh, t),
+                                       temp_fluid=float(self.compartment_temperature[p.part]))
+        return out
+
+    def radiative_exchange(self):
+        """Face-to-face long-wave exchange for ``RadiativeExchange(bfaces, area_exchange)``.
+
+        Returns
+        -------
+        bfaces : (k,) int
+            Boundary-face indices of the outer faces that see at least one other face.
+        area_exchange : scipy.sparse.csr_matrix (k, k)
+            Symmetric, entries ``A_i ε_i ε_j F_ij`` [m²] (reciprocity imposed on the traced
+            F by :func:`~shipthermal.raytrace.symmetrize`, then averaged with its
+            transpose so it is symmetric to the last bit).
+        """
+        F = self.traced.view.F_faces.tocsr()
+        A = self.traced.view.areas
+        R = sp.diags(A * self.epsilon) @ F @ sp.diags(self.epsilon)
+        R = (0.5 * (R + R.T)).tocsr()
+        R.eliminate_zeros()
+        deg = np.asarray((R != 0).sum(axis=1)).ravel()
+        keep = np.flatnonzero(deg > 0)
+        R = R[keep][:, keep].tocsr()
+        R.sum_duplicates()
+        return self.outer_bfaces[keep].copy(), R
+
+    # ---- reporting ---------------------------------------------------------------------
+    def summary(self) -> pd.DataFrame:
+        """Forcing per part: area-weighted view factors, solar and convection figures.
+
+        Columns: ``medium``, ``faces``, ``area`` [m²], ``alpha``, ``epsilon`` [-],
+        ``F_sky``, ``F_sea``, ``F_ship`` (area means) [-], ``sw_peak_mean`` (largest
+        area-mean absorbed short-wave over the day) [W m-2], ``sw_peak_face`` (largest on
+        any face) [W m-2], ``sw_time_of_peak`` [h], ``sw_daily_mean`` [W m-2], ``h_mean``
+        (time and area mean, outer) [W m-2 K-1], ``h_inner_mean`` [W m-2 K-1],
+        ``temp_compartment`` [K]. ``DataFrame.attrs`` holds rays traced and timings.
+        """
+        A = self.traced.areas
+        rows = []
+        for part in self.part_names:
+            outer = [p for p in self.patches.values()
+                     if p.part == part and p.kind in ("air", "sea")]
+            inner = [p for p in self.patches.values() if p.part == part and p.kind == "inner"]
+            if not outer and not inner:
+                continue
+            row = dict(part=part, faces=0, area=0.0)
+            if outer:
+                cols = np.concatenate([p.cols for p in outer])
+                a = A[cols]
+                area = a.sum()
+                row.update(medium=outer[0].kind, faces=len(cols), area=float(area),
+                           alpha=self.absorptivity[part], epsilon=self.emissivity[part],
+                           F_sky=float(a @ self.F_sky[cols] / area),
+                           F_sea=float(a @ self.F_sea[cols] / area),
+                           F_ship=float(a @ self.F_ship[cols] / area))
+                air = [p for p in outer if p.kind == "air"]
+                if air:
+                    sw = np.concatenate([self._sw[p.name] for p in air], axis=1).astype(float)
+                    hh = np.concatenate([self._h[p.name] for p in air], axis=1).astype(float)
+                    ca = np.concatenate([p.cols for p in air])
+                    aa = A[ca]
+                    mean_t = sw @ aa / aa.sum()
+                    k = int(np.argmax(mean_t))
+                    row.update(sw_peak_mean=float(mean_t[k]), sw_peak_face=float(sw.max()),
+                               sw_time_of_peak=float(self.times[k] / 3600.0),
+                               sw_daily_mean=float(self._daily_mean(mean_t)),
+                               h_mean=float(self._daily_mean(hh @ aa / aa.sum())))
+                else:
+                    row.update(sw_peak_mean=0.0, sw_peak_face=0.0, sw_time_of_peak=np.nan,
+                               sw_daily_mean=0.0,
+                               h_mean=float(self._daily_mean(self.h_water)))
+            if inner:
+                hh = np.concatenate([self._h[p.name] for p in inner], axis=1).astype(float)
+                row["h_inner_mean"] = float(self._daily_mean(hh.mean(axis=1)))
+                row["temp_compartment"] = float(self.compartment_temperature[part])
+            rows.append(row)
+        df = pd.DataFrame(rows).set_index("part")
+        df.attrs["n_rays"] = self.n_rays
+        df.attrs["seconds"] = dict(self.seconds)
+        df.attrs["n_times"] = len(self.times)
+        df.attrs["unforced_patches"] = self.unforced_patches
+        return df
+
+    def _daily_mean(self, series) -> float:
+        """Time mean over the periodic day of a series at the table times (trapezoid)."""
+        t = np.concatenate([self.times, [self.times[0] + DAY]])
+        y = np.concatenate([series, series[:1]])
+        return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(t)) / DAY)
+
+    def report(self) -> str:
+        """The summary as text (one line per part) with ray counts and timings."""
+        df = self.summary()
+        with pd.option_context("display.width", 200, "display.max_columns", 30,
+                               "display.float_format", "{:.3f}".format):
+            text = df.to_string()
+        rays = ", ".join(f"{k} {v:,}" for k, v in self.n_rays.items())
+        secs = ", ".join(f"{k} {v:.2f} s" for k, v in self.seconds.items())
+        return f"{text}\nrays traced: {rays}\ntimings: {secs}"
+
+
+def _part_boxes(centroids, vertices_of_face, part_of_face, names):
+    """Per part: x, y extents of the horizontal bounding box and the height above the
+    sea of its faces [m]."""
+    out = {}
+    for k, name in enumerate(names):
+        sel = part_of_face == k
+        if not sel.any():
+            continue
+        pts = vertices_of_face[sel].reshape(-1, 3)
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        lo_z = max(lo[2], 0.0) if hi[2] > 0 else lo[2]
+        out[name] = (hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo_z)
+    return out
+
+
+def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
+                       samples_per_face: int = 16, rays_per_face: int = 256, seed: int = 0,
+                       absorptivity=None, emissivity=None, backend: str = "auto",
+                       progress=None, ship_reflection: bool = True,
+                       interior_h: float | None = None, interior_emissivity: float = 0.9,
+                       current_speed: float = 0.0, traced: TracedShip | None = None,
+                       dtype=np.float32) -> ShipForcing:
+    """Precompute the boundary forcing of every outer and inner face for a design day.
+
+    Parameters
+    ----------
+    ship : shipthermal.geometry.ShipGeometry
+        Parts, compartment temperatures, layups, length and draught (the graph's surface
+        is what is traced; the ship supplies the per-part data).
+    environment : shipthermal.environment.Environment
+        With periodic (design-day, 24 h) weather; its heading sets the ship frame.
+    graph : shipthermal.mesh.CellGraph
+        The solver's graph (shell, tet or mixed) with patches ``'{part}:outer'`` and
+        ``'{part}:inner'``; other patches are left unforced (listed in
+        ``ShipForcing.unforced_patches``).
+    times : array_like, optional
+        Table times in [0, 86400] [s after local midnight], strictly increasing, gaps ≤
+        :data:`MAX_TABLE_GAP` (wrap included). Default every 600 s. The solver may ask for
+        any t in between (linear interpolation) or on later days (folded).
+    samples_per_face : int
+        Sun-ray sample points per face (lit fraction resolution 1/samples_per_face).
+    rays_per_face : int
+        View-factor rays per face.
+    seed : int
+        Seed of all ray samples.
+    absorptivity : float or mapping, optional
+        Solar absorptivity per part [-] in [0, 1]; defaults :data:`SOLAR_ABSORPTIVITY`.
+    emissivity : float or mapping, optional
+        Long-wave emissivity per part [-] in (0, 1]; defaults :data:`LONGWAVE_EMISSIVITY`.
+    backend : {'auto', 'embree', 'numba'}
+        Ray tracer.
+    progress : bool, optional
+        tqdm bars for the ray tracing (None: only on a terminal).
+    ship_reflection : bool
+        Add the first diffuse bounce of short-wave off other ship faces.
+    interior_h : float, optional
+        Constant inner-face coefficient [W m-2 K-1]; default ISO 6946 Annex C with the
+        linearised interior radiation.
+    interior_emissivity : float
+        Emissivity of inner faces for that radiative part [-].
+    current_speed : float
+        Water speed past the hull besides the ship's own (tidal current) [m s-1].
+    traced : TracedShip, optional
+        Reuse the tracer, view factors and lit-fraction cache of an earlier build of the
+        same graph (sensitivity runs); ``samples_per_face``, ``rays_per_face``, ``seed``
+        and ``backend`` are then those of ``traced``.
+    dtype : numpy dtype
+        Storage of the per-face tables (float32 halves the memory; float64 for tests).
+
+    Returns
+    -------
+    ShipForcing
+    """
+    t_start = _time.perf_counter()
+    require(isinstance(environment, Environment), "environment", type(environment).__name__,
+            "must be a shipthermal.environment.Environment")
+    w = environment.weather
+    require(bool(w.periodic), "environment.weather.periodic", w.periodic,
+            "must be True: the forcing is one periodic design day",
+            "Use Environment.from_climate_day(...) or a Weather with periodic=True")
+    require(abs(len(w.time) * w.step - DAY) < 1e-6, "environment.weather.period",
+            len(w.time) * w.step, "must be 86400 s (one day)")
+    times = _check_times(np.arange(0.0, DAY, 600.0) if times is None else times)
+    check_range("current_speed", current_speed, 0.0, 10.0, "m/s")
+    check_range("interior_emissivity", interior_emissivity, 0.0, 1.0)
+    if interior_h is not None:
+        check_range("interior_h", interior_h, 0.0, 1000.0, "W m-2 K-1", low_open=True)
+
+    # ---- patches of the graph -----------------------------------------------------------
+    names = tuple(ship.part_names)
+    alpha_part = part_values(names, SOLAR_ABSORPTIVITY, absorptivity, "absorptivity", 0.0, 1.0)
+    eps_part = part_values(names, LONGWAVE_EMISSIVITY, emissivity, "emissivity", 0.0, 1.0,
+                           low_open=True)
+    is_outer = np.zeros(graph.n_bfaces, bool)
+    is_inner = np.zeros(graph.n_bfaces, bool)
+    patch_part = {}
+    unforced = []
+    for name in graph.patch_names:
+        part, _, side = name.rpartition(":")
+        if side not in ("outer", "inner") or not part:
+            unforced.append(name)
+            continue
+        require(part in names, f"graph patch {name!r}", part,
+                f"must name a part of the ship ({', '.join(names)})",
+                "Build the graph from this ship (geometry.build_ship_mesh(ship))")
+        patch_part[name] = (part, side)
+        (is_outer if side == "outer" else is_inner)[graph.patch_faces(name)] = True
+    outer_bfaces = np.flatnonzero(is_outer)
+    inner_bfaces = np.flatnonzero(is_inner)
+    require(len(outer_bfaces) > 0, "graph.patch_names", graph.patch_names,
+            "must contain '{part}:outer' patches")
+    part_index = {n: i for i, n in enumerate(names)}
+    bpart = np.full(graph.n_bfaces, -1)
+    for name, (part, _) in patch_part.items():
+        bpart[graph.patch_faces(name)] = part_index[part]
+    outer_part = bpart[outer_bfaces]
+    medium = np.array([ship.outer_medium[n] for n in names])
+    outer_is_air = medium[outer_part] == "air"
+
+    # ---- geometry: the outer triangles, wound along the graph's outward normals ---------
+    tri = graph.points[graph.bface_vertices[outer_bfaces]]
+    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    flip = np.einsum("ij,ij->i", cross, graph.bface_normal[outer_bfaces]) < 0
+    tri[flip] = tri[flip][:, ::-1]
+    if traced is None:
+        verts, faces = _merge_triangles(tri)
+        traced = trace_ship(verts, faces, np.flatnonzero(outer_is_air),
+                            samples_per_face=samples_per_face, rays_per_face=rays_per_face,
+                            seed=seed, backend=backend, progress=progress)
+    else:
+        require(isinstance(traced, TracedShip) and len(traced.faces) == len(outer_bfaces),
+                "traced", type(traced).__name__,
+                f"must be the TracedShip of this graph's {len(outer_bfaces)} outer faces")
+        require(np.allclose(traced.centroids, tri.mean(axis=1)), "traced", "centroids",
+                "must come from the same graph (outer face centroids differ)")
+    t_traced = _time.perf_counter()
+
+    # ---- environment at the table times, sun in the ship frame ---------------------------
+    state = environment.at(times)
+    sun = to_ship_frame(state.sun_vector, environment.ship_heading)
+    n_t, n_out = len(times), len(outer_bfaces)
+    air_cols = np.flatnonzero(outer_is_air)
+    sea_cols = np.flatnonzero(~outer_is_air)
+    require(np.array_equal(traced.receivers, air_cols), "traced.receivers", None,
+            "must be the air faces of this ship")
+    lit = traced.lit_fractions(np.where((state.zenith < 90.0)[:, None], sun, [0.0, 0.0, -1.0]),
+                               progress=progress)
+    t_sun = _time.perf_counter()
+
+    # ---- per-face constants -------------------------------------------------------------
+    alpha = np.array([alpha_part[n] for n in names])[outer_part]
+    eps = np.array([eps_part[n] for n in names])[outer_part]
+    F_sky, F_sea = traced.view.F_sky, traced.view.F_sea
+    a_, s_ = air_cols, sea_cols
+    part_box = _part_boxes(traced.centroids, tri, outer_part, names)
+    edge = float(np.sqrt(np.median(traced.areas) * 2.0))  # ≈ the mesh edge length [m]
+    lengths = {n: (max(bx, edge), max(by, edge), max(bz, edge),
+                   max(bx * by / (2.0 * (bx + by)), edge))
+               for n, (bx, by, bz) in part_box.items()}
+    lx, ly, lv, lh = (np.array([lengths.get(n, (edge,) * 4)[k] for n in names])[outer_part][a_]
+                      for k in range(4))
+    temp_comp_part = {n: float(ship.compartment_temperature[n]) for n in names}
+    temp_comp = np.array([temp_comp_part[n] for n in names])[outer_part]
+    # back-side conductance: layup conduction + the inner film (ISO 6946 horizontal heat
+    # flow, 2.5, plus its linearised radiation ε 4σT³)
+    h_in0 = interior_h if interior_h is not None else \
+        2.5 + interior_emissivity * 4.0 * SIGMA * temp_comp ** 3
+    r_layup = np.array([ship.layups[n].thermal_resistance for n in names])[outer_part]
+    u_back = 1.0 / (r_layup + 1.0 / h_in0)
+    # surface balance of the air faces against the environment share only: the other ship
+    # faces are at about the face's own temperature (their exchange nearly cancels)
+    share = (F_sky + F_sea)[a_]
+    inv_share = np.divide(1.0, share, out=np.zeros_like(share), where=share > 0)
+    nz_air = traced.normals[a_, 2]
+    z_air = np.maximum(traced.centroids[a_, 2], 0.0)
+    normals_air = traced.normals[a_]
+
+    # wetted hull: one coefficient per time (same length, draught and speed everywhere)
+    h_water = np.zeros(n_t)
+    temp_wet = np.asarray(state.temp_sea, float).copy()
+    if len(s_):
+        tsea = np.asarray(state.temp_sea, float)
+        tc = np.average(temp_comp[s_], weights=traced.areas[s_])
+        ub = np.average(u_back[s_], weights=traced.areas[s_])
+        temp_wet = tsea + 1.0
+        for _ in range(_T_SURFACE_NEWTON_STEPS):
+            dt = np.maximum(np.abs(temp_wet - tsea), _MIN_DELTA_T_WATER)
+            h_water = conv.h_hull_water(tsea + dt, tsea, environment.ship_speed, ship.length,
+                                        ship.draught, current_speed)
+            temp_wet = (h_water * tsea + ub * tc) / (h_water + ub)
+
+    # inner faces: their outer twin (whose estimated temperature sets ISO 6946's direction)
+    inner_part = bpart[inner_bfaces]
+    twin = np.zeros(0, np.int64)
+    if len(inner_bfaces):
+        n_surface = graph.metadata.get("n_surface_faces") if graph.metadata else None
+        if graph.kind == "shell" and n_surface is not None and \
+                np.all(inner_bfaces >= n_surface) and np.all(is_outer[inner_bfaces - n_surface]):
+            # shell graphs: inner face M + i belongs to surface triangle i = outer face i
+            twin = np.searchsorted(outer_bfaces, inner_bfaces - n_surface)
+        else:
+            from scipy.spatial import cKDTree
+
+            _, twin = cKDTree(traced.centroids).query(graph.bface_centroid[inner_bfaces])
+    temp_room = np.array([temp_comp_part[n] for n in names])[inner_part] if len(inner_part) \
+        else np.zeros(0)
+    nz_inner = graph.bface_normal[inner_bfaces, 2]
+
+    # ---- patches and their tables ---------------------------------------------------------
+    patches, sw_tab, h_tab = {}, {}, {}
+    air_pos = np.full(n_out, -1)
+    air_pos[a_] = np.arange(len(a_))
+    for name, (part, side) in patch_part.items():
+        bf = graph.patch_faces(name)
+        if side == "outer":
+            cols = np.searchsorted(outer_bfaces, bf)
+            kind = "air" if ship.outer_medium[part] == "air" else "sea"
+            if kind == "air":
+                sw_tab[name] = np.empty((n_t, len(cols)), dtype)
+                h_tab[name] = np.empty((n_t, len(cols)), dtype)
+        else:
+            cols = np.searchsorted(inner_bfaces, bf)
+            kind = "inner"
+            h_tab[name] = np.empty((n_t, len(cols)), dtype)
+        patches[name] = _Patch(name=name, part=part, kind=kind, bfaces=bf, cols=cols)
+
+    # ---- tables, a block of rows (times) at a time ----------------------------------------
+    for rows in _row_chunks(n_t, n_out):
+        nr = rows.stop - rows.start
+        # short-wave incident on the air faces: direct (traced shadows), diffuse sky,
+        # sea-reflected
+        incident = np.zeros((nr, n_out))
+        cos_inc = np.clip(sun[rows] @ normals_air.T, 0.0, None)
+        incident[:, a_] = (state.dni[rows, None] * cos_inc * lit[rows]
+                           + state.dhi[rows, None] * F_sky[a_]
+                           + state.sea_shortwave_up[rows, None] * F_sea[a_])
+        if ship_reflection:
+            # first diffuse bounce off the ship: E1 = F (1 − α) E0
+            bounce = (traced.view.F_faces @ ((1.0 - alpha)[:, None] * incident.T)).T
+            incident[:, a_] += bounce[:, a_]
+        absorbed = alpha * incident
+        del incident
+
+        # convection of the air faces at the apparent wind at face height
+        ta = state.temp_air[rows, None]
+        speed_true = conv.wind_speed_at_height(state.wind_speed[rows, None], z_air[None, :])
+        speed_rel, _, off_bow = conv.relative_wind(speed_true, state.wind_direction[rows, None],
+                                                   environment.ship_speed,
+                                                   environment.ship_heading)
+        ang = np.radians(off_bow)
+        length_flow = lx * np.abs(np.cos(ang)) + ly * np.abs(np.sin(ang))
+        lw_env = (F_sky[a_] * state.longwave_down[rows, None]
+                  + F_sea[a_] * state.sea_longwave_up[rows, None])
+
+        def h_of(temp_s, ta=ta, speed_rel=speed_rel, length_flow=length_flow):
+            return conv.h_exterior_air(temp_s, ta, nz_air, speed_rel, length_flow, lv, lh)
+
+        ts_air = quasi_steady_surface_temperature(absorbed[:, a_], eps[a_] * share,
+                                                  lw_env * inv_share, ta, h_of, u_back[a_],
+                                                  temp_comp[a_])
+        h_air = h_of(ts_air)
+        temp_surface = np.empty((nr, n_out))
+        temp_surface[:, a_] = ts_air
+        temp_surface[:, s_] = temp_wet[rows, None]
+
+        if len(inner_bfaces):
+            if interior_h is not None:
+                h_inner = np.full((nr, len(inner_bfaces)), float(interior_h))
+            else:
+                # only the sign of T_surface − T_room matters to ISO 6946's choice of h
+                # (and T_m to the small radiative part)
+                h_inner = conv.h_interior_iso6946(temp_surface[:, twin], temp_room[None, :],
+                                                  nz_inner[None, :], include_radiation=True,
+                                                  emissivity=interior_emissivity)
+        for name, p in patches.items():
+            if p.kind == "air":
+                sw_tab[name][rows] = absorbed[:, p.cols]
+                h_tab[name][rows] = h_air[:, air_pos[p.cols]]
+            elif p.kind == "inner":
+                h_tab[name][rows] = h_inner[:, p.cols]
+    t_end = _time.perf_counter()
+
+    seconds = {"trace_setup_and_view_factors": t_traced - t_start,
+               "sun_rays": t_sun - t_traced, "tables": t_end - t_sun,
+               "total": t_end - t_start}
+    return ShipForcing(
+        times=times, table=PeriodicTable(times), outer_bfaces=outer_bfaces,
+        outer_part=outer_part, outer_is_air=outer_is_air, traced=traced, part_names=names,
+        absorptivity=alpha_part, emissivity=eps_part, alpha=alpha, epsilon=eps,
+        temp_air=np.asarray(state.temp_air, float), longwave_down=np.asarray(state.longwave_down, float),
+        sea_longwave_up=np.asarray(state.sea_longwave_up, float),
+        temp_sea=np.asarray(state.temp_sea, float), h_water=np.asarray(h_water, float),
+        compartment_temperature=temp_comp_part, patches=patches, _sw=sw_tab, _h=h_tab,
+        _lit=lit.astype(dtype), inner_bfaces=inner_bfaces, unforced_patches=tuple(unforced),
+        sun_ship=sun, seconds=seconds)
