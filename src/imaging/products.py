@@ -1,0 +1,239 @@
+"""Products of the imaging experiment: NetCDF/GeoTIFF radiance, PNG panels and curves, CSV.
+
+Every file is written under a temporary name in the output directory and moved into place
+with ``os.replace`` once complete, so an interrupted run leaves no half-written file.
+Rasters are float32 in physical units (W m-2 sr-1).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+
+import numpy as np
+import pandas as pd
+
+from shipthermal.units import HOUR
+
+__all__ = ["write_products", "write_series_netcdf", "write_typical_geotiff", "plot_panels",
+           "plot_scr_curves"]
+
+
+def _tmp(path: str) -> str:
+    return f"{path}.part-{os.getpid()}"
+
+
+def _csv(df: pd.DataFrame, path: str) -> str:
+    tmp = _tmp(path)
+    df.to_csv(tmp, index=False, float_format="%.7g")
+    os.replace(tmp, path)
+    return path
+
+
+def _savefig(fig, path: str, dpi: int = 110) -> str:
+    tmp = _tmp(path)
+    fig.savefig(tmp, format="png", dpi=dpi)
+    os.replace(tmp, path)
+    return path
+
+
+def _hhmm(hours: float) -> str:
+    m = int(round(hours * 60.0))
+    return f"{(m // 60) % 24:02d}:{m % 60:02d}"
+
+
+def _pixel_centres(grid, crop):
+    """Map x of columns and y of rows of the crop's pixel centres [m]."""
+    r0, r1, c0, c1 = crop
+    t = grid.transform
+    x = t.c + (np.arange(c0, c1) + 0.5) * t.a
+    y = t.f + (np.arange(r0, r1) + 0.5) * t.e
+    return x, y
+
+
+def write_series_netcdf(path, sr, grid, attrs: dict | None = None) -> str:
+    """Write one season/band image series as NetCDF (h5netcdf), atomically.
+
+    Variables ``radiance`` and ``leaving_radiance`` (time, y, x) float32 [W m-2 sr-1] on the
+    stored crop, ``coverage`` (y, x) float32 [-]; coordinates ``time`` [h local], ``x``,
+    ``y`` (map coordinates of pixel centres [m]); the CRS as WKT in ``crs_wkt``.
+    """
+    import xarray as xr
+
+    x, y = _pixel_centres(grid, sr.crop)
+    r0, r1, c0, c1 = sr.crop
+    ds = xr.Dataset(
+        {"radiance": (("time", "y", "x"), sr.radiance,
+                      {"units": "W m-2 sr-1",
+                       "long_name": f"at-aperture band radiance {sr.band} um (paper eq. 1)"}),
+         "leaving_radiance": (("time", "y", "x"), sr.leaving,
+                              {"units": "W m-2 sr-1",
+                               "long_name": "surface-leaving radiance, area-mixed (eq. 2)"}),
+         "coverage": (("y", "x"), sr.coverage[r0:r1, c0:c1],
+                      {"units": "1", "long_name": "ship area fraction of the pixel"})},
+        coords={"time": ("time", sr.times_s / HOUR, {"units": "hours after local midnight"}),
+                "x": ("x", x, {"units": "m", "long_name": "easting of pixel centre"}),
+                "y": ("y", y, {"units": "m", "long_name": "northing of pixel centre"})},
+        attrs={"title": f"Ship in port, {sr.season}, {sr.band} um", "season": sr.season,
+               "band_um": sr.band, "crop_rows_cols": list(sr.crop),
+               "crs_wkt": grid.crs.to_wkt() if grid.crs is not None else "",
+               **(attrs or {})})
+    enc = {v: {"zlib": True, "complevel": 4} for v in ("radiance", "leaving_radiance", "coverage")}
+    tmp = _tmp(path)
+    ds.to_netcdf(tmp, engine="h5netcdf", encoding=enc)
+    os.replace(tmp, path)
+    return path
+
+
+def write_typical_geotiff(path, sr, grid) -> str | None:
+    """Full-scene float32 GeoTIFF of the kept frames (one band per time) [W m-2 sr-1]."""
+    from .background.outputs import write_geotiff
+
+    if not sr.frames:
+        return None
+    keys = sorted(sr.frames)
+    data = np.stack([sr.frames[k].radiance for k in keys]).astype(np.float32)
+    desc = [f"at-aperture radiance {sr.band} um [W m-2 sr-1] at {_hhmm(k / HOUR)} local"
+            for k in keys]
+    return write_geotiff(os.fspath(path), data, grid, descriptions=desc)
+
+
+def _display_box(coverage, size, shape):
+    rows = np.flatnonzero(coverage.any(axis=1))
+    cols = np.flatnonzero(coverage.any(axis=0))
+    rc, cc = (rows[0] + rows[-1] + 1) // 2, (cols[0] + cols[-1] + 1) // 2
+    h, w = min(size, shape[0]), min(size, shape[1])
+    r0 = int(np.clip(rc - h // 2, 0, shape[0] - h))
+    c0 = int(np.clip(cc - w // 2, 0, shape[1] - w))
+    return r0, r0 + h, c0, c0 + w
+
+
+def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 40) -> str:
+    """Image panels at the typical times, one row per season (like the paper's Figs. 14/16).
+
+    Each panel is the at-aperture radiance [W m-2 sr-1] of a ``display_px`` square around the
+    ship with its own colour scale; the title gives the time and the signed contrast.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    seasons = [s for s in ("summer", "winter") if (s, band) in series] + sorted(
+        {s for s, b in series if b == band and s not in ("summer", "winter")})
+    ncol = max(1, max(len(typical.get(s, ())) for s in seasons))
+    fig, axes = plt.subplots(len(seasons), ncol, figsize=(2.6 * ncol, 2.7 * len(seasons)),
+                             squeeze=False, constrained_layout=True)
+    for i, season in enumerate(seasons):
+        sr = series[(season, band)]
+        res = 30.0
+        for j in range(ncol):
+            ax = axes[i, j]
+            hours = typical.get(season, ())
+            if j >= len(hours) or float(hours[j]) * HOUR not in sr.frames:
+                ax.axis("off")
+                continue
+            fr = sr.frames[float(hours[j]) * HOUR]
+            r0, r1, c0, c1 = _display_box(fr.coverage > 0, display_px, fr.radiance.shape)
+            img = fr.radiance[r0:r1, c0:c1]
+            vmin, vmax = np.percentile(img, [1, 99.5])
+            ext = [0, (c1 - c0) * res / 1000, 0, (r1 - r0) * res / 1000]
+            im = ax.imshow(img, cmap="inferno", vmin=vmin, vmax=vmax, extent=ext,
+                           interpolation="nearest")
+            k = int(np.argmin(np.abs(sr.times_s - float(hours[j]) * HOUR)))
+            con = sr.metrics["contrast"].iloc[k]
+            scr = sr.metrics["scr"].iloc[k]
+            ax.set_title(f"{season} {_hhmm(hours[j])}\nC={con:+.3g}, SCR={scr:.2g}", fontsize=8)
+            ax.tick_params(labelsize=6)
+            if j == 0:
+                ax.set_ylabel("km", fontsize=7)
+            cb = fig.colorbar(im, ax=ax, shrink=0.8)
+            cb.ax.tick_params(labelsize=6)
+    fig.suptitle(f"Ship in port, at-aperture radiance {band} um [W m-2 sr-1] "
+                 "(C: target - background contrast)", fontsize=9)
+    out = _savefig(fig, os.fspath(path))
+    plt.close(fig)
+    return out
+
+
+def plot_scr_curves(path, series: dict, band: str) -> str:
+    """Local SCR (eq. 22) and signed contrast over the day per season (like Figs. 15/17)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    seasons = [s for s, b in series if b == band]
+    fig, axes = plt.subplots(len(seasons), 1, figsize=(8, 3.0 * len(seasons)), squeeze=False,
+                             constrained_layout=True)
+    for ax, season in zip(axes[:, 0], seasons):
+        sr = series[(season, band)]
+        m = sr.metrics
+        ax.plot(m["time_h"], m["scr"], color="C0", lw=1.5, label="local SCR (eq. 22)")
+        ax.set_ylabel("SCR [-]", color="C0")
+        ax.set_xlim(0, 24)
+        ax.set_xticks(range(0, 25, 2))
+        ax2 = ax.twinx()
+        ax2.plot(m["time_h"], m["contrast"], color="C3", lw=1.0, label="contrast")
+        ax2.axhline(0.0, color="C3", lw=0.5, ls=":")
+        ax2.set_ylabel("contrast [W m-2 sr-1]", color="C3")
+        for c in sr.crossovers:
+            ax.axvline(c.time / HOUR, color="k", ls="--", lw=0.8)
+            ax.text(c.time / HOUR, ax.get_ylim()[1], f" {_hhmm(c.time / HOUR)}", fontsize=7,
+                    va="top")
+        ax.set_title(f"({'ab'[seasons.index(season)] if len(seasons) <= 2 else season}) "
+                     f"{season}, {band} um; dashed: thermal crossover", fontsize=9)
+        ax.set_xlabel("local time [h]")
+    out = _savefig(fig, os.fspath(path))
+    plt.close(fig)
+    return out
+
+
+def write_products(out_dir, series, crossovers, comparison, scenarios, histories, typical
+                   ) -> dict:
+    """Write every product of :func:`imaging.experiment.run_experiment`; returns the paths."""
+    from .scene import as_scene_background
+
+    files = {}
+    p = lambda name: os.path.join(out_dir, name)  # noqa: E731
+    bands = sorted({b for _, b in series})
+    for (season, band), sr in series.items():
+        scen = scenarios[season]
+        grid = as_scene_background(scen.background).grid
+        hist = histories[season]
+        attrs = {"ship_temperatures": hist.label or "user history",
+                 "view_zenith_deg": scen.view_zenith_deg,
+                 "view_azimuth_deg": scen.view_azimuth_deg,
+                 "samples_per_pixel": scen.samples_per_pixel,
+                 "atmosphere_backend": scen.atmosphere_backend, "date": scen.date}
+        tag = f"{season}_{band}"
+        files[f"netcdf_{tag}"] = write_series_netcdf(p(f"images_{tag}.nc"), sr, grid, attrs)
+        tif = write_typical_geotiff(p(f"typical_{tag}.tif"), sr, grid)
+        if tif:
+            files[f"geotiff_{tag}"] = tif
+        files[f"metrics_{tag}"] = _csv(sr.metrics, p(f"metrics_{tag}.csv"))
+    for band in bands:
+        files[f"panels_{band}"] = plot_panels(p(f"panels_{band}.png"), series, band, typical)
+        files[f"scr_{band}"] = plot_scr_curves(p(f"scr_{band}.png"), series, band)
+    files["crossovers"] = _csv(crossovers, p("crossovers.csv"))
+    files["band_comparison"] = _csv(comparison, p("band_comparison.csv"))
+    summary = {
+        "ship_temperatures": {s: h.label for s, h in histories.items()},
+        "scenarios": {s: {"date": sc.date, "latitude": sc.latitude, "longitude": sc.longitude,
+                          "tz": sc.tz, "wind_speed": sc.wind_speed,
+                          "view_zenith_deg": sc.view_zenith_deg,
+                          "view_azimuth_deg": sc.view_azimuth_deg,
+                          "samples_per_pixel": sc.samples_per_pixel,
+                          "placement": next((vars(sr.placement) for (ss, _), sr in series.items()
+                                             if ss == s and sr.placement is not None), None)}
+                      for s, sc in scenarios.items()},
+        "crossovers": crossovers.to_dict(orient="records"),
+        "band_comparison": comparison.to_dict(orient="records"),
+        "rays": {f"{s}_{b}": sr.rays for (s, b), sr in series.items()},
+    }
+    tmp = _tmp(p("summary.json"))
+    with open(tmp, "w", encoding="utf-8") as fh:
+        json.dump(summary, fh, indent=2, default=str)
+    os.replace(tmp, p("summary.json"))
+    files["summary"] = p("summary.json")
+    return files
