@@ -918,6 +918,7 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
         2.5 + interior_emissivity * 4.0 * SIGMA * temp_comp ** 3
     r_layup = np.array([ship.layups[n].thermal_resistance for n in names])[outer_part]
     u_back = 1.0 / (r_layup + 1.0 / h_in0)
+    h_in0_face = np.broadcast_to(np.asarray(h_in0, dtype=float), u_back.shape)
     # surface balance of the air faces against the environment share only: the other ship
     # faces are at about the face's own temperature (their exchange nearly cancels)
     share = (F_sky + F_sea)[a_]
@@ -1018,9 +1019,13 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
             if interior_h is not None:
                 h_inner = np.full((nr, len(inner_bfaces)), float(interior_h))
             else:
-                # only the sign of T_surface − T_room matters to ISO 6946's choice of h
-                # (and T_m to the small radiative part)
-                h_inner = conv.h_interior_iso6946(temp_surface[:, twin], temp_room[None, :],
+                # inner-face temperature of the same quasi-steady estimate: the drop from
+                # the outer surface to the room splits between the layup and the inner
+                # film, T_in − T_room = (T_out − T_room) U / h_in0. ISO 6946 uses its sign
+                # (heat-flow direction) and T_m for the small radiative part.
+                temp_inner = temp_room + (temp_surface[:, twin] - temp_room) * \
+                    (u_back[twin] / h_in0_face[twin])
+                h_inner = conv.h_interior_iso6946(temp_inner, temp_room[None, :],
                                                   nz_inner[None, :], include_radiation=True,
                                                   emissivity=interior_emissivity)
         for name, p in patches.items():
