@@ -909,7 +909,7 @@ class ShipFiles:
         if has_mesh == has_parts:
             ctx.err(path, sorted(raw), "needs exactly one of 'mesh' (+ 'part_map') or 'parts'",
                     'e.g. mesh = "ship.stl" and part_map = "ship.json"')
-        if has_parts and "part_map" in raw:
+        if has_parts and not has_mesh and "part_map" in raw:
             ctx.err(f"{path}.part_map", raw["part_map"], "only applies with 'mesh' (with "
                     "'parts' each file is one part)")
         if (has_mesh and "mesh" not in bad and "part_map" not in raw
@@ -1042,7 +1042,12 @@ class ShipSettings:
         elif obj.files is not None:
             known = obj.files.part_names() if "files" not in bad else None
         if known is not None:
-            valid = set(known) | {main_part(n) for n in known} | {"hull"}
+            valid = {"hull"}
+            for n in known:
+                try:
+                    valid |= {n, main_part(n)}
+                except InputError:     # reported where the name was read
+                    pass
             for key in ("layups", "compartment_temperature", "solar_absorptivity",
                         "longwave_emissivity", "band_emissivity"):
                 for part in raw.get(key, {}) if isinstance(raw.get(key), dict) else ():
@@ -1398,14 +1403,17 @@ class Scenario:
                 ctx.err("ship.mooring_position", [x, y], f"must lie inside the port scene: "
                         f"|x|, |y| <= {half:g} m (background.size_px x 30 m / 2)")
         for band in () if ctx.failed("ship.band_emissivity") else obj.imaging.bands:
+            missing = []
             for part in ("hull", "deck", "superstructure"):
                 try:
                     obj.ship.emissivity(part, band)
                 except InputError:
-                    ctx.err(f"ship.band_emissivity.{part}", dict(obj.ship.band_emissivity.get(
-                        part, {})), f"needs a value for imaging band {band!r} (no listed band "
-                        "contains it)", f'Add "{band}" = <emissivity> to '
-                        f"[ship.band_emissivity.{part}]")
+                    missing.append(part)
+            if missing:
+                ctx.err("ship.band_emissivity", band, f"needs a value for imaging band "
+                        f"{band!r} for {', '.join(missing)} (no band listed there contains it)",
+                        f'Add "{band}" = <emissivity> to [ship.band_emissivity.{missing[0]}]'
+                        + (" and the other parts" if len(missing) > 1 else ""))
         if obj.outputs.directory is None:
             obj = dataclasses.replace(obj, outputs=dataclasses.replace(
                 obj.outputs, directory=f"runs/{obj.name}"))
