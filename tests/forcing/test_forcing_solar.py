@@ -171,3 +171,32 @@ def test_wetted_faces_get_no_sun_and_convect_to_the_sea(boat, summer):
     # moored, no current: natural convection in water over the draught, O(100) W m-2 K-1
     # for ΔT ~ 0.1-1 K (Churchill-Chu in sea water), far above air-side values
     assert 20.0 < cond.h(TIMES[k]) < 500.0
+
+
+def test_vertical_face_gets_half_sky_half_sea_and_the_beam(summer):
+    # A lone vertical plate facing east (heading 0: x = bow = north, y = port = west, so the
+    # normal is -y) 2-12 m above the sea. Closed forms: F_sky = F_sea = 1/2 (sky view of a
+    # vertical face, also checked in tests/raytrace), lit fraction 1, cos θ = n·s. So
+    # q = α (DNI max(n·s, 0) + (DHI + SW_sea↑)/2) up to the Monte-Carlo error of F_sky,
+    # which enters as α |DHI − SW_sea↑| |F_sky − 1/2|; the area-mean F_sky over all rays has
+    # binomial SE sqrt(1/4 / N_rays) and the tolerance is 4 SE. A wrong sign of the sun's
+    # y component or a missing sea reflection moves q by far more (sky/sea mix-ups are
+    # caught by the horizontal face above, where F_sea = 0).
+    ship = scene_ship([rectangle([0, 0, 2.0], [10.0, 0, 0], [0, 0, 10.0], 4, 4)], ["superstructure"])
+    f, graph = forcing_of(ship, summer, absorptivity=0.7, rays_per_face=512)
+    state = summer.at(TIMES)
+    cols = f.patches["superstructure:outer"].cols
+    np.testing.assert_allclose(f.traced.normals[cols], [[0.0, -1.0, 0.0]] * len(cols), atol=1e-12)
+    a = f.traced.areas[cols]
+    n_rays = 512 * len(cols)
+    se = np.sqrt(0.25 / n_rays)
+    for k in range(len(TIMES)):
+        q = float(a @ f.absorbed_shortwave(TIMES[k])[cols] / a.sum())
+        s = f.sun_ship[k]
+        expected = 0.7 * (state.dni[k] * max(-s[1], 0.0)
+                          + 0.5 * (state.dhi[k] + state.sea_shortwave_up[k]))
+        tol = 0.7 * abs(state.dhi[k] - state.sea_shortwave_up[k]) * 4 * se + 1e-9
+        assert abs(q - expected) <= tol, (TIMES[k] / 3600, q, expected, tol)
+    morning = f.absorbed_shortwave(8 * 3600.0)[cols].mean()
+    afternoon = f.absorbed_shortwave(16 * 3600.0)[cols].mean()
+    assert morning > 2 * afternoon  # the east face is sunlit in the morning only
