@@ -1060,10 +1060,16 @@ class ShipSettings:
         return ("parameters", "superstructure_material") if self.files is not None else ()
 
     # ---- surface properties --------------------------------------------------------------
-    def _lookup(self, table: Mapping, part: str, what: str):
+    @staticmethod
+    def _candidates(part: str) -> list:
+        """Keys a part's value may be under, most specific first."""
         main = main_part(part)
-        for key in (part, main, "hull" if main in ("hull_wetted", "hull_dry") else None):
-            if key is not None and key in table:
+        keys = [part, main] + (["hull"] if main in ("hull_wetted", "hull_dry") else [])
+        return list(dict.fromkeys(keys))
+
+    def _lookup(self, table: Mapping, part: str, what: str):
+        for key in self._candidates(part):
+            if key in table:
                 return table[key]
         raise InputError("part", part, f"has no {what}; parts with a value: {', '.join(table)}")
 
@@ -1086,15 +1092,22 @@ class ShipSettings:
         (e.g. 3.7-4.8 µm takes 3-5 µm's).
         """
         name, (lo, hi) = parse_band(band)
-        table = self._lookup(self.band_emissivity, part, "band_emissivity")
-        if name in table:
-            return float(table[name])
-        for key, val in table.items():
-            klo, khi = parse_band(key)[1]
-            if klo <= lo and hi <= khi:
-                return float(val)
-        raise InputError("band", name, f"has no emissivity for part {part!r}; bands with a "
-                         f"value: {', '.join(table)}",
+        listed = []
+        # most specific part first (sub-part, main part, hull); in each, the band itself,
+        # then a listed band that contains it
+        for key in self._candidates(part):
+            table = self.band_emissivity.get(key)
+            if table is None:
+                continue
+            if name in table:
+                return float(table[name])
+            for bkey, val in table.items():
+                klo, khi = parse_band(bkey)[1]
+                if klo <= lo and hi <= khi:
+                    return float(val)
+            listed += [f"{key}: {', '.join(table)}"]
+        raise InputError("band", name, f"has no emissivity for part {part!r} (bands with a "
+                         f"value: {'; '.join(listed) or 'none'})",
                          f"Add ship.band_emissivity.{main_part(part)}.\"{name}\"")
 
     # ---- geometry ----------------------------------------------------------------------
