@@ -215,8 +215,8 @@ class _Spec:
     def range_text(self) -> str:
         if self.lo is None and self.hi is None:
             return ""
-        lo = "-inf" if self.lo is None else f"{self.lo:g}"
-        hi = "inf" if self.hi is None else f"{self.hi:g}"
+        lo = "-inf" if self.lo is None else _num_text(self.lo)
+        hi = "inf" if self.hi is None else _num_text(self.hi)
         left = "(" if self.lo_open or self.lo is None else "["
         right = ")" if self.hi_open or self.hi is None else "]"
         return f"{left}{lo}, {hi}{right}" + (f" {self.unit}" if self.unit else "")
@@ -234,6 +234,11 @@ class _Spec:
         if self.hi is not None and (x >= self.hi if self.hi_open else x > self.hi):
             return False
         return True
+
+
+def _num_text(x: float) -> str:
+    """Integers in full (a seed's 4294967295), other numbers as %g."""
+    return str(int(x)) if float(x).is_integer() and abs(x) < 1e15 else f"{x:g}"
 
 
 def _opt(default: Any, kind: str, doc: str, **kw) -> Any:
@@ -1785,14 +1790,14 @@ def _rows(cls, prefix: str):
             key += ".<part>"
         elif spec.kind == "part_bands":
             key += ".<part>.<band>"
-        elif spec.kind == "part_files":
+        elif spec.kind in ("part_files", "layups"):
             key += ".<part>"
         allowed = spec.allowed()
         if spec.kind in ("part_table", "part_bands"):
             allowed = spec.range_text()
         yield (key, _TYPE_TEXT[spec.kind], _default_text(f), spec.unit, allowed, spec.doc)
         if spec.kind == "layups":
-            yield from _rows(LayerSpec, f"{key}.<part>[i]")
+            yield from _rows(LayerSpec, f"{key}[i]")
 
 
 def schema_keys() -> list:
@@ -1800,13 +1805,66 @@ def schema_keys() -> list:
     return [r[0] for r in _rows(Scenario, "")]
 
 
-def schema_markdown() -> str:
-    """The scenario schema as a Markdown table, generated from the dataclasses."""
+def schema_markdown(compact: bool = False) -> str:
+    """The scenario schema as a Markdown table, generated from the dataclasses.
+
+    ``compact=True`` gives one row per section with its keys (for the README); the full
+    table has one row per key with type, default, unit, allowed values and meaning.
+    """
     def cell(s: str) -> str:
         return str(s).replace("|", "\\|").replace("\n", " ")
 
+    if compact:
+        sections: dict = {}
+        for r in _rows(Scenario, ""):
+            if r[1] == "table":
+                continue
+            sec, _, key = r[0].rpartition(".")
+            top = sec.split(".")[0] if sec else "(top level)"
+            sub = r[0][len(top) + 1:] if sec else r[0]
+            sections.setdefault(top, []).append(sub)
+        lines = ["| section | keys |", "|---|---|"]
+        lines += [f"| `{'[' + s + ']' if s != '(top level)' else s}` | "
+                  + ", ".join(f"`{cell(k)}`" for k in keys) + " |" for s, keys in sections.items()]
+        return "\n".join(lines) + "\n"
     head = ["| key | type | default | unit | allowed | meaning |",
             "|---|---|---|---|---|---|"]
     body = ["| " + " | ".join(f"`{cell(r[0])}`" if i == 0 else cell(r[i]) for i in range(6)) + " |"
             for r in _rows(Scenario, "")]
     return "\n".join(head + body) + "\n"
+
+
+# ---------------------------------------------------------------------------------------
+# python -m shipthermal.scenario  (check a file; print the schema)
+# ---------------------------------------------------------------------------------------
+def main(argv=None) -> int:
+    """``validate FILE...`` (exit 2 on a user error, listing every problem) or
+    ``schema [--compact]`` (print the Markdown table)."""
+    import argparse
+    import sys
+
+    parser = argparse.ArgumentParser(prog="python -m shipthermal.scenario",
+                                     description="Check scenario files; print the schema.")
+    sub = parser.add_subparsers(dest="command", required=True)
+    v = sub.add_parser("validate", help="load and check scenario files")
+    v.add_argument("files", nargs="+")
+    s = sub.add_parser("schema", help="print the schema as a Markdown table")
+    s.add_argument("--compact", action="store_true", help="one row per section")
+    args = parser.parse_args(argv)
+    if args.command == "schema":
+        sys.stdout.write(schema_markdown(compact=args.compact))
+        return 0
+    status = 0
+    for f in args.files:
+        try:
+            sc = load_scenario(f)
+            print(f"{f}: ok ({sc.name}: {sc.time.season} {sc.time.date}, "
+                  f"{sc.ship.builtin or 'user ship'}, bands {', '.join(sc.bands)})")
+        except InputError as exc:
+            print(str(exc), file=sys.stderr)
+            status = 2
+    return status
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
