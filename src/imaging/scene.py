@@ -249,18 +249,20 @@ class ShipPaint:
     def brdf(self, normal, to_sun, to_view, emissivity):
         """BRDF [sr-1] for unit normals (..., 3), sun and view directions and emissivity [-].
 
-        ``kd = max(1 - eps - F0, 0)`` (Lambertian), ``ks = 1`` with exact Fresnel: the
-        near-normal reflectance is ``1 - eps`` (Kirchhoff).
+        Specular lobe ``ks = min(1, (1 - eps)/F0)`` with exact Fresnel, Lambertian part
+        ``kd = 1 - eps - ks F0``: the near-normal reflectance is ``1 - eps`` (Kirchhoff), also
+        for a nearly black paint (eps > 1 - F0).
         """
         eps = np.asarray(emissivity, dtype=float)
-        kd = np.clip(1.0 - eps - self.f0, 0.0, 1.0)
+        ks = np.clip((1.0 - eps) / self.f0, 0.0, 1.0)
+        kd = np.clip(1.0 - eps - ks * self.f0, 0.0, 1.0)
         n = np.asarray(normal, dtype=float)
         s = np.broadcast_to(np.asarray(to_sun, dtype=float), n.shape)
         v = np.broadcast_to(np.asarray(to_view, dtype=float), n.shape)
         spec = B.cook_torrance_brdf_vectors(n, s, v, self.roughness, 0.0, 1.0,
                                             refractive_index=self.refractive_index)
         up = (np.sum(n * s, -1) > 0) & (np.sum(n * v, -1) > 0)
-        return spec + np.where(up, kd / math.pi, 0.0)
+        return ks * spec + np.where(up, kd / math.pi, 0.0)
 
 
 RPV_SHAPE = {
@@ -318,6 +320,9 @@ class BackgroundOptics:
         Directional emissivity toward the sensor per class code 0..4 (0 unused) [-].
     rpv : dict
         ``{class code: (rho0, k, b)}`` of the land classes [-].
+    water_sun_scale : float
+        Factor on the Cox-Munk BRDF [-]: 1, or ``(1 - eps_override) / (1 - eps_Fresnel)``
+        when the water emissivity is overridden (keeps reflectance = 1 - emissivity).
     """
 
     band: str
@@ -326,6 +331,7 @@ class BackgroundOptics:
     wind_speed: float
     emissivity: np.ndarray
     rpv: dict
+    water_sun_scale: float = 1.0
 
     def sun_brdf(self, sun_zenith_deg: float, sun_azimuth_deg: float) -> np.ndarray:
         """BRDF for (sun, view) per class code 0..4 [sr-1]; zeros when the sun is down.
@@ -340,8 +346,9 @@ class BackgroundOptics:
         th_s = math.radians(sun_zenith_deg)
         phi_v = float(compass_to_math_azimuth(self.view_azimuth_deg))
         phi_s = float(compass_to_math_azimuth(sun_azimuth_deg))
-        f_sun[1] = float(B.cox_munk_brdf(th_s, phi_s, th_v, phi_v, self.wind_speed,
-                                         water_band_mean_index(self.band), shadowing=True))
+        f_sun[1] = self.water_sun_scale * float(B.cox_munk_brdf(
+            th_s, phi_s, th_v, phi_v, self.wind_speed, water_band_mean_index(self.band),
+            shadowing=True))
         for code, (rho0, k, b) in self.rpv.items():
             f_sun[code] = float(B.rpv_brdf(th_s, phi_s, th_v, phi_v, rho0, k, b))
         return f_sun
@@ -384,10 +391,12 @@ def background_optics(band: str, view_zenith_deg: float, view_azimuth_deg: float
     shapes = {**RPV_SHAPE, **(rpv_shape or {})}
     eps = np.zeros(5)
     rpv = {}
+    scale = 1.0
     for code, name in CLASS_NAMES.items():
         if name == "water":
-            eps[code] = override.get("water",
-                                     float(sea_emissivity(math.radians(view_zenith_deg), band)))
+            fresnel = float(sea_emissivity(math.radians(view_zenith_deg), band))
+            eps[code] = override.get("water", fresnel)
+            scale = (1.0 - eps[code]) / (1.0 - fresnel)
         else:
             eps[code] = override.get(name, background_emissivity(name, band))
             k, b = shapes[name]
@@ -395,4 +404,4 @@ def background_optics(band: str, view_zenith_deg: float, view_azimuth_deg: float
     check_range("emissivity_override", eps[1:], 0.0, 1.0)
     eps.setflags(write=False)
     return BackgroundOptics(band, float(view_zenith_deg), float(view_azimuth_deg),
-                            float(wind_speed), eps, rpv)
+                            float(wind_speed), eps, rpv, float(scale))

@@ -40,8 +40,9 @@ def emissivity_key(part_name: str) -> str:
 
 
 def _interp_periodic(times, values, t, period):
-    """Linear interpolation of ``values`` (nt, ...) at scalar ``t``; periodic if ``period``."""
-    if period is not None:
+    """Linear interpolation of ``values`` (nt, ...) at scalar ``t``; times outside the samples
+    wrap by ``period`` (None: clamp to the ends; callers check the range)."""
+    if period is not None and not times[0] <= t <= times[-1]:
         t0 = times[0]
         t = t0 + (t - t0) % period
         if times[-1] < t0 + period:
