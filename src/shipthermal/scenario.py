@@ -756,8 +756,8 @@ class WeatherSettings:
     cloud_unit: str = _opt("fraction", "choice", "CSV only: unit of cloud_cover in the file",
                            choices=CLOUD_UNITS)
     year: Optional[int] = _opt(None, "int", "EPW / TMY3: coerce the typical year's rows to "
-                               "this year (TMY3 default 2001; must not be a leap year)",
-                               lo=1950, hi=2100, optional=True)
+                               "this year (default: the year of time.date; TMY3: not a leap "
+                               "year)", lo=1950, hi=2100, optional=True)
     use_measured_irradiance: bool = _opt(True, "bool", "Files: use the file's global "
                                          "irradiance (split by 'decomposition') instead of "
                                          "clear sky + cloud")
@@ -1390,6 +1390,16 @@ class Scenario:
         elif not ctx.failed("time.output_interval") and not _multiple(obj.time.output_interval, dt):
             ctx.err("time.output_interval", obj.time.output_interval,
                     f"must be a multiple of solver.time_step ({dt:g} s)")
+        fmt = obj.weather.file_format
+        if fmt in ("epw", "tmy3") and not ctx.failed("weather", "time.date"):
+            year = int(obj.time.date[:4])
+            if obj.weather.year is not None and obj.weather.year != year:
+                ctx.err("weather.year", obj.weather.year, f"must equal the year of time.date "
+                        f"({year}): the typical year's rows are coerced to it",
+                        "Leave weather.year out (it defaults to the date's year)")
+            elif fmt == "tmy3" and obj.weather.year is None and _is_leap(year):
+                ctx.err("time.date", obj.time.date, "must not fall in a leap year with a TMY3 "
+                        "file (typical years have no 29 February)", "e.g. use 2023")
         cp = obj.outputs.checkpoint_interval
         if cp > 0 and not ctx.failed("solver.time_step", "outputs.checkpoint_interval") \
                 and not _multiple(cp, dt):
@@ -1506,11 +1516,12 @@ class Scenario:
             rec = read_weather_csv(w.source, tz=loc.time_zone, temp_unit=w.temp_unit,
                                    cloud_unit=w.cloud_unit, temp_sea=w.temp_sea)
         elif fmt == "epw":
-            rec = read_weather_epw(w.source, w.temp_sea, year=w.year,
+            year = int(self.time.date[:4])
+            rec = read_weather_epw(w.source, w.temp_sea, year=year,
                                    use_measured_irradiance=w.use_measured_irradiance,
                                    use_measured_longwave=w.use_measured_longwave)
         else:
-            rec = read_weather_tmy3(w.source, w.temp_sea, year=w.year or 2001,
+            rec = read_weather_tmy3(w.source, w.temp_sea, year=int(self.time.date[:4]),
                                     use_measured_irradiance=w.use_measured_irradiance)
         start = self.start
         step = rec.step if _divides(rec.step, DAY) else 3600.0

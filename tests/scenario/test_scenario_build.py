@@ -184,3 +184,24 @@ def test_sensor_is_the_papers():
     assert float(ground_sample_distance(spec)[0]) == pytest.approx(30.0, abs=1e-9)
     other = load_scenario({"imaging": {"sensor": {"focal_length_m": 2.12}}}).sensor()
     assert dataclasses.replace(other, focal_length_m=1.06) == PAPER_SENSOR
+
+
+def test_tmy3_file_through_pvlib():
+    # pvlib's sample TMY3 (Sand Point, Alaska, UTC-9): the typical year is coerced to the
+    # scenario's year, and the periodic day is the file's 20 January, hour for hour
+    import os
+
+    import pvlib
+
+    src = os.path.join(os.path.dirname(pvlib.__file__), "data", "703165TY.csv")
+    sc = load_scenario({"location": {"latitude": 55.317, "longitude": -160.517,
+                                     "time_zone": "Etc/GMT+9"},
+                        "time": {"season": "winter", "date": "2023-01-20"},
+                        "weather": {"source": src, "format": "tmy3", "temp_sea": 276.0}})
+    env = sc.environment()
+    assert env.start == pd.Timestamp("2023-01-20", tz="Etc/GMT+9") and env.weather.periodic
+    data, _ = pvlib.iotools.read_tmy3(src, coerce_year=2023, map_variables=True)
+    day = data.loc["2023-01-20"]
+    np.testing.assert_allclose(env.weather.temp_air, day["temp_air"].to_numpy() + ZERO_CELSIUS,
+                               atol=1e-9)
+    np.testing.assert_array_equal(env.weather.temp_sea, 276.0)

@@ -69,6 +69,11 @@ CASES = [
      ["required for EPW", "[269, 310] K"]),
     ("tmy3-leap-year", {"weather": {"source": "w.csv", "format": "tmy3", "temp_sea": 290.0,
                                     "year": 2004}}, "weather.year", ["must not be a leap year"]),
+    ("weather-year-vs-date", {"weather": {"source": "w.epw", "temp_sea": 290.0,
+                                          "year": 2021}}, "weather.year",
+     ["must equal the year of time.date (2023)"]),
+    ("tmy3-leap-date", {"weather": {"source": "w.csv", "format": "tmy3", "temp_sea": 290.0},
+                        "time": {"date": "2024-07-15"}}, "time.date", ["leap year", "TMY3"]),
     ("sea-emissivity", {"weather": {"sea_emissivity": 1.2}}, "weather.sea_emissivity",
      ["[0.5, 1]"]),
     # ---- ship -----------------------------------------------------------------------------
