@@ -1490,6 +1490,37 @@ class Scenario:
         """Broadband long-wave emissivity of a ship part [-]."""
         return self.ship.longwave_emissivity_of(part)
 
+    def face_property(self, ship, name: str, band=None):
+        """One value per triangle of ``ship`` from the scenario's per-part tables.
+
+        Parameters
+        ----------
+        ship : ShipGeometry
+            Usually ``scenario.ship()``.
+        name : {'solar_absorptivity', 'longwave_emissivity', 'emissivity',
+                'compartment_temperature'}
+            ``'emissivity'`` needs ``band``.
+        band : str or (float, float), optional
+            Sensor band for ``'emissivity'``.
+
+        Returns
+        -------
+        numpy.ndarray
+            (M,) float, [-] or [K] for the compartment temperature.
+        """
+        import numpy as np
+
+        lookups = {"solar_absorptivity": self.ship.solar_absorptivity_of,
+                   "longwave_emissivity": self.ship.longwave_emissivity_of,
+                   "compartment_temperature": self.ship.compartment_temperature_of,
+                   "emissivity": lambda part: self.ship.emissivity(part, band)}
+        if name not in lookups:
+            raise InputError("name", name, f"must be one of {', '.join(lookups)}")
+        if name == "emissivity" and band is None:
+            raise InputError("band", None, "is required for 'emissivity' (e.g. '8-14')")
+        per_part = np.array([lookups[name](p) for p in ship.part_names], dtype=float)
+        return per_part[np.asarray(ship.face_part)]
+
     # ---- builders -----------------------------------------------------------------------
     def weather_record(self):
         """The :class:`~shipthermal.environment.Weather` the run uses, starting at

@@ -116,6 +116,16 @@ def test_builtin_ship_from_scenario():
     assert ct["hull_wetted"] == pytest.approx(295.15) and ct["hull_dry"] == 290.0
     assert ct["superstructure_mast"] == 280.0
     assert ct["superstructure_funnel"] == pytest.approx(295.15)  # takes its main part's
+    # per-face values come from the same tables (one value per triangle, by its part)
+    eps = sc.face_property(ship, "emissivity", "8-14")
+    deck = ship.part_mask("deck")
+    assert eps.shape == (ship.n_faces,)
+    assert np.all(eps[deck] == 0.95) and np.all(eps[ship.part_mask("hull")] == 0.90)
+    temp = sc.face_property(ship, "compartment_temperature")
+    np.testing.assert_array_equal(temp, ship.face_compartment_temperature)
+    assert np.all(sc.face_property(ship, "solar_absorptivity")[deck] == 0.85)
+    with pytest.raises(InputError):
+        sc.face_property(ship, "emissivity")
     # every part of the built ship was known at load time (part-name validation is exact)
     from shipthermal.scenario import _builtin_part_names
     assert set(ship.part_names) == set(_builtin_part_names("patrol_boat", {}))

