@@ -531,7 +531,8 @@ def _part_bands(raw: Any, path: str, spec: _Spec, ctx: _Context, default: Mappin
             ok = False
             continue
         if not isinstance(table, dict):
-            ctx.err(sub, table, "must be a table of band = emissivity", "e.g. {3-5 = 0.85, 8-14 = 0.90}")
+            ctx.err(sub, table, "must be a table of band = emissivity",
+                    "e.g. {3-5 = 0.85, 8-14 = 0.90}")
             ok = False
             continue
         merged = dict(out.get(part, {}))
