@@ -329,15 +329,17 @@ def _project_to_ground(points, direction):
     return points[..., :2] - (z / d[2])[..., None] * d[:2]
 
 
-def _cover_mask(tri_xy, res, shape):
+def _cover_mask(xy, faces, res, shape):
     """Pixels touched by the union of the triangles' bounding boxes (conservative) [bool].
 
-    ``tri_xy`` (T, 3, 2) scene coordinates [m]; ``res`` pixel size [m]; ``shape`` (ny, nx).
-    A 2-D difference array marks every box in O(T + pixels).
+    ``xy`` (N, 2) projected vertices in scene coordinates [m], ``faces`` (T, 3) triangles;
+    ``res`` pixel size [m]; ``shape`` (ny, nx). A 2-D difference array marks every box in
+    O(T + pixels).
     """
     ny, nx = shape
-    lo = tri_xy.min(axis=1)
-    hi = tri_xy.max(axis=1)
+    a, b, c = xy[faces[:, 0]], xy[faces[:, 1]], xy[faces[:, 2]]
+    lo = np.minimum(np.minimum(a, b), c)
+    hi = np.maximum(np.maximum(a, b), c)
     c0 = np.floor(lo[:, 0] / res).astype(np.int64)
     c1 = np.floor(hi[:, 0] / res).astype(np.int64)
     r0 = ny - 1 - np.floor(hi[:, 1] / res).astype(np.int64)
@@ -349,14 +351,15 @@ def _cover_mask(tri_xy, res, shape):
     r0, r1 = np.clip(r0[keep], 0, ny - 1), np.clip(r1[keep], 0, ny - 1)
     # work inside the boxes' common window only (the ship is small in a big image)
     wr0, wr1, wc0, wc1 = r0.min(), r1.max() + 1, c0.min(), c1.max() + 1
-    diff = np.zeros((wr1 - wr0 + 1, wc1 - wc0 + 1), dtype=np.int64)
-    np.add.at(diff, (r0 - wr0, c0 - wc0), 1)
-    np.add.at(diff, (r0 - wr0, c1 + 1 - wc0), -1)
-    np.add.at(diff, (r1 + 1 - wr0, c0 - wc0), -1)
-    np.add.at(diff, (r1 + 1 - wr0, c1 + 1 - wc0), 1)
+    h, w = wr1 - wr0 + 1, wc1 - wc0 + 1
+    r0, r1, c0, c1 = r0 - wr0, r1 + 1 - wr0, c0 - wc0, c1 + 1 - wc0
+    idx = np.concatenate([r0 * w + c0, r0 * w + c1, r1 * w + c0, r1 * w + c1])
+    wgt = np.concatenate([np.ones(len(r0)), -np.ones(len(r0)), -np.ones(len(r0)),
+                          np.ones(len(r0))])
+    diff = np.bincount(idx, wgt, minlength=h * w).reshape(h, w)
     count = diff.cumsum(axis=0).cumsum(axis=1)[:-1, :-1]
     mask = np.zeros(shape, dtype=bool)
-    mask[wr0:wr1, wc0:wc1] = count > 0
+    mask[wr0:wr1, wc0:wc1] = count > 0.5
     return mask
 
 
@@ -449,6 +452,8 @@ class SceneRenderer:
         self.faces = faces
         keys = np.array([emissivity_key(p) for p in ship.part_names])
         self.face_key = keys[np.asarray(ship.face_part)]
+        self._key_names, self._key_index = np.unique(self.face_key, return_inverse=True)
+        self._ship_eps = {}
         tri = verts[faces]
         n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
         self.face_normals = n / np.linalg.norm(n, axis=1, keepdims=True)
@@ -458,7 +463,7 @@ class SceneRenderer:
         require(self.z_top > 0.0, "ship.vertices", self.z_top,
                 "the ship must rise above the waterline z = 0")
         # only triangles with a part above the water can be seen or cast a shadow on it
-        self._above = tri[:, :, 2].max(axis=1) > 0.0
+        self._faces_above = faces[tri[:, :, 2].max(axis=1) > 0.0]
         self._trace_view()
 
     # ---- geometry -------------------------------------------------------------------------
@@ -482,8 +487,8 @@ class SceneRenderer:
 
     def _trace_view(self):
         v = self.view_direction
-        tri = self.vertices[self.faces[self._above]]
-        cover = _cover_mask(_project_to_ground(tri, v), self.resolution_m, self.shape)
+        cover = _cover_mask(_project_to_ground(self.vertices, v), self._faces_above,
+                            self.resolution_m, self.shape)
         require(bool(cover.any()), "placement", self.placement,
                 "puts the ship outside the image", "Give a position inside the scene [m]")
         pixels = np.flatnonzero(cover)
@@ -541,8 +546,8 @@ class SceneRenderer:
             n_rays += int(facing.sum())
         if math.degrees(math.asin(min(s[2], 1.0))) < self.min_sun_elevation_deg:
             return SunGeometry(s, lit, empty, np.zeros(0), n_rays)
-        tri = self.vertices[self.faces[self._above]]
-        cover = _cover_mask(_project_to_ground(tri, s), self.resolution_m, self.shape)
+        cover = _cover_mask(_project_to_ground(self.vertices, s), self._faces_above,
+                            self.resolution_m, self.shape)
         cover_flat = cover.ravel()
         # ground samples: the view pixels' misses inside the shadow cover + every sample of
         # shadow-cover pixels the ship cannot be seen in
@@ -575,13 +580,18 @@ class SceneRenderer:
 
     def ship_emissivity(self, band: str) -> np.ndarray:
         """Emissivity of every ship face in ``band`` [-] (paper §5 unless overridden)."""
+        if band in self._ship_eps:
+            return self._ship_eps[band]
         if band not in SHIP_EMISSIVITY and band not in self._ship_eps_override:
             raise InputError("band", band, f"must be one of {sorted(SHIP_EMISSIVITY)}")
         table = {**SHIP_EMISSIVITY.get(band, {}), **self._ship_eps_override.get(band, {})}
-        missing = sorted(set(self.face_key) - set(table))
+        missing = sorted(set(self._key_names) - set(table))
         require(not missing, "ship_emissivity", sorted(table), f"needs values for {missing}")
-        eps = np.array([table[k] for k in self.face_key], dtype=float)
-        check_range("ship_emissivity", eps, 0.0, 1.0)
+        per_key = np.array([table[k] for k in self._key_names], dtype=float)
+        check_range("ship_emissivity", per_key, 0.0, 1.0)
+        eps = per_key[self._key_index]
+        eps.setflags(write=False)
+        self._ship_eps[band] = eps
         return eps
 
     # ---- radiance ---------------------------------------------------------------------------
