@@ -88,7 +88,7 @@ from .environment import Environment, to_ship_frame
 from .environment import convection as conv
 from .errors import InputError, check_range, require
 from .geometry.parts import MAIN_PARTS, main_part
-from .raytrace import make_tracer, sun_lit_fraction, view_factors
+from .raytrace import make_tracer, sun_lit_fraction, symmetrize, view_factors
 from .raytrace.viewfactors import ViewFactors
 from .units import DAY, SIGMA
 
@@ -288,10 +288,15 @@ class TracedShip:
     tracer : EmbreeTracer or NumbaTracer
     view : ViewFactors
         Over all K faces (reciprocity imposed); F_faces columns index ``faces``.
+    shooters : (m,) int
+        Faces that shot view-factor rays (all but those entirely under the sea, which see
+        only the sea); ray sample k of ``faces[shooters][i]`` is that of face i of
+        :func:`~shipthermal.raytrace.view_factors` called on ``faces[shooters]``.
     samples_per_face : int
     seed : int
     n_rays : dict
-        Rays traced so far: ``{'sun': …, 'view': …}``.
+        Rays traced so far: ``{'sun': …, 'view': …}`` (view: rays shot; the few that start
+        under the sea, from faces touching the waterline, count as sea without tracing).
     seconds : dict
         Wall time spent [s]: ``{'build': …, 'sun': …, 'view': …}``.
     """
@@ -306,6 +311,7 @@ class TracedShip:
     view: ViewFactors
     samples_per_face: int
     seed: int
+    shooters: np.ndarray
     n_rays: dict = field(default_factory=dict)
     seconds: dict = field(default_factory=dict)
     _lit: dict = field(default_factory=dict, repr=False)
@@ -403,15 +409,31 @@ def trace_ship(vertices, faces, receivers=None, *, samples_per_face: int = 16,
         receivers = np.flatnonzero(centroids[:, 2] > 0.0)
     receivers = np.asarray(receivers, dtype=np.int64)
     t1 = _time.perf_counter()
-    view = view_factors(tracer, v, f, rays_per_face=int(rays_per_face), seed=int(seed),
-                        sea_level_z=0.0, reciprocity=True, progress=progress)
+    # Faces entirely under the sea see only the sea (F_sea = 1): they shoot no rays; the
+    # others shoot against the whole mesh, and their rows are embedded in the square
+    # matrix reciprocity needs.
+    shooters = np.flatnonzero(tri[:, :, 2].max(axis=1) > 0.0)
+    sub = view_factors(tracer, v, f[shooters], rays_per_face=int(rays_per_face),
+                       seed=int(seed), sea_level_z=0.0, reciprocity=False, progress=progress)
+    n_faces = len(f)
+    embed = sp.csr_matrix((np.ones(len(shooters)), (shooters, np.arange(len(shooters)))),
+                          shape=(n_faces, len(shooters)))
+
+    def full(values, fill):
+        out = np.full(n_faces, fill, dtype=float)
+        out[shooters] = values
+        return out
+
+    view = symmetrize(ViewFactors(
+        F_sky=full(sub.F_sky, 0.0), F_sea=full(sub.F_sea, 1.0),
+        F_faces=(embed @ sub.F_faces).tocsr(), se_sky=full(sub.se_sky, 0.0),
+        se_sea=full(sub.se_sea, 0.0), rays_per_face=sub.rays_per_face, areas=0.5 * twice))
     t2 = _time.perf_counter()
-    # rays started under the sea are not traced (they count as sea)
-    n_view = int(np.sum(centroids[:, 2] >= 0.0)) * int(rays_per_face)
+    n_view = len(shooters) * int(rays_per_face)
     return TracedShip(vertices=v, faces=f, receivers=receivers, normals=normals,
                       areas=0.5 * twice, centroids=centroids, tracer=tracer, view=view,
                       samples_per_face=int(samples_per_face), seed=int(seed),
-                      n_rays={"sun": 0, "view": n_view},
+                      shooters=shooters, n_rays={"sun": 0, "view": n_view},
                       seconds={"build": t1 - t0, "view": t2 - t1, "sun": 0.0})
 
 
