@@ -39,9 +39,9 @@ emissivity ε_i), at time t with sun direction s in the ship frame:
   surface balance must only carry the environment share of the face's emission, so
   :meth:`ShipForcing.conditions` (``with_exchange=True``) sets the balance's emissivity to
   ``ε_i (F_sky,i + F_sea,i)`` and its ``longwave_in`` to ``L_env,i / (F_sky,i + F_sea,i)``:
-  then ``ε_eff (L_in − σT⁴) + σ Σ_j R_ij (T_j⁴ − T_i⁴) / A_i`` is the face's net long-wave,
-  conserving energy between faces exactly (the part (1 − ε_j) of i's emission reflected
-  by j is taken to return to i). Without the exchange (``with_exchange=False``) the
+  then ``ε_eff (L_in − σT⁴) + σ Σ_j R_ij (T_j⁴ − T_i⁴) / A_i`` is the face's net
+  long-wave, conserving energy between faces exactly (the part (1 − ε_j) of i's emission
+  reflected by j is taken to return to i). Without the exchange (``with_exchange=False``) the
   other ship faces a face sees are replaced by black bodies at the air temperature.
 * **convection, air faces**: mixed forced + natural convection of
   :func:`~shipthermal.environment.convection.h_exterior_air` (Churchill 1977, n = 3).
@@ -86,7 +86,7 @@ import scipy.sparse as sp
 from .conditions import Convection, SurfaceBalance
 from .environment import Environment, to_ship_frame
 from .environment import convection as conv
-from .errors import InputError, check_range, require
+from .errors import check_range, require
 from .geometry.parts import MAIN_PARTS, main_part
 from .raytrace import make_tracer, sun_lit_fraction, symmetrize, view_factors
 from .raytrace.viewfactors import ViewFactors
@@ -1065,7 +1065,8 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
         times=times, table=PeriodicTable(times), outer_bfaces=outer_bfaces,
         outer_part=outer_part, outer_is_air=outer_is_air, traced=traced, part_names=names,
         absorptivity=alpha_part, emissivity=eps_part, alpha=alpha, epsilon=eps,
-        temp_air=np.asarray(state.temp_air, float), longwave_down=np.asarray(state.longwave_down, float),
+        temp_air=np.asarray(state.temp_air, float),
+        longwave_down=np.asarray(state.longwave_down, float),
         sea_longwave_up=np.asarray(state.sea_longwave_up, float),
         temp_sea=np.asarray(state.temp_sea, float), h_water=np.asarray(h_water, float),
         compartment_temperature=temp_comp_part, patches=patches, _sw=sw_tab, _h=h_tab,

@@ -182,7 +182,8 @@ def test_vertical_face_gets_half_sky_half_sea_and_the_beam(summer):
     # binomial SE sqrt(1/4 / N_rays) and the tolerance is 4 SE. A wrong sign of the sun's
     # y component or a missing sea reflection moves q by far more (sky/sea mix-ups are
     # caught by the horizontal face above, where F_sea = 0).
-    ship = scene_ship([rectangle([0, 0, 2.0], [10.0, 0, 0], [0, 0, 10.0], 4, 4)], ["superstructure"])
+    plate = rectangle([0, 0, 2.0], [10.0, 0, 0], [0, 0, 10.0], 4, 4)
+    ship = scene_ship([plate], ["superstructure"])
     f, graph = forcing_of(ship, summer, absorptivity=0.7, rays_per_face=512)
     state = summer.at(TIMES)
     cols = f.patches["superstructure:outer"].cols
