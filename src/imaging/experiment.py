@@ -11,7 +11,7 @@ interpolating the contrast between hourly frames: the contrast is a nonlinear fu
 the temperatures (Planck), of the sun (glint, shadows, reflected sun switching on at
 sunrise) and of the atmosphere, so only rendering at each step keeps the imaging chain
 exact; it is cheap because the view rays are traced once and only the sun rays change
-(about 3 ms of tracing per frame for the frigate). The zero crossings of the 10-min
+(about 5-10 ms per frame for the 60k-triangle frigate, benchmarks/bench_imaging.py). The zero crossings of the 10-min
 contrast series are then located on its monotone piecewise-cubic interpolant
 (:func:`imaging.metrics.crossover_times`); the thermal history itself is interpolated
 linearly between its own output times (typically 30 min).

@@ -2,17 +2,19 @@
 
 Projection
 ----------
-The sensor is 795 km up; the scene is 10 km wide. Lines of sight through the scene differ in
-direction by at most ``10 km / 795 km = 1.3e-2 rad`` from edge to edge, but across the ship
-(<= 150 m) by at most ``150 / 795e3 = 1.9e-4 rad``: a ray bundle parallel to the view
-direction *at the ship* displaces a point 25 m above the water by ``25 * 1.9e-4 = 5 mm``
-relative to the true perspective ray, 400 times below the 1.9 m sample spacing at 16 x 16
-samples per 30 m pixel. So the ship is rendered with a parallel projection along the view
-direction at the ship, and the background (flat) uses the same view angles everywhere (the
-0.36 deg change of view zenith across a 10 km scene changes the Fresnel emissivity of water
-by < 1e-4 near nadir). The image lives on the background's ground grid (an orthorectified
-product): pixel ``(row, col)`` is the 30 m ground cell of the background (the paper's
-sensor has a 30.0 m nadir GSD, :func:`imaging.sensor.ground_sample_distance`).
+The sensor is 795 km up. With the ray direction of a parallel projection taken as the line
+of sight *at the ship's centre*, every point of a ship up to 150 m long (<= 75 m from the
+centre) lies within ``75 m / 795 km = 9.4e-5 rad`` (< 1e-4 rad) of its true line of sight;
+a point 25 m above the water is displaced by <= 25 m x 9.4e-5 = 2.4 mm, ~800 times below the
+1.9 m sample spacing at 16 x 16 samples per 30 m pixel. The parallel projection is therefore
+exact for the ship. It is *not* exact to 1e-4 rad across a whole 10 km scene: there the
+line of sight turns by up to ``5 km / 795 km = 6.3e-3 rad`` (0.36 deg) from the centre; the
+flat background only needs the view angles for its BRDFs and directional emissivity, and
+the one view geometry of the ship is used for every pixel (near nadir the Fresnel
+emissivity of water changes by < 1e-4 over 0.36 deg). The image lives on the background's
+ground grid (an orthorectified product): pixel ``(row, col)`` is the 30 m ground cell of the
+background (the paper's sensor has a 30.0 m nadir GSD,
+:func:`imaging.sensor.ground_sample_distance`).
 
 Sampling
 --------

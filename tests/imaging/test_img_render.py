@@ -249,7 +249,8 @@ def test_embree_and_numba_renders_agree(frigate_coarse):
         frames.append(r.render(cond, hist.at(0.5), np.full((14, 14), 296.0)))
     e, n = frames
     # the float32 (Embree) and float64 (numba) tracers may disagree only on rays grazing a
-    # triangle edge: allow 1 sample in 2000 to land on a different face / miss
+    # triangle edge: allow 1 sample in 2000 to land on a different face / miss (measured
+    # here: identical faces, coverage, shadows and radiance)
     same_face = np.mean(rend[0].ship_face[:min(len(rend[0].ship_face), len(rend[1].ship_face))]
                         == rend[1].ship_face[:min(len(rend[0].ship_face),
                                                   len(rend[1].ship_face))])
@@ -278,3 +279,48 @@ def test_render_rejects_bad_inputs(frigate_coarse):
     under = _history(*box([30.0, 60.0, -5.0], [60.0, 90.0, -1.0]))
     with pytest.raises(InputError, match="waterline"):
         SceneRenderer(under, _water(), SCENE)
+
+
+def test_sensor_chain_camera_equation_psf_noise_and_quantisation():
+    ny = nx = 16
+    V, F = box([210.0, 210.0, -1.0], [270.0, 240.0, 6.0])
+    hist = _history(V, F, temp=305.0)
+    r = SceneRenderer(hist, _water(ny, nx), SCENE, samples_per_pixel=4)
+    cond = BandConditions.simple("8-14", transmittance=0.5, path_radiance=15.0)
+    clean = r.render(cond, hist.at(0.0), np.full((ny, nx), 295.0))
+    # camera equation of the paper's sensor: E = tau_o pi L / (4 N^2), N = 2, tau_o = 0.7
+    np.testing.assert_allclose(clean.irradiance, 0.7 * math.pi / 16.0 * clean.radiance,
+                               rtol=1e-6)
+    from imaging.render import SensorOptions
+
+    blur = r.render(cond, hist.at(0.0), np.full((ny, nx), 295.0),
+                    sensor_options=SensorOptions(psf=True))
+    # the Airy PSF moves energy out of the target but keeps the image mean (OTF(0) = 1) up
+    # to the Airy wings beyond the 8-pixel reflect padding (< 0.5 % of the target's excess,
+    # sensor.apply_psf): target excess ~0.3 % of the image mean -> < 1.5e-5; measured 1.0e-5
+    assert blur.radiance.mean() == pytest.approx(clean.radiance.mean(), rel=3e-5)
+    assert blur.radiance.max() < clean.radiance.max()
+    noisy = r.render(cond, hist.at(0.0), np.full((ny, nx), 295.0),
+                     sensor_options=SensorOptions(netd_k=0.05, bits=14, radiance_range=(20., 60.)))
+    assert noisy.dn.dtype == np.uint16 and noisy.dn.max() < 2**14
+    from imaging.radiometry import band_radiance_dt
+
+    # white noise of NETD x tau dB/dT(300 K) (+ quantisation step 40/16383 / sqrt 12, 3 %
+    # of it in quadrature); 256 pixels estimate a std within 4.4 % (1 sigma): allow 20 %
+    sigma = math.hypot(0.05 * 0.5 * band_radiance_dt(300.0, "8-14"), 40.0 / 16383 / 12**0.5)
+    diff = (noisy.radiance - clean.radiance).astype(float)
+    assert diff.std() == pytest.approx(sigma, rel=0.2)
+    assert abs(diff.mean()) < 4 * sigma / 16           # no bias (4 standard errors)
+
+
+def test_default_mooring_is_in_the_harbour_water_with_a_water_scr_window():
+    from imaging.background import build_port_background
+    from imaging.metrics import background_window
+    from imaging.scene import default_mooring
+
+    bg = build_port_background("winter")
+    place = default_mooring(bg)
+    V, F = box([-66.0, -7.5, -4.0], [66.0, 7.5, 8.0])          # frigate-sized box
+    r = SceneRenderer(_history(V, F), bg, place, samples_per_pixel=4)
+    r0, r1, c0, c1 = background_window(r.coverage > 0, 2.0)
+    assert np.all(bg.class_map[r0:r1, c0:c1] == 1)
