@@ -30,7 +30,7 @@ from shipthermal.errors import InputError, check_range, require
 from shipthermal.units import DAY, HOUR
 
 from .metrics import crossover_times, local_scr
-from .render import (BandConditions, Frame, SceneRenderer, SensorOptions, conditions_from_atmosphere,
+from .render import (BandConditions, SceneRenderer, SensorOptions, conditions_from_atmosphere,
                      emitted_transmittance_table)
 from .scene import ShipPlacement, as_scene_background
 
@@ -451,3 +451,37 @@ def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
     files = P.write_products(out_dir, series, cross, comp, scenarios, history_by_season, typical)
     seconds["outputs"] = _time.perf_counter() - t0
     return ExperimentResult(series, cross, comp, files, seconds)
+
+
+def main(argv=None) -> None:
+    """``python -m imaging.experiment --out DIR``: the experiment on the built-in frigate and
+    port. Until the diurnal thermal run is connected the ship temperatures are the SYNTHETIC
+    stand-in of :func:`imaging.thermal_history.synthetic_history` (said in every product)."""
+    import argparse
+
+    from shipthermal.geometry import frigate
+
+    from .thermal_history import synthetic_history
+
+    ap = argparse.ArgumentParser(prog="python -m imaging.experiment", description=main.__doc__)
+    ap.add_argument("--out", required=True, help="output directory")
+    ap.add_argument("--step-min", type=float, default=10.0, help="frame interval [min]")
+    ap.add_argument("--bands", nargs="+", default=["3-5", "8-14"])
+    ap.add_argument("--seasons", nargs="+", default=["summer", "winter"])
+    ap.add_argument("--view-zenith", type=float, default=0.0, help="[deg]")
+    ap.add_argument("--view-azimuth", type=float, default=0.0, help="[deg]")
+    args = ap.parse_args(argv)
+    ship = frigate()
+    print("ship temperatures: SYNTHETIC stand-in (not a thermal solution)")
+    hist = {s: synthetic_history(ship, s) for s in args.seasons}
+    scen = {s: ImagingScenario.default(s, view_zenith_deg=args.view_zenith,
+                                       view_azimuth_deg=args.view_azimuth) for s in args.seasons}
+    res = run_experiment(hist, args.out, bands=args.bands,
+                         times=np.arange(0.0, DAY + 1.0, args.step_min * 60.0), scenarios=scen)
+    print(res.crossovers.to_string(index=False))
+    print(res.comparison.to_string(index=False))
+    print(f"products in {args.out}: {len(res.files)} files")
+
+
+if __name__ == "__main__":
+    main()

@@ -14,7 +14,7 @@ from imaging.render import BandConditions, SceneRenderer
 from imaging.scene import GriddedBackground, ShipPaint, ShipPlacement, compass_to_math_azimuth
 from imaging.thermal_history import ShipThermalHistory
 from shipthermal.errors import InputError
-from shipthermal.raytrace.scenes import box, combine
+from shipthermal.raytrace.scenes import box
 
 RES = 30.0
 S = 16                   # samples per pixel axis: sub-cells of 30/16 = 1.875 m
