@@ -205,7 +205,8 @@ def write_products(out_dir, series, crossovers, comparison, scenarios, histories
                  "view_zenith_deg": scen.view_zenith_deg,
                  "view_azimuth_deg": scen.view_azimuth_deg,
                  "samples_per_pixel": scen.samples_per_pixel,
-                 "atmosphere_backend": scen.atmosphere_backend, "date": scen.date}
+                 "atmosphere_backend": scen.atmosphere_backend, "date": scen.date,
+                 "timezone": scen.tz}
         tag = f"{season}_{band}"
         files[f"netcdf_{tag}"] = write_series_netcdf(p(f"images_{tag}.nc"), sr, grid, attrs)
         tif = write_typical_geotiff(p(f"typical_{tag}.tif"), sr, grid)

@@ -131,7 +131,8 @@ class BandConditions:
         return self.sun_zenith_deg < 90.0
 
     def transmittance_emitted(self, temp):
-        """Planck-weighted view transmittance [-] at source temperature(s) ``temp`` [K]."""
+        """Planck-weighted view transmittance [-] at source temperature(s) ``temp`` [K]
+        (linear in the table; held constant beyond its ends, 180-420 K by default)."""
         return np.interp(temp, self.tau_temp, self.tau_emitted)
 
     @classmethod
@@ -148,8 +149,8 @@ class BandConditions:
 
 
 def emitted_transmittance_table(season: str, band: str, view_zenith_deg: float,
-                                backend: str = "table", temp_min: float = 200.0,
-                                temp_max: float = 380.0, temp_step: float = 2.0):
+                                backend: str = "table", temp_min: float = 180.0,
+                                temp_max: float = 420.0, temp_step: float = 2.0):
     """Planck-weighted view transmittance on a temperature grid, with its interpolation error.
 
     Parameters
