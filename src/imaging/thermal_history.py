@@ -95,7 +95,7 @@ class ShipThermalHistory:
     temp_sea: np.ndarray | None = None
     period_s: float | None = DAY
     label: str = ""
-    _emissivity_keys: tuple = field(default=(), repr=False)
+    _emissivity_keys: tuple = field(default=(), repr=False, init=False)
 
     def __post_init__(self):
         v = np.array(self.vertices, dtype=float)
