@@ -38,7 +38,7 @@ from .mesh.graph import CellGraph
 from .units import SIGMA
 
 __all__ = ["RadiativeExchange", "ThermalModel", "BoundaryState", "surface_balance",
-           "nonorthogonal_flows", "conduction_flows"]
+           "nonorthogonal_flows", "conduction_flows", "boundary_state"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -218,7 +218,15 @@ def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarra
                                f"(max step {np.max(np.abs(step)):.3g} K)")
         ts[r_idx] = t
     kappa = forcing.h + 4.0 * es * ts ** 3
-    flow = area * (a - forcing.h * ts - es * ts ** 4)
+    # Flow into the cell from the converged surface temperature. The face-to-face part is
+    # evaluated with the *same* temperatures on both sides (σ Σ_j R_ij (T_j⁴ − T_i⁴)), so it
+    # cancels exactly in the energy sum whatever the lag of ``exchange_temp``.
+    eps_s = forcing.emissivity * SIGMA
+    flow = area * (forcing.q0 + forcing.h * (forcing.temp_fluid - ts)
+                   + forcing.emissivity * forcing.longwave_in - eps_s * ts ** 4)
+    if exchange is not None:
+        t4 = ts[idx] ** 4
+        flow[idx] += SIGMA * (exchange.area_exchange @ t4 - exchange.row_sum * t4)
     cond = area * gamma * kappa / (gamma + kappa)
     fixed = forcing.fixed
     if fixed.any():
@@ -261,3 +269,47 @@ def nonorthogonal_flows(graph: CellGraph, temp_cell: np.ndarray, temp_face: np.n
     cell_flow = np.bincount(own, flux, n) - np.bincount(nei, flux, n)
     bface_flow = np.einsum("ij,ij->i", corr.bface_kt, grad[graph.bface_cell])
     return cell_flow, bface_flow
+
+
+def boundary_state(model: "ThermalModel", forcing: FaceForcing, temp_cell: np.ndarray,
+                   temp_guess: np.ndarray, tol: float = 1e-11, max_iterations: int = 200):
+    """Surface temperatures and flows consistent with the cell field ``temp_cell``.
+
+    The surface balance of a face depends on other faces through the non-orthogonal
+    correction (the cell gradient uses the face temperatures) and the face-to-face
+    radiation; both are iterated here, at fixed cell temperatures, to a fixed point
+    (cheap: local work and one sparse product per pass). The result is then a function
+    of ``temp_cell`` alone, which the outer Newton/Anderson iteration needs.
+
+    Returns
+    -------
+    corr_cell : (n,) non-orthogonal interior correction flow into each cell [W] (0.0 if none)
+    state : BoundaryState
+    """
+    g = model.graph
+    exch = model.exchange
+    tf = temp_guess
+    if g.correction is None and exch is None:
+        return 0.0, surface_balance(g, forcing, temp_cell, tf)
+    if g.correction is not None:
+        bgrad, local = g.boundary_gradient
+        bkt = g.correction.bface_kt
+        m = bgrad.shape[0] // 3
+    cb = None
+    for _ in range(max_iterations):
+        if g.correction is not None:
+            grad = (bgrad @ np.concatenate([temp_cell, tf])).reshape(3, m).T
+            cb = np.einsum("ij,ij->i", bkt, grad[local])
+        bs = surface_balance(g, forcing, temp_cell, tf, cb, exch, tf)
+        change = np.max(np.abs(bs.temp_face - tf)) if len(tf) else 0.0
+        tf = bs.temp_face
+        if change <= tol * max(1.0, float(np.max(tf))):
+            break
+    else:
+        raise RuntimeError(f"boundary fixed point did not converge (last change {change:.3g} K)")
+    corr_cell = 0.0
+    if g.correction is not None:
+        # Interior correction once, with the converged face temperatures; c_b of the last
+        # pass is consistent with them to the tolerance.
+        corr_cell, _ = nonorthogonal_flows(g, temp_cell, tf)
+    return corr_cell, bs

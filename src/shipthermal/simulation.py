@@ -9,11 +9,12 @@ heat flow into each cell)::
                      (first step backward Euler)
 
 Each step is a nonlinear system (T⁴ radiation, non-orthogonal and face-to-face exchange
-terms) solved by Newton's method with the exact boundary Jacobian (:mod:`.model`); the
-explicit parts (non-orthogonal correction, radiation received from other faces) are
-iterated to convergence inside the same loop, so the step is fully implicit. Convergence:
-the Jacobi-scaled residual ``max |R_i| / J_ii`` (an estimate of the next correction [K])
-and the change of the lagged surface temperatures are both below ``tolerance`` [K].
+terms) solved by Newton's method with the exact boundary Jacobian (:mod:`.model`). The
+parts left out of the (symmetric) Jacobian — non-orthogonal correction, radiation received
+from other faces — are iterated to convergence inside the same loop (deferred correction,
+Anderson-accelerated), so the step is fully implicit. Convergence: the Jacobi-scaled
+residual ``max |R_i| / J_ii`` (an estimate of the next correction [K]) is below
+``tolerance`` [K].
 
 Energy bookkeeping (every step)::
 
@@ -39,7 +40,7 @@ import scipy.sparse as sp
 
 from .errors import InputError, check_finite, check_positive, require
 from .linear import Anderson, choose_backend, make_preconditioner, pcg
-from .model import ThermalModel, conduction_flows, nonorthogonal_flows, surface_balance
+from .model import ThermalModel, boundary_state, conduction_flows
 from .results import EnergyLog, Results
 
 __all__ = ["SCHEMES", "Simulation", "steady_state", "SimulationError"]
@@ -103,6 +104,9 @@ class Simulation:
         Explicit record times [s] on the step grid (instead of ``output_interval``).
     tolerance : float
         Nonlinear convergence tolerance on the estimated temperature correction [K].
+    energy_tolerance : float
+        The step's energy residual ``Δt |Σ_i R_i|`` must also fall below this fraction of
+        the gross boundary heat of the step [-].
     max_iterations : int
         Newton iterations per step before :class:`SimulationError`.
     linear_solver : {'auto', 'direct', 'amg'}
@@ -114,7 +118,8 @@ class Simulation:
     def __init__(self, model: ThermalModel, time_step: float, stop_time: float,
                  start_time: float = 0.0, scheme: str = "bdf2", output_interval: float | None = None,
                  output_times=None, tolerance: float = 1e-9, max_iterations: int = 50,
-                 linear_solver: str = "auto", progress: bool = False):
+                 linear_solver: str = "auto", progress: bool = False,
+                 energy_tolerance: float = 1e-12):
         require(isinstance(model, ThermalModel), "model", type(model).__name__,
                 "must be a ThermalModel")
         check_positive("time_step", time_step, "s")
@@ -130,6 +135,8 @@ class Simulation:
         self.stop_time = float(stop_time)
         self.scheme = scheme
         self.tolerance = float(tolerance)
+        check_positive("energy_tolerance", energy_tolerance)
+        self.energy_tolerance = float(energy_tolerance)
         self.max_iterations = int(max_iterations)
         self.backend = choose_backend(linear_solver, self.graph.n_cells, self.graph.kind)
         self.progress = progress
@@ -161,7 +168,7 @@ class Simulation:
         forcing = m.forcing(t0)
         guess = temp[self.graph.bface_cell]
         source = m.source(t0)
-        cell_flow, bstate = self._flows(temp, forcing, guess, converge=True)
+        cell_flow, bstate = self._flows(temp, forcing, guess)
         st = _State(t0, 0, temp, None, bstate.temp_face, bstate.flow, source, cell_flow + source)
         self._maybe_record(st, force=True)
         return st
@@ -199,23 +206,10 @@ class Simulation:
         st.recorded_flow.append(st.flow_face.copy())
 
     # ----------------------------------------------------------- operators -----------------
-    def _flows(self, temp, forcing, face_guess, converge=False, corr_face=None):
-        """Net heat flow into each cell F(T) and the boundary state; with ``converge`` the
-        lagged parts (non-orthogonal, exchange) are iterated to a fixed point (used for the
-        initial state only, where no Newton loop runs)."""
+    def _flows(self, temp, forcing, face_guess):
+        """Net heat flow into each cell F(T) (without sources) and the boundary state."""
         g = self.graph
-        exch = self.model.exchange
-        tf = face_guess
-        for _ in range(200 if converge else 1):
-            cb = None
-            corr_cell = 0.0
-            if g.correction is not None:
-                corr_cell, cb = nonorthogonal_flows(g, temp, tf)
-            bs = surface_balance(g, forcing, temp, tf, cb, exch, tf)
-            change = np.max(np.abs(bs.temp_face - tf)) if len(tf) else 0.0
-            tf = bs.temp_face
-            if not converge or change < 1e-10 or (g.correction is None and exch is None):
-                break
+        corr_cell, bs = boundary_state(self.model, forcing, temp, face_guess)
         flow = conduction_flows(g, temp) + np.bincount(g.bface_cell, bs.flow, g.n_cells) + corr_cell
         return flow, bs
 
@@ -269,11 +263,7 @@ class Simulation:
         accel = Anderson(5) if lagged else None
         for it in range(self.max_iterations):
             t1 = time.perf_counter()
-            cb = None
-            corr_cell = 0.0
-            if g.correction is not None:
-                corr_cell, cb = nonorthogonal_flows(g, temp, face_lag)
-            bs = surface_balance(g, forcing, temp, face_lag, cb, self.model.exchange, face_lag)
+            corr_cell, bs = boundary_state(self.model, forcing, temp, face_lag)
             self.timing.boundary += time.perf_counter() - t1
             t2 = time.perf_counter()
             flow = (conduction_flows(g, temp)
@@ -282,7 +272,6 @@ class Simulation:
             jdiag_b = theta * np.bincount(g.bface_cell, bs.conductance, g.n_cells)
             jac = k_theta + sp.diags(diag_c + jdiag_b)
             jdiag = jac.diagonal()
-            lag_change = np.max(np.abs(bs.temp_face - face_lag)) if lagged else 0.0
             face_lag = bs.temp_face
             self.timing.assembly += time.perf_counter() - t2
             est = np.max(np.abs(resid) / jdiag)
@@ -290,9 +279,21 @@ class Simulation:
                 raise SimulationError(f"non-finite temperature at t = {t_new:.6g} s "
                                       f"(step {st.step + 1}); reduce time_step or check the "
                                       "boundary conditions")
-            if est <= self.tolerance and lag_change <= self.tolerance:
-                converged = True
-                break
+            # At least one Newton solve per step: from the extrapolated guess the residual may
+            # already be below the tolerance, but only a solve takes it to round-off, which
+            # is what makes the energy balance close to ~1e-12 rather than to tolerance·C/Δt.
+            if est <= self.tolerance and it > 0:
+                # ... and the step's energy residual Δt |Σ R_i| is at round-off relative to
+                # the heat moved (interior fluxes cancel, so Σ R_i is exactly the imbalance).
+                # Only lagged couplings (face-to-face radiation, non-orthogonal correction)
+                # converge linearly and may need an extra iteration for it. Once the
+                # correction estimate is 1e-4 × tolerance there is nothing left but
+                # round-off (stiff columns with tiny Δt sit near 1e-12).
+                gross = np.sum(np.abs(bs.flow)) + np.sum(np.abs(source)) + 1e-300
+                if (abs(np.sum(resid)) <= self.energy_tolerance * gross
+                        or est <= 1e-4 * self.tolerance):
+                    converged = True
+                    break
             t3 = time.perf_counter()
             if scale is None:
                 # The preconditioner is built from the first Jacobian of a (dt, scheme) pair
@@ -457,18 +458,13 @@ def steady_state(model: ThermalModel, time: float = 0.0, tolerance: float = 1e-9
     prec = None
     accel = Anderson(5) if (g.correction is not None or model.exchange is not None) else None
     for it in range(max_iterations):
-        cb = None
-        corr_cell = 0.0
-        if g.correction is not None:
-            corr_cell, cb = nonorthogonal_flows(g, temp, face)
-        bs = surface_balance(g, forcing, temp, face, cb, model.exchange, face)
-        lag = np.max(np.abs(bs.temp_face - face)) if g.n_bfaces else 0.0
+        corr_cell, bs = boundary_state(model, forcing, temp, face)
         face = bs.temp_face
         flow = (conduction_flows(g, temp) + np.bincount(g.bface_cell, bs.flow, g.n_cells)
                 + corr_cell + source)
         jac = (g.conduction_matrix + sp.diags(np.bincount(g.bface_cell, bs.conductance, g.n_cells))).tocsr()
         est = np.max(np.abs(flow) / jac.diagonal())
-        if est <= tolerance and lag <= tolerance:
+        if est <= tolerance:
             break
         if prec is None:
             prec = make_preconditioner(jac, backend)

@@ -190,7 +190,7 @@ def _check_scale(v: np.ndarray, units: str) -> None:
     if lo <= length <= hi:
         return
     if length > hi:
-        hint = (f"it looks like millimetres: declare units='mm'" if units == "m" and lo <= length / 1e3 <= hi
+        hint = ("it looks like millimetres: declare units='mm'" if units == "m" and lo <= length / 1e3 <= hi
                 else "check the unit of the file")
         raise InputError("units", units, f"gives a ship length of {length:.6g} m, outside the plausible "
                          f"{lo:g}–{hi:g} m", f"Is the unit right? {hint} (or check_scale=False for a "

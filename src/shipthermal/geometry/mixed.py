@@ -207,10 +207,10 @@ def mixed_ship_graph(ship, solid_parts, fvmesh):
         pts, tets = fvmesh.tetrahedralize_surface(cv, cf, edge_length=ship.edge_length, field="solid parts")
     except InputError:
         # A fan crossing itself (non-star-shaped rim): let fTetWild close it by winding number.
-        import pytetwild
+        from ..mesh.tets import tetwild as _tetwild
 
         closure = "winding number"
-        pts, tets = pytetwild.tetrahedralize(cv.astype(np.float64), cf.astype(np.int32),
+        pts, tets = _tetwild(cv.astype(np.float64), cf.astype(np.int32),
                                              edge_length_abs=float(ship.edge_length), vtk_ordering=True)
         pts, tets = np.asarray(pts, float), np.asarray(tets, np.int64)
     face_label = np.concatenate([ship.face_part[is_solid], np.full(len(cap_f), -1)])

@@ -278,7 +278,7 @@ def tetwild_surface(vertices, faces, face_part, edge_length: float | None = None
         ``report`` holds ``area_before/after`` [m2], ``volume_before/after`` [m3] (signed,
         before as given), their relative changes, ``n_tets`` and ``seconds``.
     """
-    import pytetwild
+    from ..mesh.tets import tetwild as _tetwild
     import trimesh
 
     v = np.array(vertices, dtype=float)           # writable copies for the fTetWild binding
@@ -289,7 +289,7 @@ def tetwild_surface(vertices, faces, face_part, edge_length: float | None = None
         kwargs["edge_length_abs"] = float(edge_length)
     elif edge_length_fac is not None:
         kwargs["edge_length_fac"] = float(edge_length_fac)
-    pts, tets = pytetwild.tetrahedralize(v, f.astype(np.int32), vtk_ordering=True, **kwargs)
+    pts, tets = _tetwild(v, f.astype(np.int32), vtk_ordering=True, **kwargs)
     if len(tets) == 0:
         raise InputError("surface", f"{len(f)} triangles", "pytetwild found no enclosed volume",
                          "The surface is flat or has no inside; check the file")

@@ -134,6 +134,21 @@ class CellGraph:
         vals = np.concatenate([g, g, -g, -g])
         return sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
 
+    @cached_property
+    def boundary_gradient(self) -> tuple[sp.csr_matrix, np.ndarray] | None:
+        """Rows of the least-squares gradient for the cells that own boundary faces.
+
+        Returns ``(G, local)``: ``G @ concat(T_cell, T_face)`` gives those cells' gradients
+        stacked ``(3, m)`` and ``local[b]`` is the row of boundary face ``b``'s cell. Used
+        by the solver's face-level fixed point, which only needs boundary cells.
+        """
+        if self.correction is None:
+            return None
+        n = self.n_cells
+        cells, local = np.unique(self.bface_cell, return_inverse=True)
+        rows = np.concatenate([cells, n + cells, 2 * n + cells])
+        return self.correction.gradient[rows].tocsr(), local
+
     def patch_faces(self, name: str) -> np.ndarray:
         """Indices of the boundary faces of one patch."""
         if name not in self.patch_names:

@@ -11,7 +11,7 @@ from ..materials import Material, get_material
 from .graph import VTK_TETRA, CellGraph, NonOrthogonalCorrection, least_squares_gradient
 
 __all__ = ["check_closed_surface", "find_self_intersections", "tetrahedralize_surface",
-           "build_tet_graph"]
+           "build_tet_graph", "tetwild"]
 
 
 def check_closed_surface(vertices, faces, field: str = "surface") -> None:
@@ -102,7 +102,6 @@ def tetrahedralize_surface(vertices, faces, edge_length: float | None = None,
     points : ndarray (N, 3) float64 [m]
     tets : ndarray (M, 4) int64, positively oriented (VTK ordering)
     """
-    import pytetwild
 
     check_closed_surface(vertices, faces, field)
     kwargs = {}
@@ -112,15 +111,31 @@ def tetrahedralize_surface(vertices, faces, edge_length: float | None = None,
     elif edge_length_fac is not None:
         check_positive(f"{field}.edge_length_fac", edge_length_fac)
         kwargs["edge_length_fac"] = float(edge_length_fac)
-    points, tets = pytetwild.tetrahedralize(np.asarray(vertices, dtype=np.float64),
-                                            np.asarray(faces, dtype=np.int32),
-                                            optimize=optimize, vtk_ordering=True, **kwargs)
+    points, tets = tetwild(np.asarray(vertices, dtype=np.float64), np.asarray(faces, dtype=np.int32),
+                           optimize=optimize, vtk_ordering=True, **kwargs)
     points = np.asarray(points, dtype=np.float64)
     tets = np.asarray(tets, dtype=np.int64)
     if len(tets) == 0:
         raise InputError(field, "empty tet mesh", "pytetwild produced no tetrahedra",
                          "Check that the surface encloses a volume")
     return points, _orient(points, tets)
+
+
+def tetwild(vertices, faces, **kwargs):
+    """``pytetwild.tetrahedralize`` without its side effect: fTetWild leaves a debug file
+    ``__tracked_surface.stl`` in the working directory, removed here unless it was there
+    before (a user's run directory must not collect it)."""
+    import os
+
+    import pytetwild
+
+    debris = "__tracked_surface.stl"
+    had_debris = os.path.exists(debris)
+    try:
+        return pytetwild.tetrahedralize(vertices, faces, **kwargs)
+    finally:
+        if not had_debris and os.path.exists(debris):
+            os.remove(debris)
 
 
 def _orient(points: np.ndarray, tets: np.ndarray) -> np.ndarray:

@@ -1,0 +1,137 @@
+"""The solver API: bad input, checkpoints, outputs, part means."""
+
+import math
+
+import numpy as np
+import pytest
+
+from shipthermal.conditions import Convection, FixedTemperature, HeatFlux, SurfaceBalance
+from shipthermal.errors import InputError
+from shipthermal.materials import Layer, Layup, Material
+from shipthermal.mesh import check_closed_surface
+from shipthermal.model import ThermalModel
+from shipthermal.simulation import Simulation, steady_state
+from solver_meshes import SQUARE_F, SQUARE_V, plate_graph
+
+
+def _model(**kw):
+    g = plate_graph(0.01, 3)
+    omega = 2 * math.pi / 86400
+    outer = SurfaceBalance(absorbed_shortwave=lambda t: 400 * max(math.sin(omega * t), 0.0),
+                           emissivity=0.9, temp_env=270.0, h=10.0, temp_air=293.0)
+    return ThermalModel(g, {"plate:outer": outer, "plate:inner": Convection(3.0, 295.0)},
+                        initial_temperature=290.0, **kw)
+
+
+# ------------------------------------------------------------------ bad input ---------------
+@pytest.mark.parametrize("make,field,allowed", [
+    (lambda: Layup((Layer("mild_steel", -0.01),)), "thickness", "> 0"),
+    (lambda: Layup((Layer("mild_steel", 0.0),)), "thickness", "> 0"),
+    (lambda: Layup((Layer("unobtainium", 0.01),)), "material", "unknown material"),
+    (lambda: Material("x", 7800.0, 0.0, 50.0), "specific_heat", "> 0"),
+    (lambda: Simulation(_model(), 0.0, 100.0), "time_step", "> 0"),
+    (lambda: Simulation(_model(), -5.0, 100.0), "time_step", "> 0"),
+    (lambda: Simulation(_model(), 10.0, 100.0, scheme="rk4"), "scheme", "must be one of"),
+    (lambda: Simulation(_model(), 10.0, 100.0, output_interval=15.0), "output_interval", "multiple"),
+    (lambda: ThermalModel(plate_graph(0.01, 2), initial_temperature=float("nan")),
+     "initial_temperature", "finite"),
+    (lambda: ThermalModel(plate_graph(0.01, 2), {"plate:outr": Convection(5.0, 290.0)}),
+     "conditions['plate:outr']", "unknown patch"),
+    (lambda: ThermalModel(plate_graph(0.01, 2), {"plate:outer": Convection(5.0, float("nan"))}),
+     "temp_fluid", "finite"),
+    (lambda: ThermalModel(plate_graph(0.01, 2), {"plate:outer": Convection(-1.0, 290.0)}),
+     ".h", "≥ 0"),
+    (lambda: ThermalModel(plate_graph(0.01, 2), {"plate:outer": SurfaceBalance(emissivity=1.2, temp_env=260.0)}),
+     "emissivity", "[0, 1]"),
+    (lambda: ThermalModel(plate_graph(0.01, 2), {"plate:outer": HeatFlux(np.ones(5))}),
+     "flux", "one value per face"),
+    (lambda: check_closed_surface(SQUARE_V, SQUARE_F), "surface", "closed (watertight)"),
+    (lambda: steady_state(ThermalModel(plate_graph(0.01, 2), {"plate:outer": HeatFlux(10.0)})),
+     "conditions", "steady state needs"),
+])
+def test_bad_input_names_field_and_allowed(make, field, allowed):
+    with pytest.raises(InputError) as info:
+        make()
+    msg = str(info.value)
+    assert field in msg and allowed in msg, msg
+
+
+def test_self_intersecting_surface_rejected():
+    import trimesh
+
+    a = trimesh.creation.box(extents=(1, 1, 1))
+    b = trimesh.creation.box(extents=(1, 1, 1))
+    b.apply_translation((0.5, 0.5, 0.5))
+    both = trimesh.util.concatenate([a, b])
+    with pytest.raises(InputError, match="must not intersect itself"):
+        check_closed_surface(both.vertices, both.faces)
+
+
+# ------------------------------------------------------------- checkpoints ------------------
+@pytest.mark.parametrize("scheme", ["crank_nicolson", "bdf2"])
+def test_checkpoint_resume_reproduces_uninterrupted_run(tmp_path, scheme):
+    full = Simulation(_model(), 300.0, 86400.0, scheme=scheme, output_interval=3600.0).run()
+    first = Simulation(_model(), 300.0, 86400.0, scheme=scheme, output_interval=3600.0)
+    first.run_until(43200.0)
+    path = first.save_checkpoint(tmp_path / "ck.npz")
+    del first
+    again = Simulation(_model(), 300.0, 86400.0, scheme=scheme, output_interval=3600.0)
+    again.load_checkpoint(path)
+    res = again.run()
+    np.testing.assert_array_equal(res.times, full.times)
+    # Same state, same equations; only the preconditioner is rebuilt from a later Jacobian
+    # after the resume, so the converged solves may differ in the last bit (measured 2e-16).
+    np.testing.assert_allclose(res.cell_temperature, full.cell_temperature, rtol=1e-13, atol=0)
+    assert len(res.energy.imbalance) == len(full.energy.imbalance) == 288
+    other = Simulation(_model(), 600.0, 86400.0, scheme=scheme)
+    with pytest.raises(InputError, match="different setup"):
+        other.load_checkpoint(path)
+
+
+# --------------------------------------------------------------- outputs --------------------
+def test_vtu_and_vtkhdf_read_back(tmp_path):
+    import pyvista as pv
+    import vtk
+
+    res = Simulation(_model(), 600.0, 7200.0, scheme="bdf2", output_interval=3600.0).run()
+    files = res.to_vtu(tmp_path / "vtu")
+    grid = pv.read(files[0])
+    np.testing.assert_allclose(grid.cell_data["temperature"], res.cell_temperature[0], atol=1e-4)
+    assert (tmp_path / "vtu" / "thermal.pvd").exists()
+    surf = pv.read(tmp_path / "vtu" / "thermal_surface_0002.vtp")
+    np.testing.assert_allclose(surf.cell_data["temperature"], res.face_temperature[2], atol=1e-4)
+
+    path = res.to_vtkhdf(tmp_path / "run.vtkhdf")
+    reader = vtk.vtkHDFReader()
+    reader.SetFileName(str(path))
+    reader.UpdateInformation()
+    assert reader.GetNumberOfSteps() == len(res.times)
+    for k in range(len(res.times)):
+        reader.SetStep(k)
+        reader.Update()
+        out = pv.wrap(reader.GetOutput())
+        assert out.n_cells == res.graph.n_cells
+        np.testing.assert_allclose(out.cell_data["temperature"], res.cell_temperature[k], atol=1e-4)
+    assert not list(tmp_path.rglob("*.tmp*"))
+
+
+def test_part_means_area_weighted():
+    res = Simulation(_model(), 600.0, 3600.0, output_interval=3600.0).run()
+    df = res.part_mean("outer")
+    g = res.graph
+    idx = g.patch_faces("plate:outer")
+    w = g.bface_area[idx]
+    np.testing.assert_allclose(df["plate"].to_numpy(), res.face_temperature[:, idx] @ w / w.sum())
+    assert list(res.part_mean("outer", groups={"plate": "hull"}).columns) == ["hull"]
+
+
+def test_fixed_temperature_plate_steady_is_linear():
+    # Fourier's law through a two-layer wall: the flux is (T1 − T2) / Σ(d/k).
+    lay = Layup((Layer("mild_steel", 0.01, 4), Layer("mineral_wool", 0.05, 10)))
+    from shipthermal.mesh import build_shell_graph
+
+    g = build_shell_graph(SQUARE_V, SQUARE_F, np.zeros(2, int), ["w"], {"w": lay})
+    m = ThermalModel(g, {"w:outer": FixedTemperature(320.0), "w:inner": FixedTemperature(295.0)})
+    res = steady_state(m)
+    flux = (320.0 - 295.0) / lay.thermal_resistance
+    np.testing.assert_allclose(res.face_heat_flux()[0, g.patch_faces("w:outer")], flux, rtol=1e-9)
