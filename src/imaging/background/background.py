@@ -32,7 +32,8 @@ from shipthermal.errors import InputError, check_range, require
 from .classify import CLASS_NAMES, ClassificationResult, classify_scene, read_roi
 from .kriging import krige_hourly, met_points_on_grid
 from .landsat import NIR_BAND, RED_BAND, REFLECTIVE_BANDS, SceneGrid, read_landsat_scene
-from .lst import AtmosphereB10, atmospheric_functions, emissivity_ndvi_threshold, lst_single_channel, ndvi
+from .lst import (EMISSIVITY_PARAMETERS, AtmosphereB10, atmospheric_functions, emissivity_ndvi_threshold,
+                  lst_single_channel, ndvi)
 from .met import read_met_grid
 from .terrain import TerrainFit, fit_terrain_regression, read_dem, slope_aspect, southness, terrain_term
 
@@ -82,6 +83,8 @@ class PortBackground:
         [h]
     atmosphere : AtmosphereB10
         Band-10 atmosphere used by the LST retrieval.
+    emissivity_model : str
+        NDVI-thresholds coefficient set used (:data:`.lst.EMISSIVITY_PARAMETERS`).
     utc_offset_hours : float
     dem_masked_pixels : int
         Scene pixels without a DEM value (explicitly masked; 0 unless ``dem_nodata="mask"``).
@@ -115,6 +118,7 @@ class PortBackground:
     atmosphere: AtmosphereB10
     utc_offset_hours: float
     dem_masked_pixels: int
+    emissivity_model: str = "tirs_b10"
     outputs: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
     synthetic_truth: dict | None = field(default=None, repr=False)
@@ -148,6 +152,7 @@ class PortBackground:
             "overpass_utc": self.overpass_utc.isoformat(),
             "overpass_hour_local": self.overpass_hour_local,
             "water_vapour_g_cm2": self.atmosphere.water_vapour,
+            "emissivity_model": self.emissivity_model,
             "tau": self.atmosphere.tau, "l_up": self.atmosphere.l_up, "l_down": self.atmosphere.l_down,
             "overall_accuracy": c.overall_accuracy, "kappa_quadratic": c.kappa_quadratic,
             "kappa_unweighted": c.kappa_unweighted,
@@ -201,7 +206,8 @@ def _check_met_covers_scene(met, grid: SceneGrid) -> None:
 def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, season: str | None = None,
                                 utc_offset_hours: float = 8.0, water_vapour: float | None = None,
                                 variogram_model: str = "spherical", krige_coarsen: int = 5,
-                                lst_method: str = "planck", dem_nodata: str = "error",
+                                lst_method: str = "planck", emissivity_model: str = "tirs_b10",
+                                dem_nodata: str = "error",
                                 residual_scaling: str = "constant", test_fraction: float = 0.5,
                                 seed: int = 0, out_dir=None, progress: bool = False) -> PortBackground:
     """Run the full background chain on real-format inputs.
@@ -228,6 +234,9 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     krige_coarsen : int
         Krige every n-th pixel then bilinear (1 = every pixel).
     lst_method : {"planck", "taylor"}
+    emissivity_model : str
+        NDVI-thresholds coefficient set (:data:`.lst.EMISSIVITY_PARAMETERS`): ``"tirs_b10"``
+        (band-10 specific, default) or ``"tm6_sobrino2004"``.
     dem_nodata : {"error", "mask"}
         DEM nodata over land: raise, or mask explicitly (terrain term left out there; counted).
     residual_scaling : {"constant", "solar"}
@@ -250,6 +259,8 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     require(residual_scaling in ("constant", "solar"), "residual_scaling", residual_scaling,
             "must be 'constant' or 'solar'")
     require(lst_method in ("planck", "taylor"), "lst_method", lst_method, "must be 'planck' or 'taylor'")
+    require(emissivity_model in EMISSIVITY_PARAMETERS, "emissivity_model", emissivity_model,
+            f"must be one of {sorted(EMISSIVITY_PARAMETERS)}")
     check_range("utc_offset_hours", utc_offset_hours, -12.0, 14.0, unit="h")
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
@@ -275,7 +286,7 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     red = scene.reflectance(RED_BAND)
     nir = scene.reflectance(NIR_BAND)
     ndvi_map = ndvi(red, nir)
-    emissivity = emissivity_ndvi_threshold(ndvi_map, red)
+    emissivity = emissivity_ndvi_threshold(ndvi_map, red, emissivity_model)
     atmosphere = atmospheric_functions(water_vapour)
     radiance = scene.radiance()
     lst = lst_single_channel(radiance, emissivity, atmosphere, scene.mtl.k1, scene.mtl.k2, lst_method)
@@ -367,7 +378,7 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
         hours_local=hours_local[order], temperature=temperature.astype(np.float32),
         baseline=baseline_utc[order].astype(np.float32), sst=met.sst[order], overpass_utc=acquired,
         overpass_hour_local=float(hour_ov), atmosphere=atmosphere, utc_offset_hours=float(utc_offset_hours),
-        dem_masked_pixels=dem_masked, timings=timings)
+        dem_masked_pixels=dem_masked, emissivity_model=emissivity_model, timings=timings)
     if out_dir is not None:
         from .outputs import write_outputs
 

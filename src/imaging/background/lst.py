@@ -21,16 +21,39 @@ Formulation (stated, with its coefficients):
   the band model) or by the paper's first-order expansion ``T_s = gamma*[...] + delta``
   with ``gamma = T_sen^2/(b_gamma L_sen)``, ``delta = T_sen - T_sen^2/b_gamma`` and
   ``b_gamma = 1324 K`` for band 10 (``method="taylor"``).
-* **Emissivity** by the NDVI thresholds method (Sobrino, Jiménez-Muñoz & Paolini 2004,
-  RSE 90:434–440, §4.1): soil (NDVI < 0.2) ``eps = 0.979 - 0.035 rho_red``; full vegetation
-  (NDVI > 0.5) ``eps = 0.99``; mixed ``eps = eps_v P_v + eps_s (1 - P_v) + C`` with
+* **Emissivity** by the NDVI thresholds method (NDVI-THM; Sobrino, Jiménez-Muñoz & Paolini
+  2004, RSE 90:434–440, §4.1): bare soil (NDVI < 0.2) ``eps = a + b rho_red``; full vegetation
+  (NDVI > 0.5) ``eps = eps_v``; mixed ``eps = eps_v P_v + eps_s (1 - P_v) + C`` with
   ``P_v = ((NDVI - 0.2)/(0.5 - 0.2))^2`` and cavity term ``C = (1 - eps_s) eps_v F (1 - P_v)``,
-  ``eps_s = 0.97``, ``eps_v = 0.99``, ``F = 0.55``. Water (NDVI < 0) is not covered by the
-  method; the usual value ``eps = 0.991`` (Sobrino et al. 2008, IEEE TGRS 46(2)) is used.
+  ``F = 0.55``. The coefficients are band-specific; named sets in
+  :data:`EMISSIVITY_PARAMETERS`:
+
+  - ``"tirs_b10"`` (default, TIRS band 10): soil ``eps = 0.973 - 0.047 rho_red`` (Skoković et
+    al. 2014, ESA LPVE), ``eps_s = 0.9668``, ``eps_v = 0.9863`` (Yu, Guo & Wu 2014, Remote
+    Sens. 6:9829, ASTER spectral library convolved with the band-10 response), as compiled
+    by Sekertekin & Bonafoni 2020 (Remote Sens. 12:294);
+  - ``"tm6_sobrino2004"``: the original Landsat-5 TM band-6 set, soil ``0.979 - 0.035
+    rho_red``, ``eps_s = 0.97``, ``eps_v = 0.99`` (Sobrino et al. 2004). On TIRS band 10 it
+    gives emissivities up to ~0.008 higher over bare soil (~0.5 K colder LST).
+
+  Water (NDVI < 0) is not covered by the method; the usual value ``eps = 0.991`` (Sobrino et
+  al. 2008, IEEE TGRS 46(2)) is used.
 
 The psi fit is calibrated for ``w`` up to about 3 g cm-2 (errors grow above, JM2014 §IV);
 values outside ``[0.2, 6]`` g cm-2 are rejected because the fit then gives unphysical
 (negative) ``L_down``.
+
+**Stated accuracy** (measured in ``tests/background/test_bg_lst.py``):
+
+* the inversion itself (``method="planck"``) is exact for the band model; DN quantisation of
+  band 10 adds ~2 mK; the Taylor form adds < 0.15 K for ``|T_s - T_sen| < 4 K``;
+* the K1/K2 band model against spectral integration over 10.60–11.19 µm: 0.13–0.22 K;
+* against an independent atmosphere (LOWTRAN 7 mid-latitude summer / winter with the
+  paper's Navy maritime aerosol at 23 km, spectral forward model): psi(w) gives LST
+  **2–3 K too cold** (summer -2.2 … -3.1 K, winter -1.7 … -2.2 K), because the JM2014 fit has
+  no aerosol and a 12–15 % larger path radiance than LOWTRAN. JM2014 quote ~1–1.5 K for
+  clear-sky ``w < 3`` g cm-2 against their own simulations. Treat the background LST as
+  carrying a 2–3 K systematic uncertainty unless the water vapour and aerosol are known.
 """
 
 from __future__ import annotations
@@ -46,6 +69,8 @@ from .landsat import brightness_temperature_to_radiance, radiance_to_brightness_
 __all__ = [
     "JIMENEZ_MUNOZ_2014_B10",
     "SOBRINO_2004",
+    "EMISSIVITY_PARAMETERS",
+    "DEFAULT_EMISSIVITY_MODEL",
     "AtmosphereB10",
     "atmospheric_functions",
     "ndvi",
@@ -64,18 +89,28 @@ JIMENEZ_MUNOZ_2014_B10 = np.array([
 B_GAMMA_B10 = 1324.0
 """b_gamma of the Taylor form for TIRS band 10 [K] (JM2014, eq. 2 text)."""
 
-SOBRINO_2004 = {
-    "ndvi_soil": 0.2,
-    "ndvi_veg": 0.5,
-    "soil_a": 0.979,
-    "soil_b": -0.035,
-    "eps_soil": 0.97,
-    "eps_veg": 0.99,
-    "shape_factor": 0.55,
-    "ndvi_water": 0.0,
-    "eps_water": 0.991,
+EMISSIVITY_PARAMETERS = {
+    "tirs_b10": {
+        "ndvi_soil": 0.2, "ndvi_veg": 0.5, "soil_a": 0.973, "soil_b": -0.047,
+        "eps_soil": 0.9668, "eps_veg": 0.9863, "shape_factor": 0.55,
+        "ndvi_water": 0.0, "eps_water": 0.991,
+    },
+    "tm6_sobrino2004": {
+        "ndvi_soil": 0.2, "ndvi_veg": 0.5, "soil_a": 0.979, "soil_b": -0.035,
+        "eps_soil": 0.97, "eps_veg": 0.99, "shape_factor": 0.55,
+        "ndvi_water": 0.0, "eps_water": 0.991,
+    },
 }
-"""NDVI-thresholds emissivity parameters (Sobrino et al. 2004 §4.1; water: Sobrino et al. 2008)."""
+"""NDVI-thresholds emissivity parameter sets by name (module docstring for the sources).
+
+``tirs_b10``: TIRS band 10 (Skoković et al. 2014 soil line; Yu et al. 2014 soil and vegetation
+emissivities). ``tm6_sobrino2004``: Landsat TM band 6 (Sobrino et al. 2004). Water: Sobrino et
+al. 2008 for both."""
+
+DEFAULT_EMISSIVITY_MODEL = "tirs_b10"
+
+SOBRINO_2004 = EMISSIVITY_PARAMETERS["tm6_sobrino2004"]
+"""The TM band-6 set of Sobrino et al. 2004 (kept under its historical name)."""
 
 WATER_VAPOUR_RANGE = (0.2, 6.0)
 """Accepted total column water vapour [g cm-2]."""
@@ -143,7 +178,7 @@ def ndvi(red, nir):
     return np.where(np.isfinite(out), out, np.nan)
 
 
-def emissivity_ndvi_threshold(ndvi_value, red, params: dict | None = None):
+def emissivity_ndvi_threshold(ndvi_value, red, params: str | dict | None = None):
     """Band-10 surface emissivity by the NDVI thresholds method.
 
     Parameters
@@ -152,8 +187,9 @@ def emissivity_ndvi_threshold(ndvi_value, red, params: dict | None = None):
         NDVI [-].
     red : array_like
         Red reflectance [-] (used on bare soil).
-    params : dict, optional
-        Overrides of :data:`SOBRINO_2004`.
+    params : str or dict, optional
+        A name in :data:`EMISSIVITY_PARAMETERS` (default ``"tirs_b10"``), or a dict of
+        overrides of the default set (same keys).
 
     Returns
     -------
@@ -162,14 +198,10 @@ def emissivity_ndvi_threshold(ndvi_value, red, params: dict | None = None):
 
     Notes
     -----
-    Sobrino et al. 2004 (RSE 90), §4.1 "NDVI_THM"; water value from Sobrino et al. 2008.
+    Sobrino et al. 2004 (RSE 90), §4.1 "NDVI_THM", with the band-specific coefficients of the
+    chosen set; water value from Sobrino et al. 2008.
     """
-    p = dict(SOBRINO_2004)
-    if params:
-        unknown = set(params) - set(p)
-        if unknown:
-            raise InputError("emissivity_params", sorted(unknown), f"keys must be among {sorted(p)}")
-        p.update(params)
+    p = _emissivity_parameters(params)
     v = np.asarray(ndvi_value, dtype=np.float64)
     red = np.asarray(red, dtype=np.float64)
     pv = np.clip((v - p["ndvi_soil"]) / (p["ndvi_veg"] - p["ndvi_soil"]), 0.0, 1.0) ** 2
@@ -179,6 +211,22 @@ def emissivity_ndvi_threshold(ndvi_value, red, params: dict | None = None):
     eps = np.where(v < p["ndvi_soil"], soil, np.where(v > p["ndvi_veg"], p["eps_veg"], mixed))
     eps = np.where(v < p["ndvi_water"], p["eps_water"], eps)
     return np.where(np.isfinite(v), eps, np.nan)
+
+
+def _emissivity_parameters(params) -> dict:
+    if params is None:
+        params = DEFAULT_EMISSIVITY_MODEL
+    if isinstance(params, str):
+        if params not in EMISSIVITY_PARAMETERS:
+            raise InputError("emissivity_model", params, f"must be one of {sorted(EMISSIVITY_PARAMETERS)}",
+                             "or a dict of overrides of the default set")
+        return dict(EMISSIVITY_PARAMETERS[params])
+    p = dict(EMISSIVITY_PARAMETERS[DEFAULT_EMISSIVITY_MODEL])
+    unknown = set(params) - set(p)
+    if unknown:
+        raise InputError("emissivity_params", sorted(unknown), f"keys must be among {sorted(p)}")
+    p.update(params)
+    return p
 
 
 def at_sensor_radiance(temp_surface, emissivity, atmosphere: AtmosphereB10, k1: float, k2: float):

@@ -22,9 +22,10 @@ Files written (the loaders of this package read them back, so they are exercised
 LST, the true emissivity and the atmosphere of the day's water vapour with *the same*
 radiative transfer equation and atmospheric functions the retrieval inverts
 (:func:`.lst.at_sensor_radiance`, Jiménez-Muñoz et al. 2014). The true emissivity is the NDVI
-thresholds emissivity of the true reflectances. A recovery test therefore checks the
-inversion chain (formats, rescaling, K1/K2, NDVI, emissivity, RTE inversion, quantisation),
-not the accuracy of the atmospheric model against a real atmosphere.
+thresholds emissivity (default TIRS band-10 set) of the true reflectances. A recovery test
+therefore checks the inversion chain (formats, rescaling, K1/K2, NDVI, emissivity, RTE
+inversion, quantisation), not the accuracy of the atmospheric model against a real
+atmosphere (that is measured against LOWTRAN 7 in ``test_bg_lst.py``: 2-3 K cold bias).
 
 The land truth LST follows eq. 15 exactly: ``LST = T_met(x, y, t_ov) + b0[class] + b1 Dem +
 b2 Slope + b3 Southness + texture``, with the known betas in :data:`SEASONS`; water is the
