@@ -117,7 +117,7 @@ def test_unknown_options_are_named(port):
 def test_tm6_emissivity_option_runs_and_is_reported(port):
     # The TM band-6 coefficient set gives higher bare-soil emissivity (0.979 - 0.035 rho vs
     # 0.973 - 0.047 rho): the same radiances then give a colder LST over land, by
-    # dT ~ (lambda T^2 / c2) d(eps) = 7.6e-4 um-1 K-1 * 300^2 K^2 * d(eps) ~ 68 K * d(eps),
+    # dT ~ (lambda T^2 / c2) d(eps) = 7.6e-4 K-1 * 300^2 K^2 * d(eps) ~ 68 K * d(eps),
     # i.e. 0.3-0.5 K for d(eps) = 0.005-0.008
     # (Planck at 11 um; measured mean 0.39 K, range 0.27-0.42 K on the soil pixels).
     a = build_background_from_files(port.mtl_txt, port.dem, port.met, port.roi)
