@@ -233,3 +233,51 @@ def test_json_part_map_carries_layups_and_temperatures(tmp_path):
     assert u.compartment_temperature["superstructure_mast"] == pytest.approx(300.0)
     assert (u.face_outer_medium[u.part_mask("hull_wetted")] == "sea").all()
     assert (u.face_outer_medium[~u.part_mask("hull_wetted")] == "air").all()
+
+
+def _t_junction_box(tmp_path, n_needles=1):
+    """Closed box with T-junctions: an edge (p, q) of one triangle is split at its midpoint m,
+    and a zero-area needle (p, q, m) of three distinct collinear vertices closes the gap --
+    what CAD exports leave where a face was split on one side of an edge only."""
+    m = trimesh.creation.box((100.0, 12.0, 10.0))
+    v = list(np.array(m.vertices) + [0.0, 0.0, 1.0])
+    f = [list(t) for t in np.array(m.faces)]
+    done = set()
+    for t in range(len(m.faces)):
+        if len(done) == n_needles:
+            break
+        p, q, r = f[t]
+        if t in done or any(t2 in done for t2 in range(len(f)) if {p, q} <= set(f[t2])):
+            continue
+        v.append(0.5 * (v[p] + v[q]))
+        k = len(v) - 1
+        f[t] = [p, k, r]
+        f.append([k, q, r])
+        f.append([p, q, k])                               # the needle
+        done.add(t)
+    path = tmp_path / "t_junction.stl"
+    trimesh.Trimesh(np.array(v), np.array(f), process=False).export(path)
+    return path, len(f)
+
+
+def test_collinear_needle_error_and_reported_flip(tmp_path):
+    path, n = _t_junction_box(tmp_path, n_needles=2)
+    # Three distinct vertices, zero area: its own error (not "open edges" or "winding").
+    with pytest.raises(InputError, match=r"2 zero-area triangles.*clean=True"):
+        read_ship(path, units="m", part_map={"hull": [[0, n]]})
+    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]}, clean=True)
+    # The flip keeps the surface closed and every area: hand values of the 100 x 12 x 10 box.
+    assert rep["degenerate_faces"] == 2 and rep["needles_flipped"] == 2 and rep["removed_degenerate"] == 0
+    assert rep["open_edges"] == 0 and rep["flipped_faces"] == 0
+    assert u.is_watertight and u.to_trimesh().is_winding_consistent
+    assert u.total_area == pytest.approx(2 * (1200 + 1000 + 120), rel=1e-12)
+    assert u.signed_volume == pytest.approx(12000.0, rel=1e-12)
+    assert u.face_areas.min() > 1.0                     # no sliver left (smallest: half a 12x10 end)
+
+
+def test_one_km_ship_gets_a_question(tmp_path):
+    path, n = _box(tmp_path, scale=10.0)               # a 1 km "ship" declared in metres
+    with pytest.raises(InputError, match=r"ship length of 1000 m, outside the plausible 5.500 m.*Is the unit right"):
+        read_ship(path, units="m", part_map={"hull": [[0, n]]})
+    u, _ = read_ship(path, units="m", part_map={"hull": [[0, n]]}, check_scale=False, draught=40.0)
+    assert u.length == pytest.approx(1000.0)

@@ -78,3 +78,34 @@ def test_compartment_temperature_defaults_and_media():
         compartment_temperatures(names, {"deck": 22.0})                 # °C given for K
     assert outer_media(names) == {"hull_wetted": "sea", "hull_dry": "air", "deck": "air",
                                   "superstructure": "air"}
+
+
+def test_box_barge_masses_by_hand(tmp_path):
+    # Fully hand-computed: a 100 x 12 x 10 m box barge, keel at z = -4 m, deck = the top face,
+    # hull = the rest, draught 4 m. Areas: deck 100*12 = 1200 m2; hull bottom 1200 + sides
+    # 2*(100 + 12)*10 = 3440 m2, of which wetted 1200 + 2*112*4 = 2096 m2, dry 1344 m2.
+    # Areal masses (materials table: steel 7850, paint 1200, deck covering 1200 kg/m3):
+    # hull 0.3 mm paint + 14 mm steel = 0.36 + 109.9 = 110.26 kg/m2;
+    # deck 3 mm covering + 10 mm steel = 3.6 + 78.5 = 82.10 kg/m2.
+    # Masses: wetted 2096*110.26 = 231 104.96 kg, dry 1344*110.26 = 148 189.44 kg,
+    # deck 1200*82.10 = 98 520 kg; total 477 814.40 kg. Heat capacity of the deck:
+    # 1200 * (0.003*1200*1400 + 0.010*7850*440) = 1200 * 39 580 = 47 496 000 J/K.
+    import numpy as np
+    import trimesh
+
+    from shipthermal.geometry.io import read_ship
+
+    m = trimesh.creation.box((100.0, 12.0, 10.0))
+    v = np.array(m.vertices) + [0.0, 0.0, 1.0]
+    f = np.array(m.faces)
+    top = np.array(m.face_normals)[:, 2] > 0.5
+    names = np.where(top, "deck", "hull")
+    path = tmp_path / "barge.ply"
+    trimesh.Trimesh(v, f, process=False).export(path)
+    ship, _ = read_ship(path, units="m", part_map=names, draught=4.0)
+    masses = ship.part_masses()
+    assert masses["hull_wetted"] == pytest.approx(231_104.96, rel=1e-12)
+    assert masses["hull_dry"] == pytest.approx(148_189.44, rel=1e-12)
+    assert masses["deck"] == pytest.approx(98_520.0, rel=1e-12)
+    assert sum(masses.values()) == pytest.approx(477_814.40, rel=1e-12)
+    assert ship.part_heat_capacities()["deck"] == pytest.approx(47_496_000.0, rel=1e-12)

@@ -10,8 +10,9 @@ The surface must be a closed, consistently wound triangulation with outward norm
 
 * scale sanity — a 130 000 m or 1 cm ship is a units mistake, not a ship;
 * axes — the longest dimension must be x (bow +x, y port, z up);
-* degenerate (zero-area) and duplicate triangles — error, or removed with ``clean=True``
-  (counted in the report);
+* degenerate (zero-area) and duplicate triangles — error, or with ``clean=True`` collinear
+  needles at T-junctions are flipped into their neighbour (surface stays closed, area
+  unchanged) and the rest dropped (counted in the report);
 * watertightness — open edges (gaps, a missing face) and edges shared by more than two
   triangles; ``repair='tetwild'`` remeshes through pytetwild instead (area and volume
   change reported);
@@ -237,8 +238,11 @@ def check_surface(vertices, faces, units: str = "m", *, check_scale: bool = True
 
     Returns
     -------
-    vertices, faces, face_part, report (dict: ``removed_degenerate``,
-    ``removed_duplicate``, ``flipped_faces``, ``signed_volume`` [m3], ``area`` [m2])
+    vertices, faces, face_part, report (dict: ``degenerate_faces`` found, of which
+    ``needles_flipped`` (collinear needles at T-junctions, flipped away: closed surface,
+    unchanged area) and ``removed_degenerate`` (dropped); ``removed_duplicate``,
+    ``flipped_faces``, ``open_edges``, ``nonmanifold_edges``, ``signed_volume`` [m3],
+    ``area`` [m2])
     """
     v = np.asarray(vertices, float)
     f = np.asarray(faces, np.int64)
@@ -260,9 +264,15 @@ def check_surface(vertices, faces, units: str = "m", *, check_scale: bool = True
             raise InputError("faces", f"{len(idx)} zero-area triangles (first: face {idx[0]}, "
                              f"vertices {f[idx[0]].tolist()})",
                              "every triangle must have a positive area",
-                             "Remove them in the CAD export, or pass clean=True to drop them (reported)")
-        f, lab = f[~degenerate], lab[~degenerate]
-        report["removed_degenerate"] = int(len(idx))
+                             "Remove them in the CAD export, or pass clean=True (needles at "
+                             "T-junctions are flipped away, others dropped; reported)")
+        f, lab, resolved = _flip_needles(v, f, lab, idx)
+        keep = ~degenerate
+        keep[idx[resolved]] = True                 # rows now holding a flipped triangle
+        f, lab = f[keep], lab[keep]
+        report["degenerate_faces"] = int(len(idx))
+        report["needles_flipped"] = int(resolved.sum())
+        report["removed_degenerate"] = int(len(idx) - resolved.sum())
 
     # Duplicate triangles (same three vertices, either orientation).
     key = np.sort(f, axis=1)
@@ -336,6 +346,56 @@ def check_surface(vertices, faces, units: str = "m", *, check_scale: bool = True
     report["signed_volume"] = float(vol)
     report["area"] = float(face_areas(v, f).sum())
     return v, f, lab, report
+
+
+def _flip_needles(v: np.ndarray, f: np.ndarray, lab: np.ndarray, idx: np.ndarray):
+    """Resolve zero-area "needles" (three distinct, collinear vertices) by an edge flip.
+
+    A needle ``(a, b, m)`` with ``m`` strictly inside the segment ``ab`` is what CAD exports
+    leave at a T-junction: the triangle ``N = (b, a, c)`` across the long edge does not know
+    about ``m``. Flipping the long edge replaces the needle and ``N`` by ``(b, m, c)`` and
+    ``(m, a, c)``: the surface stays closed and consistently wound, and since ``m`` lies on
+    ``ab`` no area, volume or shape changes (the two new triangles tile ``N``). Both take the
+    part of ``N``. Needles whose neighbour is missing, degenerate or already used, and
+    triangles with a repeated vertex, are left to be dropped.
+
+    Returns ``(faces, labels, resolved)``: ``resolved[k]`` is True where ``idx[k]`` now holds
+    a flipped (non-degenerate) triangle.
+    """
+    f = f.copy()
+    lab = lab.copy()
+    resolved = np.zeros(len(idx), bool)
+    bad = np.zeros(len(f), bool)
+    bad[idx] = True
+    owner = {}
+    for t, tri in enumerate(f):
+        for k in range(3):
+            owner.setdefault((int(tri[k]), int(tri[(k + 1) % 3])), []).append(t)
+    used = np.zeros(len(f), bool)
+    for k, d in enumerate(idx):
+        tri = [int(x) for x in f[d]]
+        if len(set(tri)) < 3:
+            continue
+        p = v[tri]
+        # The long edge is opposite the middle vertex; rotate it to (a, b, m).
+        opp = np.linalg.norm(p[[1, 2, 0]] - p[[2, 0, 1]], axis=1)   # edge opposite vertex i
+        r = int(np.argmax(opp))
+        a, b, m = tri[(r + 1) % 3], tri[(r + 2) % 3], tri[r]
+        ab = v[b] - v[a]
+        t_m = float(np.dot(v[m] - v[a], ab) / np.dot(ab, ab))
+        if not 1e-9 < t_m < 1.0 - 1e-9:
+            continue
+        nbrs = [t for t in owner.get((b, a), []) if t != d]
+        if len(nbrs) != 1 or bad[nbrs[0]] or used[nbrs[0]] or used[d]:
+            continue
+        n = nbrs[0]
+        c = next(int(x) for x in f[n] if x != a and x != b)
+        f[n] = (b, m, c)
+        f[d] = (m, a, c)
+        lab[d] = lab[n]
+        used[n] = used[d] = True
+        resolved[k] = True
+    return f, lab, resolved
 
 
 def _fix_winding(f: np.ndarray):
