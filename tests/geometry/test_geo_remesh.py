@@ -181,3 +181,16 @@ def test_flips_keep_geometry_and_parts():
     # Flips stay inside one part: part areas unchanged.
     for k in (0, 1):
         assert face_areas(v, f2)[lab == k].sum() == pytest.approx(face_areas(v, f)[lab == k].sum(), rel=1e-12)
+
+
+def test_user_surface_finer_than_target_is_reported_not_hidden():
+    # Refinement only: a user surface already finer than asked keeps its triangles, and the
+    # report says so instead of pretending the target was met.
+    s = dataclasses.replace(frigate(1.0), parameters=None)
+    g, rep = build_ship_mesh(s, edge_length=4.0)
+    assert rep["edge_median"] < 0.5 * 4.0          # measured 1.01 m
+    assert "finer than the target" in rep["note"] and "not coarsened" in rep["note"]
+    for n, a in s.part_areas().items():
+        assert g.patch_area[f"{n}:outer"] == pytest.approx(a, rel=1e-10)
+    _, rep2 = build_ship_mesh(dataclasses.replace(frigate(4.0), parameters=None), edge_length=2.0)
+    assert "note" not in rep2 and rep2["edge_median"] <= 2.0
