@@ -281,3 +281,18 @@ def test_one_km_ship_gets_a_question(tmp_path):
         read_ship(path, units="m", part_map={"hull": [[0, n]]})
     u, _ = read_ship(path, units="m", part_map={"hull": [[0, n]]}, check_scale=False, draught=40.0)
     assert u.length == pytest.approx(1000.0)
+
+
+def test_legacy_vtk_with_part_array(tmp_path):
+    # The legacy .vtk format (what older CAD/CFD tools export) through pyvista, parts from
+    # the 'part' cell array and names from field data.
+    from shipthermal.geometry.pictures import ship_polydata
+
+    s = frigate(4.0)
+    ship_polydata(s).save(tmp_path / "ship.vtk", binary=False)
+    u, rep = read_ship(tmp_path / "ship.vtk", units="m")
+    assert u.part_names == s.part_names and u.n_faces == s.n_faces
+    # ASCII legacy VTK keeps ~6-7 significant digits: areas to ~1e-6.
+    for n, a in s.part_areas().items():
+        assert u.part_areas()[n] == pytest.approx(a, rel=1e-5)
+    assert rep["open_edges"] == 0 and u.signed_volume > 0
