@@ -1,0 +1,521 @@
+"""Diurnal ship thermal runs: spin-up over repeated design days, then one recorded day.
+
+Data flow (all the physics lives in the modules wired here)::
+
+    ShipGeometry ──► shell cell graph (plate layups)                 geometry / mesh
+    Environment  ──► per-face forcing tables + face-to-face exchange  forcing (Embree)
+    graph + forcing ──► ThermalModel ──► Simulation (implicit, day after day)
+    day k vs day k−1 part means  ──► converged?  ──► DiurnalResult (last day)
+
+Spin-up: the design day repeats; after each simulated day the area-mean outer-surface
+temperature of every part is compared, at each output time, with the day before; the run
+stops when the largest change is below ``spinup_tolerance`` [K] (reported with the number
+of days) or after ``spinup_max_days`` (reported as not converged). The recorded day is the
+last one.
+"""
+
+from __future__ import annotations
+
+import json
+import time as _time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .errors import check_positive, require
+from .results import EnergyLog, Results, atomic_path
+from .units import DAY, HOUR
+
+__all__ = ["DiurnalSettings", "DiurnalResult", "run_diurnal", "run_scenario_thermal",
+           "part_groups", "MAIN_SERIES"]
+
+#: Columns of the part-mean table, in plotting order
+MAIN_SERIES = ("hull", "deck", "superstructure", "hull_wetted")
+
+
+def part_groups(part_names) -> dict:
+    """Pool sub-parts for reporting: ``hull_dry`` → ``hull`` (the visible hull),
+    ``hull_wetted`` stays, ``superstructure_mast`` → ``superstructure``."""
+    from .geometry import main_part
+
+    out = {}
+    for name in part_names:
+        main = main_part(name)
+        out[name] = "hull" if main in ("hull_dry", "hull") else main
+    return out
+
+
+@dataclass(frozen=True)
+class DiurnalSettings:
+    """Time stepping and spin-up of a diurnal run.
+
+    Attributes
+    ----------
+    time_step : float
+        [s], divides 24 h.
+    scheme : str
+        ``backward_euler`` | ``crank_nicolson`` | ``bdf2``.
+    output_interval : float
+        Recording interval of the final day [s] (a multiple of ``time_step``).
+    spinup_tolerance : float
+        Largest day-to-day change of any part mean that counts as periodic [K].
+    spinup_max_days : int
+        Most days simulated.
+    samples_per_face, rays_per_face, seed, backend
+        Ray tracing (see :func:`shipthermal.forcing.build_ship_forcing`).
+    initial_temperature : float, optional
+        Start temperature [K]; default the day's mean air temperature.
+    """
+
+    time_step: float = 300.0
+    scheme: str = "bdf2"
+    output_interval: float = 1800.0
+    spinup_tolerance: float = 0.01
+    spinup_max_days: int = 10
+    samples_per_face: int = 16
+    rays_per_face: int = 256
+    seed: int = 0
+    backend: str = "auto"
+    initial_temperature: float | None = None
+
+    def __post_init__(self):
+        check_positive("time_step", self.time_step, "s")
+        k = DAY / self.time_step
+        require(abs(k - round(k)) < 1e-9, "time_step", self.time_step,
+                "must divide 24 h (86400 s) into whole steps", "e.g. 60, 120, 300, 600, 900")
+        check_positive("spinup_tolerance", self.spinup_tolerance, "K")
+        require(int(self.spinup_max_days) >= 1, "spinup_max_days", self.spinup_max_days, "must be ≥ 1")
+
+
+@dataclass(eq=False)
+class DiurnalResult:
+    """A converged (or capped) diurnal run: the last simulated day.
+
+    Attributes
+    ----------
+    ship : ShipGeometry
+    graph : CellGraph
+    forcing : ShipForcing
+    results : Results
+        The recorded day with ``times`` in seconds after local midnight [s].
+    part_means : pandas.DataFrame
+        Area-mean outer-surface temperature per reporting part, plus ``temp_air`` and
+        ``temp_sea``, indexed by local hour [K].
+    days : int
+        Days simulated (spin-up included).
+    day_changes : list of float
+        Largest part-mean change of each day vs the day before [K] (first entry nan).
+    converged : bool
+    energy : EnergyLog
+        Every step of the whole run.
+    timings : dict
+        Wall times [s]: mesh, forcing (ray tracing + tables), solve, total.
+    """
+
+    ship: object
+    graph: object
+    forcing: object
+    results: Results
+    part_means: pd.DataFrame
+    days: int
+    day_changes: list
+    converged: bool
+    energy: EnergyLog
+    timings: dict
+    settings: DiurnalSettings
+    environment: object = None
+    meta: dict = field(default_factory=dict)
+
+    @property
+    def n_surface_faces(self) -> int:
+        return int(self.ship.n_faces)
+
+    def part_mean_at(self, part: str, hour: float) -> float:
+        """Area-mean outer temperature of a reporting part at a local hour [K] (linear)."""
+        s = self.part_means[part]
+        return float(np.interp(hour, s.index.to_numpy(), s.to_numpy()))
+
+    def outer_face_temperature(self) -> np.ndarray:
+        """(nt, M) outer-surface temperature of each ship triangle [K]."""
+        m = self.ship.n_faces
+        return self.results.face_temperature[:, :m]
+
+    def to_history(self):
+        """The imaging stage's input (:class:`imaging.thermal_history.ShipThermalHistory`)."""
+        from imaging.thermal_history import ShipThermalHistory
+
+        s = self.ship
+        return ShipThermalHistory(s.vertices, s.faces, s.face_part, s.part_names,
+                                  self.results.times, self.outer_face_temperature(),
+                                  temp_air=self.part_means["temp_air"].to_numpy(),
+                                  temp_sea=self.part_means["temp_sea"].to_numpy(),
+                                  label=f"diurnal thermal run ({self.ship.name})")
+
+    def summary(self) -> dict:
+        """JSON-ready summary (spin-up, energy, timings, part extremes)."""
+        pm = self.part_means
+        parts = {c: {"min_K": float(pm[c].min()), "max_K": float(pm[c].max()),
+                     "hour_of_max": float(pm[c].idxmax())} for c in pm.columns}
+        return {"ship": self.ship.name, "surface_faces": self.n_surface_faces,
+                "cells": int(self.graph.n_cells), "days": self.days,
+                "converged": self.converged,
+                "day_changes_K": [None if not np.isfinite(x) else float(x) for x in self.day_changes],
+                "spinup_tolerance_K": self.settings.spinup_tolerance,
+                "energy": self.energy.summary(), "timings_s": self.timings, "parts": parts,
+                "settings": {k: getattr(self.settings, k) for k in self.settings.__dataclass_fields__},
+                **self.meta}
+
+    # ------------------------------------------------------------------ outputs -----------
+    def write(self, out_dir, map_hours=(7.0, 12.0), formats=("csv", "png", "vtkhdf", "json"),
+              progress: bool = False) -> dict:
+        """Write the run's products into ``out_dir`` (each file atomically).
+
+        * ``part_means.csv`` — hourly table of part means, air and sea [K];
+        * ``part_means.png`` — 24 h curves of hull, deck, superstructure with air and sea;
+        * ``surface_HHMM.png`` — the ship coloured by outer-surface temperature;
+        * ``thermal.vtkhdf`` — the recorded day, cells (ParaView ≥ 5.12);
+        * ``surface.vtkhdf``-like VTU series of the surface is left to ``Results.to_vtu``;
+        * ``thermal_summary.json`` — spin-up, energy balance, timings.
+
+        Returns a mapping product → path.
+        """
+        out = Path(out_dir)
+        out.mkdir(parents=True, exist_ok=True)
+        written = {}
+        if "csv" in formats:
+            with atomic_path(out / "part_means.csv") as tmp:
+                self.part_means.to_csv(tmp, float_format="%.4f")
+            written["part_means_csv"] = out / "part_means.csv"
+            fs = pd.DataFrame(self.forcing.summary()) if self.forcing is not None else None
+            if fs is not None:
+                with atomic_path(out / "forcing_summary.csv") as tmp:
+                    fs.to_csv(tmp, float_format="%.5g")
+                written["forcing_csv"] = out / "forcing_summary.csv"
+        if "png" in formats:
+            written["part_means_png"] = plot_part_means(self.part_means, out / "part_means.png",
+                                                        title=f"{self.ship.name}: area-mean "
+                                                        "outer-surface temperature")
+            for hour in map_hours:
+                name = out / f"surface_{int(hour):02d}{int(round(60 * (hour % 1))):02d}.png"
+                written[f"surface_{hour:g}h"] = render_surface_png(
+                    self.ship, self.face_temperature_at(hour), name,
+                    title=f"{self.ship.name}, outer surface at {_clock(hour)} local [K]")
+        if "vtkhdf" in formats:
+            written["vtkhdf"] = self.results.to_vtkhdf(out / "thermal.vtkhdf")
+        if "json" in formats:
+            with atomic_path(out / "thermal_summary.json") as tmp:
+                tmp.write_text(json.dumps(self.summary(), indent=2, default=_json_default))
+            written["summary_json"] = out / "thermal_summary.json"
+        return written
+
+    def face_temperature_at(self, hour: float) -> np.ndarray:
+        """Outer-surface temperature per triangle at a local hour (linear in time) [K]."""
+        t = self.results.times / HOUR
+        tf = self.outer_face_temperature()
+        k = int(np.clip(np.searchsorted(t, hour) - 1, 0, len(t) - 2))
+        w = float(np.clip((hour - t[k]) / (t[k + 1] - t[k]), 0.0, 1.0))
+        return (1 - w) * tf[k] + w * tf[k + 1]
+
+
+def _clock(hour: float) -> str:
+    return f"{int(hour):02d}:{int(round(60 * (hour % 1))):02d}"
+
+
+def _json_default(o):
+    if isinstance(o, (np.floating, np.integer)):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    return str(o)
+
+
+def plot_part_means(part_means: pd.DataFrame, path, title: str = "") -> Path:
+    """PNG of the 24 h part-mean curves with air and sea temperature."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(9, 5), dpi=110)
+    styles = {"hull": ("#7a8590", "-"), "deck": ("#3c4247", "-"),
+              "superstructure": ("#d9a441", "-"), "hull_wetted": ("#8b2d2d", ":"),
+              "temp_air": ("#2b7bba", "--"), "temp_sea": ("#1b9e77", "--")}
+    labels = {"temp_air": "air", "temp_sea": "sea surface", "hull": "hull (dry)",
+              "hull_wetted": "hull (wetted)"}
+    for col in part_means.columns:
+        colour, ls = styles.get(col, (None, "-"))
+        ax.plot(part_means.index, part_means[col], ls, color=colour, lw=2 if ls == "-" else 1.4,
+                label=labels.get(col, col))
+    ax.set_xlabel("local time [h]")
+    ax.set_ylabel("temperature [K]")
+    ax.set_xlim(0, 24)
+    ax.set_xticks(range(0, 25, 3))
+    ax.grid(alpha=0.3)
+    ax.legend(ncol=3, fontsize=8)
+    ax.set_title(title, fontsize=10)
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, bbox_inches="tight")
+    plt.close(fig)
+    return path
+
+
+def render_surface_png(ship, values, path, title: str = "", clim=None,
+                       size=(1400, 800)) -> Path:
+    """Off-screen PNG of the ship coloured by a per-triangle value (pyvista through EGL;
+    matplotlib if VTK cannot render)."""
+    import os
+
+    path = Path(path)
+    values = np.asarray(values, dtype=float)
+    clim = clim or (float(np.percentile(values, 1)), float(np.percentile(values, 99)))
+    try:
+        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+        import pyvista as pv
+
+        from .geometry.pictures import ship_polydata
+
+        pv.OFF_SCREEN = True
+        poly = ship_polydata(ship)
+        poly.cell_data["temperature"] = values
+        pl = pv.Plotter(off_screen=True, window_size=list(size))
+        pl.set_background("white")
+        pl.add_mesh(poly, scalars="temperature", cmap="inferno", clim=clim,
+                    scalar_bar_args=dict(title="T [K]", color="black", vertical=True))
+        pl.add_text(title, font_size=10, color="black")
+        length = ship.length
+        pl.camera_position = [(0.9 * length, -1.1 * length, 0.55 * length),
+                              (0, 0, 0.03 * length), (0, 0, 1)]
+        pl.reset_camera()
+        pl.camera.zoom(1.4)
+        with atomic_path(path) as tmp:
+            pl.screenshot(str(tmp))
+        pl.close()
+    except Exception:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from matplotlib import cm, colors
+        from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+        fig = plt.figure(figsize=(size[0] / 100, size[1] / 100), dpi=100)
+        ax = fig.add_subplot(projection="3d")
+        norm = colors.Normalize(*clim)
+        coll = Poly3DCollection(ship.vertices[ship.faces], facecolors=cm.inferno(norm(values)),
+                                linewidths=0)
+        ax.add_collection3d(coll)
+        lo, hi = ship.vertices.min(axis=0), ship.vertices.max(axis=0)
+        mid, rad = 0.5 * (lo + hi), 0.5 * (hi - lo).max()
+        ax.set_xlim(mid[0] - rad, mid[0] + rad)
+        ax.set_ylim(mid[1] - rad, mid[1] + rad)
+        ax.set_zlim(mid[2] - rad, mid[2] + rad)
+        ax.view_init(elev=25, azim=-50)
+        ax.set_axis_off()
+        fig.colorbar(cm.ScalarMappable(norm=norm, cmap="inferno"), ax=ax, label="T [K]", shrink=0.6)
+        ax.set_title(title, fontsize=9)
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, bbox_inches="tight")
+        plt.close(fig)
+    return path
+
+
+def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
+                absorptivity=None, emissivity=None, graph=None, traced=None,
+                progress: bool = True, checkpoint=None, checkpoint_interval: float = HOUR,
+                resume: bool = False, log=None) -> DiurnalResult:
+    """Spin a ship up under a periodic design day and record the converged day.
+
+    Parameters
+    ----------
+    ship : ShipGeometry
+    environment : shipthermal.environment.Environment
+        Periodic (design-day) weather; heading and speed of the ship.
+    settings : DiurnalSettings
+    absorptivity, emissivity : float or mapping part → value, optional
+        Solar absorptivity and broadband long-wave emissivity per part [-].
+    graph : CellGraph, optional
+        A prebuilt shell graph of ``ship`` (default: built here from the ship's layups).
+    traced : TracedShip, optional
+        Reuse the ray tracing of an earlier run of the same ship (sensitivity studies).
+    progress : bool
+        Progress bars.
+    checkpoint : path, optional
+        Checkpoint file (.npz) written every ``checkpoint_interval`` of simulated time.
+    resume : bool
+        Continue from ``checkpoint`` if it exists (same result as an uninterrupted run).
+    log : callable, optional
+        ``log(str)`` for progress messages (default: silent).
+
+    Returns
+    -------
+    DiurnalResult
+    """
+    from .forcing import build_ship_forcing
+    from .geometry import build_ship_mesh
+    from .model import RadiativeExchange, ThermalModel
+    from .simulation import Simulation
+
+    settings = settings or DiurnalSettings()
+    say = log or (lambda msg: None)
+    t_total = _time.perf_counter()
+    timings = {}
+    t0 = _time.perf_counter()
+    if graph is None:
+        graph, _ = build_ship_mesh(ship)
+    timings["mesh"] = _time.perf_counter() - t0
+    say(f"mesh: {ship.n_faces} surface faces, {graph.n_cells} cells ({timings['mesh']:.1f} s)")
+
+    t0 = _time.perf_counter()
+    table_times = np.arange(0.0, DAY, min(600.0, settings.output_interval))
+    forcing = build_ship_forcing(ship, environment, graph, times=table_times,
+                                 samples_per_face=settings.samples_per_face,
+                                 rays_per_face=settings.rays_per_face, seed=settings.seed,
+                                 absorptivity=absorptivity, emissivity=emissivity,
+                                 backend=settings.backend, progress=progress, traced=traced)
+    timings["forcing"] = _time.perf_counter() - t0
+    say(f"forcing: ray tracing and tables ({timings['forcing']:.1f} s)")
+
+    env_day = environment.at(np.arange(0.0, DAY + 1.0, settings.output_interval))
+    t_init = settings.initial_temperature or float(np.mean(env_day.temp_air))
+    # Wetted plates start at the sea temperature (they follow it closely).
+    temp0 = np.full(graph.n_cells, t_init)
+    wetted = [k for k, n in enumerate(graph.part_names) if n.startswith("hull_wetted")]
+    if wetted:
+        temp0[np.isin(graph.cell_part, wetted)] = float(np.mean(env_day.temp_sea))
+    model = ThermalModel(graph, forcing.conditions(with_exchange=True), initial_temperature=temp0,
+                         exchange=RadiativeExchange(*forcing.radiative_exchange()))
+    days_max = int(settings.spinup_max_days)
+    sim = Simulation(model, settings.time_step, days_max * DAY, scheme=settings.scheme,
+                     output_interval=settings.output_interval)
+    groups = part_groups(graph.part_names)
+
+    def means(res: Results) -> pd.DataFrame:
+        pm = res.part_mean("outer", groups=groups)
+        return pm[[c for c in MAIN_SERIES if c in pm.columns]
+                  + [c for c in pm.columns if c not in MAIN_SERIES]]
+
+    day_changes: list = []
+    energy_parts: list = []
+    prev = None
+    day = 0
+    if resume and checkpoint is not None and Path(checkpoint).exists():
+        extra = sim.load_checkpoint(checkpoint)
+        day = int(extra["day"])
+        day_changes = [float(x) for x in extra["day_changes"]]
+        prev = pd.DataFrame(extra["prev"], columns=list(extra["prev_columns"])) if extra["prev"].size else None
+        energy_parts = [EnergyLog(*[np.asarray(extra[f"energy_{k}"], float)
+                                    for k in EnergyLog.FIELDS])] if "energy_time" in extra else []
+        say(f"resumed from {checkpoint} at t = {sim.time / HOUR:.2f} h (day {day + 1})")
+
+    def save(day_idx):
+        if checkpoint is None:
+            return
+        done = _concat_energy(energy_parts)
+        extra = {"day": day_idx, "day_changes": np.array(day_changes, float),
+                 "prev": prev.to_numpy() if prev is not None else np.zeros((0, 0)),
+                 "prev_columns": np.array(list(prev.columns) if prev is not None else [], dtype=str)}
+        extra.update({f"energy_{k}": getattr(done, k) for k in EnergyLog.FIELDS})
+        sim.save_checkpoint(checkpoint, extra=extra)
+
+    t0 = _time.perf_counter()
+    converged = False
+    res = None
+    from tqdm.auto import tqdm
+
+    steps_per_chunk = max(1, int(round(checkpoint_interval / settings.time_step))) if checkpoint else None
+    while day < days_max:
+        day_start, day_end = day * DAY, (day + 1) * DAY
+        if abs(sim.time - day_start) < 1e-6:
+            sim.clear_records()
+            sim.record_now()
+        with tqdm(total=int(round((day_end - sim.time) / settings.time_step)), unit="step",
+                  desc=f"day {day + 1}", disable=not progress, leave=False) as bar:
+            while sim.time < day_end - 1e-6:
+                target = day_end if steps_per_chunk is None else min(
+                    day_end, sim.time + steps_per_chunk * settings.time_step)
+                n_before = sim.time
+                sim.run_until(target, progress=False)
+                bar.update(int(round((sim.time - n_before) / settings.time_step)))
+                if checkpoint is not None and sim.time < day_end - 1e-6:
+                    save(day)
+        res = sim.results()
+        energy_parts.append(res.energy)
+        pm = means(res)
+        if prev is not None:
+            change = float(np.max(np.abs(pm.to_numpy() - prev.to_numpy())))
+        else:
+            change = float("nan")
+        day_changes.append(change)
+        prev = pm.reset_index(drop=True)
+        say(f"day {day + 1}: largest part-mean change vs previous day "
+            f"{change:.4f} K" if np.isfinite(change) else f"day {day + 1} simulated")
+        day += 1
+        if np.isfinite(change) and change <= settings.spinup_tolerance:
+            converged = True
+            break
+        if day < days_max:
+            save(day)
+    timings["solve"] = _time.perf_counter() - t0
+    timings["solver_detail"] = {k: float(v) for k, v in res.timing.items()}
+
+    # The recorded day, on the local clock.
+    offset = (day - 1) * DAY
+    rec = Results(graph=res.graph, times=res.times - offset, cell_temperature=res.cell_temperature,
+                  face_temperature=res.face_temperature, face_flow=res.face_flow,
+                  energy=res.energy, scheme=res.scheme, time_step=res.time_step,
+                  timing=res.timing, backend=res.backend)
+    env = environment.at(rec.times)
+    pm = means(rec)
+    pm["temp_air"] = env.temp_air
+    pm["temp_sea"] = env.temp_sea
+    pm.index = pd.Index(rec.times / HOUR, name="hour")
+    timings["total"] = _time.perf_counter() - t_total
+    energy = _concat_energy(energy_parts)
+    return DiurnalResult(ship=ship, graph=graph, forcing=forcing, results=rec, part_means=pm,
+                         days=day, day_changes=day_changes, converged=converged, energy=energy,
+                         timings=timings, settings=settings, environment=environment)
+
+
+def _concat_energy(parts) -> EnergyLog:
+    if not parts:
+        return EnergyLog.from_lists({k: [] for k in EnergyLog.FIELDS})
+    return EnergyLog(*[np.concatenate([getattr(p, k) for p in parts]) for k in EnergyLog.FIELDS])
+
+
+def settings_from_scenario(scenario) -> DiurnalSettings:
+    """The thermal settings of a :class:`~shipthermal.scenario.Scenario`."""
+    s = scenario.solver
+    return DiurnalSettings(time_step=s.time_step, scheme=s.scheme,
+                           output_interval=scenario.time.output_interval,
+                           spinup_tolerance=s.spinup_tolerance, spinup_max_days=s.spinup_max_days,
+                           samples_per_face=s.samples_per_face, rays_per_face=s.rays_per_face,
+                           seed=s.seed, backend=s.backend)
+
+
+def run_scenario_thermal(scenario, *, ship=None, progress: bool = True, checkpoint=None,
+                         resume: bool = False, log=None, overrides: dict | None = None,
+                         traced=None) -> DiurnalResult:
+    """The thermal stage of a scenario: its ship, environment, optical properties and solver
+    settings (one object, so nothing can disagree with the imaging stage).
+
+    ``overrides`` may replace ``absorptivity`` / ``emissivity`` mappings (sensitivity runs).
+    """
+    ship = ship if ship is not None else scenario.ship()
+    env = scenario.environment()
+    mains = {p for p in ship.part_names}
+    absorptivity = {p: scenario.solar_absorptivity(p) for p in mains}
+    emissivity = {p: scenario.longwave_emissivity(p) for p in mains}
+    if overrides:
+        absorptivity = overrides.get("absorptivity", absorptivity)
+        emissivity = overrides.get("emissivity", emissivity)
+    settings = settings_from_scenario(scenario)
+    interval = scenario.outputs.checkpoint_interval or HOUR
+    res = run_diurnal(ship, env, settings, absorptivity=absorptivity, emissivity=emissivity,
+                      progress=progress, checkpoint=checkpoint, resume=resume, log=log,
+                      checkpoint_interval=interval, traced=traced)
+    res.meta["scenario"] = scenario.name
+    res.meta["date"] = str(scenario.time.date)
+    return res
