@@ -141,3 +141,22 @@ def test_missing_band_file(port_dir, tmp_path):
     os.remove(mtl.band_files[4])
     with pytest.raises(InputError, match="FILE_NAME_BAND_4"):
         read_landsat_scene(mtl.path)
+
+
+def test_crop_reads_a_pixel_window(port_dir):
+    # Cropping the port out of a scene: only the window is read, DN identical to the slice of
+    # the full read, the grid moves by whole pixels; a box is widened outwards to whole pixels.
+    full = read_landsat_scene(_mtl(port_dir, "txt"))
+    t = full.grid.transform
+    x0, y0 = t.c, t.f
+    bounds = (x0 + 10 * 30 + 5, y0 - 70 * 30 + 3, x0 + 50 * 30 - 2, y0 - 20 * 30)
+    crop = read_landsat_scene(_mtl(port_dir, "json"), bounds)
+    assert crop.grid.shape == (50, 40) and crop.grid.crs == full.grid.crs
+    assert crop.grid.transform.c == x0 + 300 and crop.grid.transform.f == y0 - 600
+    for b in full.dn:
+        np.testing.assert_array_equal(crop.dn[b], full.dn[b][20:70, 10:50])
+    np.testing.assert_array_equal(crop.brightness_temperature(), full.brightness_temperature()[20:70, 10:50])
+    with pytest.raises(InputError, match=r"bounds.*must lie inside the raster"):
+        read_landsat_scene(_mtl(port_dir, "txt"), (x0 - 100, y0 - 900, x0 + 900, y0))
+    with pytest.raises(InputError, match=r"bounds.*west < east"):
+        read_landsat_scene(_mtl(port_dir, "txt"), (x0 + 900, y0 - 900, x0 + 300, y0))

@@ -209,7 +209,8 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
                                 lst_method: str = "planck", emissivity_model: str = "tirs_b10",
                                 dem_nodata: str = "error",
                                 residual_scaling: str = "constant", test_fraction: float = 0.5,
-                                seed: int = 0, out_dir=None, progress: bool = False) -> PortBackground:
+                                seed: int = 0, bounds=None, out_dir=None,
+                                progress: bool = False) -> PortBackground:
     """Run the full background chain on real-format inputs.
 
     Parameters
@@ -245,6 +246,10 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
         Share of ROI pixels held out for the confusion matrix.
     seed : int
         Seed of the train/test split.
+    bounds : (west, south, east, north), optional
+        Crop the scene to this box in its projected CRS [m] (the port out of a full 185 km
+        Landsat scene; widened to whole pixels). The DEM, met grid and ROIs are then used on
+        the cropped grid.
     out_dir : path-like, optional
         Write GeoTIFFs, PNGs and CSVs there (:mod:`.outputs`); nothing is written unless the
         whole chain succeeded.
@@ -265,7 +270,7 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
 
-    scene = read_landsat_scene(mtl_path)
+    scene = read_landsat_scene(mtl_path, bounds)
     grid = scene.grid
     met = read_met_grid(met_path)
     require(met.sst is not None, "met[sst]", "missing",

@@ -168,7 +168,8 @@ def read_roi(path: str | os.PathLike, grid) -> np.ndarray:
     Parameters
     ----------
     path : path-like
-        A GeoTIFF of class codes (0 = no sample) on the scene grid, or a GeoJSON
+        A GeoTIFF of class codes (0 = no sample) on the scene grid (or a pixel-aligned
+        raster covering it, e.g. of the uncropped Landsat scene), or a GeoJSON
         FeatureCollection of polygons in the scene CRS whose ``properties.class`` is a class
         code or name (rasterised with ``rasterio.features.rasterize``).
     grid : SceneGrid
@@ -197,13 +198,26 @@ def read_roi(path: str | os.PathLike, grid) -> np.ndarray:
             shapes.append((feat["geometry"], int(code)))
         require(bool(shapes), "roi_path", path, "must contain at least one polygon feature")
         return rasterize(shapes, out_shape=grid.shape, transform=grid.transform, fill=0, dtype="uint8")
+    from rasterio.windows import Window
+
     with rasterio.open(path) as src:
-        labels = src.read(1)
-        if (src.height, src.width) != grid.shape or src.crs != grid.crs \
-                or not src.transform.almost_equals(grid.transform):
-            raise InputError("roi_path", path, f"the ROI raster must be on the scene grid {grid.shape} {grid.crs}",
-                             "Rasterise the ROIs onto the Landsat grid")
-    return labels.astype(np.uint8)
+        if (src.height, src.width) == grid.shape and src.crs == grid.crs \
+                and src.transform.almost_equals(grid.transform):
+            return src.read(1).astype(np.uint8)
+        # A ROI raster of the full Landsat scene used with a cropped scene: read the window
+        # if the scene grid is a pixel-aligned part of it (same CRS and pixel size).
+        t, g = src.transform, grid.transform
+        col = (g.c - t.c) / t.a
+        row = (g.f - t.f) / t.e
+        aligned = (src.crs == grid.crs and abs(t.a - g.a) < 1e-9 * abs(t.a) and abs(t.e - g.e) < 1e-9 * abs(t.e)
+                   and t.b == g.b == 0 and t.d == g.d == 0
+                   and abs(col - round(col)) < 1e-6 and abs(row - round(row)) < 1e-6)
+        col, row = int(round(col)), int(round(row))
+        if not (aligned and 0 <= col and 0 <= row and col + grid.shape[1] <= src.width
+                and row + grid.shape[0] <= src.height):
+            raise InputError("roi_path", path, f"the ROI raster must be on the scene grid {grid.shape} {grid.crs} "
+                             "or a pixel-aligned raster covering it", "Rasterise the ROIs onto the Landsat grid")
+        return src.read(1, window=Window(col, row, grid.shape[1], grid.shape[0])).astype(np.uint8)
 
 
 def split_training(labels, test_fraction: float = 0.5, seed: int = 0):

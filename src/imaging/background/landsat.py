@@ -34,6 +34,8 @@ __all__ = [
     "read_mtl",
     "parse_mtl_text",
     "read_band",
+    "band_grid",
+    "window_of_bounds",
     "LandsatScene",
     "read_landsat_scene",
     "dn_to_radiance",
@@ -258,28 +260,96 @@ def read_mtl(path: str | os.PathLike) -> MtlMetadata:
 # Bands
 # ---------------------------------------------------------------------------------------------
 
-def read_band(path: str | os.PathLike, field_name: str = "band") -> tuple[np.ndarray, SceneGrid, float | None]:
-    """Read band 1 of a GeoTIFF.
+def window_of_bounds(grid: SceneGrid, bounds, field_name: str = "bounds"):
+    """Pixel window ``(row0, row1, col0, col1)`` of a map box on a north-up grid.
+
+    Parameters
+    ----------
+    grid : SceneGrid
+    bounds : (west, south, east, north)
+        Box in the grid's CRS [m]; widened outwards to whole pixels.
+
+    Raises
+    ------
+    InputError
+        An empty box or one that leaves the grid.
+    """
+    try:
+        west, south, east, north = (float(b) for b in bounds)
+    except (TypeError, ValueError):
+        raise InputError(field_name, bounds, "must be (west, south, east, north) in the scene CRS [m]") from None
+    t = grid.transform
+    require(west < east and south < north, field_name, tuple(bounds), "must satisfy west < east and south < north")
+    # A hair of tolerance so boxes drawn on pixel edges do not grow by a pixel from round-off.
+    eps = 1e-6
+    col0 = int(np.floor((west - t.c) / t.a + eps))
+    col1 = int(np.ceil((east - t.c) / t.a - eps))
+    row0 = int(np.floor((north - t.f) / t.e + eps))
+    row1 = int(np.ceil((south - t.f) / t.e - eps))
+    rows, cols = grid.shape
+    extent = (t.c, t.f + rows * t.e, t.c + cols * t.a, t.f)
+    require(0 <= col0 < col1 <= cols and 0 <= row0 < row1 <= rows, field_name, tuple(bounds),
+            f"must lie inside the raster (west, south, east, north) = {tuple(round(x, 3) for x in extent)} "
+            f"of {grid.crs}", "Crop to a box inside the scene, in the scene's projected CRS")
+    return row0, row1, col0, col1
+
+
+def read_band(path: str | os.PathLike, field_name: str = "band",
+              bounds=None) -> tuple[np.ndarray, SceneGrid, float | None]:
+    """Read band 1 of a GeoTIFF, whole or cropped to a map box.
+
+    Parameters
+    ----------
+    path : path-like
+    field_name : str
+        Name used in error messages.
+    bounds : (west, south, east, north), optional
+        Crop box in the raster's CRS [m] (widened to whole pixels); only that window is
+        read from the file.
 
     Returns
     -------
     data : ndarray
         Raw values (DN for Landsat L1, dtype as stored).
     grid : SceneGrid
+        Grid of ``data`` (the window's, when cropped).
     nodata : float or None
         The file's nodata value (Landsat L1 uses 0 for fill).
     """
+    from rasterio.windows import Window
+
     path = os.fspath(path)
     require(os.path.isfile(path), field_name, path, "must be an existing GeoTIFF file")
     try:
         with rasterio.open(path) as src:
-            data = src.read(1)
             grid = SceneGrid(src.transform, src.crs, (src.height, src.width))
+            require(grid.crs is not None, f"{field_name}.crs", path, "the raster must carry a CRS")
+            if bounds is None:
+                data = src.read(1)
+            else:
+                r0, r1, c0, c1 = window_of_bounds(grid, bounds, "bounds")
+                win = Window(c0, r0, c1 - c0, r1 - r0)
+                data = src.read(1, window=win)
+                t = src.transform       # shifted by whole pixels (window_transform warns on rasterio 1.4)
+                shifted = Affine(t.a, t.b, t.c + c0 * t.a + r0 * t.b, t.d, t.e, t.f + c0 * t.d + r0 * t.e)
+                grid = SceneGrid(shifted, src.crs, data.shape)
             nodata = src.nodata
     except rasterio.errors.RasterioIOError as exc:
         raise InputError(field_name, path, "must be a readable GeoTIFF", str(exc)) from None
-    require(grid.crs is not None, f"{field_name}.crs", path, "the raster must carry a CRS")
     return data, grid, nodata
+
+
+def band_grid(path: str | os.PathLike, field_name: str = "band") -> SceneGrid:
+    """Grid of a GeoTIFF without reading its pixels."""
+    path = os.fspath(path)
+    require(os.path.isfile(path), field_name, path, "must be an existing GeoTIFF file")
+    try:
+        with rasterio.open(path) as src:
+            grid = SceneGrid(src.transform, src.crs, (src.height, src.width))
+    except rasterio.errors.RasterioIOError as exc:
+        raise InputError(field_name, path, "must be a readable GeoTIFF", str(exc)) from None
+    require(grid.crs is not None, f"{field_name}.crs", path, "the raster must carry a CRS")
+    return grid
 
 
 @dataclass(frozen=True)
@@ -317,20 +387,30 @@ class LandsatScene:
         return radiance_to_brightness_temperature(self.radiance(THERMAL_BAND), self.mtl.k1, self.mtl.k2)
 
 
-def read_landsat_scene(mtl_path: str | os.PathLike) -> LandsatScene:
+def read_landsat_scene(mtl_path: str | os.PathLike, bounds=None) -> LandsatScene:
     """Read the MTL and the bands it names (2–7 and 10); check they share one grid.
+
+    Parameters
+    ----------
+    mtl_path : path-like
+        ``*_MTL.txt`` or ``*_MTL.json``.
+    bounds : (west, south, east, north), optional
+        Crop box in the scene's projected CRS [m] (e.g. the port out of a 185 km scene);
+        widened to whole 30 m pixels, only that window is read from each band.
 
     Raises
     ------
     InputError
-        Missing MTL keys or band files; bands whose shape, CRS or transform differ.
+        Missing MTL keys or band files; bands whose shape, CRS or transform differ; a crop
+        box outside the scene.
     """
     mtl = read_mtl(mtl_path)
     dn: dict[int, np.ndarray] = {}
     grid0: SceneGrid | None = None
     ref_band = None
     for band, path in mtl.band_files.items():
-        data, grid, _ = read_band(path, f"FILE_NAME_BAND_{band}")
+        # Compare the full grids (a crop could hide a shape mismatch), then read.
+        grid = band_grid(path, f"FILE_NAME_BAND_{band}")
         if grid0 is None:
             grid0, ref_band = grid, band
         else:
@@ -347,11 +427,14 @@ def read_landsat_scene(mtl_path: str | os.PathLike) -> LandsatScene:
                 raise InputError(f"FILE_NAME_BAND_{band}.transform", tuple(grid.transform)[:6],
                                  f"must equal band {ref_band}'s transform {tuple(grid0.transform)[:6]}",
                                  "Resample the band onto the scene grid first")
+    scene_grid = None
+    for band, path in mtl.band_files.items():
+        data, scene_grid, _ = read_band(path, f"FILE_NAME_BAND_{band}", bounds)
         dn[band] = data
-    fill = np.zeros(grid0.shape, dtype=bool)
+    fill = np.zeros(scene_grid.shape, dtype=bool)
     for data in dn.values():
         fill |= data == 0
-    return LandsatScene(mtl=mtl, grid=grid0, dn=dn, fill=fill)
+    return LandsatScene(mtl=mtl, grid=scene_grid, dn=dn, fill=fill)
 
 
 # ---------------------------------------------------------------------------------------------
