@@ -44,6 +44,26 @@ class atomic_path:
         return False
 
 
+def _dual_surface(graph: CellGraph):
+    """Boundary triangles of a vertex-centred graph for output.
+
+    Returns ``(surface PolyData with cell 'patch', pieces→points (p, b) sparse sum,
+    piece area per surface point (p,) [m2])``.
+    """
+    import pyvista as pv
+    import scipy.sparse as sp
+
+    tri = graph.metadata["boundary_triangles"]
+    used, local = np.unique(tri, return_inverse=True)
+    local = local.reshape(tri.shape)
+    faces = np.hstack([np.full((len(tri), 1), 3), local]).ravel()
+    surf = pv.PolyData(graph.points[used], faces)
+    surf.cell_data["patch"] = graph.bface_patch[::3].astype(np.int32)
+    b = graph.n_bfaces
+    to_points = sp.csr_matrix((np.ones(b), (local.ravel(), np.arange(b))), shape=(len(used), b))
+    return surf, to_points, to_points @ graph.bface_area
+
+
 @dataclass(frozen=True)
 class EnergyLog:
     """Per-step energy bookkeeping [J] (see :mod:`.simulation`).
@@ -179,23 +199,45 @@ class Results:
     def to_vtu(self, directory, stem: str = "thermal", surface: bool = True) -> list[Path]:
         """One ``.vtu`` per recorded time (cell ``temperature`` [K]) plus a ``.pvd`` series
         for ParaView; with ``surface`` also the boundary faces (``.vtp``: surface
-        temperature, heat flux, patch)."""
+        temperature, heat flux, patch).
+
+        Vertex-centred graphs (``kind == "dual-tetrahedral"``) are written as their
+        tetrahedral mesh with ``temperature`` as *point* data (ParaView interpolates it
+        linearly, as the discretisation does); the surface file then holds the boundary
+        triangles with point ``temperature`` and ``heat_flux`` per boundary vertex (its
+        pieces pooled) and cell ``patch``."""
         directory = Path(directory)
         directory.mkdir(parents=True, exist_ok=True)
-        grid = self.graph.to_pyvista()
-        surf = self.graph.boundary_surface() if surface else None
+        g = self.graph
+        dual = g.kind == "dual-tetrahedral"
+        grid = g.to_pyvista()
+        cell_values = grid.point_data if dual else grid.cell_data
+        if not surface:
+            surf = None
+        elif dual:
+            surf, to_points, face_flow_area = _dual_surface(g)
+        else:
+            surf = g.boundary_surface()
         written, entries, sentries = [], [], []
         flux = self.face_heat_flux()
         for k, t in enumerate(self.times):
-            grid.cell_data["temperature"] = self.cell_temperature[k].astype(np.float32)
+            cell_values["temperature"] = self.cell_temperature[k].astype(np.float32)
             name = directory / f"{stem}_{k:04d}.vtu"
             with atomic_path(name) as tmp:
                 grid.save(tmp)
             written.append(name)
             entries.append((t, name.name))
-            if surf is not None:
+            if surf is not None and dual:
+                # Vertex pieces → surface points: area-weighted surface temperature and the
+                # total heat flow over the total piece area of each boundary vertex.
+                surf.point_data["temperature"] = (to_points @ (self.face_temperature[k] * g.bface_area)
+                                                  / face_flow_area).astype(np.float32)
+                surf.point_data["heat_flux"] = (to_points @ self.face_flow[k]
+                                                / face_flow_area).astype(np.float32)
+            elif surf is not None:
                 surf.cell_data["temperature"] = self.face_temperature[k].astype(np.float32)
                 surf.cell_data["heat_flux"] = flux[k].astype(np.float32)
+            if surf is not None:
                 sname = directory / f"{stem}_surface_{k:04d}.vtp"
                 with atomic_path(sname) as tmp:
                     surf.save(tmp)
@@ -217,18 +259,27 @@ class Results:
 
     def to_vtkhdf(self, path) -> Path:
         """Transient VTKHDF (one file, mesh once, cell ``temperature`` per step), readable by
-        ParaView ≥ 5.12 and VTK's ``vtkHDFReader``."""
+        ParaView ≥ 5.12 and VTK's ``vtkHDFReader``. Vertex-centred graphs: the tet mesh with
+        point ``temperature`` (see :meth:`to_vtu`)."""
         import h5py
 
         g = self.graph
         path = Path(path)
-        conn = g.cell_connectivity
-        n = g.n_cells
+        dual = g.kind == "dual-tetrahedral"
+        if dual:
+            # Vertex-centred: the tet mesh, temperatures as point data (see to_vtu).
+            tets = g.metadata["tets"]
+            conn = np.hstack([np.full((len(tets), 1), 4), tets]).ravel()
+            types = np.full(len(tets), VTK_TETRA, np.uint8)
+        else:
+            conn, types = g.cell_connectivity, g.cell_types
+        n = len(types)
+        n_values = g.n_cells            # values per step (cells, or points when dual)
         # flat [npts, ids...] per cell → VTKHDF offsets + connectivity (sizes from the types)
         size_of = np.zeros(256, np.int64)
         size_of[[VTK_TETRA, VTK_WEDGE]] = (4, 6)
-        sizes = size_of[g.cell_types]
-        require(bool(np.all(sizes > 0)), "graph.cell_types", np.unique(g.cell_types),
+        sizes = size_of[types]
+        require(bool(np.all(sizes > 0)), "graph.cell_types", np.unique(types),
                 "VTKHDF export knows tetrahedra (10) and wedges (13)")
         starts = np.concatenate([[0], np.cumsum(sizes + 1)[:-1]])
         mask = np.ones(len(conn), bool)
@@ -246,10 +297,11 @@ class Results:
                 root.create_dataset("NumberOfCells", data=np.array([n], np.int64))
                 root.create_dataset("NumberOfConnectivityIds", data=np.array([len(ids)], np.int64))
                 root.create_dataset("Points", data=g.points.astype(np.float64))
-                root.create_dataset("Types", data=g.cell_types.astype(np.uint8))
+                root.create_dataset("Types", data=types.astype(np.uint8))
                 root.create_dataset("Connectivity", data=ids.astype(np.int64))
                 root.create_dataset("Offsets", data=offsets.astype(np.int64))
-                cd = root.create_group("CellData")
+                data_group = "PointData" if dual else "CellData"
+                cd = root.create_group(data_group)
                 cd.create_dataset("temperature", data=self.cell_temperature.reshape(-1).astype(np.float32))
                 steps = root.create_group("Steps")
                 steps.attrs["NSteps"] = nt
@@ -260,8 +312,8 @@ class Results:
                 steps.create_dataset("PointOffsets", data=zeros)
                 steps.create_dataset("CellOffsets", data=zeros.reshape(nt, 1))
                 steps.create_dataset("ConnectivityIdOffsets", data=zeros.reshape(nt, 1))
-                cdo = steps.create_group("CellDataOffsets")
-                cdo.create_dataset("temperature", data=np.arange(nt, dtype=np.int64) * n)
+                cdo = steps.create_group(f"{data_group}Offsets")
+                cdo.create_dataset("temperature", data=np.arange(nt, dtype=np.int64) * n_values)
         return path
 
     def summary(self) -> dict:

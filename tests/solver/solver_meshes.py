@@ -18,8 +18,9 @@ def plate_graph(thickness, cells, material="mild_steel", name="plate"):
     return build_shell_graph(SQUARE_V, SQUARE_F, np.zeros(2, int), [name], {name: lay})
 
 
-def box_tets(extents, edge_length, material="mild_steel"):
-    """pytetwild tets of a box [0, ex]×[0, ey]×[0, ez] with patches xmin…zmax."""
+def box_tets(extents, edge_length, material="mild_steel", builder=build_tet_graph):
+    """pytetwild tets of a box [0, ex]×[0, ey]×[0, ez] with patches xmin…zmax (cell-centred
+    graph, or ``builder=build_dual_tet_graph`` for the vertex-centred one)."""
     box = trimesh.creation.box(extents=extents)
     box.apply_translation(np.asarray(extents) / 2.0)
     pts, tets = tetrahedralize_surface(box.vertices, box.faces, edge_length=edge_length)
@@ -29,4 +30,4 @@ def box_tets(extents, edge_length, material="mild_steel"):
         side = np.where(normal[np.arange(len(normal)), axis] > 0, "max", "min")
         return np.char.add(np.array(list("xyz"))[axis], side)
 
-    return build_tet_graph(pts, tets, material=material, patches=rule)
+    return builder(pts, tets, material=material, patches=rule)

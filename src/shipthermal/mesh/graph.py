@@ -172,9 +172,18 @@ class CellGraph:
 
     # ---- output geometry ------------------------------------------------------------
     def to_pyvista(self):
-        """Cells as a :class:`pyvista.UnstructuredGrid` (no data)."""
+        """Cells as a :class:`pyvista.UnstructuredGrid` (no data).
+
+        For a vertex-centred graph (``kind == "dual-tetrahedral"``) the cells are the mesh
+        vertices: the grid is the tetrahedral mesh itself, whose *points* are the cells
+        (cell values go to ``point_data``).
+        """
         import pyvista as pv
 
+        if self.kind == "dual-tetrahedral":
+            tets = self.metadata["tets"]
+            conn = np.hstack([np.full((len(tets), 1), 4), tets]).ravel()
+            return pv.UnstructuredGrid(conn, np.full(len(tets), VTK_TETRA, np.uint8), self.points)
         return pv.UnstructuredGrid(self.cell_connectivity, self.cell_types, self.points)
 
     def boundary_surface(self):

@@ -147,6 +147,42 @@ def _orient(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
     return tets
 
 
+def _tet_materials(points: np.ndarray, tets, material, cell_material):
+    """Validate a tet mesh and its materials (shared by the cell- and vertex-centred
+    builders).
+
+    Returns ``(materials, cell_material (M,), tets (M, 4) positively oriented, volume (M,)
+    [m3])``.
+    """
+    tets = np.asarray(tets, dtype=np.int64)
+    check_finite("points", points)
+    require(points.ndim == 2 and points.shape[1] == 3, "points", points.shape, "must be (N, 3)")
+    require(tets.ndim == 2 and tets.shape[1] == 4 and len(tets) > 0, "tets", tets.shape,
+            "must be (M, 4) with M > 0")
+    require(tets.min() >= 0 and tets.max() < len(points), "tets", (int(tets.min()), int(tets.max())),
+            f"vertex indices must lie in [0, {len(points) - 1}]")
+    tets = _orient(points, tets)
+
+    mats = [material] if isinstance(material, (str, Material)) else list(material)
+    mats = tuple(get_material(m, f"material[{i}]") for i, m in enumerate(mats))
+    if cell_material is None:
+        require(len(mats) == 1, "cell_material", None, "is required when several materials are given")
+        cell_material = np.zeros(len(tets), dtype=np.int32)
+    cell_material = np.asarray(cell_material, dtype=np.int32)
+    require(cell_material.shape == (len(tets),), "cell_material", cell_material.shape,
+            f"must have one entry per tet ({len(tets)})")
+    require(bool(np.all((cell_material >= 0) & (cell_material < len(mats)))), "cell_material",
+            (int(cell_material.min()), int(cell_material.max())),
+            f"must index the materials 0..{len(mats) - 1}")
+
+    a, b, c, d = (points[tets[:, k]] for k in range(4))
+    volume = np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a) / 6.0
+    if np.any(volume <= 0):
+        raise InputError("tets", f"{int(np.sum(volume <= 0))} degenerate tets",
+                         "every tetrahedron must have positive volume")
+    return mats, cell_material, tets, volume
+
+
 PatchRule = Callable[[np.ndarray, np.ndarray], Sequence[str] | np.ndarray]
 
 
@@ -174,27 +210,8 @@ def build_tet_graph(points, tets, material: str | Material | Sequence = "mild_st
         (needed for consistency on tetrahedra; off only to measure its effect).
     """
     points = np.asarray(points, dtype=float)
-    tets = np.asarray(tets, dtype=np.int64)
-    check_finite("points", points)
-    require(tets.ndim == 2 and tets.shape[1] == 4, "tets", tets.shape, "must be (M, 4)")
-    require(tets.min() >= 0 and tets.max() < len(points), "tets", (int(tets.min()), int(tets.max())),
-            f"vertex indices must lie in [0, {len(points) - 1}]")
-    tets = _orient(points, tets)
-
-    mats = [material] if isinstance(material, (str, Material)) else list(material)
-    mats = tuple(get_material(m, f"material[{i}]") for i, m in enumerate(mats))
-    if cell_material is None:
-        require(len(mats) == 1, "cell_material", None, "is required when several materials are given")
-        cell_material = np.zeros(len(tets), dtype=np.int32)
-    cell_material = np.asarray(cell_material, dtype=np.int32)
-    require(cell_material.shape == (len(tets),), "cell_material", cell_material.shape,
-            f"must have one entry per tet ({len(tets)})")
-
+    mats, cell_material, tets, volume = _tet_materials(points, tets, material, cell_material)
     a, b, c, d = (points[tets[:, k]] for k in range(4))
-    volume = np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a) / 6.0
-    if np.any(volume <= 0):
-        raise InputError("tets", f"{int(np.sum(volume <= 0))} degenerate tets",
-                         "every tetrahedron must have positive volume")
     centroid = (a + b + c + d) / 4.0
 
     # Faces opposite each vertex, as sorted triples, to pair them up.
