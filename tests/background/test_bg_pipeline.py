@@ -80,11 +80,13 @@ def test_overpass_reproduces_landsat_and_water_follows_sst(summer):
     at_ov = bg.temperature_at(bg.overpass_hour_local)
     # float32 storage of ~300 K values: 1e-3 K
     np.testing.assert_allclose(at_ov, bg.lst, atol=1e-3)
-    water = bg.class_map == 1
+    # (land-water border pixels are two-end-member mixtures: test_border_pixels_are_unmixed)
+    mixed = np.isfinite(bg.land_fraction)
+    water = (bg.class_map == 1) & ~mixed
     sst_ov = np.interp(bg.overpass_hour_local, bg.hours_local, bg.sst)
     for k in (0, 6, 15, 21):
         np.testing.assert_allclose(bg.temperature[k][water] - bg.lst[water], bg.sst[k] - sst_ov, atol=1e-3)
-    land = np.isin(bg.class_map, (2, 3, 4))
+    land = np.isin(bg.class_map, (2, 3, 4)) & ~mixed
     # constant residual: land pixels move with the kriged baseline, pixel by pixel
     d_t = bg.temperature[14] - bg.temperature[2]
     d_0 = bg.baseline[14] - bg.baseline[2]
@@ -97,7 +99,7 @@ def test_overpass_reproduces_landsat_and_water_follows_sst(summer):
 
 def test_solar_residual_scaling_leaves_eq15_at_night():
     bg = build_port_background("winter", seed=11, residual_scaling="solar", size_px=120)
-    land = np.isin(bg.class_map, (2, 3, 4))
+    land = np.isin(bg.class_map, (2, 3, 4)) & ~np.isfinite(bg.land_fraction)
     terr = terrain_term(bg.terrain, bg.elevation, bg.slope_deg, southness(bg.aspect_deg))
     night = bg.temperature[0] - bg.baseline[0] - terr
     np.testing.assert_allclose(night[land], 0.0, atol=2e-3)
@@ -230,3 +232,59 @@ def test_met_day_must_contain_the_overpass(port_files, tmp_path):
     ds.assign_coords(time=ds.time + np.timedelta64(1, "D")).to_netcdf(tmp_path / "nextday.nc", engine="h5netcdf")
     with pytest.raises(InputError, match=r"met_grid\.time.*must lie within"):
         build_background_from_files(port_files.mtl_txt, port_files.dem, tmp_path / "nextday.nc", port_files.roi)
+
+
+def test_border_pixels_are_unmixed_not_frozen(summer):
+    # A 30 m pixel straddling a quay is part sea. Treated as pure land with its overpass
+    # residual, it came out colder than both land and sea at night (a 12 K cold ring round
+    # every pier in summer, measured before unmixing); unmixed, it stays between its two
+    # end-members. Without unmixing the artefact is back (so this test can fail).
+    from scipy.ndimage import binary_dilation
+
+    def cold_ring(bg):
+        water, land = bg.class_map == 1, np.isin(bg.class_map, (2, 3, 4))
+        coast = land & binary_dilation(water, np.ones((3, 3), bool))
+        counts = []
+        for k in range(24):
+            t = bg.temperature[k]
+            floor = min(np.median(t[water & ~coast]), np.median(t[land & ~coast]))
+            counts.append(int((t[coast] < floor - 0.5).sum()))
+        return max(counts), int(coast.sum())
+
+    bg = summer[0]
+    assert bg.unmixed_pixels > 1000 and bg.summary()["unmixed_border_pixels"] == bg.unmixed_pixels
+    n_cold, n_coast = cold_ring(bg)
+    assert n_coast > 1000 and n_cold == 0
+    f = bg.land_fraction[np.isfinite(bg.land_fraction)]
+    assert f.min() >= 0.0 and f.max() <= 1.0
+    off = build_port_background("summer", seed=11, size_px=120, border_unmixing=False)
+    assert off.unmixed_pixels == 0 and cold_ring(off)[0] > 100
+
+
+def test_unmixing_of_a_toy_border_by_hand():
+    from imaging.background.background import unmix_border_pixels
+
+    # Water columns 0-4 at 290 K, land columns 6-10 with T0 300, terrain 0.5, b0 1.5 -> 302 K;
+    # column 5 is border land with LST 296.0 -> f = (296 - 290)/(302 - 290) = 0.5, e = 0.
+    cls = np.full((5, 11), 3, np.uint8)
+    cls[:, :5] = 1
+    lst = np.where(cls == 1, 290.0, 302.0)
+    lst[:, 5] = 296.0
+    t0, terr = np.full(cls.shape, 300.0), np.where(cls == 1, 0.0, 0.5)
+    b0 = np.where(cls == 1, np.nan, 1.5)
+    mix = unmix_border_pixels(cls, lst, t0, terr, b0)
+    assert mix["mask"][:, 5].all() and mix["mask"][:, 4].all() and mix["mask"].sum() == 10
+    np.testing.assert_allclose(mix["f"][:, 5], 0.5, atol=1e-12)
+    np.testing.assert_allclose(mix["e"][:, 5], 0.0, atol=1e-12)
+    np.testing.assert_allclose(mix["f"][:, 4], 0.0, atol=1e-12)     # border water at 290 K: pure water
+    # Low thermal contrast (land end-member 290.5 K, < 1 K): the fraction comes from the
+    # reflectances instead, 0.25 water + 0.75 land -> f = 0.75; e keeps the LST exact.
+    t0_low = np.full(cls.shape, 288.5)
+    rho = np.where((cls == 1)[..., None], [0.06, 0.02], [0.20, 0.30]).astype(float)
+    rho[:, 5] = 0.25 * np.array([0.06, 0.02]) + 0.75 * np.array([0.20, 0.30])
+    lst_low = np.where(cls == 1, 290.0, 290.5)
+    mix = unmix_border_pixels(cls, lst_low, t0_low, terr, b0, rho)
+    assert not mix["thermal"].any()
+    np.testing.assert_allclose(mix["f"][:, 5], 0.75, atol=1e-12)
+    land_ov = 288.5 + 0.5 + 1.5
+    np.testing.assert_allclose(mix["e"][:, 5], 290.5 - (0.75 * land_ov + 0.25 * 290.0), atol=1e-12)

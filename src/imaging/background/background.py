@@ -13,6 +13,22 @@ per-class intercepts of that fit and ``r`` the Landsat residual, so at the overp
 or the solar-elevation ratio ``max(sin h(t), 0)/sin h(t_ov)`` (``"solar"``: class contrast is
 daytime heating only; at night eq. 15 alone remains). Water pixels never use land physics:
 they keep their Landsat pattern and follow the diurnal SST cycle of the met file.
+
+**Mixed pixels on the land–water border** (a 30 m pixel straddling a quay, pier or the
+coastline): taken as pure land, a pixel whose overpass LST is mostly water would carry its
+large negative residual into the night and come out colder than both land and sea (on the
+synthetic port: a 12 K cold ring round every pier at midnight). Border pixels (land next to
+water or water next to land, 3x3) are therefore unmixed (:func:`unmix_border_pixels`)::
+
+    border: T(t) = f * [T0(t) + terr_L + w(t) * b0_L] + (1 - f) * [W_ov + SST(t) - SST(t_ov)] + e
+
+with the water end-member ``W_ov`` the mean LST of pure water within 2 pixels (7 if none),
+the land end-member from the pixel's own class and terrain (land pixels) or the mean of pure
+land within 2 (7) pixels (water pixels), the land fraction ``f = (LST - W_ov)/(L_ov - W_ov)``
+clipped to [0, 1] where the end-members differ by >= 1 K, else from linear spectral unmixing
+of the reflectances (a winter overpass can leave land and sea within a kelvin), and ``e``
+the remainder, so ``T(t_ov) = LST`` still holds. Pixels without a pure neighbour keep the
+plain rules above (``border_unmixing=False`` switches it off).
 """
 
 from __future__ import annotations
@@ -37,7 +53,7 @@ from .lst import (EMISSIVITY_PARAMETERS, AtmosphereB10, atmospheric_functions, e
 from .met import read_met_grid
 from .terrain import TerrainFit, fit_terrain_regression, read_dem, slope_aspect, southness, terrain_term
 
-__all__ = ["PortBackground", "build_background_from_files", "build_port_background"]
+__all__ = ["PortBackground", "build_background_from_files", "build_port_background", "unmix_border_pixels"]
 
 WATER = 1
 LAND_CLASSES = (2, 3, 4)
@@ -85,6 +101,10 @@ class PortBackground:
         Band-10 atmosphere used by the LST retrieval.
     emissivity_model : str
         NDVI-thresholds coefficient set used (:data:`.lst.EMISSIVITY_PARAMETERS`).
+    unmixed_pixels : int
+        Land–water border pixels treated as two-end-member mixtures (module docstring).
+    land_fraction : ndarray or None
+        Land fraction ``f`` of the unmixed pixels [-] (NaN elsewhere).
     utc_offset_hours : float
     dem_masked_pixels : int
         Scene pixels without a DEM value (explicitly masked; 0 unless ``dem_nodata="mask"``).
@@ -119,6 +139,8 @@ class PortBackground:
     utc_offset_hours: float
     dem_masked_pixels: int
     emissivity_model: str = "tirs_b10"
+    unmixed_pixels: int = 0
+    land_fraction: np.ndarray | None = field(default=None, repr=False)
     outputs: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
     synthetic_truth: dict | None = field(default=None, repr=False)
@@ -163,9 +185,99 @@ class PortBackground:
             "class_intercepts_K": self.terrain.intercepts,
             "r2": self.terrain.r2,
             "dem_masked_pixels": self.dem_masked_pixels,
+            "unmixed_border_pixels": self.unmixed_pixels,
             "lst_K": [float(np.nanmin(self.lst)), float(np.nanmax(self.lst))],
             "timings_s": {k: round(v, 3) for k, v in self.timings.items()},
         }
+
+
+def unmix_border_pixels(class_map, lst, t0_ov, terr, b0_map, reflectance=None, radius: int = 2,
+                        min_contrast: float = 1.0, slack: float = 0.25):
+    """Two-end-member unmixing of land–water border pixels at the overpass.
+
+    Parameters
+    ----------
+    class_map : ndarray uint8
+        Class codes (1 water, 2–4 land).
+    lst : ndarray
+        Landsat LST [K].
+    t0_ov : ndarray
+        Kriged baseline at the overpass [K].
+    terr : ndarray
+        Eq. 15 terrain term ``b1 Dem + b2 Slope + b3 Southness`` [K].
+    b0_map : ndarray
+        Class intercept ``b0`` of each land pixel [K] (NaN elsewhere).
+    reflectance : ndarray (rows, cols, bands), optional
+        OLI reflectances [-] for the spectral fallback.
+    radius : int
+        Neighbourhood half-width for the pure end-members [pixel] (3x wider where that
+        window holds no pure pixel).
+    min_contrast : float
+        Smallest land–water end-member difference unmixed thermally [K].
+    slack : float
+        Accepted overshoot of the thermal fraction beyond [0, 1] [-].
+
+    Returns
+    -------
+    dict
+        ``mask`` (unmixed pixels), ``thermal`` (of which unmixed by temperature), ``f`` land
+        fraction [-], ``e`` remainder [K], ``terr_land`` [K] and ``b0_land`` [K] of the land
+        end-member, ``water_ov`` [K].
+
+    Notes
+    -----
+    The land fraction comes from the temperatures, ``f = (LST - W_ov)/(L_ov - W_ov)``, where
+    the two end-members differ by at least ``min_contrast`` and ``f`` falls in
+    ``[-slack, 1 + slack]`` (then clipped). Elsewhere (a winter overpass can leave land and
+    sea within a kelvin, so a thermal ``f`` would be noise that decides how much of the pixel
+    cools at night) it comes from linear spectral unmixing of the reflectances with the same
+    neighbourhood end-members (least squares over the bands, clipped to [0, 1]). ``e = LST -
+    [f L_ov + (1 - f) W_ov]`` keeps the overpass LST exact.
+    """
+    from scipy.ndimage import binary_dilation, uniform_filter
+
+    water = class_map == WATER
+    land = np.isin(class_map, LAND_CLASSES)
+    ring = np.ones((3, 3), bool)
+    border = (land & binary_dilation(water, ring)) | (water & binary_dilation(land, ring))
+    size = 2 * radius + 1
+
+    def nbr_mean(values, mask):
+        # Normalised convolution: mean of ``values`` over ``mask`` pixels in the window; where
+        # the window holds none (a narrow channel whose water is all border), a 3x wider one.
+        ok = mask & np.isfinite(values)
+        out = np.full(ok.shape, np.nan)
+        for width in (size, 3 * size):
+            num = uniform_filter(np.where(ok, values, 0.0), width, mode="constant")
+            den = uniform_filter(ok.astype(float), width, mode="constant")
+            with np.errstate(invalid="ignore", divide="ignore"):
+                out = np.where(np.isnan(out) & (den > 0.5 / width ** 2), num / den, out)
+        return out
+
+    pure_water, pure_land = water & ~border, land & ~border
+    water_ov = nbr_mean(lst, pure_water)
+    terr_land = np.where(land, terr, nbr_mean(terr, pure_land))
+    b0_land = np.where(land, b0_map, nbr_mean(b0_map, pure_land))
+    land_ov = t0_ov + terr_land + b0_land
+    contrast = land_ov - water_ov
+    ends = border & np.isfinite(land_ov) & np.isfinite(water_ov) & np.isfinite(lst)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        f_thermal = (lst - water_ov) / contrast
+    thermal = ends & (np.abs(contrast) >= min_contrast) & (f_thermal >= -slack) & (f_thermal <= 1.0 + slack)
+    f = np.where(thermal, np.clip(f_thermal, 0.0, 1.0), np.nan)
+    if reflectance is not None:
+        rho = np.asarray(reflectance, dtype=np.float64)
+        rho_w = np.stack([nbr_mean(rho[..., b], pure_water) for b in range(rho.shape[-1])], axis=-1)
+        rho_l = np.stack([nbr_mean(rho[..., b], pure_land) for b in range(rho.shape[-1])], axis=-1)
+        d = rho_l - rho_w
+        with np.errstate(invalid="ignore", divide="ignore"):
+            f_spec = np.clip(np.sum((rho - rho_w) * d, axis=-1) / np.sum(d * d, axis=-1), 0.0, 1.0)
+        spectral = ends & ~thermal & np.isfinite(f_spec)
+        f = np.where(spectral, f_spec, f)
+    mask = ends & np.isfinite(f)
+    e = lst - (f * land_ov + (1.0 - f) * water_ov)
+    return {"mask": mask, "thermal": thermal, "f": np.where(mask, f, np.nan), "e": np.where(mask, e, np.nan),
+            "terr_land": terr_land, "b0_land": b0_land, "water_ov": water_ov}
 
 
 def _sun_sin_elevation(grid: SceneGrid, when_utc) -> np.ndarray:
@@ -208,8 +320,8 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
                                 variogram_model: str = "spherical", krige_coarsen: int = 5,
                                 lst_method: str = "planck", emissivity_model: str = "tirs_b10",
                                 dem_nodata: str = "error",
-                                residual_scaling: str = "constant", test_fraction: float = 0.5,
-                                seed: int = 0, bounds=None, out_dir=None,
+                                residual_scaling: str = "constant", border_unmixing: bool = True,
+                                test_fraction: float = 0.5, seed: int = 0, bounds=None, out_dir=None,
                                 progress: bool = False) -> PortBackground:
     """Run the full background chain on real-format inputs.
 
@@ -242,6 +354,9 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
         DEM nodata over land: raise, or mask explicitly (terrain term left out there; counted).
     residual_scaling : {"constant", "solar"}
         Diurnal weight ``w(t)`` of the Landsat class residual (module docstring).
+    border_unmixing : bool
+        Unmix land–water border pixels into a land and a water end-member (module
+        docstring); False treats them as pure land or pure water by their class.
     test_fraction : float
         Share of ROI pixels held out for the confusion matrix.
     seed : int
@@ -365,11 +480,23 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     hours_utc = (met.times_utc - met.times_utc.astype("datetime64[D]")).astype("timedelta64[s]").astype(float) / 3600
     hours_local = (hours_utc + utc_offset_hours) % 24.0
     order = np.argsort(hours_local, kind="stable")
+    b0_map = np.full(class_map.shape, np.nan)
+    for c in LAND_CLASSES:
+        b0_map[class_map == c] = terrain.intercepts.get(CLASS_NAMES[c], np.nan)
+    mix = (unmix_border_pixels(class_map, lst, t0_ov, terr, b0_map, features) if border_unmixing
+           else {"mask": np.zeros(class_map.shape, bool)})
+    m = mix["mask"]
     temperature = np.empty_like(baseline_utc)
     for out_k, k in enumerate(order):
         land_t = baseline_utc[k] + terr + weight[k] * residual
         water_t = lst + (met.sst[k] - sst_ov)
-        temperature[out_k] = np.where(water, water_t, np.where(land, land_t, np.nan))
+        layer = np.where(water, water_t, np.where(land, land_t, np.nan))
+        if m.any():
+            f = mix["f"][m]
+            land_end = baseline_utc[k][m] + mix["terr_land"][m] + weight[k] * mix["b0_land"][m]
+            water_end = mix["water_ov"][m] + (met.sst[k] - sst_ov)
+            layer[m] = f * land_end + (1.0 - f) * water_end + mix["e"][m]
+        temperature[out_k] = layer
     timings["temporal"] = time.perf_counter() - t1
 
     acquired = scene.mtl.acquired_utc
@@ -383,7 +510,8 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
         hours_local=hours_local[order], temperature=temperature.astype(np.float32),
         baseline=baseline_utc[order].astype(np.float32), sst=met.sst[order], overpass_utc=acquired,
         overpass_hour_local=float(hour_ov), atmosphere=atmosphere, utc_offset_hours=float(utc_offset_hours),
-        dem_masked_pixels=dem_masked, emissivity_model=emissivity_model, timings=timings)
+        dem_masked_pixels=dem_masked, emissivity_model=emissivity_model,
+        unmixed_pixels=int(m.sum()), land_fraction=mix.get("f"), timings=timings)
     if out_dir is not None:
         from .outputs import write_outputs
 
