@@ -1,0 +1,479 @@
+"""``shipthermal``: the command line over the Python API, driven by one scenario file.
+
+Subcommands (``shipthermal <command> --help`` for each)::
+
+    demo       the built-in default end to end: summer and winter thermal runs, images in
+               3-5 and 8-14 um, SCR curves, crossover times, report
+    mesh       build the ship of a scenario: mesh files, part picture, mesh report
+    run        thermal run of a scenario file (checkpointed; --resume continues)
+    image      imaging stage on a finished thermal run directory
+    crossover  print the crossover times of a run directory
+    validate   deck temperatures vs the paper's reference, sensitivity table
+    sweep      parameter sweep on dask.distributed
+    report     (re)write the self-contained HTML report of a run directory
+
+Exit codes: 0 success; 2 user error (bad scenario, sweep file, option or folder: the
+message only, no traceback); 1 internal failure (traceback with ``-v``); 130 interrupted
+(Ctrl-C; an interrupted run leaves no ``COMPLETE`` marker and resumes with ``--resume``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+import traceback
+from pathlib import Path
+
+from .errors import InputError
+
+__all__ = ["main", "build_parser"]
+
+EXIT_OK, EXIT_FAILURE, EXIT_USER, EXIT_INTERRUPTED = 0, 1, 2, 130
+
+
+class Console:
+    """Where messages go: results to stdout; progress and notes to stderr.
+
+    ``quiet``: no progress bars and no notes (results and errors only); ``verbose``: stage
+    details and tracebacks of internal failures.
+    """
+
+    def __init__(self, quiet: bool = False, verbose: bool = False):
+        self.quiet = quiet
+        self.verbose = verbose and not quiet
+        self.progress = not quiet
+
+    def info(self, msg: str) -> None:
+        if not self.quiet:
+            print(msg, file=sys.stderr, flush=True)
+
+    def debug(self, msg: str) -> None:
+        if self.verbose:
+            print(f"  {msg}", file=sys.stderr, flush=True)
+
+    def out(self, msg: str) -> None:
+        print(msg, flush=True)
+
+    def error(self, msg: str) -> None:
+        print(msg, file=sys.stderr, flush=True)
+
+
+# ---------------------------------------------------------------------------------------
+# helpers
+# ---------------------------------------------------------------------------------------
+def _load_scenario(path):
+    from .scenario import default_scenario, load_scenario
+
+    if path in ("summer", "winter"):
+        return default_scenario(path)
+    return load_scenario(path)
+
+
+def _require_run(path) -> Path:
+    from .rundir import MANIFEST
+
+    p = Path(path)
+    if not (p / MANIFEST).is_file():
+        raise InputError("run directory", str(path), "must be a shipthermal run directory "
+                         "(with manifest.json)", "Give a folder written by `shipthermal run` or "
+                         "`shipthermal demo`")
+    return p
+
+
+def _cases_of(run_path: Path) -> dict:
+    """case → Scenario of a run directory (from its scenario copies)."""
+    import json
+
+    from .scenario import load_scenario
+
+    manifest = json.loads((run_path / "manifest.json").read_text())
+    out = {}
+    for case, info in (manifest.get("cases") or {}).items():
+        f = run_path / info.get("scenario", "")
+        if f.is_file():
+            out[case] = load_scenario(f)
+    if not out:
+        raise InputError("run directory", str(run_path), "holds no scenario copy "
+                         "(scenario*.toml)", "Was it written by `shipthermal run`?")
+    return out
+
+
+def _report(run, con: Console, finishing: bool = False) -> Path:
+    from .report import write_report
+
+    t0 = time.perf_counter()
+    path = write_report(run.path, finishing=finishing)
+    run.record("report", time.perf_counter() - t0)
+    con.debug(f"report {path} ({time.perf_counter() - t0:.1f} s)")
+    return path
+
+
+def _imaging(run, cases: dict, con: Console, step_s: float | None = None) -> dict:
+    """Imaging stage of a run: ``cases = {case: Scenario}`` with finished thermal stages."""
+    from .pipeline import image_cases, load_history
+
+    inputs = {c: (sc, load_history(run.path / "thermal" / c / "history.npz"))
+              for c, sc in cases.items()}
+    con.info(f"imaging: {', '.join(cases)} x {', '.join(next(iter(cases.values())).bands)} um")
+    with run.stage("imaging") as tmp:
+        res = image_cases(inputs, tmp, progress=con.progress, log=con.debug, step_s=step_s)
+    if step_s:
+        run.manifest["settings"]["imaging_step_s"] = step_s
+        run.save_manifest()
+    return res
+
+
+def _print_crossovers(run_path: Path, con: Console, as_csv: bool = False) -> int:
+    import pandas as pd
+
+    files = sorted((run_path / "imaging").glob("**/crossovers.csv"))
+    if not files:
+        raise InputError("run directory", str(run_path), "has no imaging results "
+                         "(imaging/crossovers.csv)", f"Run `shipthermal image {run_path}` first")
+    for f in files:
+        df = pd.read_csv(f)
+        rel = f.parent.relative_to(run_path)
+        if as_csv:
+            con.out(df.to_csv(index=False).rstrip())
+            continue
+        con.out(f"thermal crossover moments ({rel}):")
+        if len(df):
+            show = df[[c for c in ("season", "band", "time_local", "direction") if c in df]]
+            con.out(show.to_string(index=False))
+        else:
+            con.out("  none found")
+    return EXIT_OK
+
+
+# ---------------------------------------------------------------------------------------
+# subcommands
+# ---------------------------------------------------------------------------------------
+def cmd_demo(args, con: Console) -> int:
+    from .pipeline import (DEMO_EDGE_LENGTH, QUICK_EDGE_LENGTH, QUICK_SCR_INTERVAL,
+                           demo_scenarios, thermal_case)
+    from .rundir import RunDir, is_complete
+
+    out = Path(args.out)
+    if args.resume and is_complete(out):
+        con.info(f"{out} is already complete: nothing to resume")
+        return EXIT_OK
+    scen = demo_scenarios(quick=args.quick, seasons=tuple(args.seasons))
+    t0 = time.perf_counter()
+    with RunDir(out, resume=args.resume, force=args.force, kind="demo") as run:
+        edge = QUICK_EDGE_LENGTH if args.quick else DEMO_EDGE_LENGTH
+        run.manifest["settings"].update({
+            "quick": args.quick, "ship": "frigate (built-in)", "edge_length_m": edge,
+            "default_demo_edge_length_m": DEMO_EDGE_LENGTH,
+            "scr_interval_s": QUICK_SCR_INTERVAL if args.quick else 600.0,
+            "note": "built-in default scenarios; only the ship edge length (and with --quick "
+                    "the SCR step) differ from default_scenario(season)"})
+        for season, sc in scen.items():
+            run.add_scenario(sc, case=season)
+        for season, sc in scen.items():
+            con.info(f"{season}: thermal run ({sc.ship.builtin}, edge {edge} m)")
+            s = thermal_case(sc, run, season, resume=args.resume, progress=con.progress,
+                             log=con.debug)
+            con.info(f"{season}: {s['surface_faces']} faces, {s['days']} days "
+                     f"(converged: {s['converged']}), energy imbalance "
+                     f"{s['energy']['relative_imbalance']:.1e}")
+        if not args.no_imaging:
+            if not (args.resume and run.has("imaging")):
+                _imaging(run, scen, con, QUICK_SCR_INTERVAL if args.quick else None)
+        report = _report(run, con, finishing=True)
+    con.info(f"demo finished in {time.perf_counter() - t0:.0f} s: {out}")
+    if not args.no_imaging:
+        _print_crossovers(out, con)
+    con.out(f"report: {report}")
+    return EXIT_OK
+
+
+def cmd_mesh(args, con: Console) -> int:
+    import json
+
+    from .geometry import build_ship_mesh, render_parts_png, write_ship
+    from .rundir import RunDir
+
+    sc = _load_scenario(args.scenario)
+    changes = {}
+    if args.builtin:
+        changes["ship.builtin"] = args.builtin
+    if args.edge_length is not None:
+        changes["ship.edge_length"] = args.edge_length
+    if changes:
+        sc = sc.updated(changes)
+    out = Path(args.out or f"runs/{sc.name}-mesh")
+    with RunDir(out, force=args.force, kind="mesh") as run:
+        run.add_scenario(sc)
+        con.info(f"mesh: building the ship ({sc.ship.builtin or 'user files'})")
+        with run.stage("mesh") as tmp:
+            t0 = time.perf_counter()
+            ship, read_report = sc.ship(return_report=True)
+            graph, report = build_ship_mesh(ship)
+            files = write_ship(ship, tmp, stem="ship")
+            backend = render_parts_png(ship, tmp / "parts.png")
+            report = {"ship": ship.name, "length_m": ship.length, "beam_m": ship.beam,
+                      "draught_m": ship.draught, "edge_length_m": ship.edge_length,
+                      **report, "read_report": read_report, "picture_backend": backend,
+                      "files": sorted(str(Path(p).relative_to(tmp)) for p in files.values()),
+                      "seconds": time.perf_counter() - t0}
+            (tmp / "mesh_report.json").write_text(json.dumps(report, indent=1, default=str))
+        _report(run, con, finishing=True)
+    con.out(f"{ship.name}: {ship.n_faces} surface faces (median edge "
+            f"{report['edge_median']:.2f} m), {graph.n_cells} cells; "
+            f"parts {', '.join(f'{k} {v}' for k, v in report['surface_faces_per_part'].items())}")
+    con.out(f"mesh files: {out / 'mesh'}")
+    return EXIT_OK
+
+
+def cmd_run(args, con: Console) -> int:
+    from .pipeline import thermal_case
+    from .rundir import RunDir, is_complete
+
+    sc = _load_scenario(args.scenario)
+    out = Path(args.out or sc.outputs.directory)
+    if args.resume and is_complete(out):
+        con.info(f"{out} is already complete: nothing to resume")
+        return EXIT_OK
+    t0 = time.perf_counter()
+    case = sc.name
+    with RunDir(out, resume=args.resume, force=args.force, kind="run") as run:
+        run.add_scenario(sc)
+        run.manifest["cases"][case]["scenario"] = "scenario.toml"
+        con.info(f"{case}: thermal run ({sc.ship.builtin or 'user ship'}, "
+                 f"{sc.time.season} {sc.time.date})")
+        s = thermal_case(sc, run, case, resume=args.resume, progress=con.progress,
+                         log=con.debug)
+        if args.image and not (args.resume and run.has("imaging")):
+            _imaging(run, {case: sc}, con)
+        if "html" in sc.outputs.formats and not args.no_report:
+            _report(run, con, finishing=True)
+    con.info(f"finished in {time.perf_counter() - t0:.0f} s")
+    con.out(f"{case}: {s['surface_faces']} faces, {s['days']} days (converged: "
+            f"{s['converged']}), deck max {s['parts'].get('deck', {}).get('max_K', float('nan')):.2f} K; "
+            f"run directory {out}")
+    if args.image:
+        _print_crossovers(out, con)
+    return EXIT_OK
+
+
+def cmd_image(args, con: Console) -> int:
+    from .rundir import MARKER, RunDir
+
+    path = _require_run(args.run_dir)
+    if not (path / MARKER).is_file():
+        raise InputError("run directory", str(path), "is not finished (no COMPLETE marker)",
+                         f"Finish it first: shipthermal run --resume ... --out {path}")
+    cases = _cases_of(path)
+    missing = [c for c in cases if not (path / "thermal" / c / "history.npz").is_file()]
+    if missing:
+        raise InputError("run directory", str(path), f"has no thermal result for "
+                         f"{', '.join(missing)} (thermal/<case>/history.npz)")
+    if args.bands:
+        cases = {c: sc.updated({"imaging.bands": list(args.bands)}) for c, sc in cases.items()}
+    with RunDir(path, kind="image", amend=True) as run:
+        _imaging(run, cases, con, None if args.step_min is None else 60.0 * args.step_min)
+        _report(run, con)
+    return _print_crossovers(path, con)
+
+
+def cmd_crossover(args, con: Console) -> int:
+    return _print_crossovers(_require_run(args.run_dir), con, as_csv=args.csv)
+
+
+def cmd_validate(args, con: Console) -> int:
+    try:
+        from .validation import validate
+    except ImportError as exc:
+        con.error(f"validation is not available in this installation "
+                  f"(shipthermal.validation: {exc})")
+        return EXIT_FAILURE
+    from .rundir import RunDir
+
+    if args.into:
+        path = _require_run(args.into)
+        ctx = RunDir(path, kind="validate", amend=True)
+    else:
+        ctx = RunDir(Path(args.out), force=args.force, kind="validate")
+    with ctx as run:
+        with run.stage("validation") as tmp:
+            rep = validate(out_dir=tmp, progress=con.progress, quick=args.quick)
+            from .results import atomic_path
+
+            with atomic_path(tmp / "validation_table.csv") as t:
+                rep.table.to_csv(t, index=False, float_format="%.4f")
+        _report(run, con, finishing=not args.into)
+    con.out(rep.text())
+    return EXIT_OK
+
+
+def cmd_sweep(args, con: Console) -> int:
+    from .rundir import RunDir, atomic_write_text
+    from .sweep import load_sweep, run_sweep
+
+    spec = load_sweep(args.sweep)
+    out = Path(args.out or f"runs/sweep-{spec.name}")
+    con.info(f"sweep {spec.name}: {len(spec.cases)} cases over {', '.join(spec.axis_names)}")
+    with RunDir(out, resume=True, force=args.force, kind="sweep") as run:
+        atomic_write_text(out / "sweep.toml", spec.text)
+        run.manifest["settings"].update({"sweep": str(args.sweep), "stages": list(spec.stages),
+                                         "axes": {k: len(v) for k, v in spec.axes.items()}})
+        res = run_sweep(spec, out, scheduler=args.scheduler, n_workers=args.workers,
+                        serial=args.serial, retry_failed=not args.keep_failed,
+                        progress=con.progress, log=con.info, run=run)
+    show = [c for c in res.table.columns if c not in ("worker", "case", "error")
+            and not c.startswith(("first_crossover", "energy", "surface"))]
+    con.out(res.table[show].to_string(index=False, float_format=lambda x: f"{x:.2f}"))
+    bad = res.table[res.table["status"] != "ok"]
+    for _, r in bad.iterrows():
+        con.out(f"case {r['case']} failed: {r['error']}")
+    con.out(f"{len(res.table)} cases: {res.ran} ran, {res.skipped} skipped (finished before), "
+            f"{res.failed} failed; {res.seconds:.1f} s; table {res.files['csv']}")
+    return EXIT_OK if res.failed == 0 else EXIT_FAILURE
+
+
+def cmd_report(args, con: Console) -> int:
+    from .report import write_report
+    from .rundir import RunDir
+
+    path = _require_run(args.run_dir)
+    if args.output:
+        out = write_report(path, args.output)
+    else:
+        with RunDir(path, kind="report", amend=True) as run:
+            out = write_report(run.path)
+    con.out(f"report: {out}")
+    return EXIT_OK
+
+
+# ---------------------------------------------------------------------------------------
+# parser
+# ---------------------------------------------------------------------------------------
+def _common(p: argparse.ArgumentParser, top: bool) -> None:
+    d = {} if top else {"default": argparse.SUPPRESS}
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("-q", "--quiet", action="store_true", help="no progress bars or notes "
+                   "(results and errors only)", **d)
+    g.add_argument("-v", "--verbose", action="store_true", help="stage details; traceback "
+                   "of internal failures", **d)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from .pipeline import DEMO_EDGE_LENGTH, QUICK_EDGE_LENGTH
+
+    p = argparse.ArgumentParser(
+        prog="shipthermal", description="Ship infrared signature in a port: thermal runs, "
+        "imaging, SCR and crossover times from one scenario file.",
+        epilog="Exit codes: 0 ok, 2 user error, 1 internal failure, 130 interrupted. "
+               "Scenario keys: docs/SCENARIO.md (python -m shipthermal.scenario schema).")
+    _common(p, True)
+    sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
+
+    def add(name, help_, func):
+        sp = sub.add_parser(name, help=help_, description=help_)
+        _common(sp, False)
+        sp.set_defaults(func=func)
+        return sp
+
+    d = add("demo", "the built-in default end to end: summer and winter thermal runs of the "
+            "frigate, images in 3-5 and 8-14 um, SCR curves, crossover times, HTML report",
+            cmd_demo)
+    d.add_argument("--quick", action="store_true", help=f"coarser ship mesh ({QUICK_EDGE_LENGTH} m "
+                   f"edges instead of {DEMO_EDGE_LENGTH} m) and a 30-min SCR step")
+    d.add_argument("--out", default="runs/demo", help="run directory (default runs/demo)")
+    d.add_argument("--force", action="store_true", help="replace a finished run directory")
+    d.add_argument("--resume", action="store_true", help="continue an interrupted demo")
+    d.add_argument("--seasons", nargs="+", default=["summer", "winter"],
+                   choices=["summer", "winter"], help="seasons (default both)")
+    d.add_argument("--no-imaging", action="store_true", help="thermal runs only")
+
+    m = add("mesh", "build a scenario's ship: mesh files (PLY + part map + STL per part), "
+            "part picture, mesh report", cmd_mesh)
+    m.add_argument("scenario", nargs="?", default="summer",
+                   help="scenario TOML file, or 'summer' / 'winter' (built-in; default summer)")
+    m.add_argument("--builtin", choices=["frigate", "patrol_boat", "cargo_ship"],
+                   help="use this built-in ship")
+    m.add_argument("--edge-length", type=float, help="target surface edge length [m]")
+    m.add_argument("--out", help="run directory (default runs/<name>-mesh)")
+    m.add_argument("--force", action="store_true", help="replace a finished run directory")
+
+    r = add("run", "thermal run of a scenario (spin-up until periodic, recorded day, "
+            "checkpoints every outputs.checkpoint_interval)", cmd_run)
+    r.add_argument("scenario", help="scenario TOML file, or 'summer' / 'winter' (built-in)")
+    r.add_argument("--out", help="run directory (default: the scenario's outputs.directory)")
+    r.add_argument("--resume", action="store_true",
+                   help="continue an interrupted run from its last checkpoint")
+    r.add_argument("--force", action="store_true", help="replace a finished run directory")
+    r.add_argument("--image", action="store_true", help="also run the imaging stage")
+    r.add_argument("--no-report", action="store_true", help="no HTML report")
+
+    i = add("image", "imaging stage (images, SCR curves, crossover times) on a finished "
+            "thermal run directory", cmd_image)
+    i.add_argument("run_dir", help="run directory written by `shipthermal run`")
+    i.add_argument("--step-min", type=float, help="frame step of the SCR curves and "
+                   "crossover search [min] (default the scenario's imaging.scr_interval)")
+    i.add_argument("--bands", nargs="+", help="bands instead of the scenario's (e.g. 3-5 8-14)")
+
+    c = add("crossover", "print the thermal-crossover times of a run directory", cmd_crossover)
+    c.add_argument("run_dir", help="run directory with imaging results")
+    c.add_argument("--csv", action="store_true", help="print CSV")
+
+    v = add("validate", "deck temperatures vs the paper's reference values, sensitivity "
+            "table (shipthermal.validation)", cmd_validate)
+    v.add_argument("--out", default="runs/validation", help="run directory (default "
+                   "runs/validation)")
+    v.add_argument("--into", help="add the validation to this existing run directory instead")
+    v.add_argument("--quick", action="store_true", help="coarse mesh and fewer rays")
+    v.add_argument("--force", action="store_true", help="replace a finished run directory")
+
+    s = add("sweep", "parameter sweep: the Cartesian product of scenario changes, one "
+            "dask task per case; re-running skips finished cases", cmd_sweep)
+    s.add_argument("sweep", help="sweep TOML file (see shipthermal.sweep)")
+    s.add_argument("--out", help="sweep directory (default runs/sweep-<name>)")
+    s.add_argument("--scheduler", help="address of an existing dask scheduler "
+                   "(default: a LocalCluster on this machine)")
+    s.add_argument("--workers", type=int, help="LocalCluster workers (default: the cores)")
+    s.add_argument("--serial", action="store_true", help="run the cases one by one here")
+    s.add_argument("--keep-failed", action="store_true", help="do not retry cases that "
+                   "failed before")
+    s.add_argument("--force", action="store_true", help="start the sweep afresh")
+
+    rp = add("report", "write the self-contained HTML report of a run directory", cmd_report)
+    rp.add_argument("run_dir", help="run directory")
+    rp.add_argument("--output", help="write here instead of <run_dir>/report.html")
+    return p
+
+
+def main(argv=None) -> int:
+    """Entry point of ``shipthermal``; returns the exit code (also via SystemExit)."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    con = Console(quiet=getattr(args, "quiet", False), verbose=getattr(args, "verbose", False))
+    if args.command == "sweep" and args.workers is not None and args.workers < 1:
+        parser.error("--workers must be >= 1")
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    try:
+        code = args.func(args, con)
+    except InputError as exc:
+        con.error(f"error: {exc}")
+        return EXIT_USER
+    except KeyboardInterrupt:
+        con.error("interrupted (an unfinished run resumes with --resume)")
+        return EXIT_INTERRUPTED
+    except Exception as exc:
+        con.error(f"internal error: {type(exc).__name__}: {exc}")
+        if con.verbose:
+            traceback.print_exc()
+        else:
+            con.error("(run with -v for the traceback)")
+        return EXIT_FAILURE
+    return code
+
+
+def _entry() -> None:
+    sys.exit(main())
+
+
+if __name__ == "__main__":
+    _entry()

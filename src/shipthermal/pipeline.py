@@ -1,0 +1,272 @@
+"""The stages of a run, wired from one :class:`~shipthermal.scenario.Scenario`.
+
+Used by the command line (:mod:`shipthermal.cli`) and the sweeps (:mod:`shipthermal.sweep`);
+every physical choice lives in the modules called here:
+
+* thermal: :func:`shipthermal.diurnal.run_scenario_thermal` → ``thermal/<case>/``
+  (its products plus ``energy.csv`` and ``history.npz``, the imaging stage's input);
+* imaging: :func:`imaging_scenario` turns the same scenario into an
+  :class:`imaging.experiment.ImagingScenario` (location, date, time zone, wind, mooring,
+  heading, sensor, bands and per-part band emissivities all taken from it), and
+  :func:`imaging.experiment.run_experiment` renders and measures → ``imaging/``.
+"""
+
+from __future__ import annotations
+
+import json
+import time as _time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .errors import InputError, require
+from .units import DAY, HOUR
+
+__all__ = ["DEMO_EDGE_LENGTH", "QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case",
+           "write_thermal", "save_history", "load_history", "imaging_scenario",
+           "build_background", "image_cases", "frame_times", "CASE_SUMMARY_KEYS"]
+
+#: Ship surface edge of ``shipthermal demo`` [m]: the frigate with ~4.8k triangles, a
+#: converged three-day spin-up in about a minute per season on 2 shared cores.
+DEMO_EDGE_LENGTH = 2.0
+#: ``demo --quick`` [m]: ~2.1k triangles
+QUICK_EDGE_LENGTH = 3.0
+#: ``demo --quick`` SCR / crossover frame step [s] (the scenario's ``imaging.scr_interval``,
+#: default 600 s, is the finest step; coarser frames only for a quick look)
+QUICK_SCR_INTERVAL = 1800.0
+
+CASE_SUMMARY_KEYS = ("days", "converged", "surface_faces", "cells")
+
+
+def demo_scenarios(quick: bool = False, seasons=("summer", "winter")) -> dict:
+    """The built-in default scenarios of the demo, one per season, with the demo's mesh.
+
+    The only change to :func:`~shipthermal.scenario.default_scenario` is the ship's edge
+    length (:data:`DEMO_EDGE_LENGTH`, quick :data:`QUICK_EDGE_LENGTH`); everything else is
+    the documented default.
+    """
+    from .scenario import default_scenario
+
+    edge = QUICK_EDGE_LENGTH if quick else DEMO_EDGE_LENGTH
+    return {s: default_scenario(s).updated({"ship.edge_length": edge}) for s in seasons}
+
+
+# ---------------------------------------------------------------------------------------
+# Thermal stage
+# ---------------------------------------------------------------------------------------
+def save_history(history, path) -> Path:
+    """Write an :class:`imaging.thermal_history.ShipThermalHistory` to ``.npz`` (atomic)."""
+    from .results import atomic_path
+
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        np.savez_compressed(
+            tmp, vertices=history.vertices, faces=history.faces, face_part=history.face_part,
+            part_names=np.array(history.part_names, dtype=str), times_s=history.times_s,
+            face_temperature=history.face_temperature,
+            temp_air=history.temp_air if history.temp_air is not None else np.zeros(0),
+            temp_sea=history.temp_sea if history.temp_sea is not None else np.zeros(0),
+            label=np.array(history.label))
+    return path
+
+
+def load_history(path):
+    """Read what :func:`save_history` wrote."""
+    from imaging.thermal_history import ShipThermalHistory
+
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("thermal history", str(path), "must exist (written by the thermal "
+                         "stage)", "Run `shipthermal run` first, or resume the run")
+    with np.load(path) as d:
+        air, sea = d["temp_air"], d["temp_sea"]
+        return ShipThermalHistory(d["vertices"], d["faces"], d["face_part"],
+                                  tuple(str(x) for x in d["part_names"]), d["times_s"],
+                                  d["face_temperature"], temp_air=air if air.size else None,
+                                  temp_sea=sea if sea.size else None, label=str(d["label"]))
+
+
+def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
+    """Write a :class:`~shipthermal.diurnal.DiurnalResult`'s products into ``out_dir``.
+
+    Always: ``part_means.csv``, ``thermal_summary.json``, ``energy.csv`` (per step [J]) and
+    ``history.npz`` (outer-surface temperatures for the imaging stage). PNG pictures with
+    ``png`` or ``html`` in ``outputs.formats``; ``thermal.vtkhdf`` with ``vtkhdf``; a VTU
+    series with ``vtu``.
+    """
+    from .results import EnergyLog, atomic_path
+
+    out = Path(out_dir)
+    fmts = set(scenario.outputs.formats)
+    formats = ["csv", "json"] + (["png"] if fmts & {"png", "html"} else []) \
+        + (["vtkhdf"] if "vtkhdf" in fmts else [])
+    written = result.write(out, map_hours=[s / HOUR for s in scenario.map_seconds()],
+                           formats=tuple(formats), progress=progress)
+    e = result.energy
+    with atomic_path(out / "energy.csv") as tmp:
+        pd.DataFrame({k: getattr(e, k) for k in EnergyLog.FIELDS}).to_csv(
+            tmp, index=False, float_format="%.9g")
+    written["energy_csv"] = out / "energy.csv"
+    hist = result.to_history()
+    written["history"] = save_history(hist, out / "history.npz")
+    if "vtu" in fmts:
+        written["vtu"] = result.results.to_vtu(out / "vtu")
+    return written
+
+
+def thermal_case(scenario, run, case: str, *, resume: bool = False, progress: bool = True,
+                 log=None, ship=None) -> dict:
+    """The thermal stage of one case into ``run`` (a :class:`~shipthermal.rundir.RunDir`),
+    checkpointed every ``outputs.checkpoint_interval`` of simulated time.
+
+    A finished stage (``thermal/<case>/`` exists) is skipped on ``resume``. Returns the
+    run's summary (``thermal_summary.json``).
+    """
+    from .diurnal import run_scenario_thermal
+
+    stage = f"thermal/{case}"
+    if resume and run.has(stage):
+        if log:
+            log(f"{case}: thermal stage already finished, kept")
+        return json.loads((run.path / stage / "thermal_summary.json").read_text())
+    ckpt = run.checkpoint(case) if scenario.outputs.checkpoint_interval > 0 else None
+    with run.stage(stage) as tmp:
+        res = run_scenario_thermal(scenario, ship=ship, progress=progress, checkpoint=ckpt,
+                                   resume=resume, log=log)
+        write_thermal(res, tmp, scenario)
+    summary = res.summary()
+    run.manifest["cases"].setdefault(case, {}).update(
+        {"days": res.days, "converged": bool(res.converged),
+         "surface_faces": int(res.ship.n_faces), "cells": int(res.graph.n_cells),
+         "edge_length_m": float(res.ship.edge_length),
+         "relative_energy_imbalance": float(res.energy.relative_imbalance)})
+    run.save_manifest()
+    return summary
+
+
+# ---------------------------------------------------------------------------------------
+# Imaging stage
+# ---------------------------------------------------------------------------------------
+def build_background(scenario, progress: bool = False):
+    """The port background of ``[background]``: the built-in synthetic port (around
+    ``[location]``) or the real files."""
+    bgs = scenario.background
+    if bgs.source == "builtin":
+        from imaging.background import build_port_background
+
+        return build_port_background(scenario.time.season, seed=bgs.seed, size_px=bgs.size_px,
+                                     lat=scenario.location.latitude,
+                                     lon=scenario.location.longitude,
+                                     krige_coarsen=bgs.krige_coarsen,
+                                     variogram_model=bgs.variogram_model)
+    from imaging.background import build_background_from_files
+
+    offset = scenario.start.utcoffset().total_seconds() / HOUR
+    return build_background_from_files(bgs.mtl, bgs.dem, bgs.met, bgs.roi,
+                                       season=scenario.time.season, utc_offset_hours=offset,
+                                       variogram_model=bgs.variogram_model,
+                                       krige_coarsen=bgs.krige_coarsen, seed=bgs.seed,
+                                       progress=progress)
+
+
+def _day_mean_wind(scenario) -> float:
+    """Mean wind speed of the simulated day [m s-1] (sea-surface slopes of the imaging)."""
+    w = scenario.weather_record()
+    t = pd.DatetimeIndex(w.time)
+    sel = (t >= scenario.start) & (t < scenario.start + pd.Timedelta(days=1))
+    ws = np.asarray(w.wind_speed, dtype=float)
+    return float(np.mean(ws[sel] if sel.any() else ws))
+
+
+def imaging_scenario(scenario, background):
+    """The :class:`imaging.experiment.ImagingScenario` of a scenario.
+
+    Everything comes from the one scenario: location, date and time zone (sun), the day's
+    mean wind speed (sea glint), the mooring position (``[east, north]`` of the scene centre)
+    and heading, the view direction, samples per pixel, ray tracer, atmosphere backend and
+    model, detector effects, the camera, and the per-part band emissivities.
+    """
+    from imaging.experiment import ImagingScenario
+    from imaging.render import SensorOptions
+    from imaging.scene import ShipPlacement, as_scene_background
+
+    sc = scenario
+    img = sc.imaging
+    grid = as_scene_background(background)
+    ny, nx = grid.shape
+    res = grid.resolution_m
+    mx, my = sc.ship.mooring_position
+    placement = ShipPlacement(0.5 * nx * res + mx, 0.5 * ny * res + my, sc.ship.heading)
+    sens = img.sensor
+    if sens.quantisation_bits:
+        raise InputError("imaging.sensor.quantisation_bits", sens.quantisation_bits,
+                         "is not supported by the command line yet (quantisation needs a "
+                         "radiance range per band)", "Set it to 0")
+    options = None
+    if sens.psf or sens.netd_k > 0:
+        options = SensorOptions(psf=sens.psf, netd_k=sens.netd_k or None, seed=sc.solver.seed)
+    emissivity = {band: {part: sc.emissivity(part, band)
+                         for part in ("hull", "deck", "superstructure")} for band in sc.bands}
+    return ImagingScenario(
+        season=sc.atmosphere_season, background=background, date=str(sc.time.date),
+        latitude=sc.location.latitude, longitude=sc.location.longitude,
+        tz=sc.location.time_zone, wind_speed=_day_mean_wind(sc), placement=placement,
+        view_zenith_deg=sens.view_zenith_deg, view_azimuth_deg=sens.view_azimuth_deg,
+        samples_per_pixel=img.samples_per_pixel_side, backend=sc.solver.backend,
+        atmosphere_backend=img.atmosphere.backend, sensor_options=options,
+        renderer_options={"ship_emissivity": emissivity, "sensor": sc.sensor()})
+
+
+def frame_times(scenario, step_s: float | None = None) -> np.ndarray:
+    """SCR / crossover frame times over the day [s after local midnight]: every
+    ``imaging.scr_interval`` (or ``step_s``, a quick look)."""
+    step = float(step_s or scenario.imaging.scr_interval)
+    if not (60.0 <= step <= 3 * HOUR):
+        raise InputError("step", step, "must lie in [60, 10800] s (1 min to 3 h)")
+    return np.arange(0.0, DAY + 1.0, step)
+
+
+def image_cases(cases: dict, out_dir, progress: bool = True, log=None,
+                step_s: float | None = None) -> dict:
+    """Image thermal histories: ``cases = {case: (scenario, history)}``.
+
+    Cases of distinct atmosphere seasons and equal bands and frame times go into one
+    :func:`imaging.experiment.run_experiment` (so the panels and SCR plots put summer and
+    winter side by side, like the paper); otherwise each case gets ``out_dir/<case>/``.
+
+    ``step_s`` replaces ``imaging.scr_interval`` as the frame step [s] (quick looks).
+    Returns ``{group folder: ExperimentResult}`` and writes the products.
+    """
+    from imaging.experiment import run_experiment
+
+    say = log or (lambda m: None)
+    out = Path(out_dir)
+    seasons = [sc.atmosphere_season for sc, _ in cases.values()]
+    first = next(iter(cases.values()))[0]
+    together = (len(set(seasons)) == len(seasons)
+                and all(sc.bands == first.bands and sc.imaging.scr_interval
+                        == first.imaging.scr_interval for sc, _ in cases.values()))
+    groups = {"": dict(cases)} if together else {c: {c: v} for c, v in cases.items()}
+    results = {}
+    for folder, group in groups.items():
+        hist, scen, typical = {}, {}, {}
+        for case, (sc, h) in group.items():
+            season = sc.atmosphere_season
+            t0 = _time.perf_counter()
+            bg = build_background(sc, progress=progress)
+            say(f"{case}: port background ({_time.perf_counter() - t0:.1f} s)")
+            scen[season] = imaging_scenario(sc, bg)
+            hist[season] = h
+            typical[season] = tuple(s / HOUR for s in sc.image_seconds())
+        sc0 = next(iter(group.values()))[0]
+        target = out / folder if folder else out
+        t0 = _time.perf_counter()
+        results[folder] = run_experiment(hist, target, bands=sc0.bands,
+                                         times=frame_times(sc0, step_s),
+                                         progress=progress, scenarios=scen,
+                                         typical_hours=typical)
+        say(f"imaging {'+'.join(hist)} x {', '.join(sc0.bands)} um "
+            f"({_time.perf_counter() - t0:.1f} s)")
+    require(bool(results), "cases", cases, "must hold at least one case")
+    return results

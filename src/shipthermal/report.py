@@ -1,0 +1,359 @@
+"""One self-contained HTML page per run directory.
+
+Everything is inside the file: pictures are embedded as base64 PNG (``data:`` URIs), the
+style sheet is inline, there are no scripts and no external URLs, so the page opens from a
+disk, a mail attachment or an archive without a server.
+
+Sections (each only when the run has it): run (status, manifest, versions, timings),
+scenario summary per case (and the full TOML, folded), mesh, thermal (part-mean curves,
+surface maps, spin-up, energy balance with a per-step plot, deck means next to the paper's
+reference values), imaging (panels per band and time, SCR curves, crossover table, band
+comparison), validation tables.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .errors import InputError
+from .rundir import MANIFEST, MARKER, atomic_write_text
+
+__all__ = ["write_report", "build_report"]
+
+_CSS = """
+body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;margin:0;
+color:#1d2327;background:#fafbfc}
+main{max-width:1200px;margin:0 auto;padding:1.5em}
+h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:2px solid #d0d7de;padding-bottom:.2em;
+margin-top:2em}h3{margin-bottom:.3em}
+table{border-collapse:collapse;margin:.6em 0;font-size:.9em}
+th,td{border:1px solid #d0d7de;padding:3px 8px;text-align:right}
+th{background:#eef1f4}td:first-child,th:first-child{text-align:left}
+figure{margin:.8em 0;display:inline-block;vertical-align:top;max-width:100%}
+figure img{max-width:100%;border:1px solid #d0d7de;background:white}
+figcaption{font-size:.85em;color:#57606a}
+.status-complete{color:#1a7f37;font-weight:bold}.status-other{color:#bc4c00;font-weight:bold}
+pre{background:#f0f2f4;padding:.8em;overflow-x:auto;font-size:.8em}
+.note{color:#57606a;font-size:.9em}
+nav a{margin-right:1em}
+"""
+
+
+def _img(png: bytes, alt: str, caption: str = "", width: int | None = None) -> str:
+    data = base64.b64encode(png).decode("ascii")
+    w = f' style="width:{width}px"' if width else ""
+    cap = f"<figcaption>{html.escape(caption)}</figcaption>" if caption else ""
+    return (f'<figure{w}><img alt="{html.escape(alt)}" src="data:image/png;base64,{data}">'
+            f"{cap}</figure>")
+
+
+def _img_file(path: Path, caption: str = "", width: int | None = None) -> str:
+    return _img(path.read_bytes(), path.name, caption or path.name, width)
+
+
+def _table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
+    def cell(v):
+        if isinstance(v, (float, np.floating)):
+            return "—" if not np.isfinite(v) else floatfmt.format(v)
+        return html.escape(str(v))
+
+    head = "".join(f"<th>{html.escape(str(c))}</th>" for c in df.columns)
+    rows = "".join("<tr>" + "".join(f"<td>{cell(v)}</td>" for v in row) + "</tr>"
+                   for row in df.itertuples(index=False))
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>"
+
+
+def _kv(pairs) -> str:
+    rows = "".join(f"<tr><th>{html.escape(str(k))}</th><td>{html.escape(str(v))}</td></tr>"
+                   for k, v in pairs)
+    return f"<table>{rows}</table>"
+
+
+def _fig_png(fig) -> bytes:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=100, bbox_inches="tight")
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    return buf.getvalue()
+
+
+def _energy_png(energy: pd.DataFrame, title: str) -> bytes:
+    """Cumulative stored energy vs heat in through the boundary, and the per-step
+    imbalance relative to the gross boundary heat."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    t = energy["time"].to_numpy() / 3600.0
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 3.6))
+    a.plot(t, np.cumsum(energy["stored"]) / 1e9, label="stored (cumulative)")
+    a.plot(t, np.cumsum(energy["boundary"] + energy["source"]) / 1e9, "--",
+           label="boundary + sources (cumulative)")
+    a.set_xlabel("simulated time [h]")
+    a.set_ylabel("energy [GJ]")
+    a.legend(fontsize=8)
+    a.grid(alpha=.3)
+    gross = energy["gross"].to_numpy()
+    rel = np.abs(energy["imbalance"].to_numpy()) / np.where(gross > 0, gross, np.inf)
+    b.semilogy(t, np.maximum(rel, 1e-18), ".", ms=2)
+    b.set_xlabel("simulated time [h]")
+    b.set_ylabel("|imbalance| / gross boundary heat [-]")
+    b.grid(alpha=.3)
+    fig.suptitle(title, fontsize=10)
+    return _fig_png(fig)
+
+
+def _part_means_png(pm: pd.DataFrame, title: str) -> bytes:
+    import tempfile
+
+    from .diurnal import plot_part_means
+
+    with tempfile.TemporaryDirectory() as tmp:
+        p = plot_part_means(pm, Path(tmp) / "pm.png", title=title)
+        return p.read_bytes()
+
+
+def _cases(run: Path, manifest: dict) -> dict:
+    """case → scenario file, from the manifest (or the files present)."""
+    cases = {}
+    for case, info in (manifest.get("cases") or {}).items():
+        f = run / info.get("scenario", "")
+        if f.is_file():
+            cases[case] = f
+    if not cases:
+        if (run / "scenario.toml").is_file():
+            cases["run"] = run / "scenario.toml"
+        for f in sorted(run.glob("scenario_*.toml")):
+            cases[f.stem[len("scenario_"):]] = f
+    return cases
+
+
+def _scenario_section(case: str, path: Path) -> str:
+    from .scenario import load_scenario
+
+    try:
+        sc = load_scenario(path)
+    except InputError as exc:
+        return f"<h3>{html.escape(case)}</h3><pre>{html.escape(str(exc))}</pre>"
+    loc, t, w, s, sv, img = sc.location, sc.time, sc.weather, sc.ship, sc.solver, sc.imaging
+    ship = s.builtin if s.files is None else "user files"
+    pairs = [
+        ("name", sc.name), ("season / date", f"{t.season}, {t.date}"),
+        ("location", f"{loc.latitude:.3f} N, {loc.longitude:.3f} E, {loc.time_zone}"),
+        ("weather", f"{w.source} (wind {w.wind_speed_offset:+g} m/s, air "
+                    f"{w.temp_air_offset:+g} K, cloud {w.cloud_cover_offset:+g})"),
+        ("ship", f"{ship}, edge {s.edge_length if s.edge_length else 'default'} m, heading "
+                 f"{s.heading:g} deg, speed {s.speed:g} m/s, mooring {list(s.mooring_position)} m"),
+        ("solver", f"{sv.scheme}, dt {sv.time_step:g} s, spin-up tol {sv.spinup_tolerance:g} K, "
+                   f"max {sv.spinup_max_days} days, {sv.rays_per_face} rays/face, seed {sv.seed}"),
+        ("background", f"{sc.background.source} (seed {sc.background.seed})"),
+        ("imaging", f"bands {', '.join(img.bands)}; images at {', '.join(img.times)}; SCR every "
+                    f"{img.scr_interval / 60:g} min; view zenith {img.sensor.view_zenith_deg:g} "
+                    f"deg; atmosphere {img.atmosphere.backend}"),
+    ]
+    text = path.read_text(encoding="utf-8")
+    return (f"<h3>{html.escape(case)}</h3>{_kv(pairs)}<details><summary>full scenario "
+            f"({html.escape(path.name)})</summary><pre>{html.escape(text)}</pre></details>")
+
+
+def _thermal_section(case: str, d: Path, season: str | None) -> str:
+    parts = [f"<h3>{html.escape(case)}</h3>"]
+    summary = {}
+    if (d / "thermal_summary.json").is_file():
+        summary = json.loads((d / "thermal_summary.json").read_text())
+        e = summary.get("energy", {})
+        changes = [c for c in summary.get("day_changes_K", []) if c is not None]
+        pairs = [("ship", summary.get("ship")), ("surface faces / cells",
+                                                  f"{summary.get('surface_faces')} / "
+                                                  f"{summary.get('cells')}"),
+                 ("spin-up", f"{summary.get('days')} days, converged: {summary.get('converged')}"
+                             + (f" (last day-to-day change {changes[-1]:.4f} K, tolerance "
+                                f"{summary.get('spinup_tolerance_K')} K)" if changes else "")),
+                 ("energy: stored / boundary+sources [J]",
+                  f"{e.get('stored_J', float('nan')):.6e} / "
+                  f"{e.get('boundary_J', float('nan')) + e.get('source_J', 0.0):.6e}"),
+                 ("energy: relative imbalance (run, worst step)",
+                  f"{e.get('relative_imbalance', float('nan')):.2e}, "
+                  f"{e.get('max_step_relative_imbalance', float('nan')):.2e}"),
+                 ("wall time [s]", ", ".join(f"{k} {v:.1f}" for k, v in
+                                             summary.get("timings_s", {}).items()
+                                             if isinstance(v, (int, float))))]
+        parts.append(_kv(pairs))
+    pm = None
+    if (d / "part_means.csv").is_file():
+        pm = pd.read_csv(d / "part_means.csv", index_col=0)
+    if (d / "part_means.png").is_file():
+        parts.append(_img_file(d / "part_means.png", "area-mean outer-surface temperature"))
+    elif pm is not None:
+        parts.append(_img(_part_means_png(pm, f"{case}: part means"), "part means",
+                          "area-mean outer-surface temperature"))
+    maps = sorted(d.glob("surface_*.png"))
+    for m in maps:
+        hhmm = m.stem.split("_")[-1]
+        parts.append(_img_file(m, f"outer surface temperature at {hhmm[:2]}:{hhmm[2:]} local",
+                               width=560))
+    if (d / "energy.csv").is_file():
+        energy = pd.read_csv(d / "energy.csv")
+        if len(energy):
+            parts.append("<h4>Energy balance</h4>")
+            parts.append(_img(_energy_png(energy, f"{case}: energy bookkeeping over the whole "
+                                          "run (spin-up included)"), "energy balance"))
+    if pm is not None and "deck" in pm.columns and season in ("summer", "winter"):
+        try:
+            from .validation import REFERENCE_DECK
+        except ImportError:
+            REFERENCE_DECK = {}
+        rows = []
+        for (s, hour), ref in sorted(REFERENCE_DECK.items()):
+            if s != season:
+                continue
+            ours = float(np.interp(hour, pm.index.to_numpy(float), pm["deck"].to_numpy(float)))
+            rows.append({"time": f"{int(hour):02d}:00", "deck mean [K]": ours,
+                         "paper reference [K]": ref, "difference [K]": ours - ref,
+                         "difference [%]": 100 * (ours - ref) / ref})
+        if rows:
+            parts.append("<h4>Deck mean vs the paper's reference (§3.1)</h4>")
+            parts.append(_table(pd.DataFrame(rows)))
+            parts.append('<p class="note">The paper\'s reference conditions are unknown; this '
+                         "run's scenario was not tuned to them (see <code>shipthermal "
+                         "validate</code> for the sensitivity table).</p>")
+    return "".join(parts)
+
+
+def _imaging_section(d: Path) -> str:
+    parts = []
+    for sub in [d] + sorted(p for p in d.iterdir() if p.is_dir()):
+        title = "" if sub == d else f"<h3>{html.escape(sub.name)}</h3>"
+        block = []
+        for png in sorted(sub.glob("panels_*.png")):
+            block.append(_img_file(png, f"images at the typical times, {png.stem[7:]} um"))
+        for png in sorted(sub.glob("scr_*.png")):
+            block.append(_img_file(png, f"local SCR and contrast over the day, "
+                                        f"{png.stem[4:]} um"))
+        if (sub / "crossovers.csv").is_file():
+            cross = pd.read_csv(sub / "crossovers.csv")
+            block.append("<h4>Thermal crossover moments</h4>")
+            block.append(_table(cross) if len(cross) else "<p>No crossover found.</p>")
+        if (sub / "band_comparison.csv").is_file():
+            comp = pd.read_csv(sub / "band_comparison.csv")
+            keep = [c for c in ("season", "band", "n_crossovers", "crossover_times",
+                                "scr_in_crossover_mean", "scr_out_crossover_mean", "scr_min",
+                                "scr_max") if c in comp.columns]
+            block.append("<h4>Band comparison (SCR in / out of crossover periods)</h4>")
+            block.append(_table(comp[keep]))
+        if block:
+            parts.append(title + "".join(block))
+    return "".join(parts)
+
+
+def _validation_section(d: Path) -> str:
+    parts = []
+    names = {"validation_deck": "Deck temperature vs the paper",
+             "validation_table": "Validation table",
+             "validation_sensitivity": "Sensitivity",
+             "validation_crossovers": "Crossover moments vs the paper"}
+    seen = set()
+    for stem, title in names.items():
+        f = d / f"{stem}.csv"
+        if f.is_file():
+            df = pd.read_csv(f)
+            if stem == "validation_table" and "validation_deck" in seen:
+                continue
+            seen.add(stem)
+            parts.append(f"<h3>{title}</h3>" + (_table(df) if len(df) else "<p>(empty)</p>"))
+    for f in sorted(d.glob("*.csv")):
+        if f.stem not in names:
+            parts.append(f"<h3>{html.escape(f.stem)}</h3>" + _table(pd.read_csv(f)))
+    if (d / "validation.txt").is_file():
+        parts.append("<details><summary>validation.txt</summary><pre>"
+                     + html.escape((d / "validation.txt").read_text()) + "</pre></details>")
+    return "".join(parts)
+
+
+def _mesh_section(d: Path) -> str:
+    parts = []
+    for png in sorted(d.glob("*.png")):
+        parts.append(_img_file(png, "ship coloured by part"))
+    if (d / "mesh_report.json").is_file():
+        rep = json.loads((d / "mesh_report.json").read_text())
+        flat = [(k, v if not isinstance(v, dict) else json.dumps(v)) for k, v in rep.items()]
+        parts.append(_kv(flat))
+    return "".join(parts)
+
+
+def build_report(run_dir, finishing: bool = False) -> str:
+    """The HTML text of a run directory's report (``finishing``: written as the last step
+    of a run that is about to write its ``COMPLETE`` marker)."""
+    run = Path(run_dir)
+    if not run.is_dir():
+        raise InputError("run directory", str(run), "must be an existing folder")
+    try:
+        manifest = json.loads((run / MANIFEST).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        raise InputError("run directory", str(run), "must hold a readable manifest.json "
+                         "(a shipthermal run directory)") from None
+    complete = finishing or (run / MARKER).is_file()
+    cases = _cases(run, manifest)
+    seasons = {c: (manifest.get("cases", {}).get(c, {}) or {}).get("season") for c in cases}
+    nav, body = [], []
+
+    def section(anchor, title, content):
+        if content:
+            nav.append(f'<a href="#{anchor}">{title}</a>')
+            body.append(f'<section id="{anchor}"><h2>{title}</h2>{content}</section>')
+
+    status = "complete" if complete else manifest.get("status", "unknown")
+    cls = "status-complete" if complete else "status-other"
+    versions = manifest.get("versions", {})
+    git = manifest.get("git") or {}
+    timings = manifest.get("timings_s", {})
+    run_pairs = [("status", status), ("kind", manifest.get("kind")),
+                 ("started / finished", f"{manifest.get('started')} / {manifest.get('finished')}"),
+                 ("command", " ".join(manifest.get("command", []))),
+                 ("git commit", f"{git.get('commit', 'n/a')}"
+                                + (" (local changes)" if git.get("local_changes") else "")),
+                 ("seeds", json.dumps(manifest.get("seeds", {}))),
+                 ("settings", json.dumps(manifest.get("settings", {}))),
+                 ("versions", ", ".join(f"{k} {v}" for k, v in versions.items() if v))]
+    run_html = _kv(run_pairs)
+    if timings:
+        run_html += "<h3>Wall time per stage [s]</h3>" + _table(pd.DataFrame(
+            [{"stage": k, "seconds": v} for k, v in timings.items()]), "{:.1f}")
+    section("run", "Run", run_html)
+    section("scenario", "Scenario", "".join(_scenario_section(c, f) for c, f in cases.items()))
+    if (run / "mesh").is_dir():
+        section("mesh", "Mesh", _mesh_section(run / "mesh"))
+    if (run / "thermal").is_dir():
+        th = []
+        for d in sorted(p for p in (run / "thermal").iterdir() if p.is_dir()):
+            th.append(_thermal_section(d.name, d, seasons.get(d.name)))
+        section("thermal", "Thermal", "".join(th))
+    if (run / "imaging").is_dir():
+        section("imaging", "Imaging", _imaging_section(run / "imaging"))
+    if (run / "validation").is_dir():
+        section("validation", "Validation", _validation_section(run / "validation"))
+    title = f"shipthermal run {run.resolve().name}"
+    head = (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">'
+            f'<meta name="viewport" content="width=device-width, initial-scale=1">'
+            f"<title>{html.escape(title)}</title><style>{_CSS}</style></head><body><main>"
+            f"<h1>{html.escape(title)}</h1><p>Status: <span class=\"{cls}\">"
+            f"{html.escape(str(status))}</span>"
+            + ("" if complete else " — this run did not finish: its results are partial")
+            + f"</p><nav>{''.join(nav)}</nav>")
+    return head + "".join(body) + "</main></body></html>\n"
+
+
+def write_report(run_dir, path=None, finishing: bool = False) -> Path:
+    """Write the report of ``run_dir`` (default ``<run_dir>/report.html``) atomically."""
+    text = build_report(run_dir, finishing)
+    return atomic_write_text(Path(path) if path is not None else Path(run_dir) / "report.html",
+                             text)
