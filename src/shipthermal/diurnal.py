@@ -325,7 +325,7 @@ def render_surface_png(ship, values, path, title: str = "", clim=None,
 def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
                 absorptivity=None, emissivity=None, graph=None, traced=None,
                 progress: bool = True, checkpoint=None, checkpoint_interval: float = HOUR,
-                resume: bool = False, log=None) -> DiurnalResult:
+                resume: bool = False, log=None, initial_state=None) -> DiurnalResult:
     """Spin a ship up under a periodic design day and record the converged day.
 
     Parameters
@@ -348,6 +348,9 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
         Continue from ``checkpoint`` if it exists (same result as an uninterrupted run).
     log : callable, optional
         ``log(str)`` for progress messages (default: silent).
+    initial_state : (n_cells,) array, optional
+        Start from these cell temperatures [K] (e.g. a converged run of the same mesh:
+        sensitivity runs then need fewer spin-up days).
 
     Returns
     -------
@@ -385,6 +388,10 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
     wetted = [k for k, n in enumerate(graph.part_names) if n.startswith("hull_wetted")]
     if wetted:
         temp0[np.isin(graph.cell_part, wetted)] = float(np.mean(env_day.temp_sea))
+    if initial_state is not None:
+        temp0 = np.asarray(initial_state, dtype=float)
+        require(temp0.shape == (graph.n_cells,), "initial_state", temp0.shape,
+                f"must hold one temperature per cell ({graph.n_cells})")
     model = ThermalModel(graph, forcing.conditions(with_exchange=True), initial_temperature=temp0,
                          exchange=RadiativeExchange(*forcing.radiative_exchange()))
     days_max = int(settings.spinup_max_days)
@@ -497,7 +504,7 @@ def settings_from_scenario(scenario) -> DiurnalSettings:
 
 def run_scenario_thermal(scenario, *, ship=None, progress: bool = True, checkpoint=None,
                          resume: bool = False, log=None, overrides: dict | None = None,
-                         traced=None) -> DiurnalResult:
+                         traced=None, graph=None, initial_state=None) -> DiurnalResult:
     """The thermal stage of a scenario: its ship, environment, optical properties and solver
     settings (one object, so nothing can disagree with the imaging stage).
 
@@ -515,7 +522,8 @@ def run_scenario_thermal(scenario, *, ship=None, progress: bool = True, checkpoi
     interval = scenario.outputs.checkpoint_interval or HOUR
     res = run_diurnal(ship, env, settings, absorptivity=absorptivity, emissivity=emissivity,
                       progress=progress, checkpoint=checkpoint, resume=resume, log=log,
-                      checkpoint_interval=interval, traced=traced)
+                      checkpoint_interval=interval, traced=traced, graph=graph,
+                      initial_state=initial_state)
     res.meta["scenario"] = scenario.name
     res.meta["date"] = str(scenario.time.date)
     return res
