@@ -99,7 +99,7 @@ def bench_classification(size: int) -> None:
     t = time.perf_counter()
     res = classify_scene(feats, roi, seed=0)
     t_ours = time.perf_counter() - t
-    train, _ = split_training(roi, 0.5, 0)
+    train, _ = split_training(roi, 0.5, 0, by="regions")     # the same training set as ours
     t = time.perf_counter()
     qda = QuadraticDiscriminantAnalysis(tol=1e-12).fit(feats[train], roi[train])
     plain = qda.predict(feats.reshape(-1, feats.shape[-1])).reshape(roi.shape)

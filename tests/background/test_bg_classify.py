@@ -151,3 +151,41 @@ def test_geojson_roi_is_rasterised(tmp_path):
     (tmp_path / "bad.geojson").write_text(json.dumps(doc))
     with pytest.raises(InputError, match="properties.class"):
         read_roi(tmp_path / "bad.geojson", grid)
+
+
+def test_region_split_keeps_roi_regions_whole():
+    # Held-out pixels from the same polygon as training pixels are spatially autocorrelated
+    # (optimistic accuracy): the default split holds out whole regions.
+    from scipy.ndimage import label
+
+    from imaging.background.classify import split_training
+
+    roi = np.zeros((60, 60), np.uint8)
+    for k, (r, c) in enumerate([(2, 2), (2, 20), (2, 40), (25, 2), (25, 20), (45, 40)]):
+        roi[r:r + 8, c:c + 8 + k] = 1 + k % 2                   # 3 regions each of classes 1, 2
+    roi[40:50, 2:12] = 3                                         # one region only: pixel fallback
+    train, test = split_training(roi, 0.5, seed=1, by="regions")
+    assert not (train & test).any() and ((train | test) == (roi > 0)).all()
+    for c in (1, 2):
+        regions, n = label(roi == c, structure=np.ones((3, 3), bool))
+        assert n == 3
+        for r in range(1, n + 1):
+            m = regions == r
+            assert train[m].all() or test[m].all()               # never split
+        assert train[roi == c].any() and test[roi == c].any()    # both sides get a region
+    m3 = roi == 3
+    assert train[m3].sum() == test[m3].sum() == 50               # fallback: 50 / 50 pixels
+    with pytest.raises(InputError, match="split.*'pixels' or 'regions'"):
+        split_training(roi, 0.5, by="blocks")
+
+
+def test_classify_scene_reports_its_split():
+    rng = np.random.default_rng(4)
+    feats, classes, roi = _toy_scene(rng)
+    roi2 = roi.copy()
+    roi2[roi == 1] = 0
+    roi2[5:9, 5:9] = 1                                           # class 1 in two regions
+    roi2[45:55, 45:55] = 1
+    res = classify_scene(feats, roi2, min_samples=10)
+    assert res.split == "regions" and res.n_test["water"] in (16, 100)
+    assert res.n_train["water"] + res.n_test["water"] == 116

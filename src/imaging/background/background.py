@@ -176,6 +176,7 @@ class PortBackground:
             "water_vapour_g_cm2": self.atmosphere.water_vapour,
             "emissivity_model": self.emissivity_model,
             "tau": self.atmosphere.tau, "l_up": self.atmosphere.l_up, "l_down": self.atmosphere.l_down,
+            "held_out_split": c.split,
             "overall_accuracy": c.overall_accuracy, "kappa_quadratic": c.kappa_quadratic,
             "kappa_unweighted": c.kappa_unweighted,
             "class_fractions": dict(zip(c.fractions["class"], c.fractions["fraction"].round(4))),
@@ -321,7 +322,8 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
                                 lst_method: str = "planck", emissivity_model: str = "tirs_b10",
                                 dem_nodata: str = "error",
                                 residual_scaling: str = "constant", border_unmixing: bool = True,
-                                test_fraction: float = 0.5, seed: int = 0, bounds=None, out_dir=None,
+                                test_fraction: float = 0.5, roi_split: str = "regions", seed: int = 0,
+                                bounds=None, out_dir=None,
                                 progress: bool = False) -> PortBackground:
     """Run the full background chain on real-format inputs.
 
@@ -359,6 +361,9 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
         docstring); False treats them as pure land or pure water by their class.
     test_fraction : float
         Share of ROI pixels held out for the confusion matrix.
+    roi_split : {"regions", "pixels"}
+        Hold out whole ROI regions (spatially independent, default) or random pixels
+        (:func:`.classify.split_training`).
     seed : int
         Seed of the train/test split.
     bounds : (west, south, east, north), optional
@@ -417,7 +422,7 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     t1 = time.perf_counter()
     features = np.stack([scene.reflectance(b) for b in REFLECTIVE_BANDS], axis=-1)
     roi = read_roi(roi_path, grid)
-    classification = classify_scene(features, roi, test_fraction=test_fraction, seed=seed)
+    classification = classify_scene(features, roi, test_fraction=test_fraction, seed=seed, split=roi_split)
     class_map = classification.class_map
     timings["classify"] = time.perf_counter() - t1
 

@@ -220,13 +220,53 @@ def read_roi(path: str | os.PathLike, grid) -> np.ndarray:
         return src.read(1, window=Window(col, row, grid.shape[1], grid.shape[0])).astype(np.uint8)
 
 
-def split_training(labels, test_fraction: float = 0.5, seed: int = 0):
-    """Stratified random split of ROI pixels into training and held-out test masks."""
+def split_training(labels, test_fraction: float = 0.5, seed: int = 0, by: str = "pixels"):
+    """Stratified random split of ROI pixels into training and held-out test masks.
+
+    Parameters
+    ----------
+    labels : ndarray
+        ROI class codes (0 = no sample).
+    test_fraction : float
+        Target share of each class's ROI pixels held out [-].
+    seed : int
+    by : {"pixels", "regions"}
+        ``"pixels"`` draws pixels at random, so neighbouring pixels of one ROI polygon land in
+        both sets and the held-out accuracy is optimistic (spatial autocorrelation).
+        ``"regions"`` holds out whole ROI regions (8-connected components of a class), in
+        random order, while that brings the held-out share nearer ``test_fraction``, keeping
+        at least one region on each side; a class drawn as a single region falls back to
+        pixels.
+
+    Returns
+    -------
+    train, test : ndarray of bool
+    """
+    require(by in ("pixels", "regions"), "split", by, "must be 'pixels' or 'regions'")
+    from scipy.ndimage import label as connected
+
     rng = np.random.default_rng(seed)
     train = np.zeros(labels.shape, dtype=bool)
     test = np.zeros(labels.shape, dtype=bool)
     flat = labels.ravel()
     for c in CLASS_CODES:
+        if by == "regions":
+            regions, n_regions = connected(labels == c, structure=np.ones((3, 3), bool))
+            if n_regions >= 2:
+                sizes = np.bincount(regions.ravel(), minlength=n_regions + 1)[1:]
+                target = test_fraction * sizes.sum()
+                held, count = [], 0
+                for r in rng.permutation(n_regions):
+                    # hold a region out when that brings the held-out count nearer the target
+                    if abs(count + sizes[r] - target) < abs(count - target) and len(held) < n_regions - 1:
+                        held.append(r + 1)
+                        count += sizes[r]
+                if not held:                       # every region larger than twice the target
+                    held.append(int(np.argmin(sizes)) + 1)
+                in_test = np.isin(regions, held)
+                test |= in_test
+                train |= (labels == c) & ~in_test
+                continue
         idx = np.flatnonzero(flat == c)
         rng.shuffle(idx)
         n_test = int(round(test_fraction * idx.size))
@@ -264,6 +304,8 @@ class ClassificationResult:
     n_train, n_test : dict[str, int]
         Samples per class.
     model : QuadraticDiscriminantAnalysis
+    split : str
+        How the held-out samples were drawn (``"regions"`` or ``"pixels"``).
     """
 
     class_map: np.ndarray
@@ -277,6 +319,7 @@ class ClassificationResult:
     n_train: dict
     n_test: dict
     model: QuadraticDiscriminantAnalysis
+    split: str = "regions"
 
 
 def _check_training(labels_train, n_features: int, min_samples: int | None):
@@ -302,7 +345,7 @@ def predict_chunked(model, features, valid, chunk: int = 262_144) -> np.ndarray:
 
 
 def classify_scene(features, roi_labels, test_fraction: float = 0.5, seed: int = 0,
-                   min_samples: int | None = None) -> ClassificationResult:
+                   min_samples: int | None = None, split: str = "regions") -> ClassificationResult:
     """Train the Gaussian ML classifier on ROI pixels and classify the scene.
 
     Parameters
@@ -317,6 +360,9 @@ def classify_scene(features, roi_labels, test_fraction: float = 0.5, seed: int =
         Seed of the split.
     min_samples : int, optional
         Minimum training pixels per class (default ``max(2 (n_features+1), 20)``).
+    split : {"regions", "pixels"}
+        Hold out whole ROI regions (default: spatially independent test samples) or random
+        pixels (:func:`split_training`).
 
     Raises
     ------
@@ -327,7 +373,7 @@ def classify_scene(features, roi_labels, test_fraction: float = 0.5, seed: int =
         raise InputError("roi.shape", roi_labels.shape, f"must equal the scene shape {features.shape[:2]}")
     valid = np.all(np.isfinite(features), axis=-1)
     labels = np.where(valid, roi_labels, 0)
-    train, test = split_training(labels, test_fraction, seed)
+    train, test = split_training(labels, test_fraction, seed, split)
     n_feat = features.shape[-1]
     _check_training(labels[train], n_feat, min_samples)
     x_train, y_train = features[train], labels[train]
@@ -355,4 +401,5 @@ def classify_scene(features, roi_labels, test_fraction: float = 0.5, seed: int =
         n_train={CLASS_NAMES[c]: int((y_train == c).sum()) for c in CLASS_CODES},
         n_test={CLASS_NAMES[c]: int((y_test == c).sum()) for c in CLASS_CODES},
         model=model,
+        split=split,
     )
