@@ -1,0 +1,90 @@
+"""Diurnal ship runs: sign of the solar loading, energy, spin-up, outputs, validation table."""
+
+import numpy as np
+import pytest
+
+from shipthermal.diurnal import DiurnalSettings, run_diurnal
+from shipthermal.environment import Environment, climate_day
+from shipthermal.geometry import patrol_boat
+from shipthermal.units import HOUR
+
+
+@pytest.fixture(scope="module")
+def summer_run():
+    ship = patrol_boat(edge_length=2.0)
+    env = Environment.from_climate_day(climate_day("summer"), ship_heading=90.0)
+    settings = DiurnalSettings(time_step=600.0, output_interval=1800.0, spinup_tolerance=0.01,
+                               spinup_max_days=6, rays_per_face=64, samples_per_face=16)
+    return run_diurnal(ship, env, settings, progress=False)
+
+
+def test_spinup_converges_and_reports_days(summer_run):
+    r = summer_run
+    print(f"patrol boat: {r.ship.n_faces} faces, {r.graph.n_cells} cells, days {r.days}, "
+          f"changes {r.day_changes}, timings {r.timings}")
+    assert r.converged
+    assert r.days >= 2 and len(r.day_changes) == r.days
+    assert r.day_changes[-1] <= 0.01
+    assert np.isnan(r.day_changes[0])
+    assert r.results.times[0] == 0.0 and r.results.times[-1] == 24 * HOUR
+
+
+def test_energy_closes_over_the_whole_run(summer_run):
+    e = summer_run.energy
+    assert len(e.time) == summer_run.days * 144
+    # every step converged until Σ residual ≤ 1e-12 of the gross boundary heat
+    assert e.relative_imbalance <= 1e-10, e.summary()
+
+
+def test_sunlit_deck_warmer_than_shaded_deck(summer_run):
+    """Guards against a sign error in the solar loading: at 09:00 the deck faces the sun
+    reaches are warmer than deck faces in the superstructure's shadow."""
+    r = summer_run
+    ship, forcing = r.ship, r.forcing
+    t = 9 * HOUR
+    # lit fraction of the sun receivers → per surface triangle (shell graph: outer boundary
+    # face b is triangle b)
+    lit = np.zeros(ship.n_faces)
+    lit[forcing.outer_bfaces[forcing.traced.receivers]] = forcing.lit_fraction(t)
+    deck = np.array([ship.part_names[p].startswith("deck") for p in ship.face_part])
+    flat = ship.face_normals[:, 2] > 0.95
+    temp = r.face_temperature_at(9.0)
+    sunny = deck & flat & (lit > 0.95)
+    shaded = deck & flat & (lit < 0.05)
+    assert sunny.sum() > 10 and shaded.sum() > 3, (sunny.sum(), shaded.sum())
+    gap = temp[sunny].mean() - temp[shaded].mean()
+    print(f"09:00 deck: sunlit {temp[sunny].mean():.2f} K vs shaded {temp[shaded].mean():.2f} K")
+    assert gap > 2.0
+    # and the sunlit deck is warmer than the air in the morning sun
+    assert temp[sunny].mean() > r.part_mean_at("temp_air", 9.0)
+
+
+def test_wetted_hull_follows_the_sea(summer_run):
+    pm = summer_run.part_means
+    assert np.max(np.abs(pm["hull_wetted"] - pm["temp_sea"])) < 1.0
+
+
+def test_outputs_written_atomically(summer_run, tmp_path):
+    paths = summer_run.write(tmp_path, map_hours=(12.0,))
+    for p in paths.values():
+        assert p.exists() and p.stat().st_size > 0
+    assert (tmp_path / "part_means.png").exists() and (tmp_path / "surface_1200.png").exists()
+    assert not list(tmp_path.glob(".*tmp*"))
+    hist = summer_run.to_history()
+    np.testing.assert_allclose(hist.at(12 * HOUR), summer_run.face_temperature_at(12.0))
+
+
+def test_four_moment_validation_table_is_printed(capsys):
+    from shipthermal.validation import REFERENCE_DECK, validate
+
+    rep = validate(quick=True, sensitivity=False, crossovers=False, progress=False)
+    with capsys.disabled():
+        print("\n" + rep.text())
+    t = rep.table
+    assert len(t) == len(REFERENCE_DECK) == 4
+    assert np.all(np.isfinite(t["ours_K"]))
+    np.testing.assert_allclose(t["diff_K"], t["ours_K"] - t["reference_K"])
+    # physical ordering (not the reference values): summer noon deck warmer than winter noon
+    summer = t[(t.season == "summer") & (t.time == "12:00")]["ours_K"].iloc[0]
+    winter = t[(t.season == "winter") & (t.time == "12:00")]["ours_K"].iloc[0]
+    assert summer > winter + 10
