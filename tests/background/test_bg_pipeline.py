@@ -236,9 +236,11 @@ def test_met_day_must_contain_the_overpass(port_files, tmp_path):
 
 def test_border_pixels_are_unmixed_not_frozen(summer):
     # A 30 m pixel straddling a quay is part sea. Treated as pure land with its overpass
-    # residual, it came out colder than both land and sea at night (a 12 K cold ring round
-    # every pier in summer, measured before unmixing); unmixed, it stays between its two
-    # end-members. Without unmixing the artefact is back (so this test can fail).
+    # residual, it came out far colder than both land and sea at night: in summer every
+    # coastal land pixel, up to 11.7 K below the colder of the two medians (measured with
+    # border_unmixing=False). Unmixed, the coldest coastal pixel is 1.4 K below (pure land
+    # pixels keep their own Landsat residual, legitimately a kelvin or two). 3 K separates
+    # the two; without unmixing the artefact is back (so this test can fail).
     from scipy.ndimage import binary_dilation
 
     def cold_ring(bg):
@@ -248,7 +250,7 @@ def test_border_pixels_are_unmixed_not_frozen(summer):
         for k in range(24):
             t = bg.temperature[k]
             floor = min(np.median(t[water & ~coast]), np.median(t[land & ~coast]))
-            counts.append(int((t[coast] < floor - 0.5).sum()))
+            counts.append(int((t[coast] < floor - 3.0).sum()))
         return max(counts), int(coast.sum())
 
     bg = summer[0]
