@@ -150,10 +150,15 @@ def test_part_map_must_cover_each_face_once():
         read_part_map({"hull": [[0, 8]], "deck": [[8, 10]]}, 12)
     labels, names = read_part_map(np.array(["deck", "hull", "hull"]), 3)
     assert names == ("deck", "hull") and labels.tolist() == [0, 1, 1]
-    with pytest.raises(InputError):
-        read_part_map({"funnel": [[0, 3]]}, 3) and None
-        from shipthermal.geometry import main_part
-        main_part("funnel")
+
+
+
+def test_unknown_part_name_in_a_part_map(tmp_path):
+    # 'funnel' is neither a main part nor '<main>_<detail>': named in the error, with the
+    # allowed names and the sub-part form as the fix.
+    path, n = _box(tmp_path)
+    with pytest.raises(InputError, match=r"part name = 'funnel'.*superstructure_funnel"):
+        read_ship(path, units="m", part_map={"hull": [[0, n - 2]], "funnel": [[n - 2, n]]})
 
 
 def test_check_surface_on_builtin_ship_is_clean():
