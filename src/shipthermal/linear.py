@@ -24,8 +24,18 @@ Backends
     plate the lateral conductance of a cell is ~1e-3–1e-2 of its diagonal (thin layers,
     large C/Δt), so PCG converges to 1e-13 in a handful of O(n) iterations; the matrix is
     diagonally dominant, so the banded part is positive definite.
+``"cholmod"``
+    Sparse Cholesky (SuiteSparse CHOLMOD, supernodal, AMD/METIS ordering) through the
+    pip-only ``kvxopt`` wheel, which bundles SuiteSparse (no system packages). For the
+    vertex-centred tetrahedral graph (~15 nonzeros per row) of 96 k vertices, measured here
+    (2 shared cores): factor 10.6 s, solve 0.105 s — SuperLU needed 590 s and 3.0 s (190 M
+    fill), pyamg setup 0.34 s and 0.34 s per PCG solve to 1e-13 (15 iterations at
+    α Δt/h² ≈ 6). With one solve per step (the vertex-centred graph is consistent without
+    deferred corrections) the factorisation pays for itself after ~45 steps.
 ``"auto"``
-    ``"column"`` for shell graphs, ``"direct"`` below 20 000 cells, else ``"amg"``.
+    ``"column"`` for shell graphs; for vertex-centred tetrahedral graphs ``"cholmod"``
+    when ``kvxopt`` is installed (else as other graphs); otherwise ``"direct"`` below
+    20 000 cells, else ``"amg"``.
 """
 
 from __future__ import annotations
@@ -41,7 +51,7 @@ from .errors import require
 __all__ = ["LINEAR_SOLVERS", "Preconditioner", "make_preconditioner", "pcg", "choose_backend",
            "Anderson"]
 
-LINEAR_SOLVERS = ("auto", "direct", "amg", "column")
+LINEAR_SOLVERS = ("auto", "direct", "amg", "column", "cholmod")
 _DIRECT_LIMIT = 20_000
 
 
@@ -51,13 +61,45 @@ def choose_backend(backend: str, n_cells: int, kind: str) -> str:
     if backend == "column":
         require(kind == "shell", "linear_solver", backend,
                 f"'column' needs a shell cell graph (this one is {kind!r})")
+    if backend == "cholmod":
+        require(has_cholmod(), "linear_solver", backend,
+                "'cholmod' needs the kvxopt package", "pip install kvxopt")
     if backend != "auto":
         return backend
     if kind == "shell":
         return "column"
+    if kind == "dual-tetrahedral" and has_cholmod():
+        return "cholmod"
     if n_cells < _DIRECT_LIMIT:
         return "direct"
     return "amg"
+
+
+def has_cholmod() -> bool:
+    """True when the optional ``kvxopt`` (CHOLMOD) is importable."""
+    import importlib.util
+
+    return importlib.util.find_spec("kvxopt") is not None
+
+
+def _cholmod_factor(matrix: sp.spmatrix):
+    """CHOLMOD ``L Lᵀ`` of an SPD matrix (kvxopt); returns ``solve(r)``."""
+    import kvxopt
+    from kvxopt import cholmod
+
+    low = sp.tril(matrix, format="coo")
+    n = matrix.shape[0]
+    a = kvxopt.spmatrix(low.data.astype(float), kvxopt.matrix(low.row.astype(np.int64)),
+                        kvxopt.matrix(low.col.astype(np.int64)), (n, n))
+    factor = cholmod.symbolic(a, uplo="L")
+    cholmod.numeric(a, factor)
+
+    def solve(r):
+        b = kvxopt.matrix(np.asarray(r, dtype=float))
+        cholmod.solve(factor, b)
+        return np.asarray(b).ravel()
+
+    return solve
 
 
 @dataclass
@@ -94,6 +136,8 @@ def make_preconditioner(matrix: sp.spmatrix, backend: str,
         lu = spla.splu(sp.csc_matrix(matrix), permc_spec="MMD_AT_PLUS_A",
                        options=dict(SymmetricMode=True))
         apply = lu.solve
+    elif backend == "cholmod":
+        apply = _cholmod_factor(matrix)
     elif backend == "amg":
         import pyamg
 
