@@ -110,7 +110,8 @@ def _report(run, con: Console, finishing: bool = False) -> Path:
     return path
 
 
-def _imaging(run, cases: dict, con: Console, step_s: float | None = None) -> dict:
+def _imaging(run, cases: dict, con: Console, step_s: float | None = None,
+             backgrounds: dict | None = None) -> dict:
     """Imaging stage of a run: ``cases = {case: Scenario}`` with finished thermal stages."""
     from .pipeline import image_cases, load_history
 
@@ -118,7 +119,8 @@ def _imaging(run, cases: dict, con: Console, step_s: float | None = None) -> dic
               for c, sc in cases.items()}
     con.info(f"imaging: {', '.join(cases)} x {', '.join(next(iter(cases.values())).bands)} um")
     with run.stage("imaging") as tmp:
-        res = image_cases(inputs, tmp, progress=con.progress, log=con.debug, step_s=step_s)
+        res = image_cases(inputs, tmp, progress=con.progress, log=con.debug, step_s=step_s,
+                          backgrounds=backgrounds)
     if step_s:
         run.manifest["settings"]["imaging_step_s"] = step_s
         run.save_manifest()
@@ -161,14 +163,15 @@ def cmd_demo(args, con: Console) -> int:
         return EXIT_OK
     scen = demo_scenarios(quick=args.quick, seasons=tuple(args.seasons))
     t0 = time.perf_counter()
-    with RunDir(out, resume=args.resume, force=args.force, kind="demo") as run:
+    with RunDir(out, resume=args.resume, force=args.force, command=args.argv, kind="demo") as run:
         edge = QUICK_EDGE_LENGTH if args.quick else DEMO_EDGE_LENGTH
         run.manifest["settings"].update({
             "quick": args.quick, "ship": "frigate (built-in)", "edge_length_m": edge,
             "default_demo_edge_length_m": DEMO_EDGE_LENGTH,
-            "scr_interval_s": QUICK_SCR_INTERVAL if args.quick else 600.0,
-            "note": "built-in default scenarios; only the ship edge length (and with --quick "
-                    "the SCR step) differ from default_scenario(season)"})
+            "imaging_step_s": QUICK_SCR_INTERVAL if args.quick else 600.0,
+            "note": "built-in default scenarios: only the ship edge length differs from "
+                    "default_scenario(season); --quick also images every 30 min instead of "
+                    "the scenario's 10 min"})
         for season, sc in scen.items():
             run.add_scenario(sc, case=season)
         for season, sc in scen.items():
@@ -204,7 +207,7 @@ def cmd_mesh(args, con: Console) -> int:
     if changes:
         sc = sc.updated(changes)
     out = Path(args.out or f"runs/{sc.name}-mesh")
-    with RunDir(out, force=args.force, kind="mesh") as run:
+    with RunDir(out, force=args.force, command=args.argv, kind="mesh") as run:
         run.add_scenario(sc)
         con.info(f"mesh: building the ship ({sc.ship.builtin or 'user files'})")
         with run.stage("mesh") as tmp:
@@ -228,7 +231,7 @@ def cmd_mesh(args, con: Console) -> int:
 
 
 def cmd_run(args, con: Console) -> int:
-    from .pipeline import thermal_case
+    from .pipeline import prepare, thermal_case
     from .rundir import RunDir, is_complete
 
     sc = _load_scenario(args.scenario)
@@ -238,21 +241,23 @@ def cmd_run(args, con: Console) -> int:
         return EXIT_OK
     t0 = time.perf_counter()
     case = sc.name
-    with RunDir(out, resume=args.resume, force=args.force, kind="run") as run:
+    con.debug("reading the inputs (ship, weather" + (", background)" if args.image else ")"))
+    ship, background = prepare(sc, imaging=args.image, progress=con.progress)
+    with RunDir(out, resume=args.resume, force=args.force, command=args.argv, kind="run") as run:
         run.add_scenario(sc)
         run.manifest["cases"][case]["scenario"] = "scenario.toml"
         con.info(f"{case}: thermal run ({sc.ship.builtin or 'user ship'}, "
                  f"{sc.time.season} {sc.time.date})")
         s = thermal_case(sc, run, case, resume=args.resume, progress=con.progress,
-                         log=con.debug)
+                         log=con.debug, ship=ship)
         if args.image and not (args.resume and run.has("imaging")):
-            _imaging(run, {case: sc}, con)
+            _imaging(run, {case: sc}, con, backgrounds={case: background})
         if "html" in sc.outputs.formats and not args.no_report:
             _report(run, con, finishing=True)
     con.info(f"finished in {time.perf_counter() - t0:.0f} s")
+    deck_max = s["parts"].get("deck", {}).get("max_K", float("nan"))
     con.out(f"{case}: {s['surface_faces']} faces, {s['days']} days (converged: "
-            f"{s['converged']}), deck max {s['parts'].get('deck', {}).get('max_K', float('nan')):.2f} K; "
-            f"run directory {out}")
+            f"{s['converged']}), deck max {deck_max:.2f} K; run directory {out}")
     if args.image:
         _print_crossovers(out, con)
     return EXIT_OK
@@ -272,8 +277,14 @@ def cmd_image(args, con: Console) -> int:
                          f"{', '.join(missing)} (thermal/<case>/history.npz)")
     if args.bands:
         cases = {c: sc.updated({"imaging.bands": list(args.bands)}) for c, sc in cases.items()}
-    with RunDir(path, kind="image", amend=True) as run:
-        _imaging(run, cases, con, None if args.step_min is None else 60.0 * args.step_min)
+    from .pipeline import build_background, frame_times
+
+    step = None if args.step_min is None else 60.0 * args.step_min
+    for sc in cases.values():
+        frame_times(sc, step)
+    backgrounds = {c: build_background(sc, progress=con.progress) for c, sc in cases.items()}
+    with RunDir(path, command=args.argv, kind="image", amend=True) as run:
+        _imaging(run, cases, con, step, backgrounds)
         _report(run, con)
     return _print_crossovers(path, con)
 
@@ -293,9 +304,9 @@ def cmd_validate(args, con: Console) -> int:
 
     if args.into:
         path = _require_run(args.into)
-        ctx = RunDir(path, kind="validate", amend=True)
+        ctx = RunDir(path, command=args.argv, kind="validate", amend=True)
     else:
-        ctx = RunDir(Path(args.out), force=args.force, kind="validate")
+        ctx = RunDir(Path(args.out), force=args.force, command=args.argv, kind="validate")
     with ctx as run:
         with run.stage("validation") as tmp:
             rep = validate(out_dir=tmp, progress=con.progress, quick=args.quick)
@@ -315,7 +326,7 @@ def cmd_sweep(args, con: Console) -> int:
     spec = load_sweep(args.sweep)
     out = Path(args.out or f"runs/sweep-{spec.name}")
     con.info(f"sweep {spec.name}: {len(spec.cases)} cases over {', '.join(spec.axis_names)}")
-    with RunDir(out, resume=True, force=args.force, kind="sweep") as run:
+    with RunDir(out, resume=True, force=args.force, command=args.argv, kind="sweep") as run:
         atomic_write_text(out / "sweep.toml", spec.text)
         run.manifest["settings"].update({"sweep": str(args.sweep), "stages": list(spec.stages),
                                          "axes": {k: len(v) for k, v in spec.axes.items()}})
@@ -341,7 +352,7 @@ def cmd_report(args, con: Console) -> int:
     if args.output:
         out = write_report(path, args.output)
     else:
-        with RunDir(path, kind="report", amend=True) as run:
+        with RunDir(path, command=args.argv, kind="report", amend=True) as run:
             out = write_report(run.path)
     con.out(f"report: {out}")
     return EXIT_OK
@@ -379,8 +390,9 @@ def build_parser() -> argparse.ArgumentParser:
     d = add("demo", "the built-in default end to end: summer and winter thermal runs of the "
             "frigate, images in 3-5 and 8-14 um, SCR curves, crossover times, HTML report",
             cmd_demo)
-    d.add_argument("--quick", action="store_true", help=f"coarser ship mesh ({QUICK_EDGE_LENGTH} m "
-                   f"edges instead of {DEMO_EDGE_LENGTH} m) and a 30-min SCR step")
+    d.add_argument("--quick", action="store_true", help=f"coarser ship mesh "
+                   f"({QUICK_EDGE_LENGTH} m edges instead of {DEMO_EDGE_LENGTH} m) and "
+                   "images every 30 min instead of 10")
     d.add_argument("--out", default="runs/demo", help="run directory (default runs/demo)")
     d.add_argument("--force", action="store_true", help="replace a finished run directory")
     d.add_argument("--resume", action="store_true", help="continue an interrupted demo")
@@ -448,7 +460,9 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     """Entry point of ``shipthermal``; returns the exit code (also via SystemExit)."""
     parser = build_parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
     args = parser.parse_args(argv)
+    args.argv = ["shipthermal"] + argv
     con = Console(quiet=getattr(args, "quiet", False), verbose=getattr(args, "verbose", False))
     if args.command == "sweep" and args.workers is not None and args.workers < 1:
         parser.error("--workers must be >= 1")

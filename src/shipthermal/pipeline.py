@@ -23,7 +23,7 @@ import pandas as pd
 from .errors import InputError, require
 from .units import DAY, HOUR
 
-__all__ = ["DEMO_EDGE_LENGTH", "QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case",
+__all__ = ["DEMO_EDGE_LENGTH", "QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case", "prepare",
            "write_thermal", "save_history", "load_history", "imaging_scenario",
            "build_background", "image_cases", "frame_times", "CASE_SUMMARY_KEYS"]
 
@@ -227,15 +227,30 @@ def frame_times(scenario, step_s: float | None = None) -> np.ndarray:
     return np.arange(0.0, DAY + 1.0, step)
 
 
+def prepare(scenario, imaging: bool = False, progress: bool = False):
+    """Read every input file of a scenario before anything is written: build the ship
+    (mesh files), the weather record (weather file) and, with ``imaging``, the port
+    background (rasters). A bad file raises :class:`InputError` here, so a failed run
+    leaves no folder behind.
+
+    Returns ``(ship, background or None)``.
+    """
+    ship = scenario.ship()
+    scenario.environment()
+    background = build_background(scenario, progress=progress) if imaging else None
+    return ship, background
+
+
 def image_cases(cases: dict, out_dir, progress: bool = True, log=None,
-                step_s: float | None = None) -> dict:
+                step_s: float | None = None, backgrounds: dict | None = None) -> dict:
     """Image thermal histories: ``cases = {case: (scenario, history)}``.
 
     Cases of distinct atmosphere seasons and equal bands and frame times go into one
     :func:`imaging.experiment.run_experiment` (so the panels and SCR plots put summer and
     winter side by side, like the paper); otherwise each case gets ``out_dir/<case>/``.
 
-    ``step_s`` replaces ``imaging.scr_interval`` as the frame step [s] (quick looks).
+    ``step_s`` replaces ``imaging.scr_interval`` as the frame step [s] (quick looks);
+    ``backgrounds = {case: background}`` reuses backgrounds built before.
     Returns ``{group folder: ExperimentResult}`` and writes the products.
     """
     from imaging.experiment import run_experiment
@@ -254,7 +269,9 @@ def image_cases(cases: dict, out_dir, progress: bool = True, log=None,
         for case, (sc, h) in group.items():
             season = sc.atmosphere_season
             t0 = _time.perf_counter()
-            bg = build_background(sc, progress=progress)
+            bg = (backgrounds or {}).get(case)
+            if bg is None:
+                bg = build_background(sc, progress=progress)
             say(f"{case}: port background ({_time.perf_counter() - t0:.1f} s)")
             scen[season] = imaging_scenario(sc, bg)
             hist[season] = h

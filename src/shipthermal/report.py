@@ -43,6 +43,7 @@ figcaption{font-size:.85em;color:#57606a}
 pre{background:#f0f2f4;padding:.8em;overflow-x:auto;font-size:.8em}
 .note{color:#57606a;font-size:.9em}
 nav a{margin-right:1em}
+table.kv td{text-align:left}
 """
 
 
@@ -73,7 +74,7 @@ def _table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
 def _kv(pairs) -> str:
     rows = "".join(f"<tr><th>{html.escape(str(k))}</th><td>{html.escape(str(v))}</td></tr>"
                    for k, v in pairs)
-    return f"<table>{rows}</table>"
+    return f'<table class="kv">{rows}</table>'
 
 
 def _fig_png(fig) -> bytes:
@@ -152,7 +153,8 @@ def _scenario_section(case: str, path: Path) -> str:
         ("weather", f"{w.source} (wind {w.wind_speed_offset:+g} m/s, air "
                     f"{w.temp_air_offset:+g} K, cloud {w.cloud_cover_offset:+g})"),
         ("ship", f"{ship}, edge {s.edge_length if s.edge_length else 'default'} m, heading "
-                 f"{s.heading:g} deg, speed {s.speed:g} m/s, mooring {list(s.mooring_position)} m"),
+                 f"{s.heading:g} deg, speed {s.speed:g} m/s, mooring "
+                 f"{list(s.mooring_position)} m"),
         ("solver", f"{sv.scheme}, dt {sv.time_step:g} s, spin-up tol {sv.spinup_tolerance:g} K, "
                    f"max {sv.spinup_max_days} days, {sv.rays_per_face} rays/face, seed {sv.seed}"),
         ("background", f"{sc.background.source} (seed {sc.background.seed})"),

@@ -28,7 +28,10 @@ Rules (what makes it safe):
   is refused, a stale lock (dead pid) is taken over;
 * reopening a run (fresh or ``--resume``) deletes stale temporaries of crashed writers;
 * ``--resume`` keeps finished stages and thermal checkpoints, and refuses a scenario that
-  differs from the copy in the folder.
+  differs from the copy in the folder;
+* a user error (:class:`~shipthermal.errors.InputError`) in a fresh run removes what it
+  wrote (the folder too when the run created it); a crash or Ctrl-C keeps the unfinished
+  folder (manifest status ``failed`` / ``interrupted``, no marker) for ``--resume``.
 """
 
 from __future__ import annotations
@@ -166,6 +169,8 @@ class RunDir:
         self._locked = False
         self._t0 = time.perf_counter()
         p = self.path
+        self._created = not p.exists()
+        self._fresh = False
         if amend:
             if not (p / MANIFEST).is_file():
                 raise InputError("run directory", str(p), "must be a shipthermal run directory "
@@ -204,6 +209,7 @@ class RunDir:
                                      "Pass --force to replace it, or choose another --out")
             elif not resume:
                 self._clear()
+            self._fresh = not resume or not (p / MANIFEST).exists()
             self.clean_stale()
             old = self.read_manifest() if resume else {}
             self.manifest = {
@@ -366,6 +372,16 @@ class RunDir:
         atomic_write_text(self.path / MARKER, f"{self.manifest['finished']}\n")
         self.release()
 
+    def discard(self) -> None:
+        """Remove what this fresh run wrote (the folder itself if this run created it)."""
+        try:
+            if self._created:
+                shutil.rmtree(self.path, ignore_errors=True)
+            else:
+                self._clear()
+        finally:
+            self.release()
+
     def fail(self, status: str, message: str = "") -> None:
         """Record why the run stopped (``failed`` / ``interrupted``); no marker."""
         try:
@@ -394,6 +410,8 @@ class RunDir:
         if exc_type is None:
             if self._locked:
                 self.complete()
+        elif issubclass(exc_type, InputError) and self._fresh:
+            self.discard()                 # a user error in a new run: leave nothing behind
         elif issubclass(exc_type, KeyboardInterrupt):
             self.fail("interrupted", "interrupted (resume with --resume)")
         else:

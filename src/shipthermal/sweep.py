@@ -158,7 +158,8 @@ def load_sweep(path) -> SweepSpec:
         if k not in _TOP_KEYS:
             raise InputError(f"sweep.{k}", raw[k], f"unknown key; allowed: {', '.join(_TOP_KEYS)}")
     name = raw.get("name", path.stem)
-    if not isinstance(name, str) or not name or any(c in name for c in "/\\") or name.startswith("."):
+    if (not isinstance(name, str) or not name or any(c in name for c in "/\\")
+            or name.startswith(".")):
         raise InputError("sweep.name", name, "must be a non-empty name without slashes")
     stages = raw.get("stages", list(STAGES))
     if (not isinstance(stages, list) or not stages or any(s not in STAGES for s in stages)
@@ -230,8 +231,9 @@ def load_sweep(path) -> SweepSpec:
         try:
             sc = load_scenario(case_raw, base_dir=base_dir)
         except ScenarioError as exc:
-            problems.extend(InputError(f"case {index} ({', '.join(f'{a}={labels[a]}' for a in labels)}): "
-                                       f"{e.field}", e.value, e.allowed, e.fix) for e in exc.errors)
+            where = ", ".join(f"{a}={labels[a]}" for a in labels)
+            problems.extend(InputError(f"case {index} ({where}): {e.field}", e.value, e.allowed,
+                                       e.fix) for e in exc.errors)
             continue
         toml = sc.to_toml().split("\n", 1)[1]   # without the 'written by' comment
         cid = f"{index:04d}-{_digest(toml + '|'.join(stages))}"

@@ -1,0 +1,193 @@
+"""Safe run directories: a killed or interrupted thermal run leaves nothing that looks
+complete, and `run --resume` continues from the last checkpoint to the uninterrupted
+result (bit for bit: same inputs, same seeds, single-threaded step loop)."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pandas as pd
+import pytest
+from cli_helpers import write_tiny
+
+from shipthermal.cli import main
+from shipthermal.errors import InputError
+from shipthermal.rundir import RunDir
+
+# three full days (a tolerance no run meets), checkpoints every simulated hour
+DAYS = 3
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    """The uninterrupted run."""
+    d = tmp_path_factory.mktemp("ref")
+    sc = write_tiny(d, days=DAYS, tolerance=1e-4)
+    out = d / "run"
+    assert main(["-q", "run", str(sc), "--out", str(out)]) == 0
+    return sc, out
+
+
+def _same_result(a, b):
+    ha, hb = (np.load(x / "thermal" / "tiny" / "history.npz") for x in (a, b))
+    np.testing.assert_array_equal(ha["face_temperature"], hb["face_temperature"])
+    np.testing.assert_array_equal(ha["times_s"], hb["times_s"])
+    pa, pb = (pd.read_csv(x / "thermal" / "tiny" / "part_means.csv") for x in (a, b))
+    pd.testing.assert_frame_equal(pa, pb)
+    sa, sb = (json.loads((x / "thermal" / "tiny" / "thermal_summary.json").read_text())
+              for x in (a, b))
+    assert sa["days"] == sb["days"] == DAYS
+    assert sa["day_changes_K"] == sb["day_changes_K"]
+    # the energy log of the whole run (spin-up included) is continued, not restarted
+    ea, eb = (pd.read_csv(x / "thermal" / "tiny" / "energy.csv") for x in (a, b))
+    pd.testing.assert_frame_equal(ea, eb)
+
+
+def _nothing_complete(out):
+    assert not (out / "COMPLETE").exists()
+    assert not (out / "thermal").exists()          # the stage folder appears only when done
+    assert not (out / "report.html").exists()
+
+
+def test_sigkill_mid_run_then_resume(reference, tmp_path):
+    sc, ref = reference
+    out = tmp_path / "run"
+    proc = subprocess.Popen([sys.executable, "-m", "shipthermal", "-q", "run", str(sc), "--out",
+                             str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    ckpt = out / "checkpoints" / "tiny.npz"
+    t_end = time.monotonic() + 120
+    # kill once the run is inside day 2 (a checkpoint exists and the run is far from done)
+    while time.monotonic() < t_end and proc.poll() is None:
+        if ckpt.exists():
+            try:
+                with np.load(ckpt) as c:
+                    if float(c["time"]) > 86400.0:
+                        break
+            except (OSError, ValueError, KeyError):
+                pass                            # being replaced right now: look again
+        time.sleep(0.01)
+    assert proc.poll() is None, "the run finished before it could be killed"
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    _nothing_complete(out)
+    m = json.loads((out / "manifest.json").read_text())
+    assert m["status"] == "running"               # killed: it could not say more
+    assert [p.name for p in out.iterdir() if p.name.startswith(".stage-")]  # its debris
+    with np.load(ckpt) as c:
+        t_killed = float(c["time"])
+    assert 86400.0 < t_killed < DAYS * 86400.0
+
+    # a fresh attempt without --resume is refused? no: it starts afresh. With --resume it
+    # takes the stale lock over, deletes the debris and continues from the checkpoint.
+    assert main(["-q", "run", str(sc), "--out", str(out), "--resume"]) == 0
+    assert (out / "COMPLETE").is_file()
+    assert not (out / "checkpoints").exists()
+    assert not [p for p in out.rglob("*") if p.name.startswith((".stage-", ".lock"))]
+    m = json.loads((out / "manifest.json").read_text())
+    assert m["status"] == "complete" and len(m["attempts"]) == 1
+    _same_result(ref, out)
+
+
+def test_injected_interrupt_then_resume(reference, tmp_path, monkeypatch, capsys):
+    """Ctrl-C after some steps of day 2 (the step loop raises KeyboardInterrupt): exit 130,
+    manifest 'interrupted', checkpoint kept, staging folder removed; resume = reference."""
+    from shipthermal import simulation
+
+    sc, ref = reference
+    out = tmp_path / "run"
+    original = simulation.Simulation.run_until
+
+    def interrupted(self, *a, **k):
+        if self.time >= 1.5 * 86400.0:
+            raise KeyboardInterrupt
+        return original(self, *a, **k)
+
+    monkeypatch.setattr(simulation.Simulation, "run_until", interrupted)
+    assert main(["-q", "run", str(sc), "--out", str(out)]) == 130
+    monkeypatch.setattr(simulation.Simulation, "run_until", original)
+    _nothing_complete(out)
+    assert not [p for p in out.iterdir() if p.name.startswith((".stage-", ".lock"))]
+    m = json.loads((out / "manifest.json").read_text())
+    assert m["status"] == "interrupted"
+    assert "interrupted" in capsys.readouterr().err
+    with np.load(out / "checkpoints" / "tiny.npz") as c:
+        assert float(c["time"]) == pytest.approx(1.5 * 86400.0)
+    # resuming with a changed scenario is refused (nothing changes in the folder)
+    changed = sc.with_name("changed.toml")
+    changed.write_text(sc.read_text().replace("time_step = 1800", "time_step = 900"))
+    assert main(["-q", "run", str(changed), "--out", str(out), "--resume"]) == 2
+    assert "scenario differs" in capsys.readouterr().err
+    assert (out / "checkpoints" / "tiny.npz").is_file()
+    assert main(["-q", "run", str(sc), "--out", str(out), "--resume"]) == 0
+    _same_result(ref, out)
+
+
+def test_finished_run_is_protected(reference, capsys):
+    sc, ref = reference
+    before = sorted(p.name for p in ref.iterdir())
+    assert main(["-q", "run", str(sc), "--out", str(ref)]) == 2
+    assert "is a finished run (COMPLETE exists)" in capsys.readouterr().err
+    assert main(["run", str(sc), "--out", str(ref), "--resume"]) == 0
+    assert "already complete" in capsys.readouterr().err
+    assert sorted(p.name for p in ref.iterdir()) == before
+
+
+# ---- RunDir on its own ----------------------------------------------------------------
+def test_stage_is_renamed_only_when_done(tmp_path):
+    with pytest.raises(RuntimeError):
+        with RunDir(tmp_path / "r", command=["test"]) as run:
+            with run.stage("thermal/a") as d:
+                (d / "x.csv").write_text("1")
+                assert not (tmp_path / "r" / "thermal" / "a").exists()
+            assert (tmp_path / "r" / "thermal" / "a" / "x.csv").read_text() == "1"
+            with run.stage("imaging") as d:
+                (d / "y.csv").write_text("half")
+                raise RuntimeError("crash while writing")
+    r = tmp_path / "r"
+    assert not (r / "imaging").exists() and not (r / "COMPLETE").exists()
+    assert not [p for p in r.iterdir() if p.name.startswith(".stage-")]
+    assert json.loads((r / "manifest.json").read_text())["status"] == "failed"
+    assert not (r / ".lock").exists()
+
+
+def test_lock_refuses_a_live_writer_and_takes_a_dead_ones(tmp_path):
+    r = tmp_path / "r"
+    with RunDir(r, command=["test"]) as run:
+        with pytest.raises(InputError, match=f"is in use by process {os.getpid()}"):
+            RunDir(r, command=["second"], resume=True)
+        run.release()
+        # a lock left by a process that no longer exists, and debris of its writers
+        dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                              capture_output=True, text=True).stdout.strip()
+        import socket
+
+        (r / ".lock").write_text(f"{dead} {socket.gethostname()}")
+        (r / ".stage-imaging.999").mkdir()
+        (r / ".report.html.tmp123").write_text("half")
+        (r / "thermal").mkdir()
+        (r / "thermal" / "x.csv.part-77").write_text("half")
+    with RunDir(r, command=["again"], resume=True) as run2:
+        assert run2.manifest["attempts"]
+    left = sorted(str(p.relative_to(r)) for p in r.rglob("*"))
+    assert left == ["COMPLETE", "manifest.json", "thermal"]
+
+
+def test_user_error_in_a_fresh_run_leaves_nothing(tmp_path):
+    r = tmp_path / "new"
+    with pytest.raises(InputError):
+        with RunDir(r, command=["test"]):
+            raise InputError("weather.source", "w.csv", "must have a temp_air column")
+    assert not r.exists()
+
+
+def test_non_run_folder_and_file_are_refused(tmp_path):
+    (tmp_path / "notes.txt").write_text("mine")
+    with pytest.raises(InputError, match="not a shipthermal run directory"):
+        RunDir(tmp_path)
+    with pytest.raises(InputError, match="must be a folder"):
+        RunDir(tmp_path / "notes.txt")
+    assert (tmp_path / "notes.txt").read_text() == "mine"
