@@ -207,6 +207,7 @@ def cmd_mesh(args, con: Console) -> int:
     if changes:
         sc = sc.updated(changes)
     out = Path(args.out or f"runs/{sc.name}-mesh")
+    RunDir.check_target(out, force=args.force)
     with RunDir(out, force=args.force, command=args.argv, kind="mesh") as run:
         run.add_scenario(sc)
         con.info(f"mesh: building the ship ({sc.ship.builtin or 'user files'})")
@@ -241,6 +242,7 @@ def cmd_run(args, con: Console) -> int:
         return EXIT_OK
     t0 = time.perf_counter()
     case = sc.name
+    RunDir.check_target(out, resume=args.resume, force=args.force)
     con.debug("reading the inputs (ship, weather" + (", background)" if args.image else ")"))
     ship, background = prepare(sc, imaging=args.image, progress=con.progress)
     with RunDir(out, resume=args.resume, force=args.force, command=args.argv, kind="run") as run:
@@ -266,6 +268,11 @@ def cmd_run(args, con: Console) -> int:
 def cmd_image(args, con: Console) -> int:
     from .rundir import MARKER, RunDir
 
+    from .pipeline import build_background, frame_times
+
+    step = None if args.step_min is None else 60.0 * args.step_min
+    if step is not None and not 60.0 <= step <= 10800.0:
+        raise InputError("--step-min", args.step_min, "must lie in [1, 180] min")
     path = _require_run(args.run_dir)
     if not (path / MARKER).is_file():
         raise InputError("run directory", str(path), "is not finished (no COMPLETE marker)",
@@ -277,9 +284,6 @@ def cmd_image(args, con: Console) -> int:
                          f"{', '.join(missing)} (thermal/<case>/history.npz)")
     if args.bands:
         cases = {c: sc.updated({"imaging.bands": list(args.bands)}) for c, sc in cases.items()}
-    from .pipeline import build_background, frame_times
-
-    step = None if args.step_min is None else 60.0 * args.step_min
     for sc in cases.values():
         frame_times(sc, step)
     backgrounds = {c: build_background(sc, progress=con.progress) for c, sc in cases.items()}

@@ -27,11 +27,12 @@ __all__ = ["DEMO_EDGE_LENGTH", "QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_c
            "write_thermal", "save_history", "load_history", "imaging_scenario",
            "build_background", "image_cases", "frame_times", "CASE_SUMMARY_KEYS"]
 
-#: Ship surface edge of ``shipthermal demo`` [m]: the frigate with ~4.8k triangles, a
-#: converged three-day spin-up in about a minute per season on 2 shared cores.
-DEMO_EDGE_LENGTH = 2.0
-#: ``demo --quick`` [m]: ~2.1k triangles
-QUICK_EDGE_LENGTH = 3.0
+#: Ship surface edge of ``shipthermal demo`` [m]: the frigate with 3058 triangles (13.6k
+#: shell cells); its converged three-day spin-up took 58 s per season on the shared 2-core
+#: machine (2.0 m: 4756 triangles, 120 s per season under load, 4.5 min for the demo).
+DEMO_EDGE_LENGTH = 2.5
+#: ``demo --quick`` [m]: 1520 triangles
+QUICK_EDGE_LENGTH = 4.0
 #: ``demo --quick`` SCR / crossover frame step [s] (the scenario's ``imaging.scr_interval``,
 #: default 600 s, is the finest step; coarser frames only for a quick look)
 QUICK_SCR_INTERVAL = 1800.0
@@ -160,14 +161,28 @@ def build_background(scenario, progress: bool = False):
                                      lon=scenario.location.longitude,
                                      krige_coarsen=bgs.krige_coarsen,
                                      variogram_model=bgs.variogram_model)
+    from rasterio.errors import RasterioIOError
+
     from imaging.background import build_background_from_files
 
     offset = scenario.start.utcoffset().total_seconds() / HOUR
-    return build_background_from_files(bgs.mtl, bgs.dem, bgs.met, bgs.roi,
-                                       season=scenario.time.season, utc_offset_hours=offset,
-                                       variogram_model=bgs.variogram_model,
-                                       krige_coarsen=bgs.krige_coarsen, seed=bgs.seed,
-                                       progress=progress)
+    try:
+        return build_background_from_files(bgs.mtl, bgs.dem, bgs.met, bgs.roi,
+                                           season=scenario.time.season,
+                                           utc_offset_hours=offset,
+                                           variogram_model=bgs.variogram_model,
+                                           krige_coarsen=bgs.krige_coarsen, seed=bgs.seed,
+                                           progress=progress)
+    except RasterioIOError as exc:
+        # GDAL could not open a raster: a user error (a file the scenario names), reported
+        # with its key rather than as a crash
+        text = str(exc)
+        key = next((k for k in ("dem", "roi", "mtl", "met") if getattr(bgs, k) and
+                    Path(getattr(bgs, k)).name in text), "files")
+        raise InputError(f"background.{key}", getattr(bgs, key, None) or text,
+                         f"must be a readable raster (GDAL: {text})",
+                         "Give a GeoTIFF (DEM, ROI labels) or the Landsat bands named in the "
+                         "MTL") from None
 
 
 def _day_mean_wind(scenario) -> float:

@@ -188,14 +188,7 @@ class RunDir:
                 self.release()
                 raise
             return
-        if p.exists() and not p.is_dir():
-            raise InputError("--out", str(p), "must be a folder (a file of that name exists)",
-                             "Choose another run directory")
-        if p.is_dir() and any(p.iterdir()) and not (p / MANIFEST).exists() \
-                and not (p / LOCK).exists() and not any(_is_temporary(c.name)
-                                                       for c in p.iterdir()):
-            raise InputError("--out", str(p), "is a non-empty folder that is not a shipthermal "
-                             "run directory (no manifest.json)", "Choose a new or empty folder")
+        self.check_target(p, resume=resume, force=force)
         p.mkdir(parents=True, exist_ok=True)
         self._take_lock()
         try:
@@ -229,6 +222,24 @@ class RunDir:
         except BaseException:
             self.release()
             raise
+
+    @staticmethod
+    def check_target(path, resume: bool = False, force: bool = False) -> None:
+        """Raise the :class:`InputError` that opening ``path`` would raise (a file, a
+        foreign non-empty folder, a finished run without ``force`` / ``resume``), without
+        touching anything: call it before slow preparations."""
+        p = Path(path)
+        if p.exists() and not p.is_dir():
+            raise InputError("--out", str(p), "must be a folder (a file of that name exists)",
+                             "Choose another run directory")
+        if p.is_dir() and any(p.iterdir()) and not (p / MANIFEST).exists() \
+                and not (p / LOCK).exists() and not any(_is_temporary(c.name)
+                                                       for c in p.iterdir()):
+            raise InputError("--out", str(p), "is a non-empty folder that is not a shipthermal "
+                             "run directory (no manifest.json)", "Choose a new or empty folder")
+        if is_complete(p) and not (force or resume):
+            raise InputError("--out", str(p), "is a finished run (COMPLETE exists)",
+                             "Pass --force to replace it, or choose another --out")
 
     # ---- locking and cleaning -------------------------------------------------------------
     def _take_lock(self) -> None:

@@ -226,8 +226,11 @@ def load_sweep(path) -> SweepSpec:
             for k, v in group.items():
                 _set_dotted(case_raw, k, v, f"sweep.axes.{axis}")
                 changes[k] = v
-            labels[axis] = (_show(next(iter(group.values()))) if len(group) == 1
-                            else ", ".join(f"{k}={_show(v)}" for k, v in group.items()))
+            only = next(iter(group.values()))
+            if len(group) == 1:     # the value itself (numbers stay numbers in the table)
+                labels[axis] = only if isinstance(only, (int, float, str, bool)) else _show(only)
+            else:
+                labels[axis] = ", ".join(f"{k}={_show(v)}" for k, v in group.items())
         try:
             sc = load_scenario(case_raw, base_dir=base_dir)
         except ScenarioError as exc:

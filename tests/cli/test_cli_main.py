@@ -133,7 +133,9 @@ def test_history_file_is_the_thermal_result(imaged_run):
 
 def test_image_command_reimages_with_another_step(imaged_run, tmp_path, capsys):
     """`image` on a finished run replaces the imaging stage (30-min frames: 49 rows per
-    band), keeps COMPLETE and lists itself in the manifest's amendments."""
+    band instead of the scenario's 145), keeps COMPLETE and lists itself in the manifest's
+    amendments."""
+    assert len(pd.read_csv(imaged_run / "imaging" / "metrics_summer_3-5.csv")) == 145
     assert main(["-q", "image", str(imaged_run), "--step-min", "30"]) == 0
     metrics = pd.read_csv(imaged_run / "imaging" / "metrics_summer_3-5.csv")
     # 00:00..24:00 every 30 min plus the image times 01:00, 06:00, 07:00, 13:00 (on the grid)
@@ -145,9 +147,6 @@ def test_image_command_reimages_with_another_step(imaged_run, tmp_path, capsys):
     cross = pd.read_csv(imaged_run / "imaging" / "crossovers.csv")
     for t in cross["time_local"]:
         assert t in out
-    # back to the scenario's 10-min step for the other tests
-    assert main(["-q", "image", str(imaged_run)]) == 0
-    assert len(pd.read_csv(imaged_run / "imaging" / "metrics_summer_3-5.csv")) == 145
 
 
 def test_mesh_command(tmp_path, capsys):

@@ -1,0 +1,340 @@
+"""Catalogue of bad inputs through the command line (tests/scenario holds 69 more for the
+scenario keys themselves): user meshes, weather files, background rasters, sweep files and
+command-line misuse. Each case asserts
+
+* exit code 2 (user error) and the message fragments (the key or file, what is allowed,
+  and where given the fix), with no traceback;
+* that nothing was left behind: the folder holds exactly the inputs it held before.
+"""
+
+import json
+import shutil
+
+import numpy as np
+import pytest
+import rasterio
+import trimesh
+import xarray as xr
+from cli_helpers import write_tiny
+
+from shipthermal.cli import main
+
+
+def _tree(root):
+    return sorted(str(p.relative_to(root)) for p in root.rglob("*"))
+
+
+def _run(argv, capsys):
+    try:
+        code = main(argv)
+    except SystemExit as exc:                 # argparse's own usage errors
+        code = exc.code
+    return code, capsys.readouterr().err
+
+
+# ---------------------------------------------------------------------------------------
+# inputs the cases point at
+# ---------------------------------------------------------------------------------------
+def _box(path, scale=1.0, drop=0, flip=False, swap=False):
+    """A 100 m x 12 m x 10 m box barge (keel at z = -4): hull faces first, deck last."""
+    m = trimesh.creation.box((100.0, 12.0, 10.0))
+    v = np.array(m.vertices) + [0.0, 0.0, 1.0]
+    f = np.array(m.faces)
+    top = m.face_normals[:, 2] > 0.5
+    f = np.vstack([f[~top], f[top]])
+    if drop:
+        f = f[:-drop]
+    if flip:
+        f = f[:, ::-1]
+    if swap:
+        v = v[:, [1, 0, 2]]
+    trimesh.Trimesh(v * scale, f, process=False).export(path)
+
+
+def _ship_toml(d, name, mesh="box.stl", part_map="parts.json", units='"m"', draught=4.0):
+    lines = ["[ship.files]", f'mesh = "{mesh}"']
+    if units:
+        lines.append(f"units = {units}")
+    if part_map:
+        lines.append(f'part_map = "{part_map}"')
+    lines.append(f"draught = {draught}")
+    (d / f"{name}.toml").write_text("\n".join(lines) + "\n")
+    return d / f"{name}.toml"
+
+
+def _mesh_inputs(d):
+    _box(d / "box.stl")
+    _box(d / "open.stl", drop=1)
+    _box(d / "flip.stl", flip=True)
+    _box(d / "mm.stl", scale=1000.0)
+    _box(d / "swap.stl", swap=True)
+    (d / "garbage.stl").write_text("this is not a mesh\n")
+    (d / "notes.txt").write_text("")
+    for name, parts in {"parts": {"hull": [[0, 10]], "deck": [[10, 12]]},
+                        "parts11": {"hull": [[0, 10]], "deck": [[10, 11]]},
+                        "overlap": {"hull": [[0, 11]], "deck": [[10, 12]]},
+                        "short": {"hull": [[0, 9]], "deck": [[10, 12]]},
+                        "funnel": {"hull": [[0, 10]], "funnel": [[10, 12]]}}.items():
+        (d / f"{name}.json").write_text(json.dumps({"parts": parts}))
+
+
+HEADER = "time,temp_air,relative_humidity,wind_speed,wind_direction,cloud_cover,temp_sea"
+
+
+def _weather_csv(d, name, header=HEADER, edit=None, hours=24, offset="+08:00"):
+    rows = []
+    for h in range(hours):
+        rows.append(f"2023-07-15T{h:02d}:00:00{offset},{24 + 4 * np.sin(h / 4):.2f},75,4.0,"
+                    f"180,0.3,23.5")
+    if edit:
+        rows = edit(rows)
+    (d / name).write_text(header + "\n" + "\n".join(rows) + "\n")
+    return name
+
+
+def _weather_inputs(d):
+    _weather_csv(d, "no_wind.csv", HEADER.replace(",wind_speed", ""),
+                 lambda r: [",".join(x.split(",")[:3] + x.split(",")[4:]) for x in r])
+    _weather_csv(d, "rh.csv", edit=lambda r: [r[0].replace(",75,", ",175,")] + r[1:])
+    _weather_csv(d, "nan.csv", edit=lambda r: [r[0].split(",")[0] + ",," + ",".join(
+        r[0].split(",")[2:])] + r[1:])
+    _weather_csv(d, "text.csv", edit=lambda r: [r[0].replace(",75,", ",humid,")] + r[1:])
+    _weather_csv(d, "order.csv", edit=lambda r: [r[1], r[0]] + r[2:])
+    _weather_csv(d, "short.csv", hours=12)
+    _weather_csv(d, "clouds.csv", HEADER.replace("cloud_cover", "clouds"))
+    _weather_csv(d, "kelvin.csv", edit=lambda r: [x.replace(",75,", ",75,").replace(
+        x.split(",")[1], f"{float(x.split(',')[1]) + 273.15:.2f}", 1) for x in r])
+    (d / "w.epw").write_text("")
+    for name, src, extra in [("w_nowind", "no_wind.csv", ""), ("w_rh", "rh.csv", ""),
+                             ("w_nan", "nan.csv", ""), ("w_text", "text.csv", ""),
+                             ("w_order", "order.csv", ""), ("w_short", "short.csv", ""),
+                             ("w_clouds", "clouds.csv", ""), ("w_kelvin", "kelvin.csv", ""),
+                             ("w_epw", "w.epw", "")]:
+        write_tiny(d, name=name, extra="")
+        t = (d / f"{name}.toml").read_text()
+        (d / f"{name}.toml").write_text(t.replace("[ship]", f'[weather]\nsource = "{src}"\n'
+                                                  f"{extra}\n[ship]"))
+
+
+# ---------------------------------------------------------------------------------------
+# the catalogue: (id, kind of inputs, argv with {d} for the folder, fragments)
+# ---------------------------------------------------------------------------------------
+def M(name, **kw):
+    return lambda d: ["-q", "mesh", str(_ship_toml(d, name, **kw)), "--out", str(d / "out")]
+
+
+def W(name):
+    return lambda d: ["-q", "run", str(d / f"{name}.toml"), "--out", str(d / "out")]
+
+
+CASES = [
+    # ---- user meshes (ship.files) ---------------------------------------------------------
+    ("mesh-open", "mesh", M("a", mesh="open.stl", part_map="parts11.json"),
+     ["3 open edges", "must be closed (watertight)", "repair='tetwild'"]),
+    ("mesh-inverted", "mesh", M("a", mesh="flip.stl"),
+     ["signed volume", "the normals point into the ship", "fix_normals"]),
+    ("mesh-millimetres", "mesh", M("a", mesh="mm.stl"),
+     ["ship length of 100000 m", "outside the plausible 5–500 m", "declare units='mm'"]),
+    ("mesh-axes", "mesh", M("a", mesh="swap.stl"),
+     ["extent x 12 m, y 100 m", "longest dimension must lie along x"]),
+    ("mesh-partmap-overlap", "mesh", M("a", part_map="overlap.json"),
+     ["part_map['deck'] = [10, 12]", "overlaps part 'hull' at face 10"]),
+    ("mesh-partmap-uncovered", "mesh", M("a", part_map="short.json"),
+     ["1 faces without a part", "first uncovered: face 9"]),
+    ("mesh-no-triangles", "mesh", M("a", mesh="garbage.stl"),
+     ["garbage.stl", "holds no triangles"]),
+    ("mesh-draught-too-deep", "mesh", M("a", draught=40.0),
+     ["draught = 40.0", "between 0 and the height of the mesh (10.000 m)"]),
+    ("mesh-partmap-missing", "mesh", M("a", part_map=None),
+     ["ship.files.part_map = None", "is required with a .stl mesh"]),
+    ("mesh-units-missing", "mesh", M("a", units=None),
+     ["ship.files.units = None", "'m' or 'mm'"]),
+    ("mesh-bad-extension", "mesh", M("a", mesh="notes.txt"),
+     ["ship.files.mesh", "must be a file ending in one of .glb"]),
+    ("mesh-file-missing", "mesh", M("a", mesh="nowhere.stl"),
+     ["ship.files.mesh", "must be an existing file"]),
+    ("mesh-unknown-part", "mesh", M("a", part_map="funnel.json"),
+     ["funnel"]),
+    ("mesh-edge-negative", "mesh",
+     lambda d: ["mesh", "summer", "--edge-length", "-1", "--out", str(d / "out")],
+     ["ship.edge_length = -1.0", "must lie in"]),
+    # ---- weather files (read when the run starts: before any folder is made) --------------
+    ("weather-missing-column", "weather", W("w_nowind"), ["missing required column 'wind_speed'"]),
+    ("weather-humidity-range", "weather", W("w_rh"),
+     ["relative_humidity", "must lie in [0, 100]"]),
+    ("weather-nan", "weather", W("w_nan"), ["temp_air", "no NaN"]),
+    ("weather-not-a-number", "weather", W("w_text"), ["relative_humidity", "humid"]),
+    ("weather-unsorted", "weather", W("w_order"), ["strictly increasing"]),
+    ("weather-date-not-covered", "weather", W("w_short"),
+     ["time.date", "must lie inside the weather record", "Pick a date the file covers"]),
+    ("weather-unknown-column", "weather", W("w_clouds"), ["unknown column"]),
+    ("weather-kelvin-as-celsius", "weather", W("w_kelvin"), ["temperature unit"]),
+    ("weather-epw-needs-sea", "weather", W("w_epw"), ["weather.temp_sea", "required"]),
+    # ---- background rasters (read before the thermal stage with --image) ------------------
+    ("raster-mtl-json", "raster", None, ["mtl_path", "must be valid JSON"]),
+    ("raster-mtl-time", "raster", None, ["SCENE_CENTER_TIME", "HH:MM:SS"]),
+    ("raster-dem-not-geotiff", "raster", None,
+     ["background.dem", "must be a readable raster", "not recognized"]),
+    ("raster-dem-voids", "raster", None,
+     ["land pixels without elevation", "dem_nodata='mask'"]),
+    ("raster-met-variable", "raster", None,
+     ["met[temperature] = 'missing'", "Variables present"]),
+    ("raster-met-not-netcdf", "raster", None, ["met_path", "must be a readable NetCDF file"]),
+    ("raster-roi-grid", "raster", None, ["roi_path", "must be on the scene grid", "Rasterise"]),
+    ("raster-files-incomplete", "raster", None,
+     ["background.roi = None", "is required with source = 'files'"]),
+    # ---- sweep files ----------------------------------------------------------------------
+    ("sweep-missing", "sweep", "", ["sweep = ", "must be an existing TOML file"]),
+    ("sweep-not-toml", "sweep", "axes = [", ["must be valid TOML"]),
+    ("sweep-unknown-key", "sweep", 'axis = {"ship.heading" = [0]}',
+     ["sweep.axis", "unknown key", "axes"]),
+    ("sweep-no-axes", "sweep", 'base = "summer"', ["sweep.axes", "must be a non-empty table"]),
+    ("sweep-axis-not-list", "sweep", '[axes]\n"ship.heading" = 90',
+     ["sweep.axes.ship.heading = 90", "must be a non-empty list"]),
+    ("sweep-axis-empty", "sweep", '[axes]\n"ship.heading" = []', ["must be a non-empty list"]),
+    ("sweep-stage", "sweep", 'stages = ["imaging"]\n[axes]\n"ship.heading" = [0]',
+     ["sweep.stages", "['thermal', 'imaging']"]),
+    ("sweep-base-missing", "sweep", 'base = "nowhere.toml"\n[axes]\n"ship.heading" = [0]',
+     ["sweep.base", "must be 'summer', 'winter' or an existing scenario file"]),
+    ("sweep-case-out-of-range", "sweep", '[axes]\n"ship.heading" = [90, 400]',
+     ["case 1 (ship.heading=400): ship.heading = 400", "must lie in [0, 360) deg"]),
+    ("sweep-unknown-scenario-key", "sweep", '[axes]\n"ship.headng" = [90]',
+     ["ship.headng", "unknown key", "Did you mean 'heading'?"]),
+    ("sweep-mixed-axis", "sweep", '[axes]\nx = [1, {"ship.heading" = 2}]',
+     ["sweep.axes.x", "not both"]),
+    ("sweep-name", "sweep", 'name = "a/b"\n[axes]\n"ship.heading" = [0]',
+     ["sweep.name", "without slashes"]),
+    ("sweep-set-not-table", "sweep", 'set = 3\n[axes]\n"ship.heading" = [0]',
+     ["sweep.set = 3", "must be a table"]),
+    # ---- command-line misuse --------------------------------------------------------------
+    ("cli-scenario-missing", "cli", lambda d: ["run", str(d / "nope.toml")],
+     ["must be an existing TOML file"]),
+    ("cli-scenario-syntax", "cli", lambda d: ["run", str(d / "broken.toml")],
+     ["must be valid TOML"]),
+    ("cli-image-not-a-run", "cli", lambda d: ["image", str(d)],
+     ["must be a shipthermal run directory (with manifest.json)"]),
+    ("cli-image-unfinished", "cli", lambda d: ["image", str(d / "unfinished")],
+     ["is not finished (no COMPLETE marker)", "--resume"]),
+    ("cli-crossover-no-imaging", "cli", lambda d: ["crossover", str(d / "finished")],
+     ["has no imaging results", "shipthermal image"]),
+    ("cli-report-not-a-run", "cli", lambda d: ["report", str(d)],
+     ["must be a shipthermal run directory"]),
+    ("cli-out-is-a-file", "cli", lambda d: ["run", "summer", "--out", str(d / "file.txt")],
+     ["--out", "must be a folder"]),
+    ("cli-out-foreign-folder", "cli", lambda d: ["run", "summer", "--out", str(d / "mine")],
+     ["not a shipthermal run directory", "Choose a new or empty folder"]),
+    ("cli-out-finished", "cli", lambda d: ["mesh", "summer", "--out", str(d / "finished")],
+     ["is a finished run (COMPLETE exists)", "--force"]),
+    ("cli-image-step", "cli", lambda d: ["image", str(d / "finished"), "--step-min", "0.5"],
+     ["--step-min = 0.5", "must lie in [1, 180] min"]),
+    ("cli-workers-zero", "cli", lambda d: ["sweep", "x.toml", "--workers", "0"],
+     ["--workers must be >= 1"]),
+    ("cli-unknown-season", "cli", lambda d: ["demo", "--seasons", "autumn"],
+     ["invalid choice: 'autumn'"]),
+    ("cli-unknown-command", "cli", lambda d: ["simulate"], ["invalid choice: 'simulate'"]),
+]
+
+
+@pytest.fixture(scope="module")
+def port(tmp_path_factory):
+    from imaging.background.synthetic import write_synthetic_port
+
+    return write_synthetic_port(tmp_path_factory.mktemp("port"), "summer", seed=5, size_px=90)
+
+
+def _raster_case(d, case, port):
+    """A copy of the synthetic port's files with one of them spoiled; the argv."""
+    from imaging.background.landsat import north_up_transform
+
+    src = d / "port"
+    shutil.copytree(port.directory, src)
+    files = {k: src / (getattr(port, k).rsplit("/", 1)[1]) for k in ("mtl_txt", "dem", "met",
+                                                                    "roi")}
+    mtl, dem, met, roi = files["mtl_txt"], files["dem"], files["met"], files["roi"]
+    if case == "raster-mtl-json":
+        mtl = src / "bad_MTL.json"
+        mtl.write_text((src / port.mtl_json.rsplit("/", 1)[1]).read_text()[:-10])
+    elif case == "raster-mtl-time":
+        mtl = src / "T_MTL.txt"
+        mtl.write_text(files["mtl_txt"].read_text().replace("SCENE_CENTER_TIME = ",
+                                                            "SCENE_CENTER_TIME = 25:"))
+    elif case == "raster-dem-not-geotiff":
+        dem = d / "dem.tif"
+        dem.write_text("not a tiff")
+    elif case == "raster-dem-voids":
+        with rasterio.open(files["dem"]) as s:
+            profile, data = s.profile, s.read(1).astype("float32")
+        profile.update(dtype="float32", nodata=None)
+        dem = d / "dem_nan.tif"
+        with rasterio.open(dem, "w", **profile) as out:
+            out.write(np.full_like(data, np.nan), 1)
+    elif case == "raster-met-variable":
+        met = d / "met.nc"
+        xr.open_dataset(files["met"]).load().rename({"temperature": "tair"}).to_netcdf(
+            met, engine="h5netcdf")
+    elif case == "raster-met-not-netcdf":
+        met = d / "met.nc"
+        met.write_text("nope")
+    elif case == "raster-roi-grid":
+        with rasterio.open(files["roi"]) as s:
+            profile, data = s.profile, s.read(1)
+        t = profile["transform"]
+        profile.update(transform=north_up_transform(t.c + 30.0, t.f, 30.0))
+        roi = d / "roi.tif"
+        with rasterio.open(roi, "w", **profile) as out:
+            out.write(data, 1)
+    sc = write_tiny(d, name="r")
+    bg = (f'[background]\nsource = "files"\nmtl = "{mtl}"\ndem = "{dem}"\nmet = "{met}"\n'
+          + ("" if case == "raster-files-incomplete" else f'roi = "{roi}"\n'))
+    sc.write_text(sc.read_text().replace("[background]\nsize_px = 100\n", "") + bg)
+    return ["-q", "run", str(sc), "--image", "--out", str(d / "out")]
+
+
+def _cli_inputs(d):
+    (d / "broken.toml").write_text("[ship\nheading = 3\n")
+    (d / "file.txt").write_text("a file")
+    (d / "mine").mkdir()
+    (d / "mine" / "thesis.tex").write_text("precious")
+    for name, done in (("unfinished", False), ("finished", True)):
+        r = d / name
+        r.mkdir()
+        (r / "manifest.json").write_text(json.dumps({"cases": {}, "status": "running"}))
+        (r / "scenario.toml").write_text("")
+        if done:
+            (r / "COMPLETE").write_text("x")
+
+
+@pytest.mark.parametrize("case, kind, make, fragments", CASES, ids=[c[0] for c in CASES])
+def test_bad_input(case, kind, make, fragments, tmp_path, capsys, request):
+    d = tmp_path
+    if kind == "mesh":
+        _mesh_inputs(d)
+        argv = make(d)
+    elif kind == "weather":
+        _weather_inputs(d)
+        argv = make(d)
+    elif kind == "raster":
+        argv = _raster_case(d, case, request.getfixturevalue("port"))
+    elif kind == "sweep":
+        write_tiny(d)
+        if make:
+            (d / "s.toml").write_text(make + "\n")
+        argv = ["-q", "sweep", str(d / "s.toml"), "--out", str(d / "out")]
+    else:
+        _cli_inputs(d)
+        argv = make(d)
+    before = _tree(d)
+    code, err = _run(argv, capsys)
+    assert code == 2, err
+    for f in fragments:
+        assert f in err, f"{f!r} not in {err!r}"
+    assert "Traceback" not in err
+    assert _tree(d) == before        # nothing written, nothing removed
+
+
+def test_catalogue_size():
+    """The issue asks for at least 30 cases across meshes, weather, rasters and sweep files
+    (plus the scenario catalogue of tests/scenario)."""
+    kinds = [c[1] for c in CASES]
+    assert len(CASES) >= 30
+    assert min(kinds.count(k) for k in ("mesh", "weather", "raster", "sweep", "cli")) >= 7
