@@ -13,15 +13,18 @@ Subcommands (``shipthermal <command> --help`` for each)::
     report     (re)write the self-contained HTML report of a run directory
 
 Exit codes: 0 success; 2 user error (bad scenario, sweep file, option or folder: the
-message only, no traceback); 1 internal failure (traceback with ``-v``); 130 interrupted
-(Ctrl-C; an interrupted run leaves no ``COMPLETE`` marker and resumes with ``--resume``).
+message only, no traceback); 1 internal failure (traceback with ``-v``; a sweep with failed
+cases); 130 interrupted (Ctrl-C), 143 terminated (SIGTERM): an interrupted run leaves no
+``COMPLETE`` marker and resumes with ``--resume``.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
+import threading
 import time
 import traceback
 from pathlib import Path
@@ -30,7 +33,11 @@ from .errors import InputError
 
 __all__ = ["main", "build_parser"]
 
-EXIT_OK, EXIT_FAILURE, EXIT_USER, EXIT_INTERRUPTED = 0, 1, 2, 130
+EXIT_OK, EXIT_FAILURE, EXIT_USER, EXIT_INTERRUPTED, EXIT_TERMINATED = 0, 1, 2, 130, 143
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, handled like Ctrl-C (the run directory records 'interrupted')."""
 
 
 class Console:
@@ -380,7 +387,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="shipthermal", description="Ship infrared signature in a port: thermal runs, "
         "imaging, SCR and crossover times from one scenario file.",
-        epilog="Exit codes: 0 ok, 2 user error, 1 internal failure, 130 interrupted. "
+        epilog="Exit codes: 0 ok, 2 user error, 1 internal failure (or failed sweep cases), "
+               "130 interrupted (143 on SIGTERM). "
                "Scenario keys: docs/SCENARIO.md (python -m shipthermal.scenario schema).")
     _common(p, True)
     sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -471,14 +479,17 @@ def main(argv=None) -> int:
     if args.command == "sweep" and args.workers is not None and args.workers < 1:
         parser.error("--workers must be >= 1")
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         code = args.func(args, con)
     except InputError as exc:
         con.error(f"error: {exc}")
         return EXIT_USER
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         con.error("interrupted (an unfinished run resumes with --resume)")
-        return EXIT_INTERRUPTED
+        return EXIT_TERMINATED if isinstance(exc, Terminated) else EXIT_INTERRUPTED
     except Exception as exc:
         con.error(f"internal error: {type(exc).__name__}: {exc}")
         if con.verbose:
@@ -486,7 +497,14 @@ def main(argv=None) -> int:
         else:
             con.error("(run with -v for the traceback)")
         return EXIT_FAILURE
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
     return code
+
+
+def _on_sigterm(signum, frame):
+    raise Terminated
 
 
 def _entry() -> None:

@@ -92,6 +92,26 @@ def test_sigkill_mid_run_then_resume(reference, tmp_path):
     _same_result(ref, out)
 
 
+def test_sigterm_is_an_interruption(reference, tmp_path):
+    """SIGTERM (e.g. a batch system's time limit) stops the run like Ctrl-C: exit 143,
+    manifest 'interrupted', staging folder and lock removed, checkpoint kept."""
+    sc, _ = reference
+    out = tmp_path / "run"
+    proc = subprocess.Popen([sys.executable, "-m", "shipthermal", "-q", "run", str(sc), "--out",
+                             str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    ckpt = out / "checkpoints" / "tiny.npz"
+    t_end = time.monotonic() + 120
+    while time.monotonic() < t_end and proc.poll() is None and not ckpt.exists():
+        time.sleep(0.01)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 143, err.decode()[-2000:]
+    _nothing_complete(out)
+    assert json.loads((out / "manifest.json").read_text())["status"] == "interrupted"
+    assert not [p for p in out.iterdir() if p.name.startswith((".stage-", ".lock"))]
+    assert ckpt.is_file()
+
+
 def test_injected_interrupt_then_resume(reference, tmp_path, monkeypatch, capsys):
     """Ctrl-C after some steps of day 2 (the step loop raises KeyboardInterrupt): exit 130,
     manifest 'interrupted', checkpoint kept, staging folder removed; resume = reference."""

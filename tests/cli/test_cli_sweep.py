@@ -131,3 +131,44 @@ def test_run_case_never_raises():
     r = run_case({"id": "x", "index": 0, "changes": {}, "labels": {}, "toml": "not = [toml",
                   "stages": ["thermal"]})
     assert r["status"] == "failed" and "must be valid TOML" in r["error"]
+
+
+def test_sweep_with_imaging_columns(tmp_path):
+    """Thermal + imaging cases (8-14 um only, 10-min frames, 100-pixel port): per-band
+    crossover times and SCR range land in the table, and both headings cross over twice a
+    day (the moored ship is warmer than the water by day, colder by night)."""
+    write_tiny(tmp_path)
+    (tmp_path / "s.toml").write_text(
+        'base = "tiny.toml"\n[set]\n"solver.spinup_max_days" = 1\n"imaging.bands" = ["8-14"]\n'
+        '[axes]\n"ship.heading" = [0, 90]\n')
+    res = run_sweep(load_sweep(tmp_path / "s.toml"), tmp_path / "out", serial=True,
+                    progress=False)
+    t = res.table
+    assert list(t["status"]) == ["ok", "ok"], list(t["error"])
+    for col in ("crossovers_8-14", "n_crossovers_8-14", "scr_min_8-14", "scr_max_8-14"):
+        assert col in t
+    assert not [c for c in t.columns if c.endswith("3-5")]
+    assert (t["scr_max_8-14"] > t["scr_min_8-14"]).all()
+    assert (t["scr_min_8-14"] >= 0).all()
+    assert (t["n_crossovers_8-14"] == 2).all()
+
+
+def test_existing_scheduler_by_address(sweep_file, serial, tmp_path, capsys):
+    """`sweep --scheduler ADDRESS` sends the cases to a running cluster (here a LocalCluster
+    started by the test) instead of starting one; results equal the serial ones."""
+    from dask.distributed import LocalCluster
+
+    text = SWEEP.replace('"ship.heading" = [0, 90, 180, 270]', '"ship.heading" = [90]')
+    (sweep_file.parent / "two.toml").write_text(text.replace('name = "eight"', 'name = "two"'))
+    with LocalCluster(n_workers=1, threads_per_worker=1, dashboard_address=None,
+                      silence_logs=40) as cluster:
+        code = main(["sweep", str(sweep_file.parent / "two.toml"), "--scheduler",
+                     cluster.scheduler_address, "--out", str(tmp_path / "o")])
+        assert code == 0
+        assert f"dask: 1 workers at {cluster.scheduler_address}" in capsys.readouterr().err
+    t = pd.read_csv(tmp_path / "o" / "table.csv")
+    ref = serial[0].table
+    ref = ref[ref["ship.heading"] == 90].reset_index(drop=True)
+    np.testing.assert_array_equal(t["deck_12h_K"].round(6), ref["deck_12h_K"].round(6))
+    manifest = json.loads((tmp_path / "o" / "manifest.json").read_text())
+    assert manifest["settings"]["scheduler"] == cluster.scheduler_address
