@@ -193,9 +193,12 @@ def test_slab_vertices_match_carslaw_jaeger_series_and_scikit_fem():
         errs.append(np.sqrt(np.sum(w * (res.final_temperature - exact) ** 2) / w.sum())
                     / (T_INIT - T_INF))
         # One SPD solve per step: a linear problem needs a single Newton correction (the
-        # second pass only confirms convergence).
+        # second pass only confirms convergence), one back-substitution with the one
+        # factorisation — except the backward-Euler start, preconditioned by the BDF2
+        # factor (eigenvalues in [2/3, 1]: ≤ 14 PCG iterations to 1e-13; measured 11).
         assert res.timing["newton_iterations"] == 2 * 40
-        assert res.timing["linear_iterations"] == 40
+        assert res.timing["linear_iterations"] <= 39 + 14
+        assert res.timing["preconditioner_builds"] == 1
         if edge == 0.01:
             on_z = np.isin(g.bface_patch[::3], [g.patch_names.index("zmin"), g.patch_names.index("zmax")])
             peer = _p1_lumped_bdf2(g.cell_centroid, g.metadata["tets"],
