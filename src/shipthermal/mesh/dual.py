@@ -157,7 +157,11 @@ def build_dual_tet_graph(points, tets, material: str | Material | Sequence = "mi
     # ---- boundary triangles and their vertex pieces --------------------------------------
     tri = tets[:, _FACES].reshape(-1, 3)
     tkey = np.sort(tri, axis=1)
-    _, first, counts = np.unique(tkey, axis=0, return_index=True, return_counts=True)
+    if n < 2_000_000:     # one int64 key per triangle (n³ < 2⁶³): sorts ~10× faster than rows
+        tkey = (tkey[:, 0] * n + tkey[:, 1]) * n + tkey[:, 2]
+        _, first, counts = np.unique(tkey, return_index=True, return_counts=True)
+    else:
+        _, first, counts = np.unique(tkey, axis=0, return_index=True, return_counts=True)
     btri = tri[first[counts == 1]]
     q0, q1, q2 = points[btri[:, 0]], points[btri[:, 1]], points[btri[:, 2]]
     svec_t = 0.5 * np.cross(q1 - q0, q2 - q0)
