@@ -20,7 +20,8 @@ Backends
 ``"column"``
     Shell graphs only: the tridiagonal through-thickness part of ``J`` (every plate column
     with its exact current diagonal; lateral conduction left out), Cholesky-factorised as
-    one banded matrix (LAPACK ``pbtrf``, O(n)) and rebuilt at every Newton iteration. In a
+    one tridiagonal matrix (LDLᵀ, O(n), numba: :mod:`._tridiagonal`) and rebuilt at every
+    Newton iteration. In a
     plate the lateral conductance of a cell is ~1e-3–1e-2 of its diagonal (thin layers,
     large C/Δt), so PCG converges to 1e-13 in a handful of O(n) iterations; the matrix is
     diagonally dominant, so the banded part is positive definite.
@@ -121,17 +122,13 @@ def make_preconditioner(matrix: sp.spmatrix, backend: str,
 
     t0 = time.perf_counter()
     if backend == "column":
-        from scipy.linalg import cho_solve_banded, cholesky_banded
+        from ._tridiagonal import tridiagonal_factor, tridiagonal_solve
 
         m = sp.csr_matrix(matrix)
-        ab = np.zeros((2, m.shape[0]))
-        ab[1] = m.diagonal()
-        sup = m.diagonal(1)
-        ab[0, 1:] = np.where(column_break, 0.0, sup)
-        factor = cholesky_banded(ab, lower=False, check_finite=False)
+        factor = tridiagonal_factor(m.diagonal(), np.where(column_break, 0.0, m.diagonal(1)))
 
         def apply(r):
-            return cho_solve_banded((factor, False), r, check_finite=False)
+            return tridiagonal_solve(factor, r)
     elif backend == "direct":
         lu = spla.splu(sp.csc_matrix(matrix), permc_spec="MMD_AT_PLUS_A",
                        options=dict(SymmetricMode=True))
