@@ -344,6 +344,7 @@ def cmd_sweep(args, con: Console) -> int:
         res = run_sweep(spec, out, scheduler=args.scheduler, n_workers=args.workers,
                         serial=args.serial, retry_failed=not args.keep_failed,
                         progress=con.progress, log=con.info, run=run)
+        _report(run, con, finishing=True)
     show = [c for c in res.table.columns if c not in ("worker", "case", "error")
             and not c.startswith(("first_crossover", "energy", "surface"))]
     con.out(res.table[show].to_string(index=False, float_format=lambda x: f"{x:.2f}"))

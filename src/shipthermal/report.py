@@ -8,7 +8,7 @@ Sections (each only when the run has it): run (status, manifest, versions, timin
 scenario summary per case (and the full TOML, folded), mesh, thermal (part-mean curves,
 surface maps, spin-up, energy balance with a per-step plot, deck means next to the paper's
 reference values), imaging (panels per band and time, SCR curves, crossover table, band
-comparison), validation tables.
+comparison), validation tables, and for a sweep folder its table and plot.
 """
 
 from __future__ import annotations
@@ -343,6 +343,17 @@ def build_report(run_dir, finishing: bool = False) -> str:
         section("imaging", "Imaging", _imaging_section(run / "imaging"))
     if (run / "validation").is_dir():
         section("validation", "Validation", _validation_section(run / "validation"))
+    if (run / "table.csv").is_file():
+        sweep = []
+        if (run / "sweep.toml").is_file():
+            sweep.append("<details><summary>sweep file</summary><pre>"
+                         + html.escape((run / "sweep.toml").read_text()) + "</pre></details>")
+        if (run / "table.png").is_file():
+            sweep.append(_img_file(run / "table.png", "one point per case"))
+        table = pd.read_csv(run / "table.csv")
+        table = table[[c for c in table.columns if c not in ("worker",)]]
+        sweep.append(_table(table, "{:.3f}"))
+        section("sweep", "Sweep", "".join(sweep))
     title = f"shipthermal run {run.resolve().name}"
     head = (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">'
             f'<meta name="viewport" content="width=device-width, initial-scale=1">'

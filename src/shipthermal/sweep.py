@@ -408,6 +408,7 @@ def plot_table(table: pd.DataFrame, axis_names, path) -> Path:
         a.grid(alpha=0.3)
     axes[-1].set_xticks(x)
     axes[-1].set_xticklabels(labels, rotation=60, ha="right", fontsize=7)
+    axes[-1].set_xlabel(" | ".join(axis_names), fontsize=8)
     fig.suptitle(f"sweep: {len(x)} cases ({int(ok.sum())} ok)", fontsize=10)
     fig.tight_layout()
     path = Path(path)
@@ -485,7 +486,13 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
 
             cluster = None
             if scheduler:
-                client = Client(scheduler, timeout="20s")
+                try:
+                    client = Client(scheduler, timeout="15s")
+                except (OSError, TimeoutError, ValueError) as exc:
+                    raise InputError("--scheduler", scheduler, "must be the address of a "
+                                     f"running dask scheduler ({type(exc).__name__}: {exc})",
+                                     "e.g. tcp://host:8786 (start one with `dask scheduler`)"
+                                     ) from None
             else:
                 n = int(n_workers or os.cpu_count() or 1)
                 cluster = LocalCluster(n_workers=n, threads_per_worker=1,

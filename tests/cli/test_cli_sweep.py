@@ -113,6 +113,7 @@ def test_failed_case_is_reported_not_lost(tmp_path, capsys):
     assert main(["-q", "sweep", str(tmp_path / "s.toml"), "--serial", "--out", str(out)]) == 1
     assert "1 ran, 1 skipped" in capsys.readouterr().out
     assert (out / "COMPLETE").is_file()
+    assert "missing required column" in (out / "report.html").read_text()
 
 
 def test_season_axis_moves_the_season_defaults(tmp_path):
