@@ -25,19 +25,18 @@ from .units import DAY, HOUR
 
 __all__ = ["DEMO_EDGE_LENGTH", "QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case", "prepare",
            "write_thermal", "save_history", "load_history", "imaging_scenario",
-           "build_background", "image_cases", "frame_times", "CASE_SUMMARY_KEYS"]
+           "build_background", "image_cases", "frame_times"]
 
-#: Ship surface edge of ``shipthermal demo`` [m]: the frigate with 3058 triangles (13.6k
-#: shell cells); its converged three-day spin-up took 58 s per season on the shared 2-core
-#: machine (2.0 m: 4756 triangles, 120 s per season under load, 4.5 min for the demo).
-DEMO_EDGE_LENGTH = 2.5
+#: Ship surface edge of ``shipthermal demo`` [m] (the validation's default too): the
+#: frigate with 4756 triangles (21k shell cells); its converged three-day spin-up took 24 s
+#: per season and the whole demo 73 s on the shared 2-core machine at load ~2 (4.5 min at
+#: load ~5, when other jobs held the cores).
+DEMO_EDGE_LENGTH = 2.0
 #: ``demo --quick`` [m]: 1520 triangles
 QUICK_EDGE_LENGTH = 4.0
 #: ``demo --quick`` SCR / crossover frame step [s] (the scenario's ``imaging.scr_interval``,
 #: default 600 s, is the finest step; coarser frames only for a quick look)
 QUICK_SCR_INTERVAL = 1800.0
-
-CASE_SUMMARY_KEYS = ("days", "converged", "surface_faces", "cells")
 
 
 def demo_scenarios(quick: bool = False, seasons=("summer", "winter")) -> dict:
