@@ -275,7 +275,7 @@ def cmd_run(args, con: Console) -> int:
 def cmd_image(args, con: Console) -> int:
     from .rundir import MARKER, RunDir
 
-    from .pipeline import build_background, frame_times
+    from .pipeline import build_background, check_imaging_bands, frame_times
 
     step = None if args.step_min is None else 60.0 * args.step_min
     if step is not None and not 60.0 <= step <= 10800.0:
@@ -293,6 +293,7 @@ def cmd_image(args, con: Console) -> int:
         cases = {c: sc.updated({"imaging.bands": list(args.bands)}) for c, sc in cases.items()}
     for sc in cases.values():
         frame_times(sc, step)
+        check_imaging_bands(sc)
     backgrounds = {c: build_background(sc, progress=con.progress) for c, sc in cases.items()}
     with RunDir(path, command=args.argv, kind="image", amend=True) as run:
         _imaging(run, cases, con, step, backgrounds)

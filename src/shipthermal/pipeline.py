@@ -23,7 +23,7 @@ import pandas as pd
 from .errors import InputError, require
 from .units import DAY, HOUR
 
-__all__ = ["DEMO_EDGE_LENGTH", "QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case", "prepare",
+__all__ = ["DEMO_EDGE_LENGTH", "QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case", "prepare", "check_imaging_bands",
            "write_thermal", "save_history", "load_history", "imaging_scenario",
            "build_background", "image_cases", "frame_times"]
 
@@ -241,6 +241,20 @@ def frame_times(scenario, step_s: float | None = None) -> np.ndarray:
     return np.arange(0.0, DAY + 1.0, step)
 
 
+IMAGING_BANDS = ("3-5", "8-14")
+
+
+def check_imaging_bands(scenario) -> None:
+    """The imaging stage renders the paper's two bands; the scenario also accepts custom
+    'lo-hi' bands (thermal emissivities), which imaging cannot take yet: say so up front."""
+    other = [b for b in scenario.bands if b not in IMAGING_BANDS]
+    if other:
+        raise InputError("imaging.bands", list(scenario.bands), "the imaging stage takes "
+                         f"{' and '.join(repr(b) for b in IMAGING_BANDS)} only (custom band "
+                         f"{other[0]!r} is not supported by imaging.atmosphere yet)",
+                         'Use "3-5" / "8-14", or run the thermal stage only')
+
+
 def prepare(scenario, imaging: bool = False, progress: bool = False):
     """Read every input file of a scenario before anything is written: build the ship
     (mesh files), the weather record (weather file) and, with ``imaging``, the port
@@ -249,6 +263,8 @@ def prepare(scenario, imaging: bool = False, progress: bool = False):
 
     Returns ``(ship, background or None)``.
     """
+    if imaging:
+        check_imaging_bands(scenario)
     ship = scenario.ship()
     scenario.environment()
     background = build_background(scenario, progress=progress) if imaging else None
@@ -269,6 +285,8 @@ def image_cases(cases: dict, out_dir, progress: bool = True, log=None,
     """
     from imaging.experiment import run_experiment
 
+    for sc, _ in cases.values():
+        check_imaging_bands(sc)
     say = log or (lambda m: None)
     out = Path(out_dir)
     seasons = [sc.atmosphere_season for sc, _ in cases.values()]

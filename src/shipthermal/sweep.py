@@ -238,6 +238,16 @@ def load_sweep(path) -> SweepSpec:
             problems.extend(InputError(f"case {index} ({where}): {e.field}", e.value, e.allowed,
                                        e.fix) for e in exc.errors)
             continue
+        if "imaging" in stages:
+            from .pipeline import check_imaging_bands
+
+            try:
+                check_imaging_bands(sc)
+            except InputError as e:
+                where = ", ".join(f"{a}={labels[a]}" for a in labels)
+                problems.append(InputError(f"case {index} ({where}): {e.field}", e.value,
+                                           e.allowed, e.fix))
+                continue
         toml = sc.to_toml().split("\n", 1)[1]   # without the 'written by' comment
         cid = f"{index:04d}-{_digest(toml + '|'.join(stages))}"
         cases.append(SweepCase(cid, index, changes, labels, toml, tuple(stages)))

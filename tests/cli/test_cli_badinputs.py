@@ -204,6 +204,8 @@ CASES = [
      ["sweep.axes.x", "not both"]),
     ("sweep-name", "sweep", 'name = "a/b"\n[axes]\n"ship.heading" = [0]',
      ["sweep.name", "without slashes"]),
+    ("sweep-imaging-custom-band", "sweep", '[axes]\n"imaging.bands" = [["8-14"], ["8-12"]]',
+     ["case 1 (imaging.bands=8-12): imaging.bands", "'3-5' and '8-14' only"]),
     ("sweep-set-not-table", "sweep", 'set = 3\n[axes]\n"ship.heading" = [0]',
      ["sweep.set = 3", "must be a table"]),
     # ---- command-line misuse --------------------------------------------------------------
@@ -227,6 +229,9 @@ CASES = [
      ["is a finished run (COMPLETE exists)", "--force"]),
     ("cli-image-step", "cli", lambda d: ["image", str(d / "finished"), "--step-min", "0.5"],
      ["--step-min = 0.5", "must lie in [1, 180] min"]),
+    ("cli-image-custom-band", "cli",
+     lambda d: ["run", str(d / "custom.toml"), "--image", "--out", str(d / "out")],
+     ["imaging.bands = ['8-12']", "the imaging stage takes '3-5' and '8-14' only"]),
     ("cli-workers-zero", "cli", lambda d: ["sweep", "x.toml", "--workers", "0"],
      ["--workers must be >= 1"]),
     ("cli-unknown-season", "cli", lambda d: ["demo", "--seasons", "autumn"],
@@ -292,6 +297,7 @@ def _raster_case(d, case, port):
 
 def _cli_inputs(d):
     (d / "broken.toml").write_text("[ship\nheading = 3\n")
+    write_tiny(d, name="custom", extra='[imaging]\nbands = ["8-12"]\n')
     (d / "file.txt").write_text("a file")
     (d / "mine").mkdir()
     (d / "mine" / "thesis.tex").write_text("precious")
