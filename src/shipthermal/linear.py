@@ -21,22 +21,22 @@ Backends
     Shell graphs only: the tridiagonal through-thickness part of ``J`` (every plate column
     with its exact current diagonal; lateral conduction left out), Cholesky-factorised as
     one tridiagonal matrix (LDLᵀ, O(n), numba: :mod:`._tridiagonal`) and rebuilt at every
-    Newton iteration. In a
-    plate the lateral conductance of a cell is ~1e-3–1e-2 of its diagonal (thin layers,
-    large C/Δt), so PCG converges to 1e-13 in a handful of O(n) iterations; the matrix is
-    diagonally dominant, so the banded part is positive definite.
+    Newton iteration. In a plate the lateral conductance of a cell is ~1e-3–1e-2 of its
+    diagonal (thin layers, large C/Δt), so PCG converges to 1e-13 in a handful of O(n)
+    iterations; the matrix is diagonally dominant, so the banded part is positive definite.
 ``"cholmod"``
-    Sparse Cholesky (SuiteSparse CHOLMOD, supernodal, AMD/METIS ordering) through the
-    pip-only ``kvxopt`` wheel, which bundles SuiteSparse (no system packages). For the
-    vertex-centred tetrahedral graph (~15 nonzeros per row) of 96 k vertices, measured here
-    (2 shared cores): factor 10.6 s, solve 0.105 s — SuperLU needed 590 s and 3.0 s (190 M
-    fill), pyamg setup 0.34 s and 0.34 s per PCG solve to 1e-13 (15 iterations at
-    α Δt/h² ≈ 6). With one solve per step (the vertex-centred graph is consistent without
-    deferred corrections) the factorisation pays for itself after ~45 steps.
+    Sparse Cholesky (SuiteSparse CHOLMOD, supernodal) through the pip-only ``kvxopt`` wheel,
+    which bundles SuiteSparse (no system packages); opt-in. Measured here (2 shared cores) on
+    the vertex-centred graph of a pytetwild cube, 96 k vertices (~15 nonzeros per row):
+    factor 10.6–11.4 s, solve 0.105–0.12 s; SuperLU (MMD_AT_PLUS_A) 590 s and 3.0 s (190 M
+    fill); pyamg setup 0.3–0.5 s, 0.34 s per PCG solve to 1e-13 in isolation. End to end
+    (200 BDF2 steps of a convecting steel cube, α Δt/h² ≈ 1) CHOLMOD 48 s vs AMG 47 s; 20
+    steps (α Δt/h² ≈ 10) 16.8 s vs 9.7 s; at 57 k vertices with radiation (stale factor as
+    preconditioner, 4.2 PCG iterations per step) 80 s vs 24 s. So AMG stays the default;
+    CHOLMOD pays off only for long runs of stiff (large α Δt/h²) linear problems.
 ``"auto"``
-    ``"column"`` for shell graphs; for vertex-centred tetrahedral graphs ``"cholmod"``
-    when ``kvxopt`` is installed (else as other graphs); otherwise ``"direct"`` below
-    20 000 cells, else ``"amg"``.
+    ``"column"`` for shell graphs, ``"direct"`` below 20 000 cells, else ``"amg"`` (cell-
+    and vertex-centred tetrahedral graphs alike, on the measurements above).
 """
 
 from __future__ import annotations
@@ -69,8 +69,6 @@ def choose_backend(backend: str, n_cells: int, kind: str) -> str:
         return backend
     if kind == "shell":
         return "column"
-    if kind == "dual-tetrahedral" and has_cholmod():
-        return "cholmod"
     if n_cells < _DIRECT_LIMIT:
         return "direct"
     return "amg"
