@@ -305,11 +305,12 @@ def tets_benchmark(args):
     from threadpoolctl import threadpool_limits
 
     print(next(p for p in __doc__.split("\n\n") if p.startswith("**tets**")))
-    pts, tets, t_mesh = cube_mesh(args.edge)
-    print(f"\nmesh: edge {args.edge} m → {len(tets)} tets, {len(pts)} vertices "
-          f"(pytetwild {t_mesh:.1f} s); dt = {end_time() / STEPS:.3f} s, {STEPS} steps, "
-          f"t_end = {end_time():.1f} s")
-    cases = [int(x) for x in args.cases.split(",")]
+    cases = [] if args.cases in ("", "none") else [int(x) for x in args.cases.split(",")]
+    if cases:
+        pts, tets, t_mesh = cube_mesh(args.edge)
+        print(f"\nmesh: edge {args.edge} m → {len(tets)} tets, {len(pts)} vertices "
+              f"(pytetwild {t_mesh:.1f} s); dt = {end_time() / STEPS:.3f} s, {STEPS} steps, "
+              f"t_end = {end_time():.1f} s")
     from shipthermal.linear import has_cholmod
 
     with threadpool_limits(limits=1, user_api="blas"):
@@ -463,7 +464,7 @@ def main():
     sub = ap.add_subparsers(dest="what", required=True)
     t = sub.add_parser("tets", help="cube vs scikit-fem and FiPy")
     t.add_argument("--edge", type=float, default=0.0075, help="pytetwild edge length [m]")
-    t.add_argument("--cases", default="1,2")
+    t.add_argument("--cases", default="1,2", help="comma-separated, or 'none'")
     t.add_argument("--no-fipy", action="store_true")
     t.add_argument("--all-backends", action="store_true",
                    help="also our CHOLMOD (and, below 40 k vertices, SuperLU) rows")
