@@ -68,18 +68,23 @@ class _JacobianPattern:
     (which may share that array) is not changed under it.
     """
 
-    def __init__(self, base: sp.spmatrix):
+    def __init__(self, base: sp.spmatrix, extra_rows=None, extra_cols=None):
         n = base.shape[0]
         coo = sp.coo_matrix(base)
         eye = np.arange(n)
-        m = sp.csr_matrix((np.concatenate([coo.data, np.zeros(n)]),
-                           (np.concatenate([coo.row, eye]), np.concatenate([coo.col, eye]))),
+        er = np.zeros(0, np.int64) if extra_rows is None else np.asarray(extra_rows, np.int64)
+        ec = np.zeros(0, np.int64) if extra_cols is None else np.asarray(extra_cols, np.int64)
+        m = sp.csr_matrix((np.concatenate([coo.data, np.zeros(n), np.zeros(len(er))]),
+                           (np.concatenate([coo.row, eye, er]), np.concatenate([coo.col, eye, ec]))),
                           shape=base.shape)
         m.sum_duplicates()
         m.sort_indices()
         rows = np.repeat(eye, np.diff(m.indptr))
         self.diag_pos = np.flatnonzero(m.indices == rows)
         assert len(self.diag_pos) == n
+        # Positions of extra entries (face-to-face exchange couplings) in the value array.
+        keys = rows.astype(np.int64) * n + m.indices
+        self.extra_pos = np.searchsorted(keys, er * n + ec)
         self.base = m.data.copy()
         self.base_diag = self.base[self.diag_pos].copy()
         self.matrix = m
@@ -88,10 +93,13 @@ class _JacobianPattern:
         """The diagonal of ``B + diag(diagonal)`` (without building the matrix)."""
         return self.base_diag + diagonal
 
-    def jacobian(self, diagonal: np.ndarray) -> sp.csr_matrix:
-        """``B + diag(diagonal)``."""
+    def jacobian(self, diagonal: np.ndarray, extra: np.ndarray | None = None) -> sp.csr_matrix:
+        """``B + diag(diagonal)`` (+ ``extra`` values at the extra entries, summed where
+        they repeat)."""
         data = self.base.copy()
         data[self.diag_pos] += diagonal
+        if extra is not None:
+            data += np.bincount(self.extra_pos, extra, len(data))
         self.matrix.data = data
         return self.matrix
 
@@ -265,7 +273,7 @@ class Simulation:
         flow = conduction_flows(g, temp) + np.bincount(g.bface_cell, bs.flow, g.n_cells) + corr_cell
         return flow, bs
 
-    def _exchange_jacobian(self, bs) -> sp.csr_matrix:
+    def _exchange_jacobian(self, bs) -> np.ndarray:
         """Cell-to-cell part of the face-to-face radiation in the Jacobian [W K-1].
 
         The flow into face i gains ``σ R_ij T_j⁴`` from face j; through the surface balances,
@@ -286,14 +294,21 @@ class Simulation:
         bf = ex.bfaces
         s = 1.0 - bs.conductance[bf] / g.bface_conductance[bf]
         t3 = bs.temp_face[bf] ** 3
-        w = 4.0 * SIGMA * data * 0.5 * (t3[row] + t3[col]) * s[row] * s[col]
-        return sp.csr_matrix((w, (crow, ccol)), shape=(g.n_cells, g.n_cells))
+        # values at the pattern's extra entries (cell of face i, cell of face j)
+        return 4.0 * SIGMA * data * 0.5 * (t3[row] + t3[col]) * s[row] * s[col]
+
+    def _exchange_cells(self):
+        ex = self.model.exchange
+        r = ex.area_exchange.tocoo()
+        cells = self.graph.bface_cell[ex.bfaces]
+        return cells[r.row], cells[r.col]
 
     def _jacobian_pattern(self, theta: float) -> "_JacobianPattern":
         """θ K with room for the diagonal, built once per θ (the sparsity never changes)."""
         pats = self.__dict__.setdefault("_patterns", {})
         if theta not in pats:
-            pats[theta] = _JacobianPattern(theta * self.graph.conduction_matrix)
+            extra = self._exchange_cells() if self.model.exchange is not None else (None, None)
+            pats[theta] = _JacobianPattern(theta * self.graph.conduction_matrix, *extra)
         return pats[theta]
 
     def _coefficients(self, first_step: bool):
@@ -371,8 +386,10 @@ class Simulation:
             # of a step only checks convergence and needs the diagonal alone).
             jac = None
             jdiag = pattern.diagonal(diag_c + jdiag_b)
+            exch = None
             if self.model.exchange is not None:
-                jac = pattern.jacobian(diag_c + jdiag_b) - theta * self._exchange_jacobian(bs)
+                exch = -theta * self._exchange_jacobian(bs)
+                jac = pattern.jacobian(diag_c + jdiag_b, exch)
                 jdiag = jac.diagonal()
             face_lag = bs.temp_face
             self.timing.assembly += time.perf_counter() - t2
@@ -405,16 +422,15 @@ class Simulation:
                     prec = self._precond
                 elif prec_a != a:
                     # (``pattern.jacobian`` refills one shared matrix: ``jac`` is built after.)
-                    base = pattern.jacobian(prec_a * cap / dt + jdiag_b)
-                    if self.model.exchange is not None:
-                        base = base - theta * self._exchange_jacobian(bs)
+                    base = pattern.jacobian(prec_a * cap / dt + jdiag_b, exch).copy()
                     prec = self._preconditioner(prec_key, base)
+                    jac = None    # the shared matrix now holds the preconditioner's values
                 else:
                     if jac is None:
-                        jac = pattern.jacobian(diag_c + jdiag_b)
+                        jac = pattern.jacobian(diag_c + jdiag_b, exch)
                     prec = self._preconditioner(prec_key, jac)
             if jac is None:
-                jac = pattern.jacobian(diag_c + jdiag_b)
+                jac = pattern.jacobian(diag_c + jdiag_b, exch)
             # Inexact Newton: the correction is needed only to ~1e-3 of the tolerance (the next
             # pass re-evaluates the true residual), so with a preconditioner from an earlier
             # Jacobian (radiation, drifting boundary diagonal) PCG stops after fewer
