@@ -124,7 +124,10 @@ def main() -> None:
         except AssertionError as exc:
             same = f"DIFFERENT: {str(exc).splitlines()[0]}"
         per_case = ser.table["seconds"].mean()
-        print(f"mean case {per_case:.1f} s (serial); tables {same}")
+        cols = [c for c in ("seconds", "thermal_s", "imaging_s") if c in par.table]
+        print(f"mean case {per_case:.1f} s (serial), "
+              + ", ".join(f"{c} dask {par.table[c].mean():.1f} / serial {ser.table[c].mean():.1f}"
+                          for c in cols) + f"; tables {same}")
         print(f"load average after: {os.getloadavg()[0]:.2f}")
         print(f"speed-up dask / serial: {t_ser / t_par:.2f}x on {args.workers} workers "
               f"(ideal {min(args.workers, os.cpu_count() or 1)}x when the cores are free; "

@@ -264,12 +264,16 @@ _BACKGROUNDS: dict = {}
 on the season, date, location and [background], and costs seconds)."""
 
 
+def _background_key(sc) -> str:
+    d = sc.to_dict()
+    return json.dumps([d["time"]["season"], d["time"]["date"], d["location"], d["background"]],
+                      sort_keys=True, default=str)
+
+
 def _background(sc):
     from .pipeline import build_background
 
-    d = sc.to_dict()
-    key = json.dumps([d["time"]["season"], d["time"]["date"], d["location"], d["background"]],
-                     sort_keys=True, default=str)
+    key = _background_key(sc)
     if key not in _BACKGROUNDS:
         if len(_BACKGROUNDS) >= 4:
             _BACKGROUNDS.pop(next(iter(_BACKGROUNDS)))
@@ -282,11 +286,18 @@ def _hhmm(seconds: float) -> str:
     return f"{(m // 60) % 24:02d}:{m % 60:02d}"
 
 
-def run_case(spec: dict) -> dict:
+def run_case(spec: dict, backgrounds: dict | None = None) -> dict:
     """Run one case; never raises for a failure of the case itself (it is returned as
-    ``status = 'failed'`` with the error and traceback)."""
+    ``status = 'failed'`` with the error and traceback).
+
+    ``backgrounds``: port backgrounds built once by the client and broadcast to the workers
+    (key → background), so that each worker does not rebuild the same port.
+    """
     from .diurnal import run_scenario_thermal
     from .scenario import loads_scenario
+
+    for key, bg in (backgrounds or {}).items():
+        _BACKGROUNDS.setdefault(key, bg)
 
     t0 = _time.perf_counter()
     out = {"id": spec["id"], "index": spec["index"], "changes": spec["changes"],
@@ -512,7 +523,21 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
             try:
                 workers = len(client.scheduler_info().get("workers", {}))
                 say(f"dask: {workers} workers at {client.scheduler.address}")
-                futures = {client.submit(run_case, c.spec(), key=f"case-{c.id}", pure=False): c
+                backgrounds = None
+                if "imaging" in spec.stages:
+                    # Build each distinct port once here and broadcast it: a worker would
+                    # otherwise spend seconds rebuilding the same background.
+                    from .scenario import loads_scenario
+
+                    built = {}
+                    for c in todo:
+                        sc = loads_scenario(c.spec()["toml"])
+                        k = _background_key(sc)
+                        if k not in built:
+                            built[k] = _background(sc)
+                    backgrounds = client.scatter(built, broadcast=True, hash=False)
+                futures = {client.submit(run_case, c.spec(), backgrounds, key=f"case-{c.id}",
+                                         pure=False): c
                            for c in todo}
                 for fut in as_completed(futures):
                     c = futures[fut]
