@@ -1,15 +1,12 @@
 """Bad inputs of the background chain that the other files leave out: each gets a clear error
 naming the field, or explicit masking."""
 
-import json
-import os
 
 import numpy as np
 import pandas as pd
 import pytest
 import rasterio
 import xarray as xr
-from rasterio.crs import CRS
 
 from imaging.background import build_background_from_files
 from imaging.background.classify import read_roi

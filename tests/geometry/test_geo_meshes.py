@@ -4,7 +4,6 @@ import importlib.util
 import json
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from shipthermal.geometry import cargo_ship, frigate, patrol_boat

@@ -15,7 +15,7 @@ import trimesh
 
 from shipthermal.conditions import Convection, FixedTemperature, HeatFlux, SurfaceBalance
 from shipthermal.linear import choose_backend, has_cholmod
-from shipthermal.materials import MATERIALS, Material
+from shipthermal.materials import MATERIALS
 from shipthermal.mesh import build_dual_tet_graph, tetrahedralize_surface
 from shipthermal.mesh.dual import SURFACE_CONDUCTANCE_FACTOR
 from shipthermal.model import ThermalModel

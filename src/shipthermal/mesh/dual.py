@@ -46,7 +46,7 @@ import numpy as np
 from ..errors import check_positive, require
 from ..materials import Material
 from .graph import CellGraph
-from .tets import PatchRule, _orient, _tet_materials
+from .tets import PatchRule, _tet_materials
 
 __all__ = ["build_dual_tet_graph", "SURFACE_CONDUCTANCE_FACTOR", "VTK_VERTEX"]
 
@@ -112,7 +112,6 @@ def build_dual_tet_graph(points, tets, material: str | Material | Sequence = "mi
             "Drop unused vertices (e.g. np.unique(tets, return_inverse=True))")
 
     k_tet = np.array([m.conductivity for m in mats])[cell_material]
-    rc_tet = np.array([m.volumetric_heat_capacity for m in mats])[cell_material]
 
     # ---- control volumes and their heat capacity ---------------------------------------
     quarter = np.repeat(volume / 4.0, 4)
