@@ -175,8 +175,8 @@ class DiurnalResult:
         * ``part_means.csv`` — hourly table of part means, air and sea [K];
         * ``part_means.png`` — 24 h curves of hull, deck, superstructure with air and sea;
         * ``surface_HHMM.png`` — the ship coloured by outer-surface temperature;
-        * ``thermal.vtkhdf`` — the recorded day, cells (ParaView ≥ 5.12);
-        * ``surface.vtkhdf``-like VTU series of the surface is left to ``Results.to_vtu``;
+        * ``thermal.vtkhdf`` — the recorded day, cells (ParaView ≥ 5.12; the surface as a
+          VTU series: ``results.to_vtu``);
         * ``thermal_summary.json`` — spin-up, energy balance, timings.
 
         Returns a mapping product → path.
@@ -194,14 +194,17 @@ class DiurnalResult:
                     fs.to_csv(tmp, float_format="%.5g")
                 written["forcing_csv"] = out / "forcing_summary.csv"
         if "png" in formats:
+            from .geometry.pictures import render_values_png
+
             written["part_means_png"] = plot_part_means(self.part_means, out / "part_means.png",
                                                         title=f"{self.ship.name}: area-mean "
                                                         "outer-surface temperature")
             for hour in map_hours:
                 name = out / f"surface_{int(hour):02d}{int(round(60 * (hour % 1))):02d}.png"
-                written[f"surface_{hour:g}h"] = render_surface_png(
-                    self.ship, self.face_temperature_at(hour), name,
-                    title=f"{self.ship.name}, outer surface at {_clock(hour)} local [K]")
+                render_values_png(self.ship, self.face_temperature_at(hour), name,
+                                  title=f"{self.ship.name}, outer surface at {_clock(hour)} "
+                                  "local [K]")
+                written[f"surface_{hour:g}h"] = name
         if "vtkhdf" in formats:
             written["vtkhdf"] = self.results.to_vtkhdf(out / "thermal.vtkhdf")
         if "json" in formats:
@@ -259,66 +262,6 @@ def plot_part_means(part_means: pd.DataFrame, path, title: str = "") -> Path:
     with atomic_path(path) as tmp:
         fig.savefig(tmp, bbox_inches="tight")
     plt.close(fig)
-    return path
-
-
-def render_surface_png(ship, values, path, title: str = "", clim=None,
-                       size=(1400, 800)) -> Path:
-    """Off-screen PNG of the ship coloured by a per-triangle value (pyvista through EGL;
-    matplotlib if VTK cannot render)."""
-    import os
-
-    path = Path(path)
-    values = np.asarray(values, dtype=float)
-    clim = clim or (float(np.percentile(values, 1)), float(np.percentile(values, 99)))
-    try:
-        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-        import pyvista as pv
-
-        from .geometry.pictures import ship_polydata
-
-        pv.OFF_SCREEN = True
-        poly = ship_polydata(ship)
-        poly.cell_data["temperature"] = values
-        pl = pv.Plotter(off_screen=True, window_size=list(size))
-        pl.set_background("white")
-        pl.add_mesh(poly, scalars="temperature", cmap="inferno", clim=clim,
-                    scalar_bar_args=dict(title="T [K]", color="black", vertical=True))
-        pl.add_text(title, font_size=10, color="black")
-        length = ship.length
-        pl.camera_position = [(0.9 * length, -1.1 * length, 0.55 * length),
-                              (0, 0, 0.03 * length), (0, 0, 1)]
-        pl.reset_camera()
-        pl.camera.zoom(1.4)
-        with atomic_path(path) as tmp:
-            pl.screenshot(str(tmp))
-        pl.close()
-    except Exception:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        from matplotlib import cm, colors
-        from mpl_toolkits.mplot3d.art3d import Poly3DCollection
-
-        fig = plt.figure(figsize=(size[0] / 100, size[1] / 100), dpi=100)
-        ax = fig.add_subplot(projection="3d")
-        norm = colors.Normalize(*clim)
-        coll = Poly3DCollection(ship.vertices[ship.faces], facecolors=cm.inferno(norm(values)),
-                                linewidths=0)
-        ax.add_collection3d(coll)
-        lo, hi = ship.vertices.min(axis=0), ship.vertices.max(axis=0)
-        mid, rad = 0.5 * (lo + hi), 0.5 * (hi - lo).max()
-        ax.set_xlim(mid[0] - rad, mid[0] + rad)
-        ax.set_ylim(mid[1] - rad, mid[1] + rad)
-        ax.set_zlim(mid[2] - rad, mid[2] + rad)
-        ax.view_init(elev=25, azim=-50)
-        ax.set_axis_off()
-        fig.colorbar(cm.ScalarMappable(norm=norm, cmap="inferno"), ax=ax, label="T [K]", shrink=0.6)
-        ax.set_title(title, fontsize=9)
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, bbox_inches="tight")
-        plt.close(fig)
     return path
 
 

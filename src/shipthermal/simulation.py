@@ -258,12 +258,7 @@ class Simulation:
     def _maybe_record(self, st: _State, force: bool = False) -> None:
         if not (force and self._output_times is None) and not self._is_output_step(st.step):
             return
-        if st.recorded_times and abs(st.recorded_times[-1] - st.time) < 1e-9:
-            return
-        st.recorded_times.append(st.time)
-        st.recorded_cell.append(st.temp.copy())
-        st.recorded_face.append(st.temp_face.copy())
-        st.recorded_flow.append(st.flow_face.copy())
+        self._record(st)
 
     # ----------------------------------------------------------- operators -----------------
     def _flows(self, temp, forcing, face_guess):
@@ -516,7 +511,10 @@ class Simulation:
 
     def record_now(self) -> None:
         """Record the current state (whatever the output grid)."""
-        st = self._state
+        self._record(self._state)
+
+    @staticmethod
+    def _record(st: _State) -> None:
         if st.recorded_times and abs(st.recorded_times[-1] - st.time) < 1e-9:
             return
         st.recorded_times.append(st.time)

@@ -15,7 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["PART_COLOURS", "render_parts_png", "write_parts_vtu", "ship_polydata"]
+__all__ = ["PART_COLOURS", "render_parts_png", "render_values_png", "write_parts_vtu",
+           "ship_polydata"]
 
 PART_COLOURS = {
     "hull_wetted": "#8b2d2d",       # antifouling red
@@ -110,15 +111,47 @@ def render_parts_png(ship, path, size=(1600, 900), backend: str = "auto",
     return "matplotlib"
 
 
-def _render_pyvista(ship, path: Path, size, view):
+def _pyvista_plotter(size):
+    """An off-screen pyvista plotter (EGL, white background)."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     import pyvista as pv
 
     pv.OFF_SCREEN = True
-    colours = _colour_table(ship.part_names)
-    poly = ship_polydata(ship)
     pl = pv.Plotter(off_screen=True, window_size=list(size))
     pl.set_background("white")
+    return pl
+
+
+def _pyvista_shoot(pl, ship, view: str, zoom: float, path: Path) -> None:
+    """Place the camera ('iso' or 'side' from starboard, bow to the right), write the PNG."""
+    L = ship.length
+    if view == "side":
+        pl.camera_position = [(0, -2.2 * L, 0.05 * L), (0, 0, 0.05 * L), (0, 0, 1)]
+    else:
+        pl.camera_position = [(0.9 * L, -1.1 * L, 0.55 * L), (0, 0, 0.03 * L), (0, 0, 1)]
+    pl.reset_camera()
+    pl.camera.zoom(zoom)
+    tmp = _tmp(path)
+    pl.screenshot(str(tmp))
+    pl.close()
+    os.replace(tmp, path)
+
+
+def _mpl_frame(ax, ship, view: str) -> None:
+    """Equal axis ranges around the ship, the view angle, no axes."""
+    lo, hi = ship.vertices.min(axis=0), ship.vertices.max(axis=0)
+    mid, rad = 0.5 * (lo + hi), 0.5 * (hi - lo).max()
+    ax.set_xlim(mid[0] - rad, mid[0] + rad)
+    ax.set_ylim(mid[1] - rad, mid[1] + rad)
+    ax.set_zlim(mid[2] - rad, mid[2] + rad)
+    ax.view_init(elev=5 if view == "side" else 25, azim=-90 if view == "side" else -50)
+    ax.set_axis_off()
+
+
+def _render_pyvista(ship, path: Path, size, view):
+    colours = _colour_table(ship.part_names)
+    poly = ship_polydata(ship)
+    pl = _pyvista_plotter(size)
     for k, name in enumerate(ship.part_names):
         ids = np.flatnonzero(ship.face_part == k)
         if len(ids) == 0:
@@ -126,17 +159,7 @@ def _render_pyvista(ship, path: Path, size, view):
         pl.add_mesh(poly.extract_cells(ids), color=colours[name], label=name,
                     show_edges=False, smooth_shading=False)
     pl.add_legend(bcolor="white", size=(0.18, 0.2), loc="upper left")
-    L = ship.length
-    if view == "side":      # from starboard, bow to the right
-        pl.camera_position = [(0, -2.2 * L, 0.05 * L), (0, 0, 0.05 * L), (0, 0, 1)]
-    else:
-        pl.camera_position = [(0.9 * L, -1.1 * L, 0.55 * L), (0, 0, 0.03 * L), (0, 0, 1)]
-    pl.reset_camera()
-    pl.camera.zoom(1.5)
-    tmp = _tmp(path)
-    pl.screenshot(str(tmp))
-    pl.close()
-    os.replace(tmp, path)
+    _pyvista_shoot(pl, ship, view, 1.5, path)
 
 
 def _render_matplotlib(ship, path: Path, size, view):
@@ -159,16 +182,58 @@ def _render_matplotlib(ship, path: Path, size, view):
     base = np.array([to_rgb(colours[n]) for n in ship.part_names])[ship.face_part]
     coll = Poly3DCollection(tri, facecolors=np.clip(base * shade[:, None], 0, 1), linewidths=0)
     ax.add_collection3d(coll)
-    lo, hi = ship.vertices.min(axis=0), ship.vertices.max(axis=0)
-    mid, rad = 0.5 * (lo + hi), 0.5 * (hi - lo).max()
-    ax.set_xlim(mid[0] - rad, mid[0] + rad)
-    ax.set_ylim(mid[1] - rad, mid[1] + rad)
-    ax.set_zlim(mid[2] - rad, mid[2] + rad)
-    ax.view_init(elev=5 if view == "side" else 25, azim=-90 if view == "side" else -50)
-    ax.set_axis_off()
+    _mpl_frame(ax, ship, view)
     handles = [plt.Rectangle((0, 0), 1, 1, color=colours[n]) for n in ship.part_names]
     ax.legend(handles, ship.part_names, loc="upper left", fontsize=8)
     tmp = _tmp(path)
     fig.savefig(tmp, bbox_inches="tight")
     plt.close(fig)
     os.replace(tmp, path)
+
+
+def render_values_png(ship, values, path, title: str = "", clim=None, size=(1400, 800),
+                      label: str = "T [K]", cmap: str = "inferno", backend: str = "auto",
+                      view: str = "iso") -> str:
+    """Render the ship coloured by one value per triangle (e.g. surface temperature) to a PNG.
+
+    ``clim`` defaults to the 1st–99th percentile of ``values``. Backends as
+    :func:`render_parts_png`; returns the one that rendered.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    values = np.asarray(values, dtype=float)
+    clim = clim or (float(np.percentile(values, 1)), float(np.percentile(values, 99)))
+    if backend in ("auto", "pyvista"):
+        try:
+            poly = ship_polydata(ship)
+            poly.cell_data["values"] = values
+            pl = _pyvista_plotter(size)
+            pl.add_mesh(poly, scalars="values", cmap=cmap, clim=clim,
+                        scalar_bar_args=dict(title=label, color="black", vertical=True))
+            pl.add_text(title, font_size=10, color="black")
+            _pyvista_shoot(pl, ship, view, 1.4, path)
+            return "pyvista"
+        except Exception:
+            if backend == "pyvista":
+                raise
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib import cm, colors
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    fig = plt.figure(figsize=(size[0] / 100, size[1] / 100), dpi=100)
+    ax = fig.add_subplot(projection="3d")
+    norm = colors.Normalize(*clim)
+    colourmap = matplotlib.colormaps[cmap]
+    ax.add_collection3d(Poly3DCollection(ship.vertices[ship.faces],
+                                         facecolors=colourmap(norm(values)), linewidths=0))
+    _mpl_frame(ax, ship, view)
+    fig.colorbar(cm.ScalarMappable(norm=norm, cmap=colourmap), ax=ax, label=label, shrink=0.6)
+    ax.set_title(title, fontsize=9)
+    tmp = _tmp(path)
+    fig.savefig(tmp, bbox_inches="tight")
+    plt.close(fig)
+    os.replace(tmp, path)
+    return "matplotlib"
