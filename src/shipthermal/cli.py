@@ -29,7 +29,7 @@ import time
 import traceback
 from pathlib import Path
 
-from .errors import InputError
+from .errors import InputError, input_error_from_os
 
 __all__ = ["main", "build_parser"]
 
@@ -87,6 +87,15 @@ def _require_run(path) -> Path:
                          "(with manifest.json)", "Give a folder written by `shipthermal run` or "
                          "`shipthermal demo`")
     return p
+
+
+def _changes_from_copy(run_path: Path, scenario) -> list:
+    """Keys in which ``scenario`` differs from a run's scenario copy ([] without a copy)."""
+    from .rundir import scenario_changes
+    from .scenario import load_scenario
+
+    copy = run_path / "scenario.toml"
+    return scenario_changes(load_scenario(copy), scenario) if copy.is_file() else []
 
 
 def _cases_of(run_path: Path) -> dict:
@@ -170,7 +179,8 @@ def cmd_demo(args, con: Console) -> int:
         return EXIT_OK
     scen = demo_scenarios(quick=args.quick, seasons=tuple(args.seasons))
     t0 = time.perf_counter()
-    with RunDir(out, resume=args.resume, force=args.force, command=args.argv, kind="demo") as run:
+    with RunDir(out, resume=args.resume, force=args.force, command=args.argv, kind="demo",
+                log=con.info) as run:
         edge = QUICK_EDGE_LENGTH if args.quick else DEMO_EDGE_LENGTH
         run.manifest["settings"].update({
             "quick": args.quick, "ship": "frigate (built-in)", "edge_length_m": edge,
@@ -245,14 +255,20 @@ def cmd_run(args, con: Console) -> int:
     sc = _load_scenario(args.scenario)
     out = Path(args.out or sc.outputs.directory)
     if args.resume and is_complete(out):
+        changed = _changes_from_copy(out, sc)
+        if changed:
+            raise InputError("--resume", str(out), f"is a finished run of a different scenario "
+                             f"(changed: {', '.join(changed)})", "Pass --force to rerun it with "
+                             "this scenario, or choose another --out")
         con.info(f"{out} is already complete: nothing to resume")
         return EXIT_OK
     t0 = time.perf_counter()
     case = sc.name
-    RunDir.check_target(out, resume=args.resume, force=args.force)
+    RunDir.check_target(out, resume=args.resume, force=args.force, scenario=sc)
     con.debug("reading the inputs (ship, weather" + (", background)" if args.image else ")"))
     ship, background = prepare(sc, imaging=args.image, progress=con.progress)
-    with RunDir(out, resume=args.resume, force=args.force, command=args.argv, kind="run") as run:
+    with RunDir(out, resume=args.resume, force=args.force, command=args.argv, kind="run",
+                log=con.info, scenario=sc) as run:
         run.add_scenario(sc)
         run.manifest["cases"][case]["scenario"] = "scenario.toml"
         con.info(f"{case}: thermal run ({sc.ship.builtin or 'user ship'}, "
@@ -493,6 +509,12 @@ def main(argv=None) -> int:
         con.error("interrupted (an unfinished run resumes with --resume)")
         return EXIT_TERMINATED if isinstance(exc, Terminated) else EXIT_INTERRUPTED
     except Exception as exc:
+        user = input_error_from_os(exc)
+        if user is not None:                   # permission, disk full, name too long, ...
+            con.error(f"error: {user}")
+            if con.verbose:
+                traceback.print_exc()
+            return EXIT_USER
         con.error(f"internal error: {type(exc).__name__}: {exc}")
         if con.verbose:
             traceback.print_exc()

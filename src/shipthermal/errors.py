@@ -12,7 +12,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["InputError", "require", "check_positive", "check_finite", "check_range"]
+__all__ = ["InputError", "require", "check_positive", "check_finite", "check_range",
+           "input_error_from_os"]
 
 
 class InputError(ValueError):
@@ -96,3 +97,48 @@ def check_range(field: str, value: Any, low: float, high: float, unit: str = "",
         lo_s = "-inf" if math.isinf(low) else f"{low:g}"
         hi_s = "inf" if math.isinf(high) else f"{high:g}"
         raise InputError(loc, float(shown), f"must lie in {lo}{lo_s}, {hi_s}{hi}{u}")
+
+
+#: What an operating-system error on a user's path means, and how to fix it
+_OS_ERRORS = {
+    "EACCES": ("permission denied for this user", "Choose a path you may read and write "
+               "(e.g. --out in your home folder), or change its permissions"),
+    "EPERM": ("operation not permitted for this user", "Choose a path you may read and write, "
+              "or change its permissions"),
+    "EROFS": ("is on a read-only file system", "Choose a writable location (e.g. --out)"),
+    "ENOSPC": ("no space left on the device", "Free disk space, or choose --out on another "
+               "disk"),
+    "EDQUOT": ("disk quota exceeded", "Free space in your quota, or choose --out elsewhere"),
+    "ENAMETOOLONG": ("a file or folder name is longer than the file system allows (255 bytes "
+                     "per name)", "Use shorter names"),
+    "ENOTDIR": ("a part of the path is a file, not a folder", "Check the path"),
+    "EISDIR": ("is a folder where a file is expected", "Name the file inside the folder"),
+    "ENOENT": ("does not exist", "Check the path"),
+    "ELOOP": ("has too many symbolic links", "Check the path"),
+}
+
+
+def input_error_from_os(exc: BaseException) -> InputError | None:
+    """The :class:`InputError` that an :class:`OSError` on a user path amounts to (permission,
+    disk full, name too long, ...), or None when it is not one a user can fix.
+
+    Only errors that name a file are converted; a file inside this installation is never the
+    user's.
+    """
+    import errno
+    from pathlib import Path
+
+    if not isinstance(exc, OSError) or exc.errno is None:
+        return None
+    name = errno.errorcode.get(exc.errno, "")
+    if name not in _OS_ERRORS or exc.filename is None:
+        return None
+    path = str(exc.filename)
+    try:
+        package = Path(__file__).resolve().parents[1]
+        if Path(path).resolve().is_relative_to(package):
+            return None
+    except (OSError, ValueError):
+        pass
+    allowed, fix = _OS_ERRORS[name]
+    return InputError("path", path, f"{allowed} ({name})", fix)

@@ -131,9 +131,11 @@ def thermal_case(scenario, run, case: str, *, resume: bool = False, progress: bo
             log(f"{case}: thermal stage already finished, kept")
         return json.loads((run.path / stage / "thermal_summary.json").read_text())
     ckpt = run.checkpoint(case) if scenario.outputs.checkpoint_interval > 0 else None
-    with run.stage(stage) as tmp:
-        res = run_scenario_thermal(scenario, ship=ship, progress=progress, checkpoint=ckpt,
-                                   resume=resume, log=log)
+    t0 = _time.perf_counter()
+    res = run_scenario_thermal(scenario, ship=ship, progress=progress, checkpoint=ckpt,
+                               resume=resume, log=log)
+    run.record(f"{stage} (solve)", _time.perf_counter() - t0)
+    with run.stage(stage) as tmp:          # the staging folder exists only while writing
         write_thermal(res, tmp, scenario)
     summary = res.summary()
     run.manifest["cases"].setdefault(case, {}).update(

@@ -48,10 +48,10 @@ import sys
 import time
 from pathlib import Path
 
-from .errors import InputError
+from .errors import InputError, input_error_from_os
 
 __all__ = ["RunDir", "MARKER", "package_versions", "git_commit", "atomic_write_text",
-           "is_complete"]
+           "is_complete", "scenario_changes", "stale_lock"]
 
 MARKER = "COMPLETE"
 MANIFEST = "manifest.json"
@@ -114,6 +114,56 @@ def is_complete(path) -> bool:
     return (Path(path) / MARKER).is_file()
 
 
+def _flatten(d: dict, prefix: str = "") -> dict:
+    out = {}
+    for k, v in d.items():
+        key = f"{prefix}{k}"
+        if isinstance(v, dict):
+            out.update(_flatten(v, key + "."))
+        else:
+            out[key] = v
+    return out
+
+
+def scenario_changes(old, new) -> list:
+    """Dotted keys whose values differ between two scenarios (e.g. ``solver.time_step``)."""
+    a, b = _flatten(old.to_dict()), _flatten(new.to_dict())
+    return sorted(k for k in a.keys() | b.keys() if a.get(k) != b.get(k))
+
+
+def _list(keys, most: int = 6) -> str:
+    keys = list(keys)
+    more = f" and {len(keys) - most} more" if len(keys) > most else ""
+    return ", ".join(keys[:most]) + more
+
+
+def _changed_against_copy(path: Path, scenario) -> list:
+    """Keys in which ``scenario`` differs from the single-case copy in ``path`` ([] when
+    there is no scenario or no copy to compare with)."""
+    copy = path / "scenario.toml"
+    if scenario is None or not copy.is_file():
+        return []
+    from .scenario import load_scenario
+
+    try:
+        return scenario_changes(load_scenario(copy), scenario)
+    except InputError:
+        return ["(the run's scenario.toml no longer loads)"]
+
+
+def stale_lock(path) -> int | None:
+    """The pid of a lock in ``path`` whose process on this host is gone (else None)."""
+    lock = Path(path) / LOCK
+    try:
+        pid_s, _, host = lock.read_text().strip().partition(" ")
+        pid = int(pid_s)
+    except (OSError, ValueError):
+        return None
+    if host == socket.gethostname() and pid > 0 and not _pid_alive(pid):
+        return pid
+    return None
+
+
 def _now() -> str:
     return _dt.datetime.now(_dt.timezone.utc).astimezone().isoformat(timespec="seconds")
 
@@ -150,6 +200,11 @@ class RunDir:
         error; with ``resume`` its marker is removed until it completes again).
     kind : str
         What made the run (``demo``, ``run``, ``mesh``, ...), recorded in the manifest.
+    log : callable, optional
+        Receives notes for the user (e.g. a stale lock that was taken over).
+    scenario : Scenario, optional
+        The scenario about to be run, to name the differences when an unfinished run of
+        another scenario is in the way.
     amend : bool
         Add stages to an existing run (``image``, ``report``, ``validate --into``): nothing
         is cleared, the manifest lists the amendment, ``COMPLETE`` is left as it is.
@@ -162,8 +217,10 @@ class RunDir:
     """
 
     def __init__(self, path, *, command=None, resume: bool = False, force: bool = False,
-                 kind: str = "run", amend: bool = False):
+                 kind: str = "run", amend: bool = False, log=None, scenario=None):
         self.path = Path(path)
+        self._log = log
+        self.stale_lock_pid = None
         self.resume = bool(resume)
         self.amend = bool(amend)
         self._locked = False
@@ -188,7 +245,7 @@ class RunDir:
                 self.release()
                 raise
             return
-        self.check_target(p, resume=resume, force=force)
+        self.check_target(p, resume=resume, force=force, scenario=scenario)
         p.mkdir(parents=True, exist_ok=True)
         self._take_lock()
         try:
@@ -224,10 +281,12 @@ class RunDir:
             raise
 
     @staticmethod
-    def check_target(path, resume: bool = False, force: bool = False) -> None:
+    def check_target(path, resume: bool = False, force: bool = False, scenario=None) -> None:
         """Raise the :class:`InputError` that opening ``path`` would raise (a file, a
-        foreign non-empty folder, a finished run without ``force`` / ``resume``), without
-        touching anything: call it before slow preparations."""
+        foreign non-empty folder, a finished run without ``force`` / ``resume``, an
+        unfinished run with checkpoints without ``force`` / ``resume``), without touching
+        anything: call it before slow preparations. With ``scenario``, the refusal of an
+        unfinished run says whether it is of the same scenario (and which keys differ)."""
         p = Path(path)
         if p.exists() and not p.is_dir():
             raise InputError("--out", str(p), "must be a folder (a file of that name exists)",
@@ -240,6 +299,19 @@ class RunDir:
         if is_complete(p) and not (force or resume):
             raise InputError("--out", str(p), "is a finished run (COMPLETE exists)",
                              "Pass --force to replace it, or choose another --out")
+        ckpts = sorted((p / "checkpoints").glob("*.npz")) if p.is_dir() else []
+        if ckpts and not (force or resume) and not is_complete(p):
+            stale = stale_lock(p)
+            who = f"; its process {stale} is gone (stale .lock)" if stale else ""
+            what = (f"holds an unfinished run with checkpoints "
+                    f"({', '.join(c.name for c in ckpts)}){who}")
+            changed = _changed_against_copy(p, scenario)
+            if changed:
+                raise InputError("--out", str(p), f"{what}, of a different scenario (changed: "
+                                 f"{_list(changed)})", "Pass --force to discard it and start "
+                                 "afresh, or choose another --out")
+            raise InputError("--out", str(p), what, "Continue it with --resume, or pass --force "
+                             "to discard it and start afresh")
 
     # ---- locking and cleaning -------------------------------------------------------------
     def _take_lock(self) -> None:
@@ -259,12 +331,19 @@ class RunDir:
                                      "(its .lock file)", "Wait for it to finish, or choose "
                                      "another --out") from None
                 lock.unlink(missing_ok=True)   # stale: its writer died
+                self.stale_lock_pid = pid if pid > 0 else None
+                self._note(f"{self.path}: took over the stale lock of process "
+                           f"{pid if pid > 0 else '?'} (no longer running)")
                 continue
             with os.fdopen(fd, "w") as fh:
                 fh.write(me)
             self._locked = True
             return
         raise InputError("--out", str(self.path), "could not be locked", "Try again")
+
+    def _note(self, msg: str) -> None:
+        if self._log is not None:
+            self._log(msg)
 
     def release(self) -> None:
         """Remove the lock (idempotent)."""
@@ -325,11 +404,11 @@ class RunDir:
         if target.exists() and self.resume:
             from .scenario import load_scenario
 
-            old = load_scenario(target)
-            if old.to_dict() != scenario.to_dict():
+            changed = scenario_changes(load_scenario(target), scenario)
+            if changed:
                 raise InputError("--resume", str(self.path), f"the scenario differs from the "
-                                 f"run's copy {target.name}", "Start afresh without --resume "
-                                 "(or resume with the same scenario)")
+                                 f"run's copy {target.name} (changed: {_list(changed)})",
+                                 "Start afresh with --force (or resume with the same scenario)")
         else:
             scenario.write(target)
         key = case or scenario.name
@@ -421,7 +500,8 @@ class RunDir:
         if exc_type is None:
             if self._locked:
                 self.complete()
-        elif issubclass(exc_type, InputError) and self._fresh:
+        elif self._fresh and (issubclass(exc_type, InputError)
+                              or input_error_from_os(exc) is not None):
             self.discard()                 # a user error in a new run: leave nothing behind
         elif issubclass(exc_type, KeyboardInterrupt):
             self.fail("interrupted", "interrupted (resume with --resume)")

@@ -468,6 +468,11 @@ def _file(raw: Any, path: str, ctx: _Context, suffixes: tuple = ()) -> Any:
     if not p.is_absolute():
         p = ctx.base_dir / p
     p = Path(os.path.normpath(p))
+    if p.is_dir():
+        ctx.err(path, raw, "must be a file, not a folder",
+                f"Name the file inside {p} (relative paths are relative to the scenario "
+                "file's folder)")
+        return _BAD
     if suffixes and p.suffix.lower() not in suffixes:
         ctx.err(path, raw, f"must be a file ending in one of {', '.join(suffixes)}")
         return _BAD
@@ -1701,7 +1706,13 @@ def load_scenario(source, *, base_dir=None) -> Scenario:
     if not path.is_file():
         raise ScenarioError([InputError("scenario", str(source), "must be an existing TOML "
                                         "file", "Check the path")], str(source))
-    text = path.read_text(encoding="utf-8")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise ScenarioError([InputError("scenario", str(source), "must be a UTF-8 text TOML "
+                                        f"file (byte {exc.start} is not text)",
+                                        "Give the .toml scenario file, not a binary file")],
+                            str(source)) from None
     base = Path(base_dir) if base_dir is not None else path.parent
     return loads_scenario(text, base_dir=base.resolve(), source=str(path))
 

@@ -7,7 +7,7 @@ import os
 import signal
 import subprocess
 import sys
-import time
+import textwrap
 
 import numpy as np
 import pandas as pd
@@ -53,37 +53,74 @@ def _nothing_complete(out):
     assert not (out / "report.html").exists()
 
 
-def test_sigkill_mid_run_then_resume(reference, tmp_path):
+# A run in a child process that parks itself, blocked on its stdin, right after it has
+# written the first checkpoint later than argv[1] seconds of simulated time, and says so on
+# stdout: the test acts on that event, never on wall time.
+PARKED_RUN = textwrap.dedent("""
+    import sys
+    from shipthermal import simulation
+    from shipthermal.cli import main
+
+    after = float(sys.argv[1])
+    save = simulation.Simulation.save_checkpoint
+
+    def save_then_park(self, *args, **kwargs):
+        out = save(self, *args, **kwargs)
+        if self.time > after:
+            print(f"checkpoint {self.time}", flush=True)
+            sys.stdin.readline()
+        return out
+
+    simulation.Simulation.save_checkpoint = save_then_park
+    sys.exit(main(sys.argv[2:]))
+""")
+
+
+def _parked_run(sc, out, after_s):
+    """Start ``shipthermal run`` in a child and return it once it has written a checkpoint
+    later than ``after_s`` and stopped there (its stdin is the way to release it)."""
+    proc = subprocess.Popen([sys.executable, "-c", PARKED_RUN, str(after_s), "-q", "run",
+                             str(sc), "--out", str(out)], stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    line = proc.stdout.readline()
+    assert line.startswith("checkpoint"), (line, proc.communicate(timeout=60))
+    return proc, float(line.split()[1])
+
+
+def test_sigkill_mid_run_then_resume(reference, tmp_path, capsys):
     sc, ref = reference
     out = tmp_path / "run"
-    proc = subprocess.Popen([sys.executable, "-m", "shipthermal", "-q", "run", str(sc), "--out",
-                             str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     ckpt = out / "checkpoints" / "tiny.npz"
-    t_end = time.monotonic() + 120
-    # kill once the run is inside day 2 (a checkpoint exists and the run is far from done)
-    while time.monotonic() < t_end and proc.poll() is None:
-        if ckpt.exists():
-            try:
-                with np.load(ckpt) as c:
-                    if float(c["time"]) > 86400.0:
-                        break
-            except (OSError, ValueError, KeyError):
-                pass                            # being replaced right now: look again
-        time.sleep(0.01)
-    assert proc.poll() is None, "the run finished before it could be killed"
+    # killed inside day 2, right after a checkpoint was written
+    proc, t_parked = _parked_run(sc, out, 86400.0)
     os.kill(proc.pid, signal.SIGKILL)
-    proc.wait()
+    proc.communicate()
     _nothing_complete(out)
     m = json.loads((out / "manifest.json").read_text())
     assert m["status"] == "running"               # killed: it could not say more
-    assert [p.name for p in out.iterdir() if p.name.startswith(".stage-")]  # its debris
+    assert not [p.name for p in out.iterdir() if p.name.startswith(".stage-")]
+    assert (out / ".lock").read_text().split()[0] == str(proc.pid)     # stale: pid gone
     with np.load(ckpt) as c:
         t_killed = float(c["time"])
-    assert 86400.0 < t_killed < DAYS * 86400.0
+    assert t_killed == t_parked and 86400.0 < t_killed < DAYS * 86400.0
 
-    # a fresh attempt without --resume is refused? no: it starts afresh. With --resume it
-    # takes the stale lock over, deletes the debris and continues from the checkpoint.
-    assert main(["-q", "run", str(sc), "--out", str(out), "--resume"]) == 0
+    # a plain run on that folder stops, names the stale lock and offers --resume / --force
+    before = sorted(str(p.relative_to(out)) for p in out.rglob("*"))
+    assert main(["run", str(sc), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "holds an unfinished run with checkpoints (tiny.npz)" in err, err
+    assert f"its process {proc.pid} is gone (stale .lock)" in err
+    assert "--resume" in err and "--force" in err and "Traceback" not in err
+    assert sorted(str(p.relative_to(out)) for p in out.rglob("*")) == before
+    # another scenario in its place is named as such
+    other = sc.with_name("other.toml")
+    other.write_text(sc.read_text().replace("time_step = 1800", "time_step = 900"))
+    assert main(["run", str(other), "--out", str(out)]) == 2
+    assert "of a different scenario (changed: solver.time_step" in capsys.readouterr().err
+
+    # --resume takes the stale lock over (and says so) and continues from the checkpoint
+    assert main(["run", str(sc), "--out", str(out), "--resume"]) == 0
+    assert f"took over the stale lock of process {proc.pid}" in capsys.readouterr().err
     assert (out / "COMPLETE").is_file()
     assert not (out / "checkpoints").exists()
     assert not [p for p in out.rglob("*") if p.name.startswith((".stage-", ".lock"))]
@@ -97,15 +134,11 @@ def test_sigterm_is_an_interruption(reference, tmp_path):
     manifest 'interrupted', staging folder and lock removed, checkpoint kept."""
     sc, _ = reference
     out = tmp_path / "run"
-    proc = subprocess.Popen([sys.executable, "-m", "shipthermal", "-q", "run", str(sc), "--out",
-                             str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     ckpt = out / "checkpoints" / "tiny.npz"
-    t_end = time.monotonic() + 120
-    while time.monotonic() < t_end and proc.poll() is None and not ckpt.exists():
-        time.sleep(0.01)
+    proc, _ = _parked_run(sc, out, 0.0)
     proc.send_signal(signal.SIGTERM)
     _, err = proc.communicate(timeout=60)
-    assert proc.returncode == 143, err.decode()[-2000:]
+    assert proc.returncode == 143, err[-2000:]
     _nothing_complete(out)
     assert json.loads((out / "manifest.json").read_text())["status"] == "interrupted"
     assert not [p for p in out.iterdir() if p.name.startswith((".stage-", ".lock"))]
@@ -140,7 +173,8 @@ def test_injected_interrupt_then_resume(reference, tmp_path, monkeypatch, capsys
     changed = sc.with_name("changed.toml")
     changed.write_text(sc.read_text().replace("time_step = 1800", "time_step = 900"))
     assert main(["-q", "run", str(changed), "--out", str(out), "--resume"]) == 2
-    assert "scenario differs" in capsys.readouterr().err
+    assert "scenario differs from the run's copy scenario.toml (changed: solver.time_step)" \
+        in capsys.readouterr().err
     assert (out / "checkpoints" / "tiny.npz").is_file()
     assert main(["-q", "run", str(sc), "--out", str(out), "--resume"]) == 0
     _same_result(ref, out)
@@ -153,6 +187,12 @@ def test_finished_run_is_protected(reference, capsys):
     assert "is a finished run (COMPLETE exists)" in capsys.readouterr().err
     assert main(["run", str(sc), "--out", str(ref), "--resume"]) == 0
     assert "already complete" in capsys.readouterr().err
+    # --resume with a changed scenario on a complete run is refused, naming the keys
+    changed = sc.with_name("changed-complete.toml")
+    changed.write_text(sc.read_text().replace("time_step = 1800", "time_step = 900"))
+    assert main(["-q", "run", str(changed), "--out", str(ref), "--resume"]) == 2
+    err = capsys.readouterr().err
+    assert "is a finished run of a different scenario (changed: solver.time_step)" in err, err
     assert sorted(p.name for p in ref.iterdir()) == before
 
 

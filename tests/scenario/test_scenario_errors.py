@@ -180,11 +180,6 @@ CASES = [
 ]
 
 
-def test_catalogue_is_large_enough():
-    assert len(CASES) >= 30
-    assert len({c[0] for c in CASES}) == len(CASES)
-
-
 @pytest.mark.parametrize("case,data,path,fragments", CASES, ids=[c[0] for c in CASES])
 def test_bad_input(case, data, path, fragments, tmp_path):
     _files(tmp_path)
