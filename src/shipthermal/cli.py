@@ -120,6 +120,8 @@ def _report(run, con: Console, finishing: bool = False) -> Path:
     from .report import write_report
 
     t0 = time.perf_counter()
+    if finishing and not run.amend:
+        run.mark_finished()
     path = write_report(run.path, finishing=finishing)
     run.record("report", time.perf_counter() - t0)
     con.debug(f"report {path} ({time.perf_counter() - t0:.1f} s)")

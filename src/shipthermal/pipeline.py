@@ -282,9 +282,11 @@ def image_cases(cases: dict, out_dir, progress: bool = True, log=None,
     winter side by side, like the paper); otherwise each case gets ``out_dir/<case>/``.
 
     ``step_s`` replaces ``imaging.scr_interval`` as the frame step [s] (quick looks);
-    ``backgrounds = {case: background}`` reuses backgrounds built before.
+    ``backgrounds = {case: background}`` reuses backgrounds built before. Each case's port
+    background goes to ``<group>/background/<case>/`` (GeoTIFFs in K, class map, tables).
     Returns ``{group folder: ExperimentResult}`` and writes the products.
     """
+    from imaging.background.outputs import write_outputs
     from imaging.experiment import run_experiment
 
     for sc, _ in cases.values():
@@ -306,7 +308,8 @@ def image_cases(cases: dict, out_dir, progress: bool = True, log=None,
             bg = (backgrounds or {}).get(case)
             if bg is None:
                 bg = build_background(sc, progress=progress)
-            say(f"{case}: port background ({_time.perf_counter() - t0:.1f} s)")
+            write_outputs(bg, (out / folder if folder else out) / "background" / case)
+            say(f"{case}: port background, written ({_time.perf_counter() - t0:.1f} s)")
             scen[season] = imaging_scenario(sc, bg)
             hist[season] = h
             typical[season] = tuple(s / HOUR for s in sc.image_seconds())

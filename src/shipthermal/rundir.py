@@ -452,11 +452,17 @@ class RunDir:
         return d / f"{case}.npz"
 
     # ---- end ----------------------------------------------------------------------------------
+    def mark_finished(self) -> None:
+        """Stamp the finishing time now (before the last products, e.g. the report that
+        shows it, are written); :meth:`complete` keeps it."""
+        self.manifest["finished"] = _now()
+        self.save_manifest()
+
     def complete(self) -> None:
         """Finish: checkpoints removed, manifest closed, then the ``COMPLETE`` marker."""
         shutil.rmtree(self.path / "checkpoints", ignore_errors=True)
         self.manifest["status"] = "complete"
-        self.manifest["finished"] = _now()
+        self.manifest["finished"] = self.manifest.get("finished") or _now()
         self.manifest["timings_s"]["total"] = round(time.perf_counter() - self._t0, 3)
         self.save_manifest()
         atomic_write_text(self.path / MARKER, f"{self.manifest['finished']}\n")

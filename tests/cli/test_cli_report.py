@@ -111,3 +111,33 @@ def test_report_opens_in_headless_chromium(report, tmp_path):
     assert m, res.stderr[-2000:]
     ok, total = int(m.group(1)), int(m.group(2))
     assert total == len(p.images) and ok == total
+
+
+def test_report_shows_start_and_finish(report, imaged_run):
+    import json
+
+    _, text, _ = report
+    m = json.loads((imaged_run / "manifest.json").read_text())
+    assert m["started"] and m["finished"] and m["started"] <= m["finished"]
+    assert f"{m['started']} / {m['finished']}" in text
+    assert "/ None" not in text
+
+
+def test_run_writes_the_port_background(imaged_run):
+    """What the README lists: the port background as float32 GeoTIFFs in kelvin and a class
+    map, per case, beside the images."""
+    import numpy as np
+    import rasterio
+
+    bg = imaged_run / "imaging" / "background" / "tiny"
+    with rasterio.open(bg / "background_K.tif") as src:
+        assert src.count == 24 and src.dtypes[0] == "float32" and src.crs is not None
+        data = src.read()
+    finite = data[np.isfinite(data)]
+    assert finite.size and 250.0 < finite.min() and finite.max() < 340.0      # kelvin
+    with rasterio.open(bg / "class_map.tif") as src:
+        classes = np.unique(src.read(1))
+    from imaging.background.classify import CLASS_CODES
+
+    assert set(classes) - {0} and set(classes) <= {0, *CLASS_CODES}
+    assert (bg / "lst_K.tif").is_file() and (bg / "class_map.png").is_file()
