@@ -1,4 +1,4 @@
-"""Benchmark of the port background (issue 5).
+"""Benchmark of the port background.
 
 1. Kriging 24 hourly met grids (CLDAS-like 0.0625 deg, 11 x 11 cells, land cells only) onto a
    1000 x 1000 scene at 30 m:

@@ -13,7 +13,7 @@ Backends
 ``"direct"``
     SuperLU (scipy) with the ``MMD_AT_PLUS_A`` ordering. Shell meshes fill in like 2-D
     problems and factor in seconds; 3-D tetrahedral meshes do not (372 s with COLAMD at
-    205 k unknowns on this machine: ECOSYSTEM-NOTES), so they default to AMG.
+    205 k unknowns, measured on a 2-core machine), so they default to AMG.
 ``"amg"``
     pyamg smoothed aggregation (Olson & Schroder 2018), one V-cycle per preconditioner
     application.

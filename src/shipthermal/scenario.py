@@ -1312,8 +1312,8 @@ class ImagingSettings:
                         "paper's typical times of Figs. 14-17)", season=PAPER_IMAGE_TIMES,
                         allowed_text="list of 'HH:MM'")
     scr_interval: float = _opt(600.0, "float", "Step of the SCR / contrast curves and the "
-                               "crossover search (issue: <= 10 min)", unit="s", lo=0.0,
-                               hi=600.0, lo_open=True)
+                               "crossover search (at most 10 min, the paper's resolution)",
+                               unit="s", lo=0.0, hi=600.0, lo_open=True)
     samples_per_pixel_side: int = _opt(16, "int", "Ship rendering samples per pixel side "
                                        "(n x n per pixel; >= 16 x 16)", lo=16, hi=256)
     sensor: SensorSettings = _opt(None, "section", "Sensor", cls=SensorSettings)

