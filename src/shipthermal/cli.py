@@ -252,6 +252,8 @@ def cmd_run(args, con: Console) -> int:
     RunDir.check_target(out, resume=args.resume, force=args.force)
     con.debug("reading the inputs (ship, weather" + (", background)" if args.image else ")"))
     ship, background = prepare(sc, imaging=args.image, progress=con.progress)
+    for line in sc.check_weather():     # gaps interpolated, constants used, wind height
+        con.info(f"  {line}")
     with RunDir(out, resume=args.resume, force=args.force, command=args.argv, kind="run") as run:
         run.add_scenario(sc)
         run.manifest["cases"][case]["scenario"] = "scenario.toml"
