@@ -233,7 +233,15 @@ def read_station(path, format: str, *, tz: Optional[str] = None, temp_unit: str 
         frame = frame.drop(columns="longwave_down")
     if tz is not None:
         frame.index = frame.index.tz_convert(tz)
-    frame = frame[~frame.index.duplicated(keep="first")].sort_index()
+    dup = frame.index.duplicated(keep=False)
+    if dup.any():
+        t = frame.index[dup][0]
+        raise InputError("weather.source", name, f"has {int(dup.sum())} rows sharing a time "
+                         f"(first {t:%Y-%m-%d %H:%M %Z}): each time may appear once",
+                         "Remove the repeated rows")
+    if not frame.index.is_monotonic_increasing:
+        notes = list(notes) + ["rows were not in time order: sorted"]
+        frame = frame.sort_index()
     return StationRecord(frame=frame, source=f"{format}:{name}", format=format,
                          notes=tuple(notes))
 
@@ -441,9 +449,16 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
                 constants[field] = float(fallback[field])
             elif field in REQUIRED_FIELDS:
                 what = "has no column for" if col is None else "has no valid value of"
-                fix = (f"Set {_FALLBACK_KEY[field]} (a constant, {_FALLBACK_UNIT[field]})"
-                       if field in _FALLBACK_KEY else
-                       "Pick a span the file covers for this quantity, or another file")
+                if field in _FALLBACK_KEY:
+                    fix = f"Set {_FALLBACK_KEY[field]} (a constant, {_FALLBACK_UNIT[field]})"
+                elif col is None and record.format == "csv":
+                    fix = f"Add a {field!r} column" + (" (or 'temp_dew')" if field ==
+                                                        "relative_humidity" else "") + \
+                        " (docs/WEATHER.md)"
+                elif col is None:
+                    fix = "This file does not carry it: give a CSV record (docs/WEATHER.md)"
+                else:
+                    fix = "Pick a span the file covers for this quantity, or another file"
                 problems.append(InputError(f"weather.source[{field}]", src,
                                            f"{what} {field} between {start:%Y-%m-%d %H:%M} "
                                            f"and {end:%Y-%m-%d %H:%M %Z}", fix))
