@@ -1994,10 +1994,16 @@ def main(argv=None) -> int:
     for f in args.files:
         try:
             sc = load_scenario(f)
+            # open the input files too: the weather over the simulated span (columns,
+            # units, coverage of the date, gaps), every problem listed at once
+            notes = sc.check_weather()
             print(f"{f}: ok ({sc.name}: {sc.time.season} {sc.time.date}, "
                   f"{sc.ship.builtin or 'user ship'}, bands {', '.join(sc.bands)})")
+            for line in notes:
+                print(f"  {line}")
         except InputError as exc:
-            print(str(exc), file=sys.stderr)
+            print(f"{f}: {exc}" if not isinstance(exc, ScenarioError) else str(exc),
+                  file=sys.stderr)
             status = 2
     return status
 
