@@ -269,6 +269,11 @@ def prepare(scenario, imaging: bool = False, progress: bool = False):
     """
     if imaging:
         check_imaging_bands(scenario)
+        if scenario.weather.day == "record" and scenario.weather.source != "builtin":
+            raise InputError("weather.day", "record", "the imaging stage renders one "
+                             "periodic day; a weather record runs the thermal stage only",
+                             "Run without --image, or image one day with weather.day = "
+                             "'periodic'")
     ship = scenario.ship()
     scenario.environment()
     background = build_background(scenario, progress=progress) if imaging else None

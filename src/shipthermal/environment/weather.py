@@ -25,7 +25,8 @@ temp_air (AIRT)    air temperature at screen height            degC (or K, see
                                                                ``temp_unit``)
 relative_humidity  relative humidity over water                %
 (HUMID)            — or ``temp_dew`` (dew point)               degC / K
-wind_speed (WIND)  true wind speed at 10 m                     m/s
+wind_speed (WIND)  true wind speed at 10 m (scenarios: at      m/s
+                   ``weather.wind_height``, reduced to 10 m)
 wind_direction     direction the wind blows FROM, clockwise    deg
 (WINDIR)           from north
 cloud_cover        total cloud fraction                        0–1 (or % / tenths /
@@ -39,6 +40,9 @@ temp_sea (SST)     sea surface temperature                     degC (or K)
 Optional columns may be absent or empty; an empty cell in an optional column means
 "not measured" for that column only if the whole column is empty — partial gaps are
 rejected, as are NaN in required columns, unknown units and missing time steps.
+Records with gaps, off-the-hour times or other formats (NDBC) go through
+:mod:`shipthermal.environment.station`, which interpolates short gaps and reports them
+(the user documentation of the columns: docs/WEATHER.md).
 """
 
 from __future__ import annotations
