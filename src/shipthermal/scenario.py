@@ -85,9 +85,9 @@ DECOMPOSITIONS = ("dirint", "erbs")
 """GHI decompositions accepted by shipthermal.environment.Environment."""
 SEA_EMISSIVITY = 0.984
 """= shipthermal.environment.sea.SEA_EMISSIVITY (Konda et al. 1994)."""
-WEATHER_FORMATS = ("auto", "csv", "epw", "ndbc", "tmy3")
+WEATHER_FORMATS = ("auto", "csv", "epw", "ndbc", "tmy2", "tmy3")
 """'auto' + shipthermal.environment.station.STATION_FORMATS."""
-WEATHER_SUFFIXES = {".csv": "csv", ".epw": "epw", ".txt": "ndbc"}
+WEATHER_SUFFIXES = {".csv": "csv", ".epw": "epw", ".tm2": "tmy2", ".txt": "ndbc"}
 """File name endings that 'auto' recognises (= station.guess_format)."""
 MAX_GAP_HOURS = 6.0
 """= shipthermal.environment.station.MAX_GAP_HOURS (default of weather.max_gap_hours)."""
@@ -749,11 +749,12 @@ class WeatherSettings:
 
     source: str = _opt("builtin", "weather_source", "'builtin' (Dalian design day of the "
                        "season, shipthermal.environment.climatology) or a weather file path "
-                       "for any site (CSV with the columns of docs/WEATHER.md, EPW, TMY3, "
-                       "NDBC standard meteorological)",
+                       "for any site (CSV with the columns of docs/WEATHER.md, EPW, TMY2, "
+                       "TMY3, NDBC standard meteorological)",
                        allowed_text="'builtin' or an existing weather file")
     format: str = _opt("auto", "choice", "File format; 'auto' = by extension (.csv -> csv, "
-                       ".epw -> epw, .txt -> ndbc). TMY3 files are .csv: say 'tmy3'",
+                       ".epw -> epw, .tm2 -> tmy2, .txt -> ndbc). TMY3 files are .csv: say "
+                       "'tmy3'",
                        choices=WEATHER_FORMATS)
     day: str = _opt("periodic", "choice", "How a file is used: 'periodic' = the 24 h of "
                     "time.date repeated (design day for spin-up), 'record' = spin-up on the "
@@ -773,7 +774,7 @@ class WeatherSettings:
                                 "(reported); longer gaps are refused naming the span",
                                 unit="h", lo=0.0, hi=48.0, lo_open=True)
     temp_sea: Optional[float] = _opt(None, "float", "Constant sea surface temperature for "
-                                     "files without one (required for EPW / TMY3; NDBC "
+                                     "files without one (required for EPW / TMY2 / TMY3; NDBC "
                                      "files carry WTMP)", unit="K",
                                      lo=269.0, hi=310.0, optional=True)
     cloud_cover: Optional[float] = _opt(None, "float", "Constant cloud fraction for files "
@@ -787,9 +788,9 @@ class WeatherSettings:
                           choices=TEMP_UNITS)
     cloud_unit: str = _opt("fraction", "choice", "CSV only: unit of cloud_cover in the file",
                            choices=CLOUD_UNITS)
-    year: Optional[int] = _opt(None, "int", "EPW / TMY3: coerce the typical year's rows to "
-                               "this year (default: the year of time.date; TMY3: not a leap "
-                               "year)", lo=1950, hi=2100, optional=True)
+    year: Optional[int] = _opt(None, "int", "EPW / TMY2 / TMY3: coerce the typical year's "
+                               "rows to this year (default: the year of time.date; TMY2 / "
+                               "TMY3: not a leap year)", lo=1950, hi=2100, optional=True)
     use_measured_irradiance: bool = _opt(True, "bool", "Files: use the file's global "
                                          "irradiance (split by 'decomposition') instead of "
                                          "clear sky + cloud")
@@ -825,6 +826,7 @@ class WeatherSettings:
         omit = {"csv": ("year", "use_measured_longwave"),
                 "epw": ("temp_unit", "cloud_unit"),
                 "ndbc": ("temp_unit", "cloud_unit", "year", "use_measured_longwave"),
+                "tmy2": ("temp_unit", "cloud_unit", "use_measured_longwave"),
                 "tmy3": ("temp_unit", "cloud_unit", "use_measured_longwave")}[fmt]
         return omit + (("days",) if self.day != "record" else ())
 
@@ -860,7 +862,7 @@ class WeatherSettings:
         if "days" in raw and obj.day != "record" and "days" not in bad:
             ctx.err(f"{path}.days", raw["days"], "only applies with weather.day = 'record'",
                     "Remove it, or set day = 'record'")
-        if fmt in ("epw", "tmy3") and obj.temp_sea is None and "temp_sea" not in bad:
+        if fmt in ("epw", "tmy2", "tmy3") and obj.temp_sea is None and "temp_sea" not in bad:
             ctx.err(f"{path}.temp_sea", None, f"is required for {fmt.upper()} files (they "
                     "carry no sea temperature): a number in [269, 310] K")
         if fmt != "csv":
@@ -868,13 +870,14 @@ class WeatherSettings:
                 if key in raw:
                     ctx.err(f"{path}.{key}", raw[key], "only applies to CSV weather files")
         if fmt == "csv" and "year" in raw:
-            ctx.err(f"{path}.year", raw["year"], "only applies to EPW / TMY3 files")
+            ctx.err(f"{path}.year", raw["year"], "only applies to EPW / TMY2 / TMY3 files")
         if fmt != "epw" and "use_measured_longwave" in raw:
             ctx.err(f"{path}.use_measured_longwave", raw["use_measured_longwave"],
                     "only applies to EPW files (TMY3 has no long-wave; a CSV's "
                     "longwave_down column is used when present)")
-        if fmt == "tmy3" and obj.year is not None and "year" not in bad and _is_leap(obj.year):
-            ctx.err(f"{path}.year", obj.year, "must not be a leap year for TMY3 files "
+        if fmt in ("tmy2", "tmy3") and obj.year is not None and "year" not in bad \
+                and _is_leap(obj.year):
+            ctx.err(f"{path}.year", obj.year, "must not be a leap year for TMY2 / TMY3 files "
                     "(typical years have no 29 February)", "e.g. 2001")
         return obj
 
@@ -1439,13 +1442,13 @@ class Scenario:
             ctx.err("time.output_interval", obj.time.output_interval,
                     f"must be a multiple of solver.time_step ({dt:g} s)")
         fmt = obj.weather.file_format
-        if fmt in ("epw", "tmy3") and not ctx.failed("weather", "time.date"):
+        if fmt in ("epw", "tmy2", "tmy3") and not ctx.failed("weather", "time.date"):
             year = int(obj.time.date[:4])
             if obj.weather.year is not None and obj.weather.year != year:
                 ctx.err("weather.year", obj.weather.year, f"must equal the year of time.date "
                         f"({year}): the typical year's rows are coerced to it",
                         "Leave weather.year out (it defaults to the date's year)")
-            elif fmt == "tmy3" and obj.weather.year is None and _is_leap(year):
+            elif fmt in ("tmy2", "tmy3") and obj.weather.year is None and _is_leap(year):
                 ctx.err("time.date", obj.time.date, "must not fall in a leap year with a TMY3 "
                         "file (typical years have no 29 February)", "e.g. use 2023")
         cp = obj.outputs.checkpoint_interval

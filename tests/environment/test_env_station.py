@@ -160,3 +160,25 @@ def test_tmy3_record_through_the_scenario():
     ref = data["temp_air"].tz_convert("Etc/GMT+9").loc[w.time[1:]]   # 01:00 … 24:00
     np.testing.assert_allclose(w.temp_air[1:], ref.to_numpy() + 273.15, atol=1e-9)
     assert sc.check_weather()[0].startswith("weather tmy3:703165TY.csv: 73 hourly values")
+
+
+def test_tmy2_units_and_hour_ending_labels():
+    """pvlib's Miami TMY2 file: values in 0.1 °C and 0.1 m/s (TMY2 User's Manual,
+    Table 3-2), row 'hour h' observed at the end of hour h."""
+    import pvlib
+
+    src = Path(pvlib.__file__).parent / "data" / "12839.tm2"
+    rec = read_station(src, "tmy2", tz="Etc/GMT+5", year=2023)
+    lines = src.read_text().splitlines()[1:]
+    # fixed columns (manual Table 3-1): hour 8-9, dry bulb 68-71, wind speed 96-98 (1-based)
+    row = lines[12]                       # 1 January, hour 13
+    assert int(row[7:9]) == 13
+    at = pd.Timestamp("2023-01-01 13:00", tz="Etc/GMT+5")
+    assert rec.frame.loc[at, "temp_air"] == pytest.approx(int(row[67:71]) / 10 + 273.15)
+    assert rec.frame.loc[at, "wind_speed"] == pytest.approx(int(row[95:98]) / 10)
+    sc = load_scenario({"location": {"latitude": 25.8, "longitude": -80.27,
+                                     "time_zone": "Etc/GMT+5"},
+                        "time": {"date": "2023-07-01"},
+                        "weather": {"source": str(src), "temp_sea": 302.0}})
+    assert sc.weather.file_format == "tmy2"
+    assert len(sc.weather_record().time) == 24

@@ -94,7 +94,8 @@ def test_csv_record_mode_and_coverage(tmp_path):
     np.testing.assert_allclose(w.temp_air[:48], df["temp_air"].to_numpy() + ZERO_CELSIUS - 2.0,
                                atol=1e-9)
     assert w.temp_air[48] == w.temp_air[47]
-    assert any("held 1 h" in line for line in sc.check_weather())
+    assert any("2024-07-16 00:00 +08 lies beyond the record: value of the nearest "
+               "observation (2024-07-15 23:00) held" in line for line in sc.check_weather())
     # a date the file does not cover: the record's range and the span needed are named
     late = load_scenario({"weather": {"source": "w.csv"}, "time": {"date": "2024-07-16"}},
                          base_dir=tmp_path)

@@ -43,7 +43,7 @@ __all__ = ["STATION_FORMATS", "FIELDS", "REQUIRED_FIELDS", "MAX_GAP_HOURS", "EDG
            "NDBC_MISSING", "StationRecord", "WeatherReport", "read_station", "read_ndbc",
            "to_weather", "check_weather", "wind_speed_at_10m", "guess_format"]
 
-STATION_FORMATS = ("csv", "epw", "tmy3", "ndbc")
+STATION_FORMATS = ("csv", "epw", "tmy2", "tmy3", "ndbc")
 """File formats :func:`read_station` reads."""
 
 FIELDS = ("temp_air", "relative_humidity", "wind_speed", "wind_direction", "cloud_cover",
@@ -145,8 +145,9 @@ class WeatherReport:
     interpolated : tuple of (field, first, last, hours)
         Gaps bridged by linear interpolation: the field, the valid observations on either
         side and the time between them [h].
-    held : tuple of (field, instant, hours)
-        Ends of the span beyond the first / last valid observation, held constant.
+    held : tuple of (field, instant, observation, hours)
+        Ends of the span beyond the first / last valid observation: the value of that
+        observation is held.
     constants : dict
         field → constant used because the file lacks it over the span.
     notes : tuple of str
@@ -167,9 +168,12 @@ class WeatherReport:
         for (a, b, h), names in spans.items():
             out.append(f"gap of {h:g} h between observations {a:%Y-%m-%d %H:%M} and "
                        f"{b:%Y-%m-%d %H:%M %Z} interpolated: {', '.join(names)}")
-        for f, t, h in self.held:
-            out.append(f"{f}: held {h:g} h beyond the last valid observation at "
-                       f"{t:%Y-%m-%d %H:%M %Z}")
+        ends: dict = {}
+        for f, t, ref, h in self.held:
+            ends.setdefault((t, ref), []).append(f)
+        for (t, ref), names in ends.items():
+            out.append(f"{t:%Y-%m-%d %H:%M %Z} lies beyond the record: value of the nearest "
+                       f"observation ({ref:%Y-%m-%d %H:%M}) held: {', '.join(names)}")
         for f, v in self.constants.items():
             out.append(f"{f}: not in the file over the span, constant {v:g} "
                        f"{_FALLBACK_UNIT.get(f, '')} ({_FALLBACK_KEY.get(f, f)})")
@@ -178,7 +182,8 @@ class WeatherReport:
     def to_dict(self) -> dict:
         return {"interpolated_gaps": [{"field": f, "from": str(a), "to": str(b), "hours": h}
                                       for f, a, b, h in self.interpolated],
-                "held_ends": [{"field": f, "at": str(t), "hours": h} for f, t, h in self.held],
+                "held_ends": [{"field": f, "at": str(t), "observation": str(o), "hours": h}
+                              for f, t, o, h in self.held],
                 "constants": dict(self.constants), "notes": list(self.notes)}
 
 
@@ -188,7 +193,7 @@ class WeatherReport:
 def guess_format(path) -> Optional[str]:
     """Format from the file name (.csv → csv, .epw → epw, .txt → ndbc); None if unknown.
     TMY3 files end in .csv too: name the format."""
-    return {".csv": "csv", ".epw": "epw", ".txt": "ndbc"}.get(
+    return {".csv": "csv", ".epw": "epw", ".tm2": "tmy2", ".txt": "ndbc"}.get(
         os.path.splitext(str(path))[1].lower())
 
 
@@ -201,14 +206,14 @@ def read_station(path, format: str, *, tz: Optional[str] = None, temp_unit: str 
     Parameters
     ----------
     path : str or path-like
-    format : {'csv', 'epw', 'tmy3', 'ndbc'}
+    format : {'csv', 'epw', 'tmy2', 'tmy3', 'ndbc'}
     tz : str, optional
         Time zone the record is returned in (IANA name); CSV: also the zone of naive
         times.
     temp_unit, cloud_unit : str
         CSV only (see :func:`~shipthermal.environment.weather.read_weather_csv`).
     year : int, optional
-        EPW / TMY3: the year the typical year's rows are coerced to.
+        EPW / TMY2 / TMY3: the year the typical year's rows are coerced to.
     use_measured_irradiance, use_measured_longwave : bool
         Keep the file's global irradiance / downwelling long-wave columns.
 
@@ -327,15 +332,40 @@ def _typical_year_frame(path, fmt, year):
     try:
         if fmt == "epw":
             data, meta = pvlib.iotools.read_epw(path, coerce_year=year)
+        elif fmt == "tmy2":
+            data, meta = pvlib.iotools.read_tmy2(str(path))
         else:
             data, meta = pvlib.iotools.read_tmy3(path, coerce_year=year or 2001,
                                                  map_variables=True)
     except Exception as exc:  # pvlib raises assorted parser errors
         raise InputError("weather.source", str(path), f"must be a valid {fmt.upper()} file "
                          f"({type(exc).__name__}: {exc})", "Check weather.format") from None
-    data = data.sort_index()
     notes = []
-    if fmt == "epw":
+    if fmt == "tmy2":
+        # typical months come from different years: put every row into one year (pvlib's
+        # reader has no coerce_year); a 29 February row cannot move to a common year
+        y = int(year or 2001)
+        idx = data.index
+        keep = ~((idx.month == 2) & (idx.day == 29))
+        data = data[keep]
+        idx = pd.DatetimeIndex([t.replace(year=y) for t in data.index])
+        data = data.set_axis(idx).sort_index()
+    else:
+        data = data.sort_index()
+    if fmt == "tmy2":
+        # TMY2 (NREL 1995, User's Manual Table 3-2): hour h is the hour ending at h,
+        # pvlib labels it h - 1; dry bulb and dew point in 0.1 °C, wind speed in 0.1 m/s,
+        # cloud in tenths; irradiance as Wh m-2 over the hour ending at h
+        idx = data.index + pd.Timedelta(hours=1)
+        cols = {"temp_air": data["DryBulb"].to_numpy(dtype=float) / 10.0,
+                "relative_humidity": data["RHum"].to_numpy(dtype=float),
+                "wind_speed": data["Wspd"].to_numpy(dtype=float) / 10.0,
+                "wind_direction": data["Wdir"].to_numpy(dtype=float),
+                "cloud_cover": data["TotCld"].to_numpy(dtype=float) / 10.0,
+                "ghi": _hour_ending_centred(data["GHI"].to_numpy(dtype=float))}
+        notes.append("TMY2: hour-ending rows labelled at their end; 0.1 degC and 0.1 m/s "
+                     "converted; irradiance re-centred")
+    elif fmt == "epw":
         # EPW "hour h" is the hour ending at h; pvlib labels it h - 1 (the start)
         idx = data.index + pd.Timedelta(hours=1)
         cloud = data["total_sky_cover"].to_numpy(dtype=float)
@@ -493,7 +523,10 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
                 "Pick a span the file covers, or a longer file"))
             continue
         for k in np.flatnonzero(beyond > 0):
-            held.append((field, grid[k], round(float(beyond[k]) / 3600.0, 2)))
+            ref = t_ok[0] if before[k] else t_ok[-1]
+            held.append((field, grid[k],
+                         pd.Timestamp(ref, unit="s", tz="UTC").tz_convert(tz),
+                         round(float(beyond[k]) / 3600.0, 2)))
         inner = np.isfinite(gap)
         long = inner & (gap > max_gap + 1e-6)
         if long.any():
