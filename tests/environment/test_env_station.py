@@ -182,3 +182,58 @@ def test_tmy2_units_and_hour_ending_labels():
                         "weather": {"source": str(src), "temp_sea": 302.0}})
     assert sc.weather.file_format == "tmy2"
     assert len(sc.weather_record().time) == 24
+
+
+def test_epw_through_the_station_path(tmp_path):
+    """The same EPW rows as the plain reader, with a missing-value code (99.9 °C) bridged
+    and reported, and an infrared column that is all 9999 dropped (the sky model is used)."""
+    from test_env_weather import EPW_HEADER, _epw_row
+
+    from shipthermal.environment.weather import read_weather_epw
+
+    rows = [_epw_row(15 + i // 24, i % 24 + 1, 20 + (i % 24) / 4, 18.0, 80, 390 + i,
+                     100 * (i % 3), 180, 3.5, 5) for i in range(48)]
+    (tmp_path / "a.epw").write_text("\n".join(EPW_HEADER + rows) + "\n")
+    plain = read_weather_epw(tmp_path / "a.epw", temp_sea=295.0, year=2023)
+    rec = read_station(tmp_path / "a.epw", "epw", tz="Etc/GMT-8", year=2023)
+    start = pd.Timestamp("2023-07-15 01:00", tz="Etc/GMT-8")
+    w, rep = to_weather(rec, start, start + pd.Timedelta(hours=47),
+                        fallback={"temp_sea": 295.0})
+    for f in ("temp_air", "relative_humidity", "wind_speed", "cloud_cover", "ghi",
+              "longwave_down"):
+        np.testing.assert_allclose(getattr(w, f), getattr(plain, f), rtol=1e-12)
+    rows = [_epw_row(15 + i // 24, i % 24 + 1, 20 + (i % 24) / 4 if i != 5 else 99.9, 18.0,
+                     80, 9999, 100 * (i % 3), 180, 3.5, 5) for i in range(48)]
+    (tmp_path / "b.epw").write_text("\n".join(EPW_HEADER + rows) + "\n")
+    rec = read_station(tmp_path / "b.epw", "epw", tz="Etc/GMT-8", year=2023)
+    w, rep = to_weather(rec, start, start + pd.Timedelta(hours=47),
+                        fallback={"temp_sea": 295.0})
+    assert w.longwave_down is None
+    assert w.temp_air[5] == pytest.approx(0.5 * (w.temp_air[4] + w.temp_air[6]), abs=1e-12)
+    assert [g[:2] for g in rep.interpolated] == [
+        ("temp_air", pd.Timestamp("2023-07-15 05:00", tz="Etc/GMT-8"))]
+
+
+def test_record_days_default_and_limit(tmp_path):
+    """weather.days defaults to the whole days the file covers; a year is refused with the
+    key to set."""
+    import shutil
+
+    shutil.copy(NDBC, tmp_path / "b.txt")
+    base = {"location": {"latitude": 38.46, "longitude": -74.70, "time_zone": TZ},
+            "time": {"season": "winter", "date": "2013-03-04"}}
+    sc = load_scenario({**base, "weather": {"source": "b.txt", "day": "record",
+                                            "cloud_cover": 0.5}}, base_dir=tmp_path)
+    first, last = sc.weather_span(read_ndbc(tmp_path / "b.txt", tz=TZ))
+    assert (last - first) == pd.Timedelta(days=5)     # 03-04 00:00 … 03-09 00:00 local
+    assert len(sc.weather_record().time) == 121
+    t = pd.date_range("2013-03-01", periods=40 * 24, freq="h", tz=TZ)
+    pd.DataFrame({"time": t.strftime("%Y-%m-%dT%H:%M:%S%z"), "temp_air": 5.0,
+                  "relative_humidity": 80.0, "wind_speed": 4.0, "wind_direction": 90.0,
+                  "cloud_cover": 0.5, "temp_sea": 6.0}).to_csv(tmp_path / "long.csv",
+                                                                index=False)
+    year = load_scenario({**base, "weather": {"source": "long.csv", "day": "record"}},
+                         base_dir=tmp_path)
+    with pytest.raises(InputError, match=r"weather.days = None: the record covers 37 days "
+                       r"from time.date; a record run takes at most 31. Set weather.days"):
+        year.weather_record()
