@@ -554,8 +554,9 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
     notes = list(record.notes)
     if "wind_speed" in values and abs(wind_height - 10.0) > 1e-9:
         values["wind_speed"] = wind_speed_at_10m(values["wind_speed"], wind_height)
+        factor = float(wind_speed_at_10m(1.0, wind_height))
         notes.append(f"wind_speed: reduced from {wind_height:g} m to 10 m (log law, z0 = "
-                     f"{SEA_ROUGHNESS_LENGTH:g} m: x {float(wind_speed_at_10m(1.0, wind_height)):.4f})")
+                     f"{SEA_ROUGHNESS_LENGTH:g} m: x {factor:.4f})")
     # physical ranges, every field at once
     for field, arr in values.items():
         lo, hi, unit = _LIMITS[field]
@@ -590,7 +591,7 @@ def to_weather(record: StationRecord, start, end, **kwargs):
     weather, report, problems = check_weather(record, start, end, **kwargs)
     if problems:
         e = problems[0]
-        more = f" (and {len(problems) - 1} more problem(s): {'; '.join(str(p) for p in problems[1:])})" \
-            if len(problems) > 1 else ""
+        rest = "; ".join(str(p) for p in problems[1:])
+        more = f" (and {len(problems) - 1} more problem(s): {rest})" if rest else ""
         raise InputError(e.field, e.value, e.allowed + more, e.fix)
     return weather, report
