@@ -267,7 +267,9 @@ def cmd_run(args, con: Console) -> int:
             _report(run, con, finishing=True)
     con.info(f"finished in {time.perf_counter() - t0:.0f} s")
     deck_max = s["parts"].get("deck", {}).get("max_K", float("nan"))
-    con.out(f"{case}: {s['surface_faces']} faces, {s['days']} days (converged: "
+    days = (f"{s['spinup_days']} spin-up + {s['record_days']} recorded days"
+            if s.get("record_days") else f"{s['days']} days")
+    con.out(f"{case}: {s['surface_faces']} faces, {days} (converged: "
             f"{s['converged']}), deck max {deck_max:.2f} K; run directory {out}")
     if args.image:
         _print_crossovers(out, con)

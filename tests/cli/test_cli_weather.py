@@ -51,7 +51,9 @@ def test_ndbc_record_run_from_the_command_line(tmp_path, capsys):
     assert "49 hourly values, 2013-03-04 00:00 … 2013-03-06 00:00 -05" in out
     assert "gap of 2 h between observations" in out and "reduced from 5 m to 10 m" in out
     assert main(["run", str(sc), "--out", str(tmp_path / "run")]) == 0
-    err = capsys.readouterr().err
+    captured = capsys.readouterr()
+    err = captured.err
+    assert "spin-up + 2 recorded days" in captured.out
     assert "cloud_cover: not in the file over the span, constant 0.5" in err
     pm = pd.read_csv(tmp_path / "run" / "thermal" / "buoy" / "part_means.csv", index_col=0)
     assert pm.index[0] == 0 and pm.index[-1] == 48      # both recorded days
