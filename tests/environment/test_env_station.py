@@ -237,3 +237,29 @@ def test_record_days_default_and_limit(tmp_path):
     with pytest.raises(InputError, match=r"weather.days = None: the record covers 37 days "
                        r"from time.date; a record run takes at most 31. Set weather.days"):
         year.weather_record()
+
+
+def test_ndbc_old_and_realtime_layouts(tmp_path):
+    """Files before 2007 (no minute column, 'WD' / 'BAR', no units line) and the real-time
+    layout (newest row first, 'MM' for missing) read to the same quantities."""
+    old = ("YYYY MM DD hh  WD  WSPD GST  WVHT  DPD   APD  MWD  BAR    ATMP  WTMP  DEWP  VIS\n"
+           "1998 03 04 00 280  7.9  9.3  0.76  3.57  3.77 313 1008.9   2.9   4.6  -2.5 99.0\n"
+           "1998 03 04 01 999  8.1  9.9  0.80  3.60  3.80 310 1008.5   2.7   4.6  99.0 99.0\n")
+    (tmp_path / "old.txt").write_text(old)
+    f = read_station(tmp_path / "old.txt", "ndbc").frame
+    assert list(f.index) == [pd.Timestamp("1998-03-04 00:00", tz="UTC"),
+                             pd.Timestamp("1998-03-04 01:00", tz="UTC")]
+    assert f["wind_direction"].iloc[0] == 280 and np.isnan(f["wind_direction"].iloc[1])
+    assert np.isnan(f["relative_humidity"].iloc[1]) and f["temp_air"].iloc[1] == pytest.approx(275.85)
+    rt = ("#YY  MM DD hh mm WDIR WSPD GST  WVHT   DPD   APD MWD   PRES  ATMP  WTMP  DEWP  VIS "
+          "PTDY  TIDE\n"
+          "#yr  mo dy hr mn degT m/s  m/s     m   sec   sec degT   hPa  degC  degC  degC  nmi  "
+          "hPa    ft\n"
+          "2026 11 20 14 50 200  5.0  6.0    MM    MM    MM  MM 1015.0  12.1  14.2   8.0   MM "
+          "-0.4    MM\n"
+          "2026 11 20 13 50 190  4.0  5.0    MM    MM    MM  MM 1015.4    MM  14.3   7.9   MM "
+          "+0.1    MM\n")
+    (tmp_path / "rt.txt").write_text(rt)
+    rec = read_station(tmp_path / "rt.txt", "ndbc")
+    assert rec.frame.index.is_monotonic_increasing and "sorted" in " ".join(rec.notes)
+    assert np.isnan(rec.frame["temp_air"].iloc[0]) and rec.frame["temp_air"].iloc[1] == pytest.approx(285.25)

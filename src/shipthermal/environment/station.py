@@ -75,7 +75,8 @@ missing data are 99, 999 or 9999 by field width). Only codes that cannot be real
 are listed: a wind direction of 99° and a pressure of 999 hPa are real."""
 
 _NDBC_USED = ("ATMP", "WTMP", "DEWP", "WSPD", "WDIR")  # the columns a thermal run uses
-_NDBC_TZ = "UTC"  # NDBC historical files are in UTC ("hh mm" of the file)
+_NDBC_TZ = "UTC"
+_NDBC_ALIASES = {"#YY": "YY", "WD": "WDIR", "BAR": "PRES"}  # NDBC historical files are in UTC ("hh mm" of the file)
 
 # scenario keys that give a constant for a quantity a file lacks (named in messages)
 _FALLBACK_KEY = {"temp_sea": "weather.temp_sea", "cloud_cover": "weather.cloud_cover",
@@ -279,7 +280,8 @@ def _ndbc_frame(path):
             "weather.source", str(path), "must be an NDBC standard meteorological file "
             "(first line: '#YY  MM DD hh mm WDIR WSPD ...')",
             "Check weather.format, or download the 'Standard meteorological data' file")
-    names = head[0].lstrip("#").split()
+    # files before 2007 name two columns differently and have no units line
+    names = [_NDBC_ALIASES.get(n, n) for n in head[0].lstrip("#").split()]
     require(len(names) >= 5 and names[0] in ("YY", "YYYY") and "MM" in names,
             "weather.source", head[0].strip(), "must start with the NDBC column names "
             "(#YY MM DD hh [mm] WDIR WSPD ... ATMP WTMP DEWP ...)")
@@ -538,7 +540,10 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
                     f"has no valid {field} from {ta:%Y-%m-%d %H:%M} to {tb:%Y-%m-%d %H:%M %Z} "
                     f"({(tb - ta).total_seconds() / 3600:g} h), longer than weather."
                     f"max_gap_hours = {max_gap_hours:g} h",
-                    "Pick another span, raise weather.max_gap_hours, or fill the gap"))
+                    "Pick another span, raise weather.max_gap_hours, or fill the gap"
+                    + (f"; or set weather.use_measured_"
+                       f"{'irradiance' if field == 'ghi' else 'longwave'} = false"
+                       if field in ("ghi", "longwave_down") else "")))
             continue
         bridged = inner & ~exact & (gap > 1.5 * spacing)
         seen = set()
