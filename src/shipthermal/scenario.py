@@ -1631,6 +1631,9 @@ class Scenario:
         from shipthermal.environment.station import check_weather
 
         w = self.weather
+        if not os.path.isfile(w.source):
+            raise InputError("weather.source", w.source, "must be an existing file",
+                             "The file was moved or deleted after the scenario was loaded")
         rec = _read_station_cached(w.source, w.file_format, self.location.time_zone,
                                    w.temp_unit, w.cloud_unit, int(self.time.date[:4]),
                                    w.use_measured_irradiance, w.use_measured_longwave,
