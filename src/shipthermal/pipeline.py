@@ -249,8 +249,14 @@ IMAGING_BANDS = ("3-5", "8-14")
 
 
 def check_imaging_bands(scenario) -> None:
-    """The imaging stage renders the paper's two bands; the scenario also accepts custom
-    'lo-hi' bands (thermal emissivities), which imaging cannot take yet: say so up front."""
+    """The imaging stage renders the paper's two bands over one periodic day; the scenario
+    also accepts custom 'lo-hi' bands (thermal emissivities) and weather records, which
+    imaging cannot take yet: say so up front."""
+    if scenario.weather.day == "record" and scenario.weather.source != "builtin":
+        raise InputError("weather.day", "record", "the imaging stage renders one periodic "
+                         "day; a weather record runs the thermal stage only",
+                         "Run the thermal stage only (no --image / stages = ['thermal']), "
+                         "or image one day with weather.day = 'periodic'")
     other = [b for b in scenario.bands if b not in IMAGING_BANDS]
     if other:
         raise InputError("imaging.bands", list(scenario.bands), "the imaging stage takes "
@@ -269,11 +275,6 @@ def prepare(scenario, imaging: bool = False, progress: bool = False):
     """
     if imaging:
         check_imaging_bands(scenario)
-        if scenario.weather.day == "record" and scenario.weather.source != "builtin":
-            raise InputError("weather.day", "record", "the imaging stage renders one "
-                             "periodic day; a weather record runs the thermal stage only",
-                             "Run without --image, or image one day with weather.day = "
-                             "'periodic'")
     ship = scenario.ship()
     scenario.environment()
     background = build_background(scenario, progress=progress) if imaging else None

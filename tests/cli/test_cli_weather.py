@@ -109,3 +109,13 @@ def test_validate_lists_every_weather_problem_at_once(tmp_path, capsys):
     assert "has no column for cloud_cover" in err
     assert err.count("from 2013-03-06 11:50 to 2013-03-06 15:50 -05 (4 h)") == 5
     assert sorted(p.name for p in tmp_path.iterdir()) == before
+
+
+def test_record_with_imaging_is_refused_up_front(tmp_path, capsys):
+    shutil.copy(NDBC, tmp_path / "buoy.txt")
+    sc = _with(write_tiny(tmp_path, name="buoy", season="winter"), BUOY, "2013-03-04")
+    before = sorted(p.name for p in tmp_path.iterdir())
+    assert main(["-q", "run", str(sc), "--out", str(tmp_path / "run"), "--image"]) == 2
+    err = capsys.readouterr().err
+    assert "weather.day = 'record': the imaging stage renders one periodic day" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
