@@ -418,7 +418,8 @@ def read_csv_frame(path, tz: Optional[str] = None, temp_unit: str = "C",
                 f"missing required column {col!r}", f"Add a {col!r} column (see docs)")
     require("relative_humidity" in df.columns or "temp_dew" in df.columns,
             "weather.columns", list(df.columns),
-            "needs 'relative_humidity' (HUMID) or 'temp_dew'")
+            "missing required column 'relative_humidity' (HUMID) or 'temp_dew' (DEWPT)",
+            "Add one of them (docs/WEATHER.md)")
     require(len(df) > 0, "weather.path", str(path), "holds no data rows")
     try:
         time = pd.DatetimeIndex(pd.to_datetime(df["time"].astype(str), format="ISO8601"))
