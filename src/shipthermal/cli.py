@@ -269,6 +269,8 @@ def cmd_run(args, con: Console) -> int:
     RunDir.check_target(out, resume=args.resume, force=args.force, scenario=sc)
     con.debug("reading the inputs (ship, weather" + (", background)" if args.image else ")"))
     ship, background = prepare(sc, imaging=args.image, progress=con.progress)
+    for line in sc.check_weather():     # gaps interpolated, constants used, wind height
+        con.info(f"  {line}")
     with RunDir(out, resume=args.resume, force=args.force, command=args.argv, kind="run",
                 log=con.info, scenario=sc) as run:
         run.add_scenario(sc)
@@ -283,7 +285,9 @@ def cmd_run(args, con: Console) -> int:
             _report(run, con, finishing=True)
     con.info(f"finished in {time.perf_counter() - t0:.0f} s")
     deck_max = s["parts"].get("deck", {}).get("max_K", float("nan"))
-    con.out(f"{case}: {s['surface_faces']} faces, {s['days']} days (converged: "
+    days = (f"{s['spinup_days']} spin-up + {s['record_days']} recorded days"
+            if s.get("record_days") else f"{s['days']} days")
+    con.out(f"{case}: {s['surface_faces']} faces, {days} (converged: "
             f"{s['converged']}), deck max {deck_max:.2f} K; run directory {out}")
     if args.image:
         _print_crossovers(out, con)

@@ -1,4 +1,5 @@
-"""Diurnal ship thermal runs: spin-up over repeated design days, then one recorded day.
+"""Diurnal ship thermal runs: spin-up over repeated design days, then one recorded day
+(or, for a weather record, spin-up on its first day and then the record as it is).
 
 Data flow (all the physics lives in the modules wired here)::
 
@@ -12,6 +13,10 @@ temperature of every part is compared, at each output time, with the day before;
 stops when the largest change is below ``spinup_tolerance`` [K] (reported with the number
 of days) or after ``spinup_max_days`` (reported as not converged). The recorded day is the
 last one.
+
+Weather records (non-periodic weather, :func:`run_record`): the record's first 24 h are
+repeated as above until periodic; from that state the solver runs through the whole
+record once, as recorded, and every output time of every recorded day is kept.
 """
 
 from __future__ import annotations
@@ -151,7 +156,14 @@ class DiurnalResult:
                                   self.results.times, self.outer_face_temperature(),
                                   temp_air=self.part_means["temp_air"].to_numpy(),
                                   temp_sea=self.part_means["temp_sea"].to_numpy(),
-                                  label=f"diurnal thermal run ({self.ship.name})")
+                                  label=f"diurnal thermal run ({self.ship.name})",
+                                  # a weather record is not periodic: no wrap past its end
+                                  period_s=None if self.is_record else DAY)
+
+    @property
+    def is_record(self) -> bool:
+        """Whether this is a weather-record run (:func:`run_record`) over several days."""
+        return "record_days" in self.meta
 
     def summary(self) -> dict:
         """JSON-ready summary (spin-up, energy, timings, part extremes)."""
@@ -251,10 +263,12 @@ def plot_part_means(part_means: pd.DataFrame, path, title: str = "") -> Path:
         colour, ls = styles.get(col, (None, "-"))
         ax.plot(part_means.index, part_means[col], ls, color=colour, lw=2 if ls == "-" else 1.4,
                 label=labels.get(col, col))
-    ax.set_xlabel("local time [h]")
+    end = max(24, int(np.ceil(float(part_means.index.max()) / 24.0)) * 24)
+    ax.set_xlabel("local time [h]" if end == 24 else "hours since local midnight of the "
+                  "first recorded day [h]")
     ax.set_ylabel("temperature [K]")
-    ax.set_xlim(0, 24)
-    ax.set_xticks(range(0, 25, 3))
+    ax.set_xlim(0, end)
+    ax.set_xticks(range(0, end + 1, 3 if end == 24 else (6 if end <= 96 else 24)))
     ax.grid(alpha=0.3)
     ax.legend(ncol=3, fontsize=8)
     ax.set_title(title, fontsize=10)
@@ -305,6 +319,10 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
     from .simulation import Simulation
 
     settings = settings or DiurnalSettings()
+    if not environment.weather.periodic:
+        return run_record(ship, environment, settings, absorptivity=absorptivity,
+                          emissivity=emissivity, graph=graph, traced=traced,
+                          progress=progress, log=log, checkpoint=checkpoint)
     say = log or (lambda msg: None)
     t_total = _time.perf_counter()
     timings = {}
@@ -429,6 +447,92 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
                          timings=timings, settings=settings, environment=environment)
 
 
+def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
+               absorptivity=None, emissivity=None, graph=None, traced=None,
+               progress: bool = True, log=None, checkpoint=None) -> DiurnalResult:
+    """Spin a ship up on the first day of a weather record, then run the whole record.
+
+    Parameters
+    ----------
+    ship, settings, absorptivity, emissivity, graph, traced, progress, log
+        As :func:`run_diurnal`.
+    environment : shipthermal.environment.Environment
+        With a non-periodic weather record starting at local midnight and covering whole
+        days (:meth:`Scenario.weather_record` with ``weather.day = 'record'``).
+    checkpoint : path, optional
+        Not used: a record run restarts from the beginning (logged).
+
+    Returns
+    -------
+    DiurnalResult
+        ``results`` and ``part_means`` span the whole record (times in seconds after local
+        midnight of its first day; ``part_means`` indexed by hours since then, 0 … 24·N);
+        ``days`` counts spin-up and recorded days; ``meta['record_days']`` the recorded
+        days; the energy log covers spin-up and record.
+    """
+    from .forcing import build_ship_forcing
+    from .model import RadiativeExchange, ThermalModel
+    from .simulation import Simulation
+
+    settings = settings or DiurnalSettings()
+    say = log or (lambda msg: None)
+    w = environment.weather
+    span = (w.time[-1] - environment.start).total_seconds()
+    n_days = span / DAY
+    require(n_days >= 1.0 - 1e-9 and abs(n_days - round(n_days)) < 1e-9,
+            "environment.weather", f"{w.time[0]} … {w.time[-1]}",
+            "a record run needs whole days from local midnight to local midnight")
+    n_days = int(round(n_days))
+    if checkpoint is not None:
+        say("record run: checkpoints are not written (an interrupted record run restarts)")
+    t_total = _time.perf_counter()
+    say(f"record: spin-up on the first day ({w.time[0]:%Y-%m-%d}), then {n_days} day(s)")
+    spin = run_diurnal(ship, environment.first_day(), settings, absorptivity=absorptivity,
+                       emissivity=emissivity, graph=graph, traced=traced, progress=progress,
+                       log=log)
+    graph = spin.graph
+    t0 = _time.perf_counter()
+    step = min(600.0, settings.output_interval)
+    forcing = build_ship_forcing(ship, environment, graph,
+                                 times=np.arange(0.0, span + 1.0, step),
+                                 absorptivity=spin.forcing.absorptivity,
+                                 emissivity=spin.forcing.emissivity, progress=progress,
+                                 traced=spin.forcing.traced)
+    t_forcing = _time.perf_counter() - t0
+    say(f"record forcing: {len(forcing.times)} table times ({t_forcing:.1f} s)")
+    model = ThermalModel(graph, forcing.conditions(with_exchange=True),
+                         initial_temperature=spin.results.final_temperature,
+                         exchange=RadiativeExchange(*forcing.radiative_exchange()))
+    sim = Simulation(model, settings.time_step, span, scheme=settings.scheme,
+                     output_interval=settings.output_interval)
+    t0 = _time.perf_counter()
+    for day in range(n_days):
+        sim.run_until((day + 1) * DAY, progress=progress, desc=f"record day {day + 1}")
+        say(f"record day {day + 1} of {n_days} simulated")
+    res = sim.results()
+    t_solve = _time.perf_counter() - t0
+    groups = part_groups(graph.part_names)
+    pm = res.part_mean("outer", groups=groups)
+    pm = pm[[c for c in MAIN_SERIES if c in pm.columns]
+            + [c for c in pm.columns if c not in MAIN_SERIES]]
+    env = environment.at(res.times)
+    pm["temp_air"] = env.temp_air
+    pm["temp_sea"] = env.temp_sea
+    pm.index = pd.Index(res.times / HOUR, name="hour")
+    timings = dict(spin.timings)
+    timings["spinup_total"] = timings.pop("total")
+    timings.update(record_forcing=t_forcing, record_solve=t_solve,
+                   total=_time.perf_counter() - t_total)
+    meta = {"record_days": n_days, "spinup_days": spin.days,
+            "record_start": str(w.time[0]), "record_end": str(w.time[-1]),
+            "weather_source": w.source}
+    return DiurnalResult(ship=ship, graph=graph, forcing=forcing, results=res, part_means=pm,
+                         days=spin.days + n_days, day_changes=spin.day_changes,
+                         converged=spin.converged,
+                         energy=_concat_energy([spin.energy, res.energy]), timings=timings,
+                         settings=settings, environment=environment, meta=meta)
+
+
 def _concat_energy(parts) -> EnergyLog:
     if not parts:
         return EnergyLog.from_lists({k: [] for k in EnergyLog.FIELDS})
@@ -469,4 +573,5 @@ def run_scenario_thermal(scenario, *, ship=None, progress: bool = True, checkpoi
                       initial_state=initial_state)
     res.meta["scenario"] = scenario.name
     res.meta["date"] = str(scenario.time.date)
+    res.meta["weather_report"] = scenario.check_weather()
     return res

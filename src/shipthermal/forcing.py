@@ -94,7 +94,7 @@ from .units import DAY, SIGMA
 
 __all__ = ["SOLAR_ABSORPTIVITY", "LONGWAVE_EMISSIVITY", "MAX_TABLE_GAP", "TracedShip",
            "ShipForcing", "trace_ship", "build_ship_forcing", "part_values",
-           "quasi_steady_surface_temperature", "PeriodicTable"]
+           "quasi_steady_surface_temperature", "PeriodicTable", "RecordTable"]
 
 SOLAR_ABSORPTIVITY: dict[str, float] = {
     "hull_wetted": 0.70,
@@ -263,6 +263,47 @@ class PeriodicTable:
         b = np.asarray(table[j], dtype=np.float64)
         out = a * (1.0 - w) + b * w
         return out if out.ndim else float(out)
+
+
+@dataclass(frozen=True)
+class RecordTable:
+    """Linear interpolation in a table of times over a weather record (not periodic).
+
+    Same interface as :class:`PeriodicTable`; times outside ``[times[0], times[-1]]`` take
+    the end rows (the solver never asks for them: the record covers the run).
+
+    Attributes
+    ----------
+    times : (n,) float
+        Strictly increasing times [s after the environment start].
+    """
+
+    times: np.ndarray
+
+    @property
+    def period(self) -> float:
+        """Span of the table [s] (the averaging time of the summaries)."""
+        return float(self.times[-1] - self.times[0])
+
+    def weights(self, t: float) -> tuple[int, int, float]:
+        tt = self.times
+        tf = min(max(float(t), float(tt[0])), float(tt[-1]))
+        i = int(np.clip(np.searchsorted(tt, tf, side="right") - 1, 0, len(tt) - 2))
+        return i, i + 1, (tf - tt[i]) / (tt[i + 1] - tt[i])
+
+    __call__ = PeriodicTable.__call__
+
+
+def _check_record_times(times, span: float) -> np.ndarray:
+    """Table times over a weather record: increasing, from 0 to ``span``, small gaps."""
+    t = np.atleast_1d(np.asarray(times, dtype=float))
+    require(t.ndim == 1 and len(t) >= 2 and bool(np.all(np.diff(t) > 0)), "times", t,
+            "must be a strictly increasing 1-D array of at least two times [s]")
+    require(t[0] <= 0.0 and t[-1] >= span - 1e-6, "times", f"{t[0]:g} … {t[-1]:g} s",
+            f"must cover the weather record, 0 … {span:g} s")
+    require(float(np.max(np.diff(t))) <= MAX_TABLE_GAP, "times", float(np.max(np.diff(t))),
+            f"gaps must be at most {MAX_TABLE_GAP:.0f} s")
+    return t
 
 
 # ---------------------------------------------------------------------------------------
@@ -516,8 +557,9 @@ class ShipForcing:
     ----------
     times : (n,) float
         Table times, seconds after local midnight in [0, 86400) [s].
-    table : PeriodicTable
-        The interpolator (t folded modulo 86 400 s).
+    table : PeriodicTable or RecordTable
+        The interpolator (t folded modulo 86 400 s for a design day; over the whole
+        record, not folded, for non-periodic weather).
     outer_bfaces : (K,) int
         Boundary faces of the outer patches (increasing); ``traced.faces[c]`` is the
         triangle of ``outer_bfaces[c]``.
@@ -534,7 +576,7 @@ class ShipForcing:
     """
 
     times: np.ndarray
-    table: PeriodicTable
+    table: PeriodicTable | RecordTable
     outer_bfaces: np.ndarray
     outer_part: np.ndarray
     outer_is_air: np.ndarray
@@ -755,7 +797,12 @@ class ShipForcing:
         return df
 
     def _daily_mean(self, series) -> float:
-        """Time mean over the periodic day of a series at the table times (trapezoid)."""
+        """Time mean over the periodic day (or the whole record) of a series at the table
+        times (trapezoid)."""
+        if isinstance(self.table, RecordTable):
+            y = np.asarray(series, dtype=float)
+            return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(self.times))
+                         / self.table.period)
         t = np.concatenate([self.times, [self.times[0] + DAY]])
         y = np.concatenate([series, series[:1]])
         return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(t)) / DAY)
@@ -801,7 +848,8 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
         Parts, compartment temperatures, layups, length and draught (the graph's surface
         is what is traced; the ship supplies the per-part data).
     environment : shipthermal.environment.Environment
-        With periodic (design-day, 24 h) weather; its heading sets the ship frame.
+        With periodic (design-day, 24 h) weather, or a weather record (the tables then
+        span the record, t in seconds after its start); its heading sets the ship frame.
     graph : shipthermal.mesh.CellGraph
         The solver's graph (shell, tet or mixed) with patches ``'{part}:outer'`` and
         ``'{part}:inner'``; other patches are left unforced (listed in
@@ -848,12 +896,17 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
     require(isinstance(environment, Environment), "environment", type(environment).__name__,
             "must be a shipthermal.environment.Environment")
     w = environment.weather
-    require(bool(w.periodic), "environment.weather.periodic", w.periodic,
-            "must be True: the forcing is one periodic design day",
-            "Use Environment.from_climate_day(...) or a Weather with periodic=True")
-    require(abs(len(w.time) * w.step - DAY) < 1e-6, "environment.weather.period",
-            len(w.time) * w.step, "must be 86400 s (one day)")
-    times = _check_times(np.arange(0.0, DAY, 600.0) if times is None else times)
+    if w.periodic:
+        require(abs(len(w.time) * w.step - DAY) < 1e-6, "environment.weather.period",
+                len(w.time) * w.step, "must be 86400 s (one day)")
+        times = _check_times(np.arange(0.0, DAY, 600.0) if times is None else times)
+        table = PeriodicTable(times)
+    else:
+        # a weather record: one table over the whole record (t = seconds after its start)
+        span = (w.time[-1] - environment.start).total_seconds()
+        times = _check_record_times(np.arange(0.0, span + 1.0, 600.0) if times is None
+                                    else times, span)
+        table = RecordTable(times)
     check_range("current_speed", current_speed, 0.0, 10.0, "m/s")
     check_range("interior_emissivity", interior_emissivity, 0.0, 1.0)
     if interior_h is not None:
@@ -1062,7 +1115,7 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
                "sun_rays": t_sun - t_traced, "tables": t_end - t_sun,
                "total": t_end - t_start}
     return ShipForcing(
-        times=times, table=PeriodicTable(times), outer_bfaces=outer_bfaces,
+        times=times, table=table, outer_bfaces=outer_bfaces,
         outer_part=outer_part, outer_is_air=outer_is_air, traced=traced, part_names=names,
         absorptivity=alpha_part, emissivity=eps_part, alpha=alpha, epsilon=eps,
         temp_air=np.asarray(state.temp_air, float),

@@ -67,7 +67,8 @@ def save_history(history, path) -> Path:
             face_temperature=history.face_temperature,
             temp_air=history.temp_air if history.temp_air is not None else np.zeros(0),
             temp_sea=history.temp_sea if history.temp_sea is not None else np.zeros(0),
-            label=np.array(history.label))
+            label=np.array(history.label),
+            period_s=np.array(np.nan if history.period_s is None else history.period_s))
     return path
 
 
@@ -81,10 +82,13 @@ def load_history(path):
                          "stage)", "Run `shipthermal run` first, or resume the run")
     with np.load(path) as d:
         air, sea = d["temp_air"], d["temp_sea"]
+        # histories written before the period was stored are one periodic day
+        period = float(d["period_s"]) if "period_s" in d.files else DAY
         return ShipThermalHistory(d["vertices"], d["faces"], d["face_part"],
                                   tuple(str(x) for x in d["part_names"]), d["times_s"],
                                   d["face_temperature"], temp_air=air if air.size else None,
-                                  temp_sea=sea if sea.size else None, label=str(d["label"]))
+                                  temp_sea=sea if sea.size else None, label=str(d["label"]),
+                                  period_s=None if np.isnan(period) else period)
 
 
 def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
@@ -247,8 +251,14 @@ IMAGING_BANDS = ("3-5", "8-14")
 
 
 def check_imaging_bands(scenario) -> None:
-    """The imaging stage renders the paper's two bands; the scenario also accepts custom
-    'lo-hi' bands (thermal emissivities), which imaging cannot take yet: say so up front."""
+    """The imaging stage renders the paper's two bands over one periodic day; the scenario
+    also accepts custom 'lo-hi' bands (thermal emissivities) and weather records, which
+    imaging cannot take yet: say so up front."""
+    if scenario.weather.day == "record" and scenario.weather.source != "builtin":
+        raise InputError("weather.day", "record", "the imaging stage renders one periodic "
+                         "day; a weather record runs the thermal stage only",
+                         "Run the thermal stage only (no --image / stages = ['thermal']), "
+                         "or image one day with weather.day = 'periodic'")
     other = [b for b in scenario.bands if b not in IMAGING_BANDS]
     if other:
         raise InputError("imaging.bands", list(scenario.bands), "the imaging stage takes "

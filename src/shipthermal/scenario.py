@@ -85,7 +85,14 @@ DECOMPOSITIONS = ("dirint", "erbs")
 """GHI decompositions accepted by shipthermal.environment.Environment."""
 SEA_EMISSIVITY = 0.984
 """= shipthermal.environment.sea.SEA_EMISSIVITY (Konda et al. 1994)."""
-WEATHER_FORMATS = ("auto", "csv", "epw", "tmy3")
+WEATHER_FORMATS = ("auto", "csv", "epw", "ndbc", "tmy2", "tmy3")
+"""'auto' + shipthermal.environment.station.STATION_FORMATS."""
+WEATHER_SUFFIXES = {".csv": "csv", ".epw": "epw", ".tm2": "tmy2", ".txt": "ndbc"}
+"""File name endings that 'auto' recognises (= station.guess_format)."""
+MAX_GAP_HOURS = 6.0
+"""= shipthermal.environment.station.MAX_GAP_HOURS (default of weather.max_gap_hours)."""
+MAX_RECORD_DAYS = 31
+"""Longest weather.day = 'record' run [days] (forcing tables grow with the span)."""
 TEMP_UNITS = ("C", "K")
 CLOUD_UNITS = ("fraction", "oktas", "percent", "tenths")
 """Units accepted by shipthermal.environment.read_weather_csv."""
@@ -645,7 +652,7 @@ def _convert(f: dataclasses.Field, raw: Any, path: str, ctx: _Context) -> Any:
     if spec.kind == "weather_source":
         if raw == "builtin":
             return raw
-        return _file(raw, path, ctx, (".csv", ".epw"))
+        return _file(raw, path, ctx)
     return _CONVERTERS[spec.kind](raw, path, spec, ctx)
 
 
@@ -747,23 +754,48 @@ class WeatherSettings:
 
     source: str = _opt("builtin", "weather_source", "'builtin' (Dalian design day of the "
                        "season, shipthermal.environment.climatology) or a weather file path "
-                       "(CSV with documented columns, EPW, TMY3)",
-                       allowed_text="'builtin' or an existing .csv / .epw file")
+                       "for any site (CSV with the columns of docs/WEATHER.md, EPW, TMY2, "
+                       "TMY3, NDBC standard meteorological)",
+                       allowed_text="'builtin' or an existing weather file")
     format: str = _opt("auto", "choice", "File format; 'auto' = by extension (.csv -> csv, "
-                       ".epw -> epw). TMY3 files are .csv: say 'tmy3'", choices=WEATHER_FORMATS)
+                       ".epw -> epw, .tm2 -> tmy2, .txt -> ndbc). TMY3 files are .csv: say "
+                       "'tmy3'",
+                       choices=WEATHER_FORMATS)
     day: str = _opt("periodic", "choice", "How a file is used: 'periodic' = the 24 h of "
-                    "time.date repeated (design day for spin-up), 'record' = the record from "
-                    "time.date on", choices=("periodic", "record"))
+                    "time.date repeated (design day for spin-up), 'record' = spin-up on the "
+                    "24 h of time.date, then weather.days of the record as it is (outputs "
+                    "cover every recorded day)", choices=("periodic", "record"))
+    days: Optional[int] = _opt(None, "int", "weather.day = 'record': days of the record to "
+                               "run from time.date (default: every whole day the file "
+                               f"covers, at most {MAX_RECORD_DAYS})", lo=1,
+                               hi=MAX_RECORD_DAYS, optional=True)
+    wind_height: float = _opt(10.0, "float", "Height of the file's anemometer above the sea; "
+                              "the wind speed is reduced to 10 m by the neutral log law over "
+                              "the sea (roughness 2e-4 m, Wieringa 1992). NDBC buoys: see the "
+                              "station page (e.g. 5 m on 3-m discus buoys, 44009)", unit="m",
+                              lo=0.1, hi=300.0)
+    max_gap_hours: float = _opt(MAX_GAP_HOURS, "float", "Longest time between two valid "
+                                "observations that is bridged by linear interpolation "
+                                "(reported); longer gaps are refused naming the span",
+                                unit="h", lo=0.0, hi=48.0, lo_open=True)
     temp_sea: Optional[float] = _opt(None, "float", "Constant sea surface temperature for "
-                                     "files without one (required for EPW / TMY3)", unit="K",
+                                     "files without one (required for EPW / TMY2 / TMY3; NDBC "
+                                     "files carry WTMP)", unit="K",
                                      lo=269.0, hi=310.0, optional=True)
+    cloud_cover: Optional[float] = _opt(None, "float", "Constant cloud fraction for files "
+                                        "without cloud cover (NDBC buoys do not observe "
+                                        "it)", lo=0.0, hi=1.0, optional=True)
+    wind_direction: Optional[float] = _opt(None, "float", "Constant wind direction (blowing "
+                                           "from, clockwise from north) where the file has "
+                                           "none over the simulated span", unit="deg",
+                                           lo=0.0, hi=360.0, optional=True)
     temp_unit: str = _opt("C", "choice", "CSV only: unit of temperatures in the file",
                           choices=TEMP_UNITS)
     cloud_unit: str = _opt("fraction", "choice", "CSV only: unit of cloud_cover in the file",
                            choices=CLOUD_UNITS)
-    year: Optional[int] = _opt(None, "int", "EPW / TMY3: coerce the typical year's rows to "
-                               "this year (default: the year of time.date; TMY3: not a leap "
-                               "year)", lo=1950, hi=2100, optional=True)
+    year: Optional[int] = _opt(None, "int", "EPW / TMY2 / TMY3: coerce the typical year's "
+                               "rows to this year (default: the year of time.date; TMY2 / "
+                               "TMY3: not a leap year)", lo=1950, hi=2100, optional=True)
     use_measured_irradiance: bool = _opt(True, "bool", "Files: use the file's global "
                                          "irradiance (split by 'decomposition') instead of "
                                          "clear sky + cloud")
@@ -789,15 +821,19 @@ class WeatherSettings:
                                      "[0, 1])", lo=-1.0, hi=1.0)
 
     _FILE_ONLY = ("format", "temp_sea", "temp_unit", "cloud_unit", "year",
-                  "use_measured_irradiance", "use_measured_longwave", "day")
+                  "use_measured_irradiance", "use_measured_longwave", "day", "days",
+                  "wind_height", "max_gap_hours", "cloud_cover", "wind_direction")
 
     def _omit(self) -> tuple:
         fmt = self.file_format
         if fmt is None:
             return self._FILE_ONLY
-        return {"csv": ("year", "use_measured_longwave"),
+        omit = {"csv": ("year", "use_measured_longwave"),
                 "epw": ("temp_unit", "cloud_unit"),
+                "ndbc": ("temp_unit", "cloud_unit", "year", "use_measured_longwave"),
+                "tmy2": ("temp_unit", "cloud_unit", "use_measured_longwave"),
                 "tmy3": ("temp_unit", "cloud_unit", "use_measured_longwave")}[fmt]
+        return omit + (("days",) if self.day != "record" else ())
 
     @property
     def file_format(self) -> Optional[str]:
@@ -806,7 +842,7 @@ class WeatherSettings:
             return None
         if self.format != "auto":
             return self.format
-        return {".csv": "csv", ".epw": "epw"}.get(Path(self.source).suffix.lower())
+        return WEATHER_SUFFIXES.get(Path(self.source).suffix.lower())
 
     @staticmethod
     def _check(obj, raw, path, ctx, bad):
@@ -820,10 +856,18 @@ class WeatherSettings:
             return obj
         fmt = obj.file_format
         suffix = Path(obj.source).suffix.lower()
+        if fmt is None:
+            ctx.err(f"{path}.format", obj.format, f"cannot tell the format of "
+                    f"{Path(obj.source).name!r} from its extension {suffix!r}",
+                    "Set weather.format to 'csv', 'epw', 'tmy3' or 'ndbc' (docs/WEATHER.md)")
+            return obj
         if fmt == "epw" and suffix != ".epw" or fmt in ("csv", "tmy3") and suffix != ".csv":
             ctx.err(f"{path}.format", obj.format, f"does not match the file extension "
                     f"{suffix!r} (csv and tmy3 are .csv, epw is .epw)")
-        if fmt in ("epw", "tmy3") and obj.temp_sea is None and "temp_sea" not in bad:
+        if "days" in raw and obj.day != "record" and "days" not in bad:
+            ctx.err(f"{path}.days", raw["days"], "only applies with weather.day = 'record'",
+                    "Remove it, or set day = 'record'")
+        if fmt in ("epw", "tmy2", "tmy3") and obj.temp_sea is None and "temp_sea" not in bad:
             ctx.err(f"{path}.temp_sea", None, f"is required for {fmt.upper()} files (they "
                     "carry no sea temperature): a number in [269, 310] K")
         if fmt != "csv":
@@ -831,15 +875,21 @@ class WeatherSettings:
                 if key in raw:
                     ctx.err(f"{path}.{key}", raw[key], "only applies to CSV weather files")
         if fmt == "csv" and "year" in raw:
-            ctx.err(f"{path}.year", raw["year"], "only applies to EPW / TMY3 files")
+            ctx.err(f"{path}.year", raw["year"], "only applies to EPW / TMY2 / TMY3 files")
         if fmt != "epw" and "use_measured_longwave" in raw:
             ctx.err(f"{path}.use_measured_longwave", raw["use_measured_longwave"],
                     "only applies to EPW files (TMY3 has no long-wave; a CSV's "
                     "longwave_down column is used when present)")
-        if fmt == "tmy3" and obj.year is not None and "year" not in bad and _is_leap(obj.year):
-            ctx.err(f"{path}.year", obj.year, "must not be a leap year for TMY3 files "
+        if fmt in ("tmy2", "tmy3") and obj.year is not None and "year" not in bad \
+                and _is_leap(obj.year):
+            ctx.err(f"{path}.year", obj.year, "must not be a leap year for TMY2 / TMY3 files "
                     "(typical years have no 29 February)", "e.g. 2001")
         return obj
+
+
+_RECORD_HINT = ("For another site give its weather record: [weather] source = "
+                "\"station.csv\" (CSV columns in docs/WEATHER.md; or an EPW, TMY3 or NDBC "
+                "buoy file with format = ...), and day = \"record\" to run it as recorded")
 
 
 def _is_leap(year: int) -> bool:
@@ -1397,13 +1447,13 @@ class Scenario:
             ctx.err("time.output_interval", obj.time.output_interval,
                     f"must be a multiple of solver.time_step ({dt:g} s)")
         fmt = obj.weather.file_format
-        if fmt in ("epw", "tmy3") and not ctx.failed("weather", "time.date"):
+        if fmt in ("epw", "tmy2", "tmy3") and not ctx.failed("weather", "time.date"):
             year = int(obj.time.date[:4])
             if obj.weather.year is not None and obj.weather.year != year:
                 ctx.err("weather.year", obj.weather.year, f"must equal the year of time.date "
                         f"({year}): the typical year's rows are coerced to it",
                         "Leave weather.year out (it defaults to the date's year)")
-            elif fmt == "tmy3" and obj.weather.year is None and _is_leap(year):
+            elif fmt in ("tmy2", "tmy3") and obj.weather.year is None and _is_leap(year):
                 ctx.err("time.date", obj.time.date, "must not fall in a leap year with a TMY3 "
                         "file (typical years have no 29 February)", "e.g. use 2023")
         cp = obj.outputs.checkpoint_interval
@@ -1417,12 +1467,12 @@ class Scenario:
                     "location.latitude"):
                 ctx.err("location.latitude", lat, f"must lie within {CLIMATE_RADIUS_DEG:g} deg "
                         f"of Dalian ({DALIAN['latitude']} N) with weather.source = 'builtin' "
-                        "(a Dalian climatology)", "Give a weather file for other sites")
+                        "(a Dalian climatology)", _RECORD_HINT)
             if abs(lon - DALIAN["longitude"]) > CLIMATE_RADIUS_DEG and not ctx.failed(
                     "location.longitude"):
                 ctx.err("location.longitude", lon, f"must lie within {CLIMATE_RADIUS_DEG:g} "
                         f"deg of Dalian ({DALIAN['longitude']} E) with weather.source = "
-                        "'builtin' (a Dalian climatology)", "Give a weather file for other sites")
+                        "'builtin' (a Dalian climatology)", _RECORD_HINT)
             month = _dt.date.fromisoformat(obj.time.date).month
             months = CLIMATE_MONTHS[obj.time.season]
             if month not in months and not ctx.failed("time.date", "time.season"):
@@ -1535,10 +1585,8 @@ class Scenario:
         Offsets (``*_offset``) are applied. Files are read here, not at load.
         """
         import numpy as np
-        import pandas as pd
 
-        from shipthermal.environment import (Weather, climate_day, read_weather_csv,
-                                             read_weather_epw, read_weather_tmy3)
+        from shipthermal.environment import Weather, climate_day
 
         w, loc = self.weather, self.location
         if w.source == "builtin":
@@ -1548,43 +1596,74 @@ class Scenario:
             day = day.perturbed(wind=w.wind_speed_offset, air=w.temp_air_offset,
                                 cloud=w.cloud_cover_offset)
             return day.weather(60)
-        fmt = w.file_format
-        if fmt == "csv":
-            rec = read_weather_csv(w.source, tz=loc.time_zone, temp_unit=w.temp_unit,
-                                   cloud_unit=w.cloud_unit, temp_sea=w.temp_sea)
-        elif fmt == "epw":
-            year = int(self.time.date[:4])
-            rec = read_weather_epw(w.source, w.temp_sea, year=year,
-                                   use_measured_irradiance=w.use_measured_irradiance,
-                                   use_measured_longwave=w.use_measured_longwave)
-        else:
-            rec = read_weather_tmy3(w.source, w.temp_sea, year=int(self.time.date[:4]),
-                                    use_measured_irradiance=w.use_measured_irradiance)
+        weather, _ = self._file_weather()
+        return Weather(time=weather.time, temp_air=weather.temp_air + w.temp_air_offset,
+                       relative_humidity=weather.relative_humidity,
+                       wind_speed=np.maximum(weather.wind_speed + w.wind_speed_offset, 0.0),
+                       wind_direction=weather.wind_direction,
+                       cloud_cover=np.clip(weather.cloud_cover + w.cloud_cover_offset, 0.0, 1.0),
+                       temp_sea=weather.temp_sea, ghi=weather.ghi,
+                       longwave_down=weather.longwave_down, periodic=w.day == "periodic",
+                       source=f"{weather.source} from {self.time.date}")
+
+    def weather_span(self, record=None):
+        """``(first, last)`` instants of weather the run needs (tz-aware, both included):
+        the 24 h of ``time.date`` for a periodic day; for ``weather.day = 'record'``
+        ``weather.days`` whole days from ``time.date`` (default: every whole day the
+        record covers, read from ``record``, a
+        :class:`~shipthermal.environment.station.StationRecord`)."""
+        import pandas as pd
+
         start = self.start
-        step = rec.step if _divides(rec.step, DAY) else 3600.0
-        first, last = rec.time[0], rec.time[-1]
-        if w.day == "periodic":
-            n = int(round(DAY / step))
-            end = start + pd.Timedelta(seconds=DAY - step)
-            if first > start or last < end:
-                raise InputError("time.date", self.time.date, f"must lie inside the weather "
-                                 f"record ({first} … {last}): weather.day = 'periodic' needs "
-                                 f"{start} … {end}", "Pick a date the file covers")
-        else:
-            if not (first <= start < last):
-                raise InputError("time.date", self.time.date, f"must lie inside the weather "
-                                 f"record ({first} … {last})", "Pick a date the file covers")
-            n = int((last - start).total_seconds() // step) + 1
-        times = pd.date_range(start, periods=n, freq=pd.Timedelta(seconds=step))
-        s = rec.at(times)
-        return Weather(time=times, temp_air=s.temp_air + w.temp_air_offset,
-                       relative_humidity=s.relative_humidity,
-                       wind_speed=np.maximum(s.wind_speed + w.wind_speed_offset, 0.0),
-                       wind_direction=s.wind_direction,
-                       cloud_cover=np.clip(s.cloud_cover + w.cloud_cover_offset, 0.0, 1.0),
-                       temp_sea=s.temp_sea, ghi=s.ghi if w.use_measured_irradiance else None,
-                       longwave_down=s.longwave_down, periodic=w.day == "periodic",
-                       source=f"{rec.source} from {self.time.date}")
+        if self.weather.day == "periodic":
+            return start, start + pd.Timedelta(hours=23)
+        days = self.weather.days
+        if days is None and record is not None and len(record.frame):
+            from shipthermal.environment.station import EDGE_HOLD_S
+
+            last = record.frame.index[-1] + pd.Timedelta(seconds=EDGE_HOLD_S)
+            days = int((last - start).total_seconds() // DAY)
+            if days > MAX_RECORD_DAYS:
+                raise InputError("weather.days", None, f"the record covers {days} days from "
+                                 f"time.date; a record run takes at most {MAX_RECORD_DAYS}",
+                                 "Set weather.days")
+        days = max(int(days or 1), 1)
+        return start, start + pd.Timedelta(days=days)
+
+    def _file_weather(self):
+        """The weather file over :meth:`weather_span`: ``(Weather, WeatherReport)``; every
+        problem of the file over the span raised together as one :class:`ScenarioError`."""
+        from shipthermal.environment.station import check_weather
+
+        w = self.weather
+        if not os.path.isfile(w.source):
+            raise InputError("weather.source", w.source, "must be an existing file",
+                             "The file was moved or deleted after the scenario was loaded")
+        rec = _read_station_cached(w.source, w.file_format, self.location.time_zone,
+                                   w.temp_unit, w.cloud_unit, int(self.time.date[:4]),
+                                   w.use_measured_irradiance, w.use_measured_longwave,
+                                   os.path.getmtime(w.source))
+        first, last = self.weather_span(rec)
+        weather, report, problems = check_weather(
+            rec, first, last, max_gap_hours=w.max_gap_hours, wind_height=w.wind_height,
+            fallback={"temp_sea": w.temp_sea, "cloud_cover": w.cloud_cover,
+                      "wind_direction": w.wind_direction},
+            periodic=w.day == "periodic")
+        if problems:
+            raise ScenarioError(problems, f"weather file {Path(w.source).name}")
+        return weather, report
+
+    def check_weather(self) -> list:
+        """Open the weather file and check it over the simulated span (columns, units,
+        coverage of the date, gaps): every problem raised at once as a
+        :class:`ScenarioError`; otherwise the report's lines (gaps interpolated, constants
+        used, wind height), an empty list for the built-in weather."""
+        if self.weather.source == "builtin":
+            return []
+        weather, report = self._file_weather()
+        span = f"{weather.time[0]:%Y-%m-%d %H:%M} … {weather.time[-1]:%Y-%m-%d %H:%M %Z}"
+        return [f"weather {weather.source}: {len(weather.time)} hourly values, "
+                f"{span}"] + report.lines()
 
     def environment(self):
         """The :class:`~shipthermal.environment.Environment` of this scenario.
@@ -1642,6 +1721,26 @@ class Scenario:
                 node = node.setdefault(p, {})
             node[parts[-1]] = value
         return load_scenario(data)
+
+
+_STATION_CACHE: dict = {}
+
+
+def _read_station_cached(path, fmt, tz, temp_unit, cloud_unit, year, irradiance, longwave,
+                         mtime):
+    """Read a weather file once per process (the run, the imaging stage and ``validate``
+    ask for it several times); keyed by every option and the file's modification time."""
+    from shipthermal.environment.station import read_station
+
+    key = (path, fmt, tz, temp_unit, cloud_unit, year, irradiance, longwave, mtime)
+    if key not in _STATION_CACHE:
+        if len(_STATION_CACHE) > 8:
+            _STATION_CACHE.clear()
+        _STATION_CACHE[key] = read_station(path, fmt, tz=tz, temp_unit=temp_unit,
+                                           cloud_unit=cloud_unit, year=year,
+                                           use_measured_irradiance=irradiance,
+                                           use_measured_longwave=longwave)
+    return _STATION_CACHE[key]
 
 
 def _multiple(x: float, step: float) -> bool:
@@ -1912,10 +2011,16 @@ def main(argv=None) -> int:
     for f in args.files:
         try:
             sc = load_scenario(f)
+            # open the input files too: the weather over the simulated span (columns,
+            # units, coverage of the date, gaps), every problem listed at once
+            notes = sc.check_weather()
             print(f"{f}: ok ({sc.name}: {sc.time.season} {sc.time.date}, "
                   f"{sc.ship.builtin or 'user ship'}, bands {', '.join(sc.bands)})")
+            for line in notes:
+                print(f"  {line}")
         except InputError as exc:
-            print(str(exc), file=sys.stderr)
+            print(f"{f}: {exc}" if not isinstance(exc, ScenarioError) else str(exc),
+                  file=sys.stderr)
             status = 2
     return status
 

@@ -96,10 +96,14 @@ def _weather_inputs(d):
     _weather_csv(d, "no_wind.csv", HEADER.replace(",wind_speed", ""),
                  lambda r: [",".join(x.split(",")[:3] + x.split(",")[4:]) for x in r])
     _weather_csv(d, "rh.csv", edit=lambda r: [r[0].replace(",75,", ",175,")] + r[1:])
-    _weather_csv(d, "nan.csv", edit=lambda r: [r[0].split(",")[0] + ",," + ",".join(
-        r[0].split(",")[2:])] + r[1:])
+    # ---- station weather: every row's temp_air empty (a column that is all missing)
+    _weather_csv(d, "nan.csv", edit=lambda r: [x.split(",")[0] + ",," + ",".join(
+        x.split(",")[2:]) for x in r])
     _weather_csv(d, "text.csv", edit=lambda r: [r[0].replace(",75,", ",humid,")] + r[1:])
-    _weather_csv(d, "order.csv", edit=lambda r: [r[1], r[0]] + r[2:])
+    _weather_csv(d, "order.csv", edit=lambda r: [r[0], r[0]] + r[1:])
+    _weather_csv(d, "gap.csv", edit=lambda r: r[:6] + r[15:])
+    ndbc = "/".join(__file__.split("/")[:-2]) + "/data/weather/44009h2013_mar03-09.txt"
+    shutil.copy(ndbc, d / "buoy.txt")
     _weather_csv(d, "short.csv", hours=12)
     _weather_csv(d, "clouds.csv", HEADER.replace("cloud_cover", "clouds"))
     _weather_csv(d, "kelvin.csv", edit=lambda r: [x.replace(",75,", ",75,").replace(
@@ -109,9 +113,13 @@ def _weather_inputs(d):
                              ("w_nan", "nan.csv", ""), ("w_text", "text.csv", ""),
                              ("w_order", "order.csv", ""), ("w_short", "short.csv", ""),
                              ("w_clouds", "clouds.csv", ""), ("w_kelvin", "kelvin.csv", ""),
-                             ("w_epw", "w.epw", "")]:
+                             ("w_epw", "w.epw", ""), ("w_gap", "gap.csv", ""),
+                             ("w_buoy", "buoy.txt", "wind_height = 5.0"),
+                             ("w_ends", "short.csv", 'day = "record"')]:
         write_tiny(d, name=name, extra="")
         t = (d / f"{name}.toml").read_text()
+        if name == "w_buoy":
+            t = t.replace("[time]\n", "[time]\ndate = 2013-03-04\n")
         (d / f"{name}.toml").write_text(t.replace("[ship]", f'[weather]\nsource = "{src}"\n'
                                                   f"{extra}\n[ship]"))
 
@@ -159,14 +167,25 @@ CASES = [
      lambda d: ["mesh", "summer", "--edge-length", "-1", "--out", str(d / "out")],
      ["ship.edge_length = -1.0", "must lie in"]),
     # ---- weather files (read when the run starts: before any folder is made) --------------
-    ("weather-missing-column", "weather", W("w_nowind"), ["missing required column 'wind_speed'"]),
+    ("weather-missing-column", "weather", W("w_nowind"),
+     ["has no column for wind_speed", "Add a 'wind_speed' column (docs/WEATHER.md)"]),
     ("weather-humidity-range", "weather", W("w_rh"),
      ["relative_humidity", "must lie in [0, 100]"]),
-    ("weather-nan", "weather", W("w_nan"), ["temp_air", "no NaN"]),
+    ("weather-column-all-missing", "weather", W("w_nan"),
+     ["weather.source[temp_air]", "has no valid value of temp_air between 2023-07-15 00:00"]),
     ("weather-not-a-number", "weather", W("w_text"), ["relative_humidity", "humid"]),
-    ("weather-unsorted", "weather", W("w_order"), ["strictly increasing"]),
+    ("weather-duplicate-time", "weather", W("w_order"),
+     ["2 rows sharing a time (first 2023-07-15 00:00 +08)", "Remove the repeated rows"]),
     ("weather-date-not-covered", "weather", W("w_short"),
-     ["time.date", "must lie inside the weather record", "Pick a date the file covers"]),
+     ["covers 2023-07-15 00:00 … 2023-07-15 11:00 +08", "not the span needed", "time.date"]),
+    ("weather-record-ends-before-date", "weather", W("w_ends"),
+     ["covers 2023-07-15 00:00 … 2023-07-15 11:00 +08", "not the span needed "
+      "2023-07-15 00:00 … 2023-07-16 00:00 +08"]),
+    ("weather-long-gap", "weather", W("w_gap"),
+     ["6 problems", "has no valid temp_air from 2023-07-15 05:00 to 2023-07-15 15:00 +08 "
+      "(10 h), longer than weather.max_gap_hours = 6 h", "raise weather.max_gap_hours"]),
+    ("weather-ndbc-no-cloud", "weather", W("w_buoy"),
+     ["has no column for cloud_cover", "Set weather.cloud_cover (a constant, fraction 0-1)"]),
     ("weather-unknown-column", "weather", W("w_clouds"), ["unknown column"]),
     ("weather-kelvin-as-celsius", "weather", W("w_kelvin"), ["temperature unit"]),
     ("weather-epw-needs-sea", "weather", W("w_epw"), ["weather.temp_sea", "required"]),

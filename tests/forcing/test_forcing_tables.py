@@ -261,13 +261,30 @@ def test_bad_inputs_name_the_field(boat, env, kwargs, field):
     assert err.value.field == field
 
 
-def test_non_periodic_weather_is_rejected(boat, day):
+def test_weather_record_gets_a_table_over_the_record(boat, day):
+    """Non-periodic weather: one table over the record, not folded. Over the same hours as
+    the design day it must give the design day's tables, row for row."""
+    from shipthermal.forcing import RecordTable
+
     ship, graph, f = boat
     w = day.weather()
     real = Weather(time=w.time, temp_air=w.temp_air, relative_humidity=w.relative_humidity,
                    wind_speed=w.wind_speed, wind_direction=w.wind_direction,
                    cloud_cover=w.cloud_cover, temp_sea=w.temp_sea, periodic=False)
-    env = Environment(day.latitude, day.longitude, real)
+    env = Environment(day.latitude, day.longitude, real, altitude=day.altitude)
+    periodic = Environment.from_climate_day(day)
+    times = np.arange(0.0, 23 * 3600.0 + 1.0, 1800.0)
+    rec = build_ship_forcing(ship, env, graph, times=times, traced=f.traced, dtype=np.float64)
+    per = build_ship_forcing(ship, periodic, graph, times=np.arange(0.0, DAY, 1800.0),
+                             traced=f.traced, dtype=np.float64)
+    assert isinstance(rec.table, RecordTable) and rec.table.period == 23 * 3600.0
+    np.testing.assert_allclose(rec.temp_air, per.temp_air[:len(times)], rtol=1e-12)
+    for t in (0.0, 3600.0 * 12.25, 3600.0 * 22.5):
+        np.testing.assert_allclose(rec.absorbed_shortwave(t), per.absorbed_shortwave(t),
+                                   rtol=1e-9, atol=1e-9)
+    # past the record's end the last row is held (a periodic table would wrap to 00:00)
+    np.testing.assert_allclose(rec.absorbed_shortwave(23.9 * 3600.0),
+                               rec.absorbed_shortwave(23 * 3600.0), rtol=0, atol=0)
     with pytest.raises(InputError) as err:
-        build_ship_forcing(ship, env, graph)
-    assert err.value.field == "environment.weather.periodic"
+        build_ship_forcing(ship, env, graph, times=times[:-4], traced=f.traced)
+    assert err.value.field == "times" and "must cover the weather record" in str(err.value)

@@ -89,13 +89,18 @@ def test_csv_record_mode_and_coverage(tmp_path):
                                     "temp_air_offset": -2.0},
                         "time": {"date": "2024-07-14"}}, base_dir=tmp_path)
     w = sc.weather_record()
-    assert not w.periodic and len(w.time) == 48 and w.start == sc.start
-    np.testing.assert_allclose(w.temp_air, df["temp_air"].to_numpy() + ZERO_CELSIUS - 2.0,
+    # two whole days, closing midnight included (the last hour held from 23:00, reported)
+    assert not w.periodic and len(w.time) == 49 and w.start == sc.start
+    np.testing.assert_allclose(w.temp_air[:48], df["temp_air"].to_numpy() + ZERO_CELSIUS - 2.0,
                                atol=1e-9)
-    # a date the file does not cover is named as time.date, with the record's range
+    assert w.temp_air[48] == w.temp_air[47]
+    assert any("2024-07-16 00:00 +08 lies beyond the record: value of the nearest "
+               "observation (2024-07-15 23:00) held" in line for line in sc.check_weather())
+    # a date the file does not cover: the record's range and the span needed are named
     late = load_scenario({"weather": {"source": "w.csv"}, "time": {"date": "2024-07-16"}},
                          base_dir=tmp_path)
-    with pytest.raises(InputError, match=r"time\.date = '2024-07-16'.*inside the weather record"):
+    with pytest.raises(InputError, match=r"covers 2024-07-14 00:00 … 2024-07-15 23:00 \+08, "
+                       r"not the span needed 2024-07-16 00:00"):
         late.environment()
 
 

@@ -11,7 +11,7 @@ from shipthermal.scenario import ScenarioError, load_scenario, loads_scenario
 
 def _files(tmp):
     """Input files the cases point at (contents are not read at load, except the JSON)."""
-    for name in ("weather.txt", "w.csv", "w.epw", "ship.stl", "hull.stl", "deck.stl",
+    for name in ("weather.dat", "w.csv", "w.epw", "ship.stl", "hull.stl", "deck.stl",
                  "scene_MTL.txt", "dem.tif"):
         (tmp / name).write_text("")
     (tmp / "ship_parts.json").write_text(json.dumps(
@@ -39,7 +39,7 @@ CASES = [
      ["unknown key", "Did you mean 'imaging'?"]),
     ("section-not-table", {"weather": "builtin"}, "weather", ["must be a table"]),
     ("builtin-far-from-dalian", {"location": {"latitude": 50.0}}, "location.latitude",
-     ["within 3 deg of Dalian", "weather file"]),
+     ["within 3 deg of Dalian", "give its weather record", "docs/WEATHER.md", "day = \"record\""]),
     # ---- time -----------------------------------------------------------------------------
     ("date-not-a-day", {"time": {"date": "2023-02-30"}}, "time.date",
      ["calendar date YYYY-MM-DD"]),
@@ -57,8 +57,18 @@ CASES = [
     # ---- weather --------------------------------------------------------------------------
     ("weather-missing-file", {"weather": {"source": "nowhere.csv"}}, "weather.source",
      ["must be an existing file", "relative to the scenario file"]),
-    ("weather-bad-extension", {"weather": {"source": "weather.txt"}}, "weather.source",
-     [".csv, .epw"]),
+    ("weather-unknown-extension", {"weather": {"source": "weather.dat"}}, "weather.format",
+     ["cannot tell the format", "'.dat'", "'ndbc'", "docs/WEATHER.md"]),
+    ("weather-days-without-record", {"weather": {"source": "w.csv", "days": 3}},
+     "weather.days", ["only applies with weather.day = 'record'"]),
+    ("weather-days-too-many", {"weather": {"source": "w.csv", "day": "record", "days": 40}},
+     "weather.days", ["must lie in [1, 31]"]),
+    ("weather-wind-height", {"weather": {"source": "w.csv", "wind_height": 0.0}},
+     "weather.wind_height", ["must lie in [0.1, 300] m"]),
+    ("weather-cloud-constant", {"weather": {"source": "w.csv", "cloud_cover": 8}},
+     "weather.cloud_cover", ["must lie in [0, 1]"]),
+    ("weather-key-on-builtin", {"weather": {"wind_height": 5.0}}, "weather.wind_height",
+     ["only applies to a weather file"]),
     ("clear-sky-typo", {"weather": {"clear_sky_model": "brutsart"}}, "weather.clear_sky_model",
      ["one of 'brutsaert', 'prata', 'swinbank'", "Did you mean 'brutsaert'?"]),
     ("cloud-model", {"weather": {"cloud_model": "kasten"}}, "weather.cloud_model",

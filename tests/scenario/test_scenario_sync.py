@@ -25,6 +25,12 @@ def test_environment_mirrors():
     assert S.CLOUD_MODELS == tuple(sorted(sky.CLOUD_MODELS))
     assert S.SEA_EMISSIVITY == sea.SEA_EMISSIVITY
     assert S.CLOUD_UNITS == tuple(sorted(wmod._CLOUD_SCALE))
+    from shipthermal.environment import station
+
+    assert S.WEATHER_FORMATS == ("auto",) + tuple(sorted(station.STATION_FORMATS))
+    assert S.MAX_GAP_HOURS == station.MAX_GAP_HOURS
+    assert all(station.guess_format(f"x{suffix}") == fmt
+               for suffix, fmt in S.WEATHER_SUFFIXES.items())
     assert S.DALIAN == {"latitude": climatology.DALIAN["latitude"],
                         "longitude": climatology.DALIAN["longitude"],
                         "time_zone": climatology.DALIAN["tz"]}

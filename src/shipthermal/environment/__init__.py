@@ -30,6 +30,7 @@ import numpy as np
 import pandas as pd
 
 from shipthermal.errors import InputError, check_range, require
+from shipthermal.units import DAY as DAY_SECONDS
 from shipthermal.units import ZERO_CELSIUS
 
 from . import climatology, convection, sea, sky, sun, weather
@@ -236,6 +237,30 @@ class Environment:
         return cls(day.latitude, day.longitude, day.weather(step_minutes),
                    ship_heading=ship_heading, ship_speed=ship_speed, altitude=day.altitude,
                    **kwargs)
+
+    def first_day(self) -> "Environment":
+        """The same site, ship and sky models with the first 24 h of this environment's
+        weather record repeated (periodic): the spin-up day of a record run."""
+        import copy
+
+        w = self.weather
+        require(not w.periodic, "environment.weather.periodic", w.periodic,
+                "first_day() takes a weather record (non-periodic weather)")
+        n = int(round(DAY_SECONDS / w.step))
+        require(abs(n * w.step - DAY_SECONDS) < 1e-6 and len(w.time) >= n,
+                "environment.weather", f"{len(w.time)} steps of {w.step:g} s",
+                "must hold at least one whole day on a step dividing 24 h")
+        require(w.start == w.start.normalize(), "environment.weather.start", str(w.start),
+                "must be local midnight for a spin-up day")
+        fields = ("temp_air", "relative_humidity", "wind_speed", "wind_direction",
+                  "cloud_cover", "temp_sea", "ghi", "longwave_down")
+        day = Weather(time=w.time[:n], periodic=True, source=f"{w.source} (first day)",
+                      **{f: None if getattr(w, f) is None else getattr(w, f)[:n]
+                         for f in fields})
+        env = copy.copy(self)
+        env.weather = day
+        env.start = w.start
+        return env
 
     def _seconds(self, times) -> np.ndarray:
         arr = times if isinstance(times, (pd.DatetimeIndex, pd.Timestamp)) else np.asarray(times)

@@ -28,6 +28,7 @@ __all__ = [
     "seawater_properties",
     "relative_wind",
     "wind_speed_at_height",
+    "SEA_ROUGHNESS_LENGTH",
     "reynolds",
     "nusselt_forced_flat_plate",
     "nusselt_vertical_plate",
@@ -185,7 +186,12 @@ def relative_wind(wind_speed, wind_direction, ship_speed=0.0, ship_heading=0.0):
     return speed, direction, off_bow
 
 
-def wind_speed_at_height(wind_speed_10m, height, roughness_length=2.0e-4):
+SEA_ROUGHNESS_LENGTH = 2.0e-4
+"""Aerodynamic roughness length of open sea [m] (Wieringa 1992, J. Wind Eng. Ind.
+Aerodyn. 41, 357–368, Table 1: "open sea, fetch at least 5 km", z0 = 0.0002 m)."""
+
+
+def wind_speed_at_height(wind_speed_10m, height, roughness_length=SEA_ROUGHNESS_LENGTH):
     """Wind speed at another height by the neutral logarithmic profile.
 
     Parameters
@@ -195,8 +201,7 @@ def wind_speed_at_height(wind_speed_10m, height, roughness_length=2.0e-4):
     height : array_like
         Height above the sea surface [m] (clipped below at 10 roughness lengths).
     roughness_length : float
-        Aerodynamic roughness length of the sea [m]; 2e-4 m for open water
-        (Wieringa 1992, J. Wind Eng. Ind. Aerodyn. 41, 357–368).
+        Aerodynamic roughness length of the sea [m] (:data:`SEA_ROUGHNESS_LENGTH`).
 
     Returns
     -------

@@ -25,7 +25,8 @@ temp_air (AIRT)    air temperature at screen height            degC (or K, see
                                                                ``temp_unit``)
 relative_humidity  relative humidity over water                %
 (HUMID)            — or ``temp_dew`` (dew point)               degC / K
-wind_speed (WIND)  true wind speed at 10 m                     m/s
+wind_speed (WIND)  true wind speed at 10 m (scenarios: at      m/s
+                   ``weather.wind_height``, reduced to 10 m)
 wind_direction     direction the wind blows FROM, clockwise    deg
 (WINDIR)           from north
 cloud_cover        total cloud fraction                        0–1 (or % / tenths /
@@ -39,6 +40,9 @@ temp_sea (SST)     sea surface temperature                     degC (or K)
 Optional columns may be absent or empty; an empty cell in an optional column means
 "not measured" for that column only if the whole column is empty — partial gaps are
 rejected, as are NaN in required columns, unknown units and missing time steps.
+Records with gaps, off-the-hour times or other formats (NDBC) go through
+:mod:`shipthermal.environment.station`, which interpolates short gaps and reports them
+(the user documentation of the columns: docs/WEATHER.md).
 """
 
 from __future__ import annotations
@@ -64,6 +68,7 @@ __all__ = [
     "read_weather_csv",
     "read_weather_epw",
     "read_weather_tmy3",
+    "read_csv_frame",
 ]
 
 CSV_COLUMNS = ("time", "temp_air", "relative_humidity", "temp_dew", "wind_speed",
@@ -351,6 +356,42 @@ def read_weather_csv(path, tz: Optional[str] = None, temp_unit: str = "C",
     Returns
     -------
     Weather
+        The rows as they are: a regular time step and no missing value in a required
+        column. Records with gaps or off-the-hour times go through
+        :func:`shipthermal.environment.station.to_weather` instead.
+    """
+    df = read_csv_frame(path, tz=tz, temp_unit=temp_unit, cloud_unit=cloud_unit)
+    require("temp_sea" in df.columns or temp_sea is not None, "weather.columns",
+            list(df.columns), "needs 'temp_sea' (SST) or the temp_sea= argument")
+    for col in ("wind_speed", "wind_direction", "cloud_cover"):
+        require(col in df.columns, "weather.columns", list(df.columns),
+                f"missing required column {col!r}", f"Add a {col!r} column (see docs)")
+
+    def optional(col):
+        if col not in df.columns:
+            return None
+        vals = df[col].to_numpy(dtype=float)
+        return None if np.all(np.isnan(vals)) else vals
+
+    sst = df["temp_sea"].to_numpy(dtype=float) if "temp_sea" in df.columns else temp_sea
+    return Weather(time=df.index, temp_air=df["temp_air"].to_numpy(dtype=float),
+                   relative_humidity=df["relative_humidity"].to_numpy(dtype=float),
+                   wind_speed=df["wind_speed"].to_numpy(dtype=float),
+                   wind_direction=df["wind_direction"].to_numpy(dtype=float) % 360.0,
+                   cloud_cover=df["cloud_cover"].to_numpy(dtype=float),
+                   temp_sea=sst, ghi=optional("ghi"), longwave_down=optional("longwave_down"),
+                   periodic=periodic, source=f"csv:{os.path.basename(str(path))}")
+
+
+def read_csv_frame(path, tz: Optional[str] = None, temp_unit: str = "C",
+                   cloud_unit: str = "fraction") -> pd.DataFrame:
+    """The rows of a weather CSV file in SI units, missing values kept as NaN.
+
+    Parameters are those of :func:`read_weather_csv`. Returns a DataFrame indexed by the
+    time-zone-aware time, with the canonical columns the file has (``temp_dew`` turned
+    into ``relative_humidity``; temperatures in K, cloud cover as a fraction). Empty
+    cells are NaN; text in a number column, unknown or repeated columns, a missing
+    ``time`` / ``temp_air`` column, or neither humidity nor dew point are refused.
     """
     require(os.path.isfile(path), "weather.path", str(path), "must be an existing file")
     try:
@@ -367,19 +408,19 @@ def read_weather_csv(path, tz: Optional[str] = None, temp_unit: str = "C",
         else:
             raise InputError(f"weather.columns[{key!r}]", key,
                              f"unknown column; allowed: {', '.join(CSV_COLUMNS)} or "
-                             f"{', '.join(RADTHERM_ALIASES)}")
+                             f"{', '.join(RADTHERM_ALIASES)}",
+                             "See docs/WEATHER.md for the columns and their units")
     df = df.rename(columns=rename)
     dup = df.columns[df.columns.duplicated()].tolist()
     require(not dup, "weather.columns", dup, "each quantity may appear only once")
-    required = ["time", "temp_air", "wind_speed", "wind_direction", "cloud_cover"]
-    for col in required:
+    for col in ("time", "temp_air"):
         require(col in df.columns, "weather.columns", list(df.columns),
                 f"missing required column {col!r}", f"Add a {col!r} column (see docs)")
     require("relative_humidity" in df.columns or "temp_dew" in df.columns,
             "weather.columns", list(df.columns),
-            "needs 'relative_humidity' (HUMID) or 'temp_dew'")
-    require("temp_sea" in df.columns or temp_sea is not None, "weather.columns",
-            list(df.columns), "needs 'temp_sea' (SST) or the temp_sea= argument")
+            "missing required column 'relative_humidity' (HUMID) or 'temp_dew' (DEWPT)",
+            "Add one of them (docs/WEATHER.md)")
+    require(len(df) > 0, "weather.path", str(path), "holds no data rows")
     try:
         time = pd.DatetimeIndex(pd.to_datetime(df["time"].astype(str), format="ISO8601"))
     except (ValueError, TypeError) as exc:
@@ -399,25 +440,23 @@ def read_weather_csv(path, tz: Optional[str] = None, temp_unit: str = "C",
             raise InputError(f"weather.{col}[{time[i]}]", df[col].iloc[i], "must be a number")
         return vals
 
-    def optional(col):
-        if col not in df.columns:
-            return None
-        vals = num(col)
-        return None if np.all(np.isnan(vals)) else vals
-
-    temp_air = _temperature(num("temp_air"), temp_unit, "temp_unit")
+    out = {"temp_air": _temperature(num("temp_air"), temp_unit, "temp_unit")}
     if "relative_humidity" in df.columns:
-        rh = num("relative_humidity")
+        out["relative_humidity"] = num("relative_humidity")
     else:
         td = _temperature(num("temp_dew"), temp_unit, "temp_unit")
-        rh = np.minimum(relative_humidity_from_dew_point(temp_air, td), 100.0)
-    sst = _temperature(num("temp_sea"), temp_unit, "temp_unit") if "temp_sea" in df.columns \
-        else temp_sea
-    return Weather(time=time, temp_air=temp_air, relative_humidity=rh,
-                   wind_speed=num("wind_speed"), wind_direction=num("wind_direction") % 360.0,
-                   cloud_cover=_cloud(num("cloud_cover"), cloud_unit),
-                   temp_sea=sst, ghi=optional("ghi"), longwave_down=optional("longwave_down"),
-                   periodic=periodic, source=f"csv:{os.path.basename(str(path))}")
+        out["relative_humidity"] = np.minimum(
+            relative_humidity_from_dew_point(out["temp_air"], td), 100.0)
+    if "temp_sea" in df.columns:
+        out["temp_sea"] = _temperature(num("temp_sea"), temp_unit, "temp_unit")
+    for col in ("wind_speed", "ghi", "longwave_down"):
+        if col in df.columns:
+            out[col] = num(col)
+    if "wind_direction" in df.columns:
+        out["wind_direction"] = num("wind_direction") % 360.0
+    if "cloud_cover" in df.columns:
+        out["cloud_cover"] = _cloud(num("cloud_cover"), cloud_unit)
+    return pd.DataFrame(out, index=pd.DatetimeIndex(time, name="time"))
 
 
 def _hour_ending_to_instant(values):

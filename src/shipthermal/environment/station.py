@@ -1,0 +1,602 @@
+"""Station weather records: NDBC buoys, EPW, TMY3 and CSV files onto a regular hourly axis.
+
+A real record is irregular: buoys report at :50, stations miss hours, a sensor is out
+for days, an anemometer is not at 10 m. This module turns any supported file into the
+validated, regular :class:`~shipthermal.environment.weather.Weather` the solver uses,
+and says what it did:
+
+    read_station(path, format)  ──►  StationRecord (observations, NaN where missing)
+    to_weather(record, start, end)  ──►  Weather on the hour + a report of every gap
+
+* **Off-the-hour times** (NDBC's :50) are interpolated linearly onto the hours.
+* **Short gaps** (valid observations at most ``max_gap`` apart) are interpolated and
+  listed in the report; **long gaps** are refused, naming the field and the span.
+* **Missing-value codes** are turned into NaN by the readers (NDBC 99 / 999 / 9999 by
+  column, EPW's codes through pvlib's documented values).
+* **Wind height**: the speed measured at ``wind_height`` is reduced to 10 m by the
+  neutral logarithmic profile over the sea (:func:`wind_speed_at_10m`).
+* Quantities a file does not carry (NDBC: cloud cover; EPW/TMY: sea temperature) come
+  from constants given by the caller (``fallback``), and the report says so.
+
+Every problem of a record over the requested span (missing fields, long gaps, values out
+of their physical range, a span the file does not cover) is collected by
+:func:`check_weather` so a user sees all of them at once.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from typing import Mapping, Optional
+
+import numpy as np
+import pandas as pd
+
+from shipthermal.errors import InputError, require
+from shipthermal.units import ZERO_CELSIUS
+
+from .convection import SEA_ROUGHNESS_LENGTH
+from .sky import relative_humidity_from_dew_point
+from .weather import _LIMITS, Weather, read_csv_frame
+
+__all__ = ["STATION_FORMATS", "FIELDS", "REQUIRED_FIELDS", "MAX_GAP_HOURS", "EDGE_HOLD_S",
+           "NDBC_MISSING", "StationRecord", "WeatherReport", "read_station", "read_ndbc",
+           "to_weather", "check_weather", "wind_speed_at_10m", "guess_format"]
+
+STATION_FORMATS = ("csv", "epw", "tmy2", "tmy3", "ndbc")
+"""File formats :func:`read_station` reads."""
+
+FIELDS = ("temp_air", "relative_humidity", "wind_speed", "wind_direction", "cloud_cover",
+          "temp_sea", "ghi", "longwave_down")
+"""Quantities of a :class:`Weather` (SI units, kelvin)."""
+
+REQUIRED_FIELDS = FIELDS[:6]
+"""Quantities a run needs (from the file or a constant); ``ghi`` and ``longwave_down``
+are optional (the sky models replace them)."""
+
+MAX_GAP_HOURS = 6.0
+"""Default longest time between two valid observations that is bridged by linear
+interpolation [h]. A quarter of the diurnal cycle: linear interpolation of a daily
+sinusoid across 6 h misses at most 1 − cos(π/4) ≈ 29 % of its amplitude at the gap's
+centre (1.7 % across 1 h); longer gaps would invent a day's weather."""
+
+EDGE_HOLD_S = 3600.0
+"""How far beyond the first or last valid observation a value is held constant [s]
+(one hour: a record at :50 that starts at 00:50 still gives 00:00)."""
+
+NDBC_MISSING = {
+    "WDIR": (999.0,), "MWD": (999.0,), "WSPD": (99.0,), "GST": (99.0,), "WVHT": (99.0,),
+    "DPD": (99.0,), "APD": (99.0,), "PRES": (9999.0,), "ATMP": (99.0, 999.0),
+    "WTMP": (99.0, 999.0), "DEWP": (99.0, 999.0), "VIS": (99.0,), "TIDE": (99.0,),
+}
+"""Missing-value codes of the NDBC standard meteorological format by column
+(NDBC, "Measurement Descriptions and Units", https://www.ndbc.noaa.gov/faq/measdes.shtml:
+missing data are 99, 999 or 9999 by field width). Only codes that cannot be real values
+are listed: a wind direction of 99° and a pressure of 999 hPa are real."""
+
+_NDBC_USED = ("ATMP", "WTMP", "DEWP", "WSPD", "WDIR")  # the columns a thermal run uses
+_NDBC_TZ = "UTC"
+_NDBC_ALIASES = {"#YY": "YY", "WD": "WDIR", "BAR": "PRES"}  # NDBC historical files are in UTC ("hh mm" of the file)
+
+# scenario keys that give a constant for a quantity a file lacks (named in messages)
+_FALLBACK_KEY = {"temp_sea": "weather.temp_sea", "cloud_cover": "weather.cloud_cover",
+                 "wind_direction": "weather.wind_direction"}
+_FALLBACK_UNIT = {"temp_sea": "K", "cloud_cover": "fraction 0-1", "wind_direction": "deg"}
+
+
+def wind_speed_at_10m(wind_speed, height, roughness_length=SEA_ROUGHNESS_LENGTH):
+    """Wind speed at 10 m from a speed measured at ``height`` (neutral log law).
+
+    Parameters
+    ----------
+    wind_speed : array_like
+        Speed measured at ``height`` [m s-1].
+    height : float
+        Anemometer height above the sea surface [m].
+    roughness_length : float
+        Aerodynamic roughness length of the sea [m]
+        (:data:`~shipthermal.environment.convection.SEA_ROUGHNESS_LENGTH`).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``u(z) ln(10 / z0) / ln(z / z0)`` [m s-1] — the inverse of
+        :func:`~shipthermal.environment.convection.wind_speed_at_height`.
+
+    Notes
+    -----
+    Neutral surface layer, u(z) = (u*/κ) ln(z / z0) (Stull 1988, An Introduction to
+    Boundary Layer Meteorology, eq. 9.7.5c); stability is ignored.
+    """
+    z0 = float(roughness_length)
+    z = float(height)
+    require(z > 10.0 * z0, "weather.wind_height", z,
+            f"must be above 10 roughness lengths of the sea ({10 * z0:g} m)")
+    return np.asarray(wind_speed, dtype=float) * np.log(10.0 / z0) / np.log(z / z0)
+
+
+@dataclasses.dataclass(frozen=True)
+class StationRecord:
+    """Observations as read from a file (SI units, kelvin; NaN = missing).
+
+    Attributes
+    ----------
+    frame : pandas.DataFrame
+        Indexed by tz-aware time (sorted); columns a subset of :data:`FIELDS`.
+    source : str
+        Format and file name (for reports).
+    format : str
+        One of :data:`STATION_FORMATS`.
+    notes : tuple of str
+        What the reader did (codes mapped to missing, conventions applied).
+    """
+
+    frame: pd.DataFrame
+    source: str
+    format: str
+    notes: tuple = ()
+
+
+@dataclasses.dataclass(frozen=True)
+class WeatherReport:
+    """What :func:`to_weather` did to a record over a span.
+
+    Attributes
+    ----------
+    interpolated : tuple of (field, first, last, hours)
+        Gaps bridged by linear interpolation: the field, the valid observations on either
+        side and the time between them [h].
+    held : tuple of (field, instant, observation, hours)
+        Ends of the span beyond the first / last valid observation: the value of that
+        observation is held.
+    constants : dict
+        field → constant used because the file lacks it over the span.
+    notes : tuple of str
+        Reader notes and the wind-height reduction.
+    """
+
+    interpolated: tuple = ()
+    held: tuple = ()
+    constants: dict = dataclasses.field(default_factory=dict)
+    notes: tuple = ()
+
+    def lines(self) -> list:
+        """Human-readable lines (one per gap, constant and note)."""
+        out = list(self.notes)
+        spans: dict = {}
+        for f, a, b, h in self.interpolated:
+            spans.setdefault((a, b, h), []).append(f)
+        for (a, b, h), names in spans.items():
+            out.append(f"gap of {h:g} h between observations {a:%Y-%m-%d %H:%M} and "
+                       f"{b:%Y-%m-%d %H:%M %Z} interpolated: {', '.join(names)}")
+        ends: dict = {}
+        for f, t, ref, h in self.held:
+            ends.setdefault((t, ref), []).append(f)
+        for (t, ref), names in ends.items():
+            out.append(f"{t:%Y-%m-%d %H:%M %Z} lies beyond the record: value of the nearest "
+                       f"observation ({ref:%Y-%m-%d %H:%M}) held: {', '.join(names)}")
+        for f, v in self.constants.items():
+            out.append(f"{f}: not in the file over the span, constant {v:g} "
+                       f"{_FALLBACK_UNIT.get(f, '')} ({_FALLBACK_KEY.get(f, f)})")
+        return out
+
+    def to_dict(self) -> dict:
+        return {"interpolated_gaps": [{"field": f, "from": str(a), "to": str(b), "hours": h}
+                                      for f, a, b, h in self.interpolated],
+                "held_ends": [{"field": f, "at": str(t), "observation": str(o), "hours": h}
+                              for f, t, o, h in self.held],
+                "constants": dict(self.constants), "notes": list(self.notes)}
+
+
+# ---------------------------------------------------------------------------------------
+# Readers
+# ---------------------------------------------------------------------------------------
+def guess_format(path) -> Optional[str]:
+    """Format from the file name (.csv → csv, .epw → epw, .txt → ndbc); None if unknown.
+    TMY3 files end in .csv too: name the format."""
+    return {".csv": "csv", ".epw": "epw", ".tm2": "tmy2", ".txt": "ndbc"}.get(
+        os.path.splitext(str(path))[1].lower())
+
+
+def read_station(path, format: str, *, tz: Optional[str] = None, temp_unit: str = "C",
+                 cloud_unit: str = "fraction", year: Optional[int] = None,
+                 use_measured_irradiance: bool = True,
+                 use_measured_longwave: bool = True) -> StationRecord:
+    """Read a weather file of any supported format as observations.
+
+    Parameters
+    ----------
+    path : str or path-like
+    format : {'csv', 'epw', 'tmy2', 'tmy3', 'ndbc'}
+    tz : str, optional
+        Time zone the record is returned in (IANA name); CSV: also the zone of naive
+        times.
+    temp_unit, cloud_unit : str
+        CSV only (see :func:`~shipthermal.environment.weather.read_weather_csv`).
+    year : int, optional
+        EPW / TMY2 / TMY3: the year the typical year's rows are coerced to.
+    use_measured_irradiance, use_measured_longwave : bool
+        Keep the file's global irradiance / downwelling long-wave columns.
+
+    Returns
+    -------
+    StationRecord
+    """
+    require(format in STATION_FORMATS, "weather.format", format,
+            f"must be one of {', '.join(STATION_FORMATS)}")
+    require(os.path.isfile(path), "weather.source", str(path), "must be an existing file")
+    name = os.path.basename(str(path))
+    notes: list = []
+    if format == "csv":
+        frame = read_csv_frame(path, tz=tz, temp_unit=temp_unit, cloud_unit=cloud_unit)
+    elif format == "ndbc":
+        frame, notes = _ndbc_frame(path)
+    else:
+        frame, notes = _typical_year_frame(path, format, year)
+    if not use_measured_irradiance and "ghi" in frame:
+        frame = frame.drop(columns="ghi")
+    if not use_measured_longwave and "longwave_down" in frame:
+        frame = frame.drop(columns="longwave_down")
+    if tz is not None:
+        frame.index = frame.index.tz_convert(tz)
+    dup = frame.index.duplicated(keep=False)
+    if dup.any():
+        t = frame.index[dup][0]
+        raise InputError("weather.source", name, f"has {int(dup.sum())} rows sharing a time "
+                         f"(first {t:%Y-%m-%d %H:%M %Z}): each time may appear once",
+                         "Remove the repeated rows")
+    if not frame.index.is_monotonic_increasing:
+        notes = list(notes) + ["rows were not in time order: sorted"]
+        frame = frame.sort_index()
+    return StationRecord(frame=frame, source=f"{format}:{name}", format=format,
+                         notes=tuple(notes))
+
+
+def read_ndbc(path, tz: Optional[str] = None) -> StationRecord:
+    """Read an NDBC standard meteorological file (historical ``*h<year>.txt`` or the
+    real-time ``*.txt`` layout).
+
+    Parameters
+    ----------
+    path : str or path-like
+    tz : str, optional
+        Time zone of the returned index (the file's times are UTC).
+
+    Returns
+    -------
+    StationRecord
+        ``temp_air`` from ATMP, ``temp_sea`` from WTMP, ``relative_humidity`` from DEWP
+        (Magnus), ``wind_speed`` from WSPD (at the anemometer height: see
+        :func:`wind_speed_at_10m`), ``wind_direction`` from WDIR. No cloud cover (NDBC
+        buoys do not observe it) and no irradiance.
+    """
+    return read_station(path, "ndbc", tz=tz)
+
+
+def _ndbc_frame(path):
+    with open(path, encoding="utf-8", errors="replace") as fh:
+        head = [fh.readline() for _ in range(2)]
+    require(head[0].startswith("#") or head[0][:4].strip().upper() in ("YY", "YYYY"),
+            "weather.source", str(path), "must be an NDBC standard meteorological file "
+            "(first line: '#YY  MM DD hh mm WDIR WSPD ...')",
+            "Check weather.format, or download the 'Standard meteorological data' file")
+    # files before 2007 name two columns differently and have no units line
+    names = [_NDBC_ALIASES.get(n, n) for n in head[0].lstrip("#").split()]
+    require(len(names) >= 5 and names[0] in ("YY", "YYYY") and "MM" in names,
+            "weather.source", head[0].strip(), "must start with the NDBC column names "
+            "(#YY MM DD hh [mm] WDIR WSPD ... ATMP WTMP DEWP ...)")
+    skip = sum(1 for line in head if line.startswith("#")) or 1
+    try:
+        df = pd.read_csv(path, sep=r"\s+", skiprows=skip, header=None, na_values=["MM"],
+                         comment=None, dtype=float)
+    except (ValueError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
+        raise InputError("weather.source", str(path), f"must hold NDBC data rows of numbers "
+                         f"({exc})") from None
+    require(df.shape[1] == len(names), "weather.source", str(path),
+            f"rows must have {len(names)} columns like the header ({df.shape[1]} found)")
+    require(len(df) > 0, "weather.source", str(path), "holds no data rows")
+    df.columns = names
+    notes = []
+    for col, codes in NDBC_MISSING.items():
+        if col in df:
+            miss = df[col].isin(codes)
+            if miss.any() and col in _NDBC_USED:
+                notes.append(f"{col}: {int(miss.sum())} of {len(df)} rows carry the "
+                             f"missing code {'/'.join(f'{c:g}' for c in codes)}")
+            df.loc[miss, col] = np.nan
+    year = df[names[0]].astype(int)
+    year = np.where(year < 100, year + 1900, year)
+    minute = df["mm"] if "mm" in df else 0
+    time = pd.to_datetime(dict(year=year, month=df["MM"].astype(int),
+                               day=df["DD"].astype(int), hour=df["hh"].astype(int),
+                               minute=np.asarray(minute, dtype=int)), errors="coerce")
+    require(not time.isna().any(), "weather.source", str(path),
+            "has rows whose YY MM DD hh mm is not a date")
+    idx = pd.DatetimeIndex(time).tz_localize(_NDBC_TZ)
+    out = {}
+    if "ATMP" in df:
+        out["temp_air"] = df["ATMP"].to_numpy() + ZERO_CELSIUS
+    if "WTMP" in df:
+        out["temp_sea"] = df["WTMP"].to_numpy() + ZERO_CELSIUS
+    if "DEWP" in df and "ATMP" in df:
+        out["relative_humidity"] = np.minimum(relative_humidity_from_dew_point(
+            out["temp_air"], df["DEWP"].to_numpy() + ZERO_CELSIUS), 100.0)
+    if "WSPD" in df:
+        out["wind_speed"] = df["WSPD"].to_numpy()
+    if "WDIR" in df:
+        out["wind_direction"] = df["WDIR"].to_numpy() % 360.0
+    return pd.DataFrame(out, index=pd.DatetimeIndex(idx, name="time")), notes
+
+
+def _typical_year_frame(path, fmt, year):
+    import pvlib
+
+    try:
+        if fmt == "epw":
+            data, meta = pvlib.iotools.read_epw(path, coerce_year=year)
+        elif fmt == "tmy2":
+            data, meta = pvlib.iotools.read_tmy2(str(path))
+        else:
+            data, meta = pvlib.iotools.read_tmy3(path, coerce_year=year or 2001,
+                                                 map_variables=True)
+    except Exception as exc:  # pvlib raises assorted parser errors
+        raise InputError("weather.source", str(path), f"must be a valid {fmt.upper()} file "
+                         f"({type(exc).__name__}: {exc})", "Check weather.format") from None
+    notes = []
+    if fmt == "tmy2":
+        # typical months come from different years: put every row into one year (pvlib's
+        # reader has no coerce_year); a 29 February row cannot move to a common year
+        y = int(year or 2001)
+        idx = data.index
+        keep = ~((idx.month == 2) & (idx.day == 29))
+        data = data[keep]
+        idx = pd.DatetimeIndex([t.replace(year=y) for t in data.index])
+        data = data.set_axis(idx).sort_index()
+    else:
+        data = data.sort_index()
+    if fmt == "tmy2":
+        # TMY2 (NREL 1995, User's Manual Table 3-2): hour h is the hour ending at h,
+        # pvlib labels it h - 1; dry bulb and dew point in 0.1 °C, wind speed in 0.1 m/s,
+        # cloud in tenths; irradiance as Wh m-2 over the hour ending at h
+        idx = data.index + pd.Timedelta(hours=1)
+        cols = {"temp_air": data["DryBulb"].to_numpy(dtype=float) / 10.0,
+                "relative_humidity": data["RHum"].to_numpy(dtype=float),
+                "wind_speed": data["Wspd"].to_numpy(dtype=float) / 10.0,
+                "wind_direction": data["Wdir"].to_numpy(dtype=float),
+                "cloud_cover": data["TotCld"].to_numpy(dtype=float) / 10.0,
+                "ghi": _hour_ending_centred(data["GHI"].to_numpy(dtype=float))}
+        notes.append("TMY2: hour-ending rows labelled at their end; 0.1 degC and 0.1 m/s "
+                     "converted; irradiance re-centred")
+    elif fmt == "epw":
+        # EPW "hour h" is the hour ending at h; pvlib labels it h - 1 (the start)
+        idx = data.index + pd.Timedelta(hours=1)
+        cloud = data["total_sky_cover"].to_numpy(dtype=float)
+        miss = {"temp_air": 99.9, "relative_humidity": 999.0, "wind_speed": 999.0,
+                "wind_direction": 999.0}
+        cols = {k: np.where(data[k].to_numpy(dtype=float) >= v, np.nan,
+                            data[k].to_numpy(dtype=float)) for k, v in miss.items()}
+        cols["cloud_cover"] = np.where(cloud >= 99, np.nan, cloud) / 10.0
+        lw = data["ghi_infrared"].to_numpy(dtype=float) if "ghi_infrared" in data else None
+        ghi = data["ghi"].to_numpy(dtype=float)
+        cols["ghi"] = _hour_ending_centred(np.where(ghi >= 9999, np.nan, ghi))
+        if lw is not None:
+            cols["longwave_down"] = _hour_ending_centred(np.where(lw >= 9999, np.nan, lw))
+        notes.append("EPW: hour-ending rows labelled at their end; irradiance re-centred")
+    else:
+        idx = data.index
+        cols = {k: data[k].to_numpy(dtype=float) for k in
+                ("temp_air", "relative_humidity", "wind_speed", "wind_direction")}
+        cols["cloud_cover"] = data["TotCld (tenths)"].to_numpy(dtype=float) / 10.0
+        cols["ghi"] = _hour_ending_centred(data["ghi"].to_numpy(dtype=float))
+        notes.append("TMY3: irradiance (hour-ending means) re-centred on the hours")
+    cols["temp_air"] = cols["temp_air"] + ZERO_CELSIUS
+    cols["wind_direction"] = cols["wind_direction"] % 360.0
+    return pd.DataFrame(cols, index=pd.DatetimeIndex(idx, name="time")), notes
+
+
+def _hour_ending_centred(v):
+    out = np.asarray(v, dtype=float).copy()
+    out[:-1] = 0.5 * (out[:-1] + out[1:])
+    return out
+
+
+# ---------------------------------------------------------------------------------------
+# Onto the hours, with gaps
+# ---------------------------------------------------------------------------------------
+def _epoch_seconds(index) -> np.ndarray:
+    """Seconds since 1970-01-01 UTC of a tz-aware index (any datetime resolution)."""
+    utc = pd.DatetimeIndex(index).tz_convert("UTC").tz_localize(None)
+    return np.asarray((utc - pd.Timestamp(0)).total_seconds(), dtype=float)
+
+
+def _spans(mask):
+    """(first, last) index pairs of runs of True."""
+    m = np.concatenate([[False], np.asarray(mask, bool), [False]])
+    d = np.diff(m.astype(int))
+    return list(zip(np.flatnonzero(d == 1), np.flatnonzero(d == -1) - 1))
+
+
+def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
+                  max_gap_hours: float = MAX_GAP_HOURS, wind_height: float = 10.0,
+                  fallback: Optional[Mapping] = None, periodic: bool = False):
+    """Put a record onto a regular axis over ``[start, end]``, collecting every problem.
+
+    Parameters
+    ----------
+    record : StationRecord
+    start, end : pandas.Timestamp
+        First and last instant needed (tz-aware; ``end`` included).
+    step : float
+        Output step [s].
+    max_gap_hours : float
+        Longest bridged gap between valid observations [h] (:data:`MAX_GAP_HOURS`).
+    wind_height : float
+        Anemometer height above the sea [m]; the speed is reduced to 10 m.
+    fallback : mapping, optional
+        Constants for quantities the record lacks over the span: ``temp_sea`` [K],
+        ``cloud_cover`` [0-1], ``wind_direction`` [deg]. A constant is used only where
+        the file has no valid value of that field in the span.
+    periodic : bool
+        Flag of the returned Weather.
+
+    Returns
+    -------
+    weather : Weather or None
+        None when there are problems.
+    report : WeatherReport
+    problems : list of InputError
+        Every problem found (empty when ``weather`` is returned).
+    """
+    fallback = {k: v for k, v in (fallback or {}).items() if v is not None}
+    problems: list = []
+    frame = record.frame
+    src = record.source
+    tz = frame.index.tz
+    start = pd.Timestamp(start)
+    end = pd.Timestamp(end)
+    grid = pd.date_range(start, end, freq=pd.Timedelta(seconds=step))
+    if len(frame) == 0:
+        return None, WeatherReport(), [InputError("weather.source", src, "holds no rows")]
+    first, last = frame.index[0], frame.index[-1]
+    if first > start + pd.Timedelta(seconds=EDGE_HOLD_S) or \
+            last < end - pd.Timedelta(seconds=EDGE_HOLD_S):
+        problems.append(InputError(
+            "weather.source", src, f"covers {first:%Y-%m-%d %H:%M} … {last:%Y-%m-%d %H:%M %Z}"
+            f", not the span needed {start:%Y-%m-%d %H:%M} … {end:%Y-%m-%d %H:%M %Z}",
+            "Pick time.date (and weather.days) inside the record, or a longer file"))
+        return None, WeatherReport(notes=record.notes), problems
+    gx = _epoch_seconds(grid)
+    tx = _epoch_seconds(frame.index)
+    max_gap = max_gap_hours * 3600.0
+    spacing = float(np.median(np.diff(tx))) if len(tx) > 1 else step
+    values, interpolated, held, constants = {}, [], [], {}
+    for field in FIELDS:
+        col = frame[field].to_numpy(dtype=float) if field in frame else None
+        ok = np.isfinite(col) if col is not None else None
+        # valid observations that matter for the span
+        near = (tx >= gx[0] - max_gap) & (tx <= gx[-1] + max_gap)
+        if col is None or not ok[near].any():
+            if field in fallback:
+                values[field] = np.full(len(grid), float(fallback[field]))
+                constants[field] = float(fallback[field])
+            elif field in REQUIRED_FIELDS:
+                what = "has no column for" if col is None else "has no valid value of"
+                if field in _FALLBACK_KEY:
+                    fix = f"Set {_FALLBACK_KEY[field]} (a constant, {_FALLBACK_UNIT[field]})"
+                elif col is None and record.format == "csv":
+                    fix = f"Add a {field!r} column" + (" (or 'temp_dew')" if field ==
+                                                        "relative_humidity" else "") + \
+                        " (docs/WEATHER.md)"
+                elif col is None:
+                    fix = "This file does not carry it: give a CSV record (docs/WEATHER.md)"
+                else:
+                    fix = "Pick a span the file covers for this quantity, or another file"
+                problems.append(InputError(f"weather.source[{field}]", src,
+                                           f"{what} {field} between {start:%Y-%m-%d %H:%M} "
+                                           f"and {end:%Y-%m-%d %H:%M %Z}", fix))
+            continue
+        t_ok, v_ok = tx[ok], col[ok]
+        if field == "wind_direction":
+            # interpolate the direction as a unit vector (350° -> 10° passes north)
+            phi = np.radians(v_ok)
+            v_grid = np.degrees(np.arctan2(np.interp(gx, t_ok, np.sin(phi)),
+                                           np.interp(gx, t_ok, np.cos(phi)))) % 360.0
+        else:
+            v_grid = np.interp(gx, t_ok, v_ok)
+        # the valid observations around each grid time
+        j = np.searchsorted(t_ok, gx, side="left")
+        exact = (j < len(t_ok)) & (t_ok[np.minimum(j, len(t_ok) - 1)] == gx)
+        left = np.where(exact, gx, t_ok[np.maximum(j - 1, 0)])
+        right = np.where(j < len(t_ok), t_ok[np.minimum(j, len(t_ok) - 1)], np.inf)
+        before = j == 0
+        after = j >= len(t_ok)
+        left = np.where(before & ~exact, -np.inf, left)
+        gap = np.where(exact, 0.0, right - left)
+        # ends: hold the first / last value for up to EDGE_HOLD_S
+        beyond = np.where(before & ~exact, t_ok[0] - gx, np.where(after, gx - t_ok[-1], 0.0))
+        if np.any(beyond > EDGE_HOLD_S):
+            k = int(np.flatnonzero(beyond > EDGE_HOLD_S)[0])
+            ref = t_ok[0] if before[k] else t_ok[-1]
+            problems.append(InputError(
+                f"weather.source[{field}]", src,
+                f"has no valid {field} within {EDGE_HOLD_S / 3600:g} h of "
+                f"{grid[k]:%Y-%m-%d %H:%M %Z} (nearest valid observation "
+                f"{pd.Timestamp(ref, unit='s', tz='UTC').tz_convert(tz):%Y-%m-%d %H:%M %Z})",
+                "Pick a span the file covers, or a longer file"))
+            continue
+        for k in np.flatnonzero(beyond > 0):
+            ref = t_ok[0] if before[k] else t_ok[-1]
+            held.append((field, grid[k],
+                         pd.Timestamp(ref, unit="s", tz="UTC").tz_convert(tz),
+                         round(float(beyond[k]) / 3600.0, 2)))
+        inner = np.isfinite(gap)
+        long = inner & (gap > max_gap + 1e-6)
+        if long.any():
+            for a, b in _spans(long):
+                ta = pd.Timestamp(left[a], unit="s", tz="UTC").tz_convert(tz)
+                tb = pd.Timestamp(right[b], unit="s", tz="UTC").tz_convert(tz)
+                problems.append(InputError(
+                    f"weather.source[{field}]", src,
+                    f"has no valid {field} from {ta:%Y-%m-%d %H:%M} to {tb:%Y-%m-%d %H:%M %Z} "
+                    f"({(tb - ta).total_seconds() / 3600:g} h), longer than weather."
+                    f"max_gap_hours = {max_gap_hours:g} h",
+                    "Pick another span, raise weather.max_gap_hours, or fill the gap"
+                    + (f"; or set weather.use_measured_"
+                       f"{'irradiance' if field == 'ghi' else 'longwave'} = false"
+                       if field in ("ghi", "longwave_down") else "")))
+            continue
+        bridged = inner & ~exact & (gap > 1.5 * spacing)
+        seen = set()
+        for k in np.flatnonzero(bridged):
+            key = (left[k], right[k])
+            if key in seen:
+                continue
+            seen.add(key)
+            ta = pd.Timestamp(left[k], unit="s", tz="UTC").tz_convert(tz)
+            tb = pd.Timestamp(right[k], unit="s", tz="UTC").tz_convert(tz)
+            interpolated.append((field, ta, tb, round((tb - ta).total_seconds() / 3600.0, 2)))
+        values[field] = v_grid
+    notes = list(record.notes)
+    if "wind_speed" in values and abs(wind_height - 10.0) > 1e-9:
+        values["wind_speed"] = wind_speed_at_10m(values["wind_speed"], wind_height)
+        factor = float(wind_speed_at_10m(1.0, wind_height))
+        notes.append(f"wind_speed: reduced from {wind_height:g} m to 10 m (log law, z0 = "
+                     f"{SEA_ROUGHNESS_LENGTH:g} m: x {factor:.4f})")
+    # physical ranges, every field at once
+    for field, arr in values.items():
+        lo, hi, unit = _LIMITS[field]
+        bad = np.flatnonzero((arr < lo) | (arr > hi))
+        if bad.size:
+            k = int(bad[0])
+            hint = ("the file's temperature unit (weather.temp_unit)" if field.startswith("temp")
+                    else "the cloud unit (weather.cloud_unit)" if field == "cloud_cover"
+                    else "the file's units (docs/WEATHER.md)")
+            problems.append(InputError(f"weather.source[{field}]", float(arr[k]),
+                                       f"must lie in [{lo:g}, {hi:g}] {unit} ({bad.size} "
+                                       f"value(s) outside, first at {grid[k]:%Y-%m-%d %H:%M %Z})",
+                                       f"Check {hint}"))
+    report = WeatherReport(interpolated=tuple(interpolated), held=tuple(held),
+                           constants=constants, notes=tuple(notes))
+    if problems:
+        return None, report, problems
+    weather = Weather(time=grid, temp_air=values["temp_air"],
+                      relative_humidity=values["relative_humidity"],
+                      wind_speed=values["wind_speed"], wind_direction=values["wind_direction"],
+                      cloud_cover=values["cloud_cover"], temp_sea=values["temp_sea"],
+                      ghi=values.get("ghi"), longwave_down=values.get("longwave_down"),
+                      periodic=periodic, source=src)
+    return weather, report, []
+
+
+def to_weather(record: StationRecord, start, end, **kwargs):
+    """:func:`check_weather`, raising the first problem (the message counts the others).
+
+    Returns ``(Weather, WeatherReport)``.
+    """
+    weather, report, problems = check_weather(record, start, end, **kwargs)
+    if problems:
+        e = problems[0]
+        rest = "; ".join(str(p) for p in problems[1:])
+        more = f" (and {len(problems) - 1} more problem(s): {rest})" if rest else ""
+        raise InputError(e.field, e.value, e.allowed + more, e.fix)
+    return weather, report

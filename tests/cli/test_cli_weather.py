@@ -1,0 +1,121 @@
+"""Station weather files through the command line, with no user code: the NDBC buoy crop
+(tests/data/weather) and pvlib's TMY3 file; the outputs' air and sea temperatures are
+compared with the files' own values."""
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from cli_helpers import write_tiny
+
+from shipthermal.cli import main
+from shipthermal.scenario import main as scenario_main
+
+NDBC = Path(__file__).resolve().parents[1] / "data" / "weather" / "44009h2013_mar03-09.txt"
+
+BUOY = """
+[location]
+latitude = 38.46
+longitude = -74.70
+time_zone = "Etc/GMT+5"
+[weather]
+source = "buoy.txt"
+day = "record"
+days = 2
+wind_height = 5.0
+cloud_cover = 0.5
+"""
+
+
+def _with(path, text, date):
+    t = path.read_text().replace("[time]\n", f"[time]\ndate = {date}\n")
+    path.write_text(t.replace("[ship]", text.strip() + "\n[ship]"))
+    return path
+
+
+def _ndbc_raw():
+    rows = [x.split() for x in NDBC.read_text().splitlines()[2:]]
+    t = np.array([pd.Timestamp(f"{r[0]}-{r[1]}-{r[2]}T{r[3]}:{r[4]}Z").timestamp()
+                  for r in rows])
+    return t, np.array([float(r[13]) for r in rows]), np.array([float(r[14]) for r in rows])
+
+
+def test_ndbc_record_run_from_the_command_line(tmp_path, capsys):
+    shutil.copy(NDBC, tmp_path / "buoy.txt")
+    sc = _with(write_tiny(tmp_path, name="buoy", season="winter"), BUOY, "2013-03-04")
+    # validate opens the file and reports what it will do
+    assert scenario_main(["validate", str(sc)]) == 0
+    out = capsys.readouterr().out
+    assert "49 hourly values, 2013-03-04 00:00 … 2013-03-06 00:00 -05" in out
+    assert "gap of 2 h between observations" in out and "reduced from 5 m to 10 m" in out
+    assert main(["run", str(sc), "--out", str(tmp_path / "run")]) == 0
+    captured = capsys.readouterr()
+    err = captured.err
+    assert "spin-up + 2 recorded days" in captured.out
+    assert "cloud_cover: not in the file over the span, constant 0.5" in err
+    pm = pd.read_csv(tmp_path / "run" / "thermal" / "buoy" / "part_means.csv", index_col=0)
+    assert pm.index[0] == 0 and pm.index[-1] == 48      # both recorded days
+    t, atmp, wtmp = _ndbc_raw()
+    hours = pm.index.to_numpy()
+    g = pd.Timestamp("2013-03-04", tz="Etc/GMT+5").timestamp() + hours * 3600.0
+    on = np.isclose(hours % 1, 0)
+    # part_means.csv is written with 4 decimals
+    np.testing.assert_allclose(pm["temp_air"][on], np.interp(g[on], t, atmp) + 273.15,
+                               atol=6e-5)
+    np.testing.assert_allclose(pm["temp_sea"][on], np.interp(g[on], t, wtmp) + 273.15,
+                               atol=6e-5)
+    summary = json.loads((tmp_path / "run" / "thermal" / "buoy" /
+                          "thermal_summary.json").read_text())
+    assert summary["record_days"] == 2
+    assert any("gap of 2 h" in line for line in summary["weather_report"])
+
+
+def test_tmy3_from_the_command_line(tmp_path, capsys):
+    import pvlib
+
+    src = Path(pvlib.__file__).parent / "data" / "703165TY.csv"
+    text = f"""
+[location]
+latitude = 55.317
+longitude = -160.517
+time_zone = "Etc/GMT+9"
+[weather]
+source = "{src.as_posix()}"
+format = "tmy3"
+temp_sea = 279.0
+"""
+    sc = _with(write_tiny(tmp_path, name="tmy", season="summer"), text, "2023-07-20")
+    assert main(["-q", "run", str(sc), "--out", str(tmp_path / "run")]) == 0
+    pm = pd.read_csv(tmp_path / "run" / "thermal" / "tmy" / "part_means.csv", index_col=0)
+    data, _ = pvlib.iotools.read_tmy3(src, coerce_year=2023, map_variables=True)
+    day = data["temp_air"].tz_convert("Etc/GMT+9")
+    want = day.loc["2023-07-20 00:00":"2023-07-20 23:00"].to_numpy() + 273.15
+    got = pm["temp_air"][np.isclose(pm.index % 1, 0)].to_numpy()[:24]
+    np.testing.assert_allclose(got, want, atol=6e-5)
+    np.testing.assert_allclose(pm["temp_sea"], 279.0, atol=6e-5)
+
+
+def test_validate_lists_every_weather_problem_at_once(tmp_path, capsys):
+    shutil.copy(NDBC, tmp_path / "buoy.txt")
+    text = BUOY.replace("cloud_cover = 0.5\n", "max_gap_hours = 3.0\n").replace(
+        "days = 2", "days = 3")
+    sc = _with(write_tiny(tmp_path, name="buoy", season="winter"), text, "2013-03-04")
+    before = sorted(p.name for p in tmp_path.iterdir())
+    assert scenario_main(["validate", str(sc)]) == 2
+    err = capsys.readouterr().err
+    assert "weather file buoy.txt: 6 problems" in err
+    assert "has no column for cloud_cover" in err
+    assert err.count("from 2013-03-06 11:50 to 2013-03-06 15:50 -05 (4 h)") == 5
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+
+
+def test_record_with_imaging_is_refused_up_front(tmp_path, capsys):
+    shutil.copy(NDBC, tmp_path / "buoy.txt")
+    sc = _with(write_tiny(tmp_path, name="buoy", season="winter"), BUOY, "2013-03-04")
+    before = sorted(p.name for p in tmp_path.iterdir())
+    assert main(["-q", "run", str(sc), "--out", str(tmp_path / "run"), "--image"]) == 2
+    err = capsys.readouterr().err
+    assert "weather.day = 'record': the imaging stage renders one periodic day" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
