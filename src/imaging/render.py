@@ -183,7 +183,8 @@ def emitted_transmittance_table(season: str, band: str, view_zenith_deg: float,
 def conditions_from_atmosphere(season: str, band: str, view_zenith_deg: float,
                                view_azimuth_deg: float, sun_zenith_deg: float,
                                sun_azimuth_deg: float, backend: str = "table",
-                               tau_table=None) -> BandConditions:
+                               tau_table=None, sky_weather: dict | None = None
+                               ) -> BandConditions:
     """:class:`BandConditions` from :func:`imaging.atmosphere.atmosphere` for one geometry.
 
     Parameters
@@ -199,6 +200,11 @@ def conditions_from_atmosphere(season: str, band: str, view_zenith_deg: float,
     tau_table : tuple or None
         ``(temp, tau)`` from :func:`emitted_transmittance_table` (computed if None; pass it
         when rendering many times with one view).
+    sky_weather : dict or None
+        The thermal stage's near-surface weather at this moment
+        (:meth:`imaging.atmosphere.weather_sky.SkyWeather.at`): the thermal sky then follows
+        it (:func:`imaging.atmosphere.weather_sky.weather_sky_radiance`); None: the
+        standard atmosphere's sky of the tables. Scattered sunlight stays the tables'.
     """
     from .atmosphere import atmosphere
 
@@ -207,11 +213,17 @@ def conditions_from_atmosphere(season: str, band: str, view_zenith_deg: float,
                      view_azimuth_from_sun_deg=rel, spectral=False)
     if tau_table is None:
         tau_table = emitted_transmittance_table(season, band, view_zenith_deg, backend)[:2]
+    sky_thermal, sky_hemis = atm.sky_radiance, atm.sky_irradiance
+    if sky_weather is not None:
+        from .atmosphere.weather_sky import weather_sky_irradiance, weather_sky_radiance
+
+        sky_thermal = float(weather_sky_radiance(band, atm.sky_zenith_deg, **sky_weather))
+        sky_hemis = weather_sky_irradiance(band, **sky_weather)
     return BandConditions(
         band=band, sun_zenith_deg=float(sun_zenith_deg), sun_azimuth_deg=float(sun_azimuth_deg),
         solar_irradiance=atm.solar_irradiance_ground,
-        sky_radiance_specular=atm.sky_radiance + atm.sky_radiance_solar,
-        sky_radiance_mean=(atm.sky_irradiance + atm.sky_irradiance_solar) / math.pi,
+        sky_radiance_specular=sky_thermal + atm.sky_radiance_solar,
+        sky_radiance_mean=(sky_hemis + atm.sky_irradiance_solar) / math.pi,
         tau_temp=np.asarray(tau_table[0]), tau_emitted=np.asarray(tau_table[1]),
         transmittance_sun=atm.transmittance_solar_weighted,
         transmittance_sky=atm.transmittance_sky_weighted, path_radiance=atm.path_radiance)
