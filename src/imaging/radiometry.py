@@ -683,6 +683,7 @@ def rough_sea_emissivity(view_zenith, band="8-14", wind_speed=5.0):
     return 1.0 - np.reshape(alb, theta.shape)
 
 
+@lru_cache(maxsize=64)  # per (band, wind): the renderer asks once per frame
 def rough_sea_emissivity_hemispherical(band="8-14", wind_speed=5.0, n_nodes: int = 24):
     """Hemispherical emissivity of the rough sea, ``2 int eps(theta) cos sin dtheta`` [-].
 

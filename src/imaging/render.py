@@ -33,8 +33,10 @@ term; a ship sample whose ray toward the sun hits the ship (self-shadowing) too.
 Radiance (paper eq. 2 and eq. 1)
 --------------------------------
 Ship face: ``eps B(T_f) + (1 - eps)[F_sky L_sky + (1 - F_sky) L_sea] + E_sun max(n.s, 0)
-f_CT`` with ``F_sky = (1 + n_z)/2``; background pixel: ``eps_c B(T) + rho_c L_sky +
-E_sun cos(theta_s) f_c``. At the aperture each term is attenuated with the transmittance
+f_CT`` with ``F_sky = (1 + n_z)/2`` and ``L_sea = eps_h B(T_sea) + (1 - eps_h) L_sky``
+(``eps_h`` the rough sea's hemispherical emissivity); background pixel: ``eps_c B(T) +
+rho_c L_sky + E_sun cos(theta_s) f_c`` (water: the rough-sea directional emissivity at
+the view angle, its Cox-Munk glint and the sky from the specular direction). At the aperture each term is attenuated with the transmittance
 weighted by its own spectrum (emitted: Planck-weighted at the source temperature; reflected
 sun: sun-weighted; reflected sky: sky-weighted, :class:`BandConditions`), plus the path
 radiance.
@@ -53,7 +55,8 @@ import numpy as np
 
 from shipthermal.errors import InputError, check_finite, check_positive, check_range, require
 
-from .radiometry import SHIP_EMISSIVITY, background_emissivity, band_radiance_table, standard_band
+from .radiometry import (SHIP_EMISSIVITY, band_radiance_table, rough_sea_emissivity_hemispherical,
+                         standard_band)
 from .scene import (GriddedBackground, ShipPaint, ShipPlacement, as_scene_background,
                     background_optics, default_mooring, enu_direction)
 from .sensor import PAPER_SENSOR, SensorSpec, add_netd_noise, apply_psf, focal_plane_irradiance, quantise
@@ -673,7 +676,8 @@ class SceneRenderer:
         eps_f = self.ship_emissivity(band)
         emit_f = eps_f * planck(temp_f)
         f_up = 0.5 * (1.0 + self.face_normals[:, 2])
-        eps_w = background_emissivity("water", band)
+        # the sea the hull sides see: hemispherical emissivity of the same rough sea
+        eps_w = rough_sea_emissivity_hemispherical(band, self.wind_speed)
         l_sea = eps_w * float(planck(temp_sea)) + (1.0 - eps_w) * c.sky_radiance_mean
         sky_f = (1.0 - eps_f) * (f_up * c.sky_radiance_mean + (1.0 - f_up) * l_sea)
         # per sample: the sun term uses the normal oriented toward the viewer
