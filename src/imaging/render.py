@@ -36,10 +36,10 @@ Ship face: ``eps B(T_f) + (1 - eps)[F_sky L_sky + (1 - F_sky) L_sea] + E_sun max
 f_CT`` with ``F_sky = (1 + n_z)/2`` and ``L_sea = eps_h B(T_sea) + (1 - eps_h) L_sky``
 (``eps_h`` the rough sea's hemispherical emissivity); background pixel: ``eps_c B(T) +
 rho_c L_sky + E_sun cos(theta_s) f_c`` (water: the rough-sea directional emissivity at
-the view angle, its Cox-Munk glint and the sky from the specular direction). At the aperture each term is attenuated with the transmittance
-weighted by its own spectrum (emitted: Planck-weighted at the source temperature; reflected
-sun: sun-weighted; reflected sky: sky-weighted, :class:`BandConditions`), plus the path
-radiance.
+the view angle, its Cox-Munk glint and the sky from the specular direction). At the
+aperture each term is attenuated with the transmittance weighted by its own spectrum
+(emitted: Planck-weighted at the source temperature; reflected sun: sun-weighted; reflected
+sky: sky-weighted, :class:`BandConditions`), plus the path radiance.
 
 Neglected (second order here, stated): sky blocked by the ship for the water next to it and
 the ship's own emission reflected by the water; ship self-view in the sky term; thermal

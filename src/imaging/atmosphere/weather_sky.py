@@ -39,8 +39,8 @@ import numpy as np
 
 from shipthermal.errors import check_range, require
 
-__all__ = ["SCHEME_ERROR", "SkyWeather", "standard_states", "band_sky_emissivity", "weather_sky_radiance",
-           "weather_sky_irradiance", "broadband_emissivities"]
+__all__ = ["SCHEME_ERROR", "SkyWeather", "standard_states", "band_sky_emissivity",
+           "weather_sky_radiance", "weather_sky_irradiance", "broadband_emissivities"]
 
 #: Measured error of the scheme against live LOWTRAN 7 for the standard atmospheres outside
 #: the tables (tropical, sub-arctic summer, US 1976), band sky radiance at zenith 0 and 60

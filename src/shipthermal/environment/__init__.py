@@ -35,7 +35,6 @@ from shipthermal.units import ZERO_CELSIUS
 from . import climatology, convection, sea, sky, sun, weather
 from .climatology import ClimateDay, climate_day, dalian_summer, dalian_winter
 from .convection import relative_wind
-from .sea import SEA_EMISSIVITY
 from .weather import Weather, read_weather_csv, read_weather_epw, read_weather_tmy3
 
 __all__ = [
