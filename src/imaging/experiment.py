@@ -83,6 +83,10 @@ class ImagingScenario:
     renderer_options : dict
         Extra keyword arguments of :class:`imaging.render.SceneRenderer` (``paint``,
         ``ship_emissivity``, ``background_emissivity``, ``min_sun_elevation_deg``, ...).
+    sky_weather : SkyWeather or None
+        The thermal stage's near-surface weather (:class:`imaging.atmosphere.weather_sky.
+        SkyWeather`): the image's thermal sky follows it (one sky for both stages); None:
+        the standard atmosphere's sky of the tables.
     """
 
     season: str
@@ -100,6 +104,7 @@ class ImagingScenario:
     atmosphere_backend: str = "table"
     sensor_options: SensorOptions | None = None
     renderer_options: dict = field(default_factory=dict)
+    sky_weather: object = None
 
     def __post_init__(self):
         from .atmosphere import season_model
@@ -113,8 +118,11 @@ class ImagingScenario:
     def default(cls, season: str, background=None, **overrides) -> "ImagingScenario":
         """The built-in scenario of a season: Dalian design day (place, date, wind; the
         same :func:`shipthermal.environment.climate_day` the thermal stage uses) and the
-        synthetic port background (:func:`imaging.background.build_port_background`)."""
+        synthetic port background (:func:`imaging.background.build_port_background`); the
+        sky follows that day's air temperature, humidity and cloud."""
         from shipthermal.environment import climate_day
+
+        from .atmosphere.weather_sky import SkyWeather
 
         day = climate_day(season)
         if background is None:
@@ -122,7 +130,8 @@ class ImagingScenario:
 
             background = build_port_background(season)
         kw = dict(season=season, background=background, date=day.date, latitude=day.latitude,
-                  longitude=day.longitude, tz=day.tz, wind_speed=day.wind_speed)
+                  longitude=day.longitude, tz=day.tz, wind_speed=day.wind_speed,
+                  sky_weather=SkyWeather.from_weather(day.weather()))
         kw.update(overrides)
         return cls(**kw)
 
@@ -266,11 +275,12 @@ def render_series(history, scenario: ImagingScenario, bands=("3-5", "8-14"),
         sun = r.sun_geometry(BandConditions.simple(sun_zenith_deg=min(zen[k], 180.0),
                                                    sun_azimuth_deg=azi[k]).sun_direction)
         rays += sun.n_rays
+        sky_now = None if scenario.sky_weather is None else scenario.sky_weather.at(tk)
         for b in bands:
             cond = conditions_from_atmosphere(scenario.season, b, scenario.view_zenith_deg,
                                               scenario.view_azimuth_deg, min(zen[k], 180.0),
                                               azi[k], scenario.atmosphere_backend,
-                                              tau_tables[b])
+                                              tau_tables[b], sky_now)
             fr = r.render(cond, temp_f, temp_bg, temp_sea, sun, scenario.sensor_options, tk)
             m = local_scr(fr.radiance, mask)
             rows[b].append(dict(

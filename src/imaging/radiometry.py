@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from scipy.special import bernoulli
@@ -52,7 +53,8 @@ __all__ = [
     "SHIP_EMISSIVITY", "BACKGROUND_EMISSIVITY", "EmissivityValue",
     "ship_emissivity", "background_emissivity",
     "WATER_INDEX_HALE_QUERRY", "water_refractive_index", "water_band_mean_index",
-    "sea_emissivity", "leaving_radiance",
+    "sea_emissivity", "rough_sea_emissivity", "rough_sea_emissivity_hemispherical",
+    "leaving_radiance",
 ]
 
 # ---------------------------------------------------------------------------------------
@@ -570,8 +572,10 @@ def water_band_mean_index(band="8-14") -> complex:
     return complex(num / den)
 
 
-def sea_emissivity(view_zenith, band="8-14", temp=None, nodes_per_segment: int = 8):
-    """Directional emissivity of a flat water surface, ``1 - R_Fresnel(theta)``.
+def sea_emissivity(view_zenith, band="8-14", temp=None, nodes_per_segment: int = 8,
+                   wind_speed=None):
+    """Directional emissivity of the sea: flat (``1 - R_Fresnel(theta)``) or, with a
+    ``wind_speed``, rough (:func:`rough_sea_emissivity`).
 
     Parameters
     ----------
@@ -585,6 +589,10 @@ def sea_emissivity(view_zenith, band="8-14", temp=None, nodes_per_segment: int =
         If None (default), Fresnel with the band-mean index of :func:`water_band_mean_index`.
     nodes_per_segment : int
         Quadrature nodes for the spectral average [-].
+    wind_speed : float or None
+        None: flat water. Otherwise the wind speed [m s-1] of the Cox-Munk slopes: the
+        rough-sea emissivity :func:`rough_sea_emissivity` (band-mean index; ``temp`` must
+        then be None).
 
     Returns
     -------
@@ -595,13 +603,18 @@ def sea_emissivity(view_zenith, band="8-14", temp=None, nodes_per_segment: int =
     -----
     Kirchhoff's law for an opaque specular surface: ``eps(theta) = 1 - (R_s + R_p)/2``
     with the complex-index Fresnel equations (:func:`imaging.brdf.fresnel_reflectance`).
-    Flat surface: wave slopes raise the emissivity at large view angles (Masuda et al. 1988,
-    Remote Sens. Environ. 24:313); not included.
+    The flat surface ignores the wave slopes that raise the emissivity at large view
+    angles (Masuda et al. 1988, Remote Sens. Environ. 24:313): the imaging uses the
+    rough form, which closes with its Cox-Munk reflectance.
     """
     from imaging.brdf import fresnel_reflectance  # reflection lives in brdf.py
 
     theta = np.asarray(view_zenith, dtype=float)
     check_range("view_zenith", theta, 0.0, math.pi / 2, "rad")
+    if wind_speed is not None:
+        require(temp is None, "temp", temp, "must be None with wind_speed (the rough-sea "
+                "emissivity uses the band-mean index)")
+        return rough_sea_emissivity(theta, band, wind_speed)
     cos_t = np.cos(theta)
     if temp is None:
         return 1.0 - fresnel_reflectance(cos_t, water_band_mean_index(band))
@@ -611,6 +624,76 @@ def sea_emissivity(view_zenith, band="8-14", temp=None, nodes_per_segment: int =
     n = water_refractive_index(wl)
     refl = fresnel_reflectance(cos_t[..., None], n)
     return 1.0 - np.sum(refl * b, axis=-1) / np.sum(b)
+
+
+ROUGH_SEA_QUADRATURE = (96, 192)
+"""Nodes (polar, azimuth) of the albedo integral behind :func:`rough_sea_emissivity`
+(half-vector Gauss-Legendre x periodic trapezoid): against 256 x 512 nodes the emissivity
+differs by < 6e-5 over 0-89 deg, 0-20 m/s, both bands (largest at 80 deg, 0-1 m/s)."""
+
+
+@lru_cache(maxsize=4096)  # pure function of floats; scenes ask for few (band, wind, angle)
+def _rough_albedo(theta: float, index_re: float, index_im: float, wind_speed: float) -> float:
+    from imaging.brdf import cox_munk_brdf, directional_albedo
+
+    n_mu, n_phi = ROUGH_SEA_QUADRATURE
+    return directional_albedo(cox_munk_brdf, theta, 0.0, n_mu=n_mu, n_phi=n_phi,
+                              method="half", wind_speed=wind_speed,
+                              refractive_index=complex(index_re, index_im), shadowing=True)
+
+
+def rough_sea_emissivity(view_zenith, band="8-14", wind_speed=5.0):
+    """Directional emissivity of a wind-roughened sea, consistent with its reflectance.
+
+    ``eps(theta) = 1 - a(theta)``, ``a`` the directional-hemispherical reflectance of the
+    same Cox-Munk BRDF with Smith shadowing that reflects sun and sky in the image
+    (:func:`imaging.brdf.cox_munk_brdf`, isotropic slopes, band-mean index of
+    :func:`water_band_mean_index`). By Kirchhoff's law and reciprocity emission toward
+    ``theta`` and reflection of isotropic light into ``theta`` then add to one.
+
+    Parameters
+    ----------
+    view_zenith : array_like
+        Emission (view) zenith angle [rad], 0..pi/2.
+    band : str or SpectralResponse
+        Band (within 2.6-16 um).
+    wind_speed : float
+        Wind speed [m s-1] of the Cox-Munk slope variance.
+
+    Returns
+    -------
+    numpy.ndarray
+        Emissivity [-].
+
+    Notes
+    -----
+    Near nadir it equals the flat-water Fresnel value within 1e-4 (5 m/s); at large angles
+    the slopes raise it (8-14 um, 5 m/s: 0.806 -> 0.857 at 75 deg, 0.670 -> 0.797 at 80
+    deg), as in Masuda, Takashima & Takayama (1988), Remote Sens. Environ. 24:313-329.
+    Radiation reflected between facets (emitted by one wave, reflected by another) and
+    light shadowed by the Smith term count as absorbed: the emissivity is that of the
+    single-reflection BRDF, exactly the complement of the reflectance the renderer uses.
+    Cost: ~20 ms per new (angle, band, wind) on one core, cached.
+    """
+    theta = np.asarray(view_zenith, dtype=float)
+    check_range("view_zenith", theta, 0.0, math.pi / 2, "rad")
+    check_range("wind_speed", wind_speed, 0.0, 40.0, "m/s")
+    m = water_band_mean_index(band)
+    alb = [_rough_albedo(float(t), m.real, m.imag, float(wind_speed)) for t in theta.ravel()]
+    return 1.0 - np.reshape(alb, theta.shape)
+
+
+@lru_cache(maxsize=64)  # per (band, wind): the renderer asks once per frame
+def rough_sea_emissivity_hemispherical(band="8-14", wind_speed=5.0, n_nodes: int = 24):
+    """Hemispherical emissivity of the rough sea, ``2 int eps(theta) cos sin dtheta`` [-].
+
+    Gauss-Legendre in ``mu = cos(theta)`` with ``n_nodes`` nodes over
+    :func:`rough_sea_emissivity` (smooth in mu: 24 nodes agree with 48 within 1e-5).
+    """
+    x, w = np.polynomial.legendre.leggauss(int(n_nodes))
+    mu = 0.5 * (x + 1.0)
+    eps = rough_sea_emissivity(np.arccos(mu), band, wind_speed)
+    return float(np.sum(w * mu * eps))
 
 
 # ---------------------------------------------------------------------------------------

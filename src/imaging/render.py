@@ -33,11 +33,13 @@ term; a ship sample whose ray toward the sun hits the ship (self-shadowing) too.
 Radiance (paper eq. 2 and eq. 1)
 --------------------------------
 Ship face: ``eps B(T_f) + (1 - eps)[F_sky L_sky + (1 - F_sky) L_sea] + E_sun max(n.s, 0)
-f_CT`` with ``F_sky = (1 + n_z)/2``; background pixel: ``eps_c B(T) + rho_c L_sky +
-E_sun cos(theta_s) f_c``. At the aperture each term is attenuated with the transmittance
-weighted by its own spectrum (emitted: Planck-weighted at the source temperature; reflected
-sun: sun-weighted; reflected sky: sky-weighted, :class:`BandConditions`), plus the path
-radiance.
+f_CT`` with ``F_sky = (1 + n_z)/2`` and ``L_sea = eps_h B(T_sea) + (1 - eps_h) L_sky``
+(``eps_h`` the rough sea's hemispherical emissivity); background pixel: ``eps_c B(T) +
+rho_c L_sky + E_sun cos(theta_s) f_c`` (water: the rough-sea directional emissivity at
+the view angle, its Cox-Munk glint and the sky from the specular direction). At the
+aperture each term is attenuated with the transmittance weighted by its own spectrum
+(emitted: Planck-weighted at the source temperature; reflected sun: sun-weighted; reflected
+sky: sky-weighted, :class:`BandConditions`), plus the path radiance.
 
 Neglected (second order here, stated): sky blocked by the ship for the water next to it and
 the ship's own emission reflected by the water; ship self-view in the sky term; thermal
@@ -53,7 +55,8 @@ import numpy as np
 
 from shipthermal.errors import InputError, check_finite, check_positive, check_range, require
 
-from .radiometry import SHIP_EMISSIVITY, background_emissivity, band_radiance_table, standard_band
+from .radiometry import (SHIP_EMISSIVITY, band_radiance_table, rough_sea_emissivity_hemispherical,
+                         standard_band)
 from .scene import (GriddedBackground, ShipPaint, ShipPlacement, as_scene_background,
                     background_optics, default_mooring, enu_direction)
 from .sensor import PAPER_SENSOR, SensorSpec, add_netd_noise, apply_psf, focal_plane_irradiance, quantise
@@ -183,7 +186,8 @@ def emitted_transmittance_table(season: str, band: str, view_zenith_deg: float,
 def conditions_from_atmosphere(season: str, band: str, view_zenith_deg: float,
                                view_azimuth_deg: float, sun_zenith_deg: float,
                                sun_azimuth_deg: float, backend: str = "table",
-                               tau_table=None) -> BandConditions:
+                               tau_table=None, sky_weather: dict | None = None
+                               ) -> BandConditions:
     """:class:`BandConditions` from :func:`imaging.atmosphere.atmosphere` for one geometry.
 
     Parameters
@@ -199,6 +203,11 @@ def conditions_from_atmosphere(season: str, band: str, view_zenith_deg: float,
     tau_table : tuple or None
         ``(temp, tau)`` from :func:`emitted_transmittance_table` (computed if None; pass it
         when rendering many times with one view).
+    sky_weather : dict or None
+        The thermal stage's near-surface weather at this moment
+        (:meth:`imaging.atmosphere.weather_sky.SkyWeather.at`): the thermal sky then follows
+        it (:func:`imaging.atmosphere.weather_sky.weather_sky_radiance`); None: the
+        standard atmosphere's sky of the tables. Scattered sunlight stays the tables'.
     """
     from .atmosphere import atmosphere
 
@@ -207,11 +216,17 @@ def conditions_from_atmosphere(season: str, band: str, view_zenith_deg: float,
                      view_azimuth_from_sun_deg=rel, spectral=False)
     if tau_table is None:
         tau_table = emitted_transmittance_table(season, band, view_zenith_deg, backend)[:2]
+    sky_thermal, sky_hemis = atm.sky_radiance, atm.sky_irradiance
+    if sky_weather is not None:
+        from .atmosphere.weather_sky import weather_sky_irradiance, weather_sky_radiance
+
+        sky_thermal = float(weather_sky_radiance(band, atm.sky_zenith_deg, **sky_weather))
+        sky_hemis = weather_sky_irradiance(band, **sky_weather)
     return BandConditions(
         band=band, sun_zenith_deg=float(sun_zenith_deg), sun_azimuth_deg=float(sun_azimuth_deg),
         solar_irradiance=atm.solar_irradiance_ground,
-        sky_radiance_specular=atm.sky_radiance + atm.sky_radiance_solar,
-        sky_radiance_mean=(atm.sky_irradiance + atm.sky_irradiance_solar) / math.pi,
+        sky_radiance_specular=sky_thermal + atm.sky_radiance_solar,
+        sky_radiance_mean=(sky_hemis + atm.sky_irradiance_solar) / math.pi,
         tau_temp=np.asarray(tau_table[0]), tau_emitted=np.asarray(tau_table[1]),
         transmittance_sun=atm.transmittance_solar_weighted,
         transmittance_sky=atm.transmittance_sky_weighted, path_radiance=atm.path_radiance)
@@ -661,7 +676,8 @@ class SceneRenderer:
         eps_f = self.ship_emissivity(band)
         emit_f = eps_f * planck(temp_f)
         f_up = 0.5 * (1.0 + self.face_normals[:, 2])
-        eps_w = background_emissivity("water", band)
+        # the sea the hull sides see: hemispherical emissivity of the same rough sea
+        eps_w = rough_sea_emissivity_hemispherical(band, self.wind_speed)
         l_sea = eps_w * float(planck(temp_sea)) + (1.0 - eps_w) * c.sky_radiance_mean
         sky_f = (1.0 - eps_f) * (f_up * c.sky_radiance_mean + (1.0 - f_up) * l_sea)
         # per sample: the sun term uses the normal oriented toward the viewer

@@ -16,8 +16,10 @@ Surface optics
   with exact Fresnel for a binder of index :attr:`ShipPaint.refractive_index` and a Lambertian
   part ``kd = 1 - eps - F0`` so that the reflectance is ``1 - eps`` near normal incidence
   (Kirchhoff for an opaque surface).
-* Sea: Cox-Munk (eq. 7) with the band-mean water index of Hale & Querry; directional
-  emissivity ``1 - R_Fresnel(theta_v)`` (:func:`imaging.radiometry.sea_emissivity`).
+* Sea: Cox-Munk (eq. 7) with Smith shadowing and the band-mean water index of Hale &
+  Querry; directional emissivity one minus the directional albedo of that same BRDF at the
+  scene's wind speed (:func:`imaging.radiometry.rough_sea_emissivity`), so emission and
+  reflection close (Kirchhoff) at every view angle.
 * Land classes: RPV (eq. 8) with the shapes of :data:`RPV_SHAPE`; the amplitude ``rho0`` is
   solved so that the directional-hemispherical reflectance from the view direction equals
   ``1 - eps`` (Kirchhoff + reciprocity).
@@ -321,7 +323,7 @@ class BackgroundOptics:
     rpv : dict
         ``{class code: (rho0, k, b)}`` of the land classes [-].
     water_sun_scale : float
-        Factor on the Cox-Munk BRDF [-]: 1, or ``(1 - eps_override) / (1 - eps_Fresnel)``
+        Factor on the Cox-Munk BRDF [-]: 1, or ``(1 - eps_override) / (1 - eps_rough)``
         when the water emissivity is overridden (keeps reflectance = 1 - emissivity).
     """
 
@@ -369,7 +371,7 @@ def background_optics(band: str, view_zenith_deg: float, view_azimuth_deg: float
         Wind speed for the Cox-Munk slopes [m s-1].
     emissivity_override : dict or None
         ``{class name: emissivity}`` replacing :data:`imaging.radiometry.BACKGROUND_EMISSIVITY`
-        (for water: a constant replacing the Fresnel angular emissivity).
+        (for water: a constant replacing the rough-sea angular emissivity).
     rpv_shape : dict or None
         Replaces :data:`RPV_SHAPE` entries.
 
@@ -379,8 +381,10 @@ def background_optics(band: str, view_zenith_deg: float, view_azimuth_deg: float
 
     Notes
     -----
-    Water: ``eps(theta_v) = 1 - R_Fresnel`` with the band-mean index (Kirchhoff; waves
-    neglected); land classes: emissivity tables and RPV amplitude from :func:`rpv_rho0`.
+    Water: ``eps(theta_v) = 1 - a(theta_v)``, ``a`` the directional albedo of the
+    shadowed Cox-Munk BRDF at ``wind_speed`` with the band-mean index (Kirchhoff +
+    reciprocity, :func:`imaging.radiometry.rough_sea_emissivity`); land classes: emissivity
+    tables and RPV amplitude from :func:`rpv_rho0`.
     """
     check_range("view_zenith_deg", view_zenith_deg, 0.0, 85.0, "deg")
     check_range("wind_speed", wind_speed, 0.0, 40.0, "m/s")
@@ -394,9 +398,10 @@ def background_optics(band: str, view_zenith_deg: float, view_azimuth_deg: float
     scale = 1.0
     for code, name in CLASS_NAMES.items():
         if name == "water":
-            fresnel = float(sea_emissivity(math.radians(view_zenith_deg), band))
-            eps[code] = override.get("water", fresnel)
-            scale = (1.0 - eps[code]) / (1.0 - fresnel)
+            rough = float(sea_emissivity(math.radians(view_zenith_deg), band,
+                                         wind_speed=wind_speed))
+            eps[code] = override.get("water", rough)
+            scale = (1.0 - eps[code]) / (1.0 - rough)
         else:
             eps[code] = override.get(name, background_emissivity(name, band))
             k, b = shapes[name]

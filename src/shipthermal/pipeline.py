@@ -205,8 +205,10 @@ def imaging_scenario(scenario, background):
     Everything comes from the one scenario: location, date and time zone (sun), the day's
     mean wind speed (sea glint), the mooring position (``[east, north]`` of the scene centre)
     and heading, the view direction, samples per pixel, ray tracer, atmosphere backend and
-    model, detector effects, the camera, and the per-part band emissivities.
+    model, detector effects, the camera, the per-part band emissivities and the day's
+    near-surface weather (the image's thermal sky follows the thermal stage's).
     """
+    from imaging.atmosphere.weather_sky import SkyWeather
     from imaging.experiment import ImagingScenario
     from imaging.render import SensorOptions
     from imaging.scene import ShipPlacement, as_scene_background
@@ -235,7 +237,9 @@ def imaging_scenario(scenario, background):
         view_zenith_deg=sens.view_zenith_deg, view_azimuth_deg=sens.view_azimuth_deg,
         samples_per_pixel=img.samples_per_pixel_side, backend=sc.solver.backend,
         atmosphere_backend=img.atmosphere.backend, sensor_options=options,
-        renderer_options={"ship_emissivity": emissivity, "sensor": sc.sensor()})
+        renderer_options={"ship_emissivity": emissivity, "sensor": sc.sensor()},
+        sky_weather=SkyWeather.from_weather(sc.weather_record(), sc.start,
+                                            sc.weather.clear_sky_model, sc.weather.cloud_model))
 
 
 def frame_times(scenario, step_s: float | None = None) -> np.ndarray:

@@ -810,8 +810,12 @@ class WeatherSettings:
     linke_turbidity: Optional[float] = _opt(None, "float", "Override of pvlib's Linke "
                                             "turbidity climatology", lo=1.0, hi=10.0,
                                             optional=True)
-    sea_emissivity: float = _opt(SEA_EMISSIVITY, "float", "Hemispherical sea emissivity "
-                                 "(Konda et al. 1994)", lo=0.5, hi=1.0)
+    sea_emissivity: Optional[float] = _opt(None, "float", "Hemispherical sea emissivity; "
+                                           "default: the imaging's rough-sea (Cox-Munk) "
+                                           "model at each hour's wind speed (0.947 calm, "
+                                           "0.956 at 5 m/s); measured broadband: 0.984 "
+                                           "(Konda et al. 1994)", lo=0.5, hi=1.0,
+                                           optional=True)
     wind_speed_offset: float = _opt(0.0, "float", "Added to the wind speed (clipped at 0), "
                                     "for sensitivity runs and sweeps", unit="m/s",
                                     lo=-20.0, hi=20.0)

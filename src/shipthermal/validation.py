@@ -205,6 +205,7 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
 
 def _crossover_rows(scen, runs, progress, say):
     """Contrast zero crossings every 10 min in both bands, from the imaging stage."""
+    from imaging.atmosphere.weather_sky import SkyWeather
     from imaging.experiment import ImagingScenario, render_series
 
     rows = []
@@ -212,7 +213,9 @@ def _crossover_rows(scen, runs, progress, say):
     for season, res in runs.items():
         sc = scen[season]
         say(f"{season}: imaging every 10 min for the crossover moments")
-        img = ImagingScenario.default(season)
+        # the image's sky follows this scenario's weather, as the thermal run's does
+        img = ImagingScenario.default(season, sky_weather=SkyWeather.from_weather(
+            sc.weather_record(), sc.start, sc.weather.clear_sky_model, sc.weather.cloud_model))
         series = render_series(res.to_history(), img, bands=tuple(sc.bands), times_s=times,
                                progress=progress)
         for band, sr in series.items():

@@ -38,7 +38,8 @@ def test_hemispherical_emissivity_vs_dunkle_closed_form(n):
 
 def test_flat_water_hemispherical_below_measured_sea():
     # Flat water at 10 um: ~0.95; the measured broadband sea value (Konda et al. 1994,
-    # 0.984) is higher (roughness, band). Both must be in (0.9, 1).
+    # 0.984) is higher (roughness, band, and a sky warmest near the horizon where the sea
+    # reflects most). Both must be in (0.9, 1).
     flat = sea.sea_emissivity_hemispherical()
     assert 0.93 < flat < sea.SEA_EMISSIVITY < 1.0
 
@@ -60,3 +61,23 @@ def test_taylor_albedo_values():
     up = sea.sea_reflected_shortwave(800.0, 100.0, 60.0)
     assert up == pytest.approx(sea.sea_albedo_direct(60.0) * 400.0 + 6.0)
     assert sea.sea_reflected_shortwave(800.0, 100.0, 95.0) == pytest.approx(6.0)
+
+
+def test_environment_sea_follows_the_wind_by_default():
+    from shipthermal.environment import Environment, climate_day
+
+    day = climate_day("winter")
+    st = Environment.from_climate_day(day).at([0.0, 12 * 3600.0])
+    want = sea.sea_emissivity_rough(st.wind_speed)
+    np.testing.assert_allclose(st.sea_emissivity, want, rtol=1e-12)
+    assert np.all((want > 0.947) & (want < 0.967))   # the table's calm and 20 m/s ends
+    np.testing.assert_allclose(st.sea_longwave_up,
+                               sea.sea_longwave_up(st.temp_sea, st.longwave_down, want))
+    fixed = Environment.from_climate_day(day, sea_emissivity=0.984).at([0.0])
+    assert fixed.sea_emissivity == 0.984
+
+
+def test_rough_sea_table_monotone_between_flat_and_one():
+    t = np.array(sea.ROUGH_SEA_HEMISPHERICAL_EMISSIVITY)
+    assert np.all(np.diff(t) > 0) and t[-1] < 1.0
+    assert sea.sea_emissivity_rough(-1.0) == t[0]

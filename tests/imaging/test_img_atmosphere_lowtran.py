@@ -15,12 +15,13 @@ if not lb.lowtran_available():
 
 MODELS = {"summer": 2, "winter": 3}
 RNG = np.random.default_rng(20261121)
-# Off-grid points: random, not the mid-points the script measured the error at
+# Off-grid points: random, not the points the script measured the error at
 POINTS = {"view": RNG.uniform(0.0, 80.0, 3), "sun": RNG.uniform(0.0, 88.0, 3),
           "sky": RNG.uniform(0.0, 89.0, 3)}
-# The stated error is the maximum over all interval mid-points, where an interpolating
-# cubic's error (~ (x-a)(x-b)) peaks for smooth data; a factor 2 allows unequal
-# curvature across an interval.
+# The stated error is the maximum over the 1/4, 1/2 and 3/4 points of every interval (an
+# interpolating cubic's error ~ (x-a)(x-b) peaks inside); a factor 2 allows for the error
+# between those points (with mid-points alone, winter 3-5 um path radiance at 77 deg
+# view zenith exceeded twice the stated error).
 MARGIN = 2.0
 
 
@@ -103,3 +104,65 @@ def test_lower_visibility_more_aerosol():
     t10 = band_integrate(lam, a10["transmittance"], lim, mean=True)
     tg = band_integrate(lam, a23["transmittance_gas"], lim, mean=True)
     assert t10 < t23 < tg
+
+
+# ------------------------------------------------- source function vs LOWTRAN's own aerosol
+@pytest.fixture(scope="module")
+def lowtran_navy():
+    """LOWTRAN 7 compiled with card 2 IHAZE=3 (Navy maritime), VIS=23 km (cached build)."""
+    try:
+        return lb.load_lowtran_aerosol()
+    except ImportError as exc:
+        pytest.skip(f"aerosol build of LOWTRAN failed: {exc}")
+
+
+# Measured: path and sky radiance within 0.17 %, transmittance within 0.11 % (0-60 deg,
+# both seasons and bands); with the aerosol *absorption* in the layer emission instead of
+# the extinction the path radiance was 2-17 % low, so 0.5 % separates the two.
+REF_TOL = 0.005
+
+
+@pytest.mark.parametrize("season", list(MODELS))
+@pytest.mark.parametrize("zenith", [0.0, 30.0, 60.0])
+def test_aerosol_radiance_matches_lowtran_navy_maritime(season, zenith, lowtran_navy):
+    model = MODELS[season]
+    angle = 180.0 - lb._nadir_angle_at(lb.TOA_KM, zenith)
+    lam, tau, l_up, _ = lb.run_lowtran(model, 2, 1, lb.TOA_KM, angle, lb._GROUND_KM,
+                                       lowtran_navy)
+    l_sky = lb.run_lowtran(model, 3, 1, 0.0, zenith, 0.0, lowtran_navy)[2]
+    up, down = lb.upward(model, zenith, {}), lb.sky(model, zenith, {})
+    assert np.allclose(up["wavelength_um"], lam)
+    for band, lim in BANDS.items():
+        ref = {"transmittance": band_integrate(lam, tau, lim, mean=True),
+               "path_radiance": band_integrate(lam, l_up, lim),
+               "sky_radiance": band_integrate(lam, l_sky, lim)}
+        ours = {"transmittance": band_integrate(lam, up["transmittance"], lim, mean=True),
+                "path_radiance": band_integrate(lam, up["path_radiance"], lim),
+                "sky_radiance": band_integrate(lam, down["sky_radiance"], lim)}
+        for q in ref:
+            assert ours[q] == pytest.approx(ref[q], rel=REF_TOL), (band, q)
+        # the aerosol matters here: gas-only LOWTRAN is further away than the tolerance
+        gas = band_integrate(lam, up["path_radiance_gas"], lim)
+        assert abs(gas / ref["path_radiance"] - 1.0) > REF_TOL, band
+
+
+def test_tables_match_lowtran_navy_maritime(lowtran_navy):
+    """The shipped tables at their nodes vs LOWTRAN's own aerosol (and the stored check)."""
+    t = load_table()
+    for season, model in MODELS.items():
+        stored = t.meta["aerosol_reference_check"][season]
+        for z in (0.0, 60.0):
+            iv = int(np.flatnonzero(t.nodes("view") == z)[0])
+            ik = int(np.flatnonzero(t.nodes("sky") == z)[0])
+            angle = 180.0 - lb._nadir_angle_at(lb.TOA_KM, z)
+            lam, tau, l_up, _ = lb.run_lowtran(model, 2, 1, lb.TOA_KM, angle, lb._GROUND_KM,
+                                               lowtran_navy)
+            l_sky = lb.run_lowtran(model, 3, 1, 0.0, z, 0.0, lowtran_navy)[2]
+            for band, lim in BANDS.items():
+                for q, ref, k in (("transmittance", band_integrate(lam, tau, lim, mean=True),
+                                   iv),
+                                  ("path_radiance", band_integrate(lam, l_up, lim), iv),
+                                  ("sky_radiance", band_integrate(lam, l_sky, lim), ik)):
+                    dev = abs(t.get(season, q, band)[k] / ref - 1.0)
+                    assert dev < REF_TOL, (season, band, q, z)
+                    assert dev <= stored[band][q] + 1e-6

@@ -57,7 +57,7 @@ def test_box_covering_half_a_pixel_gives_the_half_mixed_radiance():
     assert fr.coverage.sum() == 0.5          # nothing else is touched (nadir view)
     eps_ship = 0.95                          # paper §5, deck at 8-14 um
     l_ship = eps_ship * band_radiance(310.0, "8-14")
-    l_water = float(sea_emissivity(0.0, "8-14")) * band_radiance(295.0, "8-14")
+    l_water = float(sea_emissivity(0.0, "8-14", wind_speed=5.0)) * band_radiance(295.0, "8-14")
     # float32 images: 1e-6 relative is ~8 ulp
     assert fr.leaving[row, col] == pytest.approx(0.5 * l_ship + 0.5 * l_water, rel=1e-6)
     assert fr.radiance[row, col] == pytest.approx(0.6 * (0.5 * l_ship + 0.5 * l_water) + 2.0,
@@ -134,7 +134,7 @@ def test_box_shadow_on_water_removes_reflected_sun_on_the_right_samples(
 
     # radiance: water pixel = emitted + sky + (lit share) * sun glint (Cox-Munk, eq. 7)
     th_v = math.radians(view_zenith)
-    eps_w = float(sea_emissivity(th_v, "3-5"))
+    eps_w = float(sea_emissivity(th_v, "3-5", wind_speed=5.0))  # rough sea (renderer default)
     f_sun = float(cox_munk_brdf(math.radians(sun_zenith),
                                 float(compass_to_math_azimuth(sun_azimuth)), th_v,
                                 float(compass_to_math_azimuth(view_azimuth)), 5.0,

@@ -13,9 +13,12 @@ winter (model 3). The three geometric dependences are separable, so the tables a
 
 Each quantity is stored spectrally (LOWTRAN's 5 cm⁻¹ grid, 2.9–14.5 µm) and
 band-integrated for the default rectangular 3–5 and 8–14 µm bands. The maximum
-interpolation errors, measured by the script at off-grid points (mid-points of every
+interpolation errors, measured by the script at off-grid points (1/4, 1/2 and 3/4 of every
 interval) against live LOWTRAN, are stored in the file and exposed as
-:func:`interpolation_errors`.
+:func:`interpolation_errors` (band values: transmittance ≤ 0.0015 absolute, path and sky
+radiance ≤ 0.3 %, direct solar ≤ 1.1 % relative). The file also records the largest
+deviation of the tables from LOWTRAN 7 run with its own Navy maritime aerosol
+(``meta["aerosol_reference_check"]``, ≤ 0.17 %).
 """
 
 from __future__ import annotations

@@ -36,7 +36,6 @@ from shipthermal.units import ZERO_CELSIUS
 from . import climatology, convection, sea, sky, sun, weather
 from .climatology import ClimateDay, climate_day, dalian_summer, dalian_winter
 from .convection import relative_wind
-from .sea import SEA_EMISSIVITY
 from .weather import Weather, read_weather_csv, read_weather_epw, read_weather_tmy3
 
 __all__ = [
@@ -89,8 +88,8 @@ class EnvironmentState:
         Effective sky temperature ``(L_down / σ)^(1/4)`` [K].
     temp_sea : numpy.ndarray
         Sea surface temperature [K].
-    sea_emissivity : float
-        Hemispherical sea emissivity [-].
+    sea_emissivity : float or numpy.ndarray
+        Hemispherical sea emissivity [-] (per time when it follows the wind).
     sea_longwave_up : numpy.ndarray
         Long-wave leaving the sea (emitted + reflected sky) [W m-2].
     sea_shortwave_up : numpy.ndarray
@@ -121,7 +120,7 @@ class EnvironmentState:
     longwave_down: np.ndarray
     temp_sky: np.ndarray
     temp_sea: np.ndarray
-    sea_emissivity: float
+    sea_emissivity: float | np.ndarray
     sea_longwave_up: np.ndarray
     sea_shortwave_up: np.ndarray
     wind_speed: np.ndarray
@@ -169,8 +168,10 @@ class Environment:
         GHI split when the weather carries measured GHI.
     linke_turbidity : float, optional
         Override pvlib's Linke turbidity climatology [-].
-    sea_emissivity : float
-        Hemispherical sea emissivity [-].
+    sea_emissivity : float or None
+        Hemispherical sea emissivity [-]; None (default): the rough-sea model of the imaging
+        at each time's wind speed (:func:`.sea.sea_emissivity_rough`), so both stages see
+        the same sea.
 
     Notes
     -----
@@ -185,12 +186,13 @@ class Environment:
                  date: Optional[str] = None, clear_sky_model: str = "brutsaert",
                  cloud_model: str = "unsworth_monteith", decomposition: str = "erbs",
                  linke_turbidity: Optional[float] = None,
-                 sea_emissivity: float = SEA_EMISSIVITY):
+                 sea_emissivity: Optional[float] = None):
         check_range("environment.latitude", latitude, -66.0, 66.0, "deg")
         check_range("environment.longitude", longitude, -180.0, 360.0, "deg")
         check_range("environment.ship_heading", ship_heading, -360.0, 720.0, "deg")
         check_range("environment.ship_speed", ship_speed, 0.0, 30.0, "m/s")
-        check_range("environment.sea_emissivity", sea_emissivity, 0.5, 1.0)
+        if sea_emissivity is not None:
+            check_range("environment.sea_emissivity", sea_emissivity, 0.5, 1.0)
         require(isinstance(weather, Weather), "environment.weather", type(weather).__name__,
                 "must be a shipthermal.environment.Weather")
         require(clear_sky_model in sky.CLEAR_SKY_MODELS, "environment.clear_sky_model",
@@ -208,7 +210,7 @@ class Environment:
         self.clear_sky_model = clear_sky_model
         self.cloud_model = cloud_model
         self.decomposition = decomposition
-        self.sea_emissivity = float(sea_emissivity)
+        self.sea_emissivity = None if sea_emissivity is None else float(sea_emissivity)
         tz = weather.tz
         if date is not None:
             require(weather.periodic, "environment.date", date,
@@ -317,6 +319,8 @@ class Environment:
         lw = sky.longwave_down(ws.temp_air, ws.relative_humidity, ws.cloud_cover,
                                measured=ws.longwave_down, clear_model=self.clear_sky_model,
                                cloud_model=self.cloud_model)
+        eps_sea = (sea.sea_emissivity_rough(ws.wind_speed) if self.sea_emissivity is None
+                   else self.sea_emissivity)
         rel_speed, rel_dir, off_bow = relative_wind(ws.wind_speed, ws.wind_direction,
                                                     self.ship_speed, self.ship_heading)
         return EnvironmentState(
@@ -324,8 +328,8 @@ class Environment:
             azimuth=azi, dni=dni, dhi=dhi, ghi=ghi, temp_air=ws.temp_air,
             relative_humidity=ws.relative_humidity, cloud_cover=ws.cloud_cover,
             longwave_down=lw, temp_sky=sky.sky_temperature(lw), temp_sea=ws.temp_sea,
-            sea_emissivity=self.sea_emissivity,
-            sea_longwave_up=sea.sea_longwave_up(ws.temp_sea, lw, self.sea_emissivity),
+            sea_emissivity=eps_sea,
+            sea_longwave_up=sea.sea_longwave_up(ws.temp_sea, lw, eps_sea),
             sea_shortwave_up=sea.sea_reflected_shortwave(dni, dhi, zen),
             wind_speed=ws.wind_speed, wind_direction=ws.wind_direction,
             wind_speed_relative=rel_speed, wind_direction_relative=rel_dir,
