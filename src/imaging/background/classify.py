@@ -402,7 +402,7 @@ class ClassificationResult:
     kappa_quadratic : float
         sklearn ``cohen_kappa_score(weights="quadratic")``, mean over the splits [-].
     kappa_quadratic_eq5 : float
-        Eqs. 5–6 (:func:`kappa_weighted`) on the pooled confusion matrix, cross-check [-].
+        Eqs. 5–6 (:func:`kappa_weighted`) per split, mean; cross-check of ``kappa_quadratic`` [-].
     kappa_unweighted : float
         Cohen's kappa without weights, mean over the splits [-].
     fractions : DataFrame
@@ -530,6 +530,7 @@ def classify_scene(features, roi_labels, test_fraction: float = 0.5, seed: int =
         rows.append({"seed": seed + k, "overall_accuracy": float(np.trace(cm) / cm.sum()),
                      "kappa_quadratic": float(cohen_kappa_score(y_test, y_pred, labels=list(CLASS_CODES),
                                                                 weights="quadratic")),
+                     "kappa_quadratic_eq5": kappa_weighted(cm),
                      "kappa_unweighted": float(cohen_kappa_score(y_test, y_pred, labels=list(CLASS_CODES))),
                      **{f"recall_{n}": float(r) for n, r in zip(names, recall)}})
         for n, c in zip(names, CLASS_CODES):
@@ -547,7 +548,7 @@ def classify_scene(features, roi_labels, test_fraction: float = 0.5, seed: int =
         confusion=pd.DataFrame(pooled, index=[f"ref_{n}" for n in names], columns=[f"pred_{n}" for n in names]),
         overall_accuracy=float(table["overall_accuracy"].mean()),
         kappa_quadratic=float(table["kappa_quadratic"].mean()),
-        kappa_quadratic_eq5=kappa_weighted(pooled),
+        kappa_quadratic_eq5=float(table["kappa_quadratic_eq5"].mean()),
         kappa_unweighted=float(table["kappa_unweighted"].mean()),
         fractions=fractions,
         n_train={CLASS_NAMES[c]: int((y_all == c).sum()) for c in CLASS_CODES},
