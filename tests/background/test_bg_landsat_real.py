@@ -243,3 +243,30 @@ def test_pre_collection_overpass_fills_clouds_and_writes_mask(pre, tmp_path):
     # filled LST comes from clear pixels: no cloud-top temperatures remain
     lst_clear = ov.lst[~pre.masked]
     assert ov.lst[pre.masked].min() >= lst_clear.min() - 1e-6
+
+
+# --- scenario validate opens the rasters and lists every problem --------------------------------
+def test_scenario_validate_reports_every_raster_problem_at_once(tmp_path, capsys):
+    from shipthermal.scenario import ROI_SPLITS, main
+    from imaging.background.classify import N_SPLITS
+
+    assert ROI_SPLITS == N_SPLITS
+    scene = tmp_path / "scene"
+    shutil.copytree(MERSEY_DIR, scene)
+    b6 = scene / MERSEY.name.replace("_MTL.txt", "_SR_B6.TIF")
+    b6.write_bytes(b6.read_bytes()[:40_000])                       # truncated
+    roi = scene / "mersey_rois.geojson"
+    roi.write_text(re.sub(r'"class": "building"', '"class": "water"', roi.read_text()))  # a class missing
+    dem = ROOT / "tests/data/dem_srtm/N49W124_crop.tif"            # British Columbia: no overlap
+    met = tmp_path / "met.nc"
+    met.write_text("not netcdf")
+    sc = tmp_path / "s.toml"
+    sc.write_text(f'[background]\nsource = "files"\nmtl = "{scene / MERSEY.name}"\nroi = "{roi}"\n'
+                  f'dem = "{dem}"\nmet = "{met}"\n')
+    assert main(["validate", str(sc)]) == 2
+    err = capsys.readouterr().err
+    for frag in ("FILE_NAME_BAND_6", "truncated or corrupt", "background.roi", "none for building",
+                 "background.dem", "must overlap the scene", "background.met", "georeferencing from the MTL"):
+        assert frag in err, (frag, err)
+    # the untouched example passes
+    assert main(["validate", str(ROOT / "examples/real_port/background.toml")]) == 0
