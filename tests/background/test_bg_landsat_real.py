@@ -130,10 +130,11 @@ def test_band_file_template_and_missing_override(tmp_path):
 
 
 def test_bqa_bits_against_an_independent_decoding(pre):
-    # Pre-collection L8 BQA: cloud confidence in bits 14-15, cirrus in 12-13; 3 = high.
+    # Pre-collection L8 BQA: cloud confidence in bits 14-15 (masked from 2 = medium), cirrus
+    # in 12-13 (3 = high).
     with rasterio.open(PRE / "l8_BQA.tif") as src:
         q = src.read(1).astype(np.int64)
-    cloud = (q // 2 ** 14) % 4 == 3
+    cloud = (q // 2 ** 14) % 4 >= 2
     cirrus = (q // 2 ** 12) % 4 == 3
     np.testing.assert_array_equal(pre.qa["cloud"], cloud)
     np.testing.assert_array_equal(pre.qa["cirrus"], cirrus)

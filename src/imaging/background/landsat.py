@@ -115,7 +115,9 @@ QA_LAYOUTS = {
     "1": {"fill": ((0, 1, 1),), "cloud": ((4, 1, 1),), "cirrus": ((11, 3, 3),),
           "shadow": ((7, 3, 3),)},
     # Pre-collection L8 BQA (Landsat 8 QA band, 2013-2016): two-bit confidences, no shadow.
-    "pre": {"fill": ((0, 1, 1),), "cloud": ((14, 3, 3),), "cirrus": ((12, 3, 3),), "shadow": ()},
+    # Cloud at medium or high confidence: on a real scene (LC80200392015216LGN00) medium-
+    # confidence pixels are 7 K colder in band 10 than low-confidence ones (282.6 vs 289.7 K).
+    "pre": {"fill": ((0, 1, 1),), "cloud": ((14, 3, 2), (14, 3, 3)), "cirrus": ((12, 3, 3),), "shadow": ()},
 }
 """Quality-band bit tests per product generation: flag -> ((first bit, mask, value), ...);
 a pixel carries the flag when any ``(qa >> bit) & mask == value`` holds."""
