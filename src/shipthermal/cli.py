@@ -338,8 +338,8 @@ def cmd_background(args, con: Console) -> int:
     opts = dict(mtl=args.mtl, roi=args.roi, dem=args.dem, met=args.met, band_files=args.band_files)
     offset = 0.0
     if args.scenario:
-        bgs = _load_scenario(args.scenario)
-        sc, bgs = bgs, bgs.background
+        sc = _load_scenario(args.scenario)
+        bgs = sc.background
         if bgs.source != "files":
             raise InputError("background.source", bgs.source, "must be 'files' for `shipthermal background`")
         for k in ("mtl", "roi", "dem", "met", "band_files"):

@@ -1243,9 +1243,9 @@ class BackgroundSettings:
                                 choices=VARIOGRAM_MODELS)
     band_files: Optional[str] = _opt(None, "str", "files: Landsat band file names when they "
                                      "differ from the MTL's, a template with {band} (B4, B10, "
-                                     "BQA; SR_B4, ST_B10, QA_PIXEL for Level-2), e.g. "
-                                     "'l8_{band}.tif'; default: the MTL's names, else found by "
-                                     "suffix", optional=True)
+                                     "BQA; SR_B4, ST_B10, QA_PIXEL for Level-2) relative to "
+                                     "the MTL's folder, e.g. 'l8_{band}.tif'; default: the "
+                                     "MTL's names, else found by suffix", optional=True)
     qa_mask: bool = _opt(True, "bool", "Mask fill, cloud, cirrus and cloud shadow from the "
                          "Landsat quality band (QA_PIXEL / BQA) and fill them from same-class "
                          "neighbours")

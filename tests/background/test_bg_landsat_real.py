@@ -271,3 +271,23 @@ def test_scenario_validate_reports_every_raster_problem_at_once(tmp_path, capsys
         assert frag in err, (frag, err)
     # the untouched example passes
     assert main(["validate", str(ROOT / "examples/real_port/background.toml")]) == 0
+
+
+def test_level2_mtl_json_form_reads_like_the_text(tmp_path):
+    # Collection-2 also ships the MTL as JSON (groups as nested objects): same product.
+    import json
+
+    from imaging.background.landsat import parse_mtl_groups
+
+    root, groups = parse_mtl_groups(MERSEY.read_text())
+    for f in MERSEY_DIR.glob("LC08*.TIF"):
+        shutil.copy(f, tmp_path / f.name)
+    js = tmp_path / MERSEY.name.replace(".txt", ".json")
+    js.write_text(json.dumps({root: {g: items for g, items in groups.items() if g != root}}))
+    a, b = read_mtl(MERSEY), read_mtl(js)
+    assert b.level == "L2" and b.collection == "2"
+    assert [os.path.basename(b.band_files[k]) for k in sorted(b.band_files)] == \
+        [os.path.basename(a.band_files[k]) for k in sorted(a.band_files)]
+    assert (b.st_mult, b.st_add, b.reflectance_mult, b.acquired_utc) == (a.st_mult, a.st_add, a.reflectance_mult,
+                                                                         a.acquired_utc)
+    assert b.georef == a.georef
