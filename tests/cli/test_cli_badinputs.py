@@ -433,3 +433,14 @@ def test_background_command_on_the_real_port(tmp_path, capsys):
     with rasterio.open(tmp_path / "bg" / "lst_K.tif") as src:
         assert src.crs.to_epsg() == 32630 and src.shape == (267, 433)
     assert [p.name for p in tmp_path.iterdir()] == ["bg"]          # no temporary folder left
+
+
+def test_background_command_hourly_with_dem_and_met(port, tmp_path, capsys):
+    code, err = _run(["-q", "background", "--mtl", port.mtl_txt, "--roi", port.roi, "--dem", port.dem,
+                      "--met", port.met, "--out", str(tmp_path / "bg")], capsys)
+    assert code == 0, err
+    with rasterio.open(tmp_path / "bg" / "background_K.tif") as src:
+        assert src.count == 24
+    summary = json.loads((tmp_path / "bg" / "summary.json").read_text())
+    assert summary["lst_source"] == "single_channel" and summary["accuracy_over_splits"]["n_splits"] == 10
+    assert (tmp_path / "bg" / "qa_mask.tif").is_file()

@@ -708,7 +708,7 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
         baseline=baseline_utc[order].astype(np.float32), sst=met.sst[order], overpass_utc=acquired,
         overpass_hour_local=float(hour_ov), atmosphere=atmosphere, utc_offset_hours=float(utc_offset_hours),
         dem_masked_pixels=dem_masked, emissivity_model=emissivity_model,
-        unmixed_pixels=int(m.sum()), land_fraction=mix.get("f"), timings=timings)
+        unmixed_pixels=int(m.sum()), land_fraction=mix.get("f"), timings=timings, overpass=ov)
     if out_dir is not None:
         from .outputs import write_outputs
 
