@@ -126,9 +126,10 @@ QA_MASK_FLAGS = ("fill", "cloud", "cirrus", "shadow")
 """Flags whose pixels are masked (and filled from same-class neighbours)."""
 
 LST_ACCURACY_ST_B10_K = 1.5
-"""Stated accuracy of the Collection-2 Level-2 surface temperature [K]: RMSE of about 1–2 K
-against in-situ LST over clear-sky land and water (Cook et al. 2014, Remote Sens.
-6:11244; Malakar et al. 2018, IEEE TGRS 56(10):5717), larger near clouds (``ST_CDIST``)."""
+"""Stated accuracy of the Collection-2 Level-2 surface temperature [K]: validation of the
+product's single-channel algorithm against in-situ and buoy temperatures reports RMSE of
+roughly 1–2 K for clear-sky pixels (Malakar et al. 2018, IEEE TGRS 56(10)), larger near
+clouds (the product's ``ST_CDIST`` / ``ST_QA`` layers)."""
 
 
 @dataclass(frozen=True)
