@@ -9,6 +9,7 @@ Subcommands (``shipthermal <command> --help`` for each)::
     image      imaging stage on a finished thermal run directory
     crossover  print the crossover times of a run directory
     validate   deck temperatures vs the paper's reference, sensitivity table
+    background the port background from real files (Landsat, ROIs[, DEM, met grid])
     sweep      parameter sweep on dask.distributed
     report     (re)write the self-contained HTML report of a run directory
 
@@ -353,6 +354,34 @@ def cmd_validate(args, con: Console) -> int:
     return EXIT_OK
 
 
+def cmd_background(args, con: Console) -> int:
+    from .background_cmd import run_background
+
+    opts = dict(mtl=args.mtl, roi=args.roi, dem=args.dem, met=args.met, band_files=args.band_files)
+    offset = 0.0
+    if args.scenario:
+        sc = _load_scenario(args.scenario)
+        bgs = sc.background
+        if bgs.source != "files":
+            raise InputError("background.source", bgs.source, "must be 'files' for `shipthermal background`")
+        for k in ("mtl", "roi", "dem", "met", "band_files"):
+            opts[k] = opts[k] or getattr(bgs, k, None)
+        offset = sc.start.utcoffset().total_seconds() / 3600.0
+    for k in ("mtl", "roi"):
+        if not opts[k]:
+            raise InputError(f"--{k}", None, "is required (or a scenario whose [background] names it)")
+    res = run_background(args.out, **opts, bounds=args.bounds, use_qa=not args.no_qa,
+                         n_splits=args.splits, seed=args.seed, utc_offset_hours=offset,
+                         water_vapour=args.water_vapour, force=args.force, log=con.info,
+                         progress=con.progress)
+    sp = res["summary"].get("accuracy_over_splits", {}).get("overall_accuracy")
+    if sp:
+        con.out(f"classification: overall accuracy {sp['mean']:.3f} +- {sp['std']:.3f} over "
+                f"{res['summary']['accuracy_over_splits']['n_splits']} held-out ROI splits")
+    con.out(f"background: {len(res['files'])} files in {args.out} ({res['seconds']:.1f} s)")
+    return EXIT_OK
+
+
 def cmd_sweep(args, con: Console) -> int:
     from .rundir import RunDir, atomic_write_text
     from .sweep import load_sweep, run_sweep
@@ -474,6 +503,29 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--into", help="add the validation to this existing run directory instead")
     v.add_argument("--quick", action="store_true", help="coarse mesh and fewer rays")
     v.add_argument("--force", action="store_true", help="replace a finished run directory")
+
+    b = add("background", "build and write the port background from real files: Landsat "
+            "L1/L2 scene + ROIs give LST, classes, QA mask, accuracy; with --dem and --met the "
+            "hourly background", cmd_background)
+    b.add_argument("scenario", nargs="?", help="scenario TOML whose [background] names the files "
+                   "(options below override)")
+    b.add_argument("--mtl", help="Landsat *_MTL.txt / .json (Level-1 or Level-2)")
+    b.add_argument("--roi", help="training ROIs: GeoJSON / GeoPackage / Shapefile polygons "
+                   "(any CRS) or a label GeoTIFF")
+    b.add_argument("--dem", help="DEM GeoTIFF (with --met: hourly background)")
+    b.add_argument("--met", help="hourly met NetCDF (with --dem)")
+    b.add_argument("--band-files", help="band file name template when the names on disk differ "
+                   "from the MTL, e.g. 'l8_{band}.tif'")
+    b.add_argument("--bounds", nargs=4, type=float, metavar=("W", "S", "E", "N"),
+                   help="crop box in the scene CRS [m]")
+    b.add_argument("--water-vapour", type=float, help="column water vapour [g cm-2] for the "
+                   "single-channel LST of a Level-1 scene without a met grid")
+    b.add_argument("--splits", type=int, default=10, help="held-out ROI splits (default 10)")
+    b.add_argument("--seed", type=int, default=0, help="seed of the first split")
+    b.add_argument("--no-qa", action="store_true", help="do not mask clouds/shadows from QA")
+    b.add_argument("--out", default="runs/background", help="output folder (default "
+                   "runs/background)")
+    b.add_argument("--force", action="store_true", help="replace a non-empty output folder")
 
     s = add("sweep", "parameter sweep: the Cartesian product of scenario changes, one "
             "dask task per case; re-running skips finished cases", cmd_sweep)

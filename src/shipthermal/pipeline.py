@@ -165,11 +165,18 @@ def build_background(scenario, progress: bool = False):
                                      lat=scenario.location.latitude,
                                      lon=scenario.location.longitude,
                                      krige_coarsen=bgs.krige_coarsen,
-                                     variogram_model=bgs.variogram_model)
+                                     variogram_model=bgs.variogram_model,
+                                     n_splits=bgs.roi_splits)
     from rasterio.errors import RasterioIOError
 
     from imaging.background import build_background_from_files
 
+    for key in ("dem", "met"):
+        if getattr(bgs, key) is None:
+            raise InputError(f"background.{key}", None, "is required with source = 'files' for "
+                             "the hourly background of the imaging stage",
+                             "Add it to [background] (`shipthermal background` writes the "
+                             "overpass products without it)")
     offset = scenario.start.utcoffset().total_seconds() / HOUR
     try:
         return build_background_from_files(bgs.mtl, bgs.dem, bgs.met, bgs.roi,
@@ -177,7 +184,8 @@ def build_background(scenario, progress: bool = False):
                                            utc_offset_hours=offset,
                                            variogram_model=bgs.variogram_model,
                                            krige_coarsen=bgs.krige_coarsen, seed=bgs.seed,
-                                           progress=progress)
+                                           band_files=bgs.band_files, use_qa=bgs.qa_mask,
+                                           n_splits=bgs.roi_splits, progress=progress)
     except RasterioIOError as exc:
         # GDAL could not open a raster: a user error (a file the scenario names), reported
         # with its key rather than as a crash

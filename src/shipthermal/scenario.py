@@ -122,6 +122,8 @@ VARIOGRAM_MODELS = ("exponential", "gaussian", "linear", "power", "spherical")
 """= sorted(imaging.background.kriging.VARIOGRAM_MODELS)."""
 SYNTHETIC_PIXEL_M = 30.0
 """Pixel size of the built-in synthetic port [m]."""
+ROI_SPLITS = 10
+"""= imaging.background.classify.N_SPLITS (held-out ROI splits of the accuracy)."""
 
 BUILTIN_SHIP_NAMES = ("cargo_ship", "frigate", "patrol_boat")
 """= sorted(shipthermal.geometry.BUILTIN_SHIPS)."""
@@ -1283,17 +1285,31 @@ class BackgroundSettings:
                      lo=0, hi=2 ** 32 - 1)
     size_px: int = _opt(334, "int", "Synthetic port side in 30 m pixels (334 = 10 km)",
                         lo=60, hi=5000)
-    mtl: Optional[str] = _opt(None, "file", "files: Landsat C2 L1 *_MTL.txt / .json (bands "
-                              "next to it)", optional=True, allowed_text="existing file")
-    dem: Optional[str] = _opt(None, "file", "files: DEM GeoTIFF", optional=True,
+    mtl: Optional[str] = _opt(None, "file", "files: Landsat 8/9 *_MTL.txt / .json, Level-1 "
+                              "or Level-2, Collection 2, 1 or pre-collection (bands next to "
+                              "it)", optional=True, allowed_text="existing file")
+    dem: Optional[str] = _opt(None, "file", "files: DEM GeoTIFF (needed for the hourly "
+                              "background of the imaging stage)", optional=True,
                               allowed_text="existing file")
     met: Optional[str] = _opt(None, "file", "files: hourly met NetCDF (temperature, sst, "
-                              "tcwv)", optional=True, allowed_text="existing file")
-    roi: Optional[str] = _opt(None, "file", "files: training ROIs (label GeoTIFF or GeoJSON)",
+                              "tcwv; needed for the hourly background of the imaging stage)",
+                              optional=True, allowed_text="existing file")
+    roi: Optional[str] = _opt(None, "file", "files: training ROIs (label GeoTIFF, or GeoJSON / "
+                              "GeoPackage / Shapefile polygons in any CRS with a 'class' field)",
                               optional=True, allowed_text="existing file")
     krige_coarsen: int = _opt(5, "int", "Krige every n-th pixel, then bilinear", lo=1, hi=50)
     variogram_model: str = _opt("spherical", "choice", "Variogram model fitted per hour",
                                 choices=VARIOGRAM_MODELS)
+    band_files: Optional[str] = _opt(None, "str", "files: Landsat band file names when they "
+                                     "differ from the MTL's, a template with {band} (B4, B10, "
+                                     "BQA; SR_B4, ST_B10, QA_PIXEL for Level-2) relative to "
+                                     "the MTL's folder, e.g. 'l8_{band}.tif'; default: the "
+                                     "MTL's names, else found by suffix", optional=True)
+    qa_mask: bool = _opt(True, "bool", "Mask fill, cloud, cirrus and cloud shadow from the "
+                         "Landsat quality band (QA_PIXEL / BQA) and fill them from same-class "
+                         "neighbours")
+    roi_splits: int = _opt(ROI_SPLITS, "int", "Held-out ROI splits the classification "
+                           "accuracy is averaged over (the map uses all ROIs)", lo=1, hi=100)
 
     _FILES = ("mtl", "dem", "met", "roi")
 
@@ -1304,11 +1320,15 @@ class BackgroundSettings:
         for key in BackgroundSettings._FILES:
             if obj.source == "builtin" and key in raw:
                 ctx.err(f"{path}.{key}", raw[key], "only applies with source = 'files'")
-            if obj.source == "files" and key not in raw:
+            # dem and met are needed by the hourly background of the imaging stage (checked
+            # there); the overpass products of `shipthermal background` need mtl and roi only
+            if obj.source == "files" and key not in raw and key in ("mtl", "roi"):
                 ctx.err(f"{path}.{key}", None, "is required with source = 'files' "
-                        "(mtl, dem, met and roi)")
+                        "(mtl and roi; dem and met for the hourly background)")
         if obj.source == "files" and "size_px" in raw:
             ctx.err(f"{path}.size_px", raw["size_px"], "only applies with source = 'builtin'")
+        if obj.source == "builtin" and "band_files" in raw:
+            ctx.err(f"{path}.band_files", raw["band_files"], "only applies with source = 'files'")
         return obj
 
     def _omit(self) -> tuple:
@@ -2015,9 +2035,30 @@ def main(argv=None) -> int:
     for f in args.files:
         try:
             sc = load_scenario(f)
-            # open the input files too: the weather over the simulated span (columns,
-            # units, coverage of the date, gaps), every problem listed at once
-            notes = sc.check_weather()
+            # open the input files too, and list every problem at once: the weather over
+            # the simulated span (columns, units, coverage of the date, gaps) and the
+            # background rasters (headers, georeferencing, bands, QA, ROIs, DEM, met grid)
+            problems, notes = [], []
+            try:
+                notes = list(sc.check_weather())
+            except ScenarioError as exc:
+                problems += [str(e) for e in exc.errors]
+            except InputError as exc:
+                problems.append(str(exc))
+            bgs = sc.background
+            if bgs.source == "files":
+                from imaging.background.inputs import check_background_inputs
+
+                bg_problems, bg_notes = check_background_inputs(bgs.mtl, bgs.roi, bgs.dem,
+                                                                bgs.met, bgs.band_files)
+                problems += bg_problems
+                for n in bg_notes:
+                    print(f"{f}: note: {n}", file=sys.stderr)
+            if problems:
+                for p in problems:
+                    print(f"{f}: {p}", file=sys.stderr)
+                status = 2
+                continue
             print(f"{f}: ok ({sc.name}: {sc.time.season} {sc.time.date}, "
                   f"{sc.ship.builtin or 'user ship'}, bands {', '.join(sc.bands)})")
             for line in notes:

@@ -76,7 +76,7 @@ def test_roi_raster_on_another_grid(port, tmp_path):
         dst.write(data, 1)
     with pytest.raises(InputError, match="roi_path.*must be on the scene grid.*Rasterise"):
         read_roi(tmp_path / "roi_shifted.tif", grid)
-    with pytest.raises(InputError, match="roi_path.*existing GeoTIFF or GeoJSON"):
+    with pytest.raises(InputError, match="roi_path.*existing GeoTIFF or vector file"):
         read_roi(tmp_path / "absent.tif", grid)
 
 

@@ -1,6 +1,7 @@
 """Port background from remote sensing (paper §2.1–2.4).
 
-Landsat-8/9 Collection-2 L1 readers (:mod:`.landsat`), single-channel LST (:mod:`.lst`),
+Landsat-8/9 readers, Level-1 and Level-2, with QA masks (:mod:`.landsat`), single-channel
+LST (:mod:`.lst`), input checks that open every file (:mod:`.inputs`),
 Gaussian maximum-likelihood classification with JM/confusion/kappa (:mod:`.classify`),
 hourly met grids (:mod:`.met`) and Ordinary Kriging (:mod:`.kriging`), DEM slope/aspect and
 the eq. 15 regression (:mod:`.terrain`), the pipeline (:mod:`.background`), products

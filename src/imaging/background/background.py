@@ -45,15 +45,21 @@ from scipy.ndimage import binary_erosion
 
 from shipthermal.errors import InputError, check_range, require
 
-from .classify import CLASS_NAMES, ClassificationResult, classify_scene, read_roi
+from .classify import CLASS_NAMES, N_SPLITS, ClassificationResult, classify_scene, read_roi, water_index_check
 from .kriging import krige_hourly, met_points_on_grid
-from .landsat import NIR_BAND, RED_BAND, REFLECTIVE_BANDS, SceneGrid, read_landsat_scene
+from .landsat import (LST_ACCURACY_ST_B10_K, NIR_BAND, QA_MASK_FLAGS, RED_BAND, REFLECTIVE_BANDS, LandsatScene,
+                      SceneGrid, read_landsat_scene)
 from .lst import (EMISSIVITY_PARAMETERS, AtmosphereB10, atmospheric_functions, emissivity_ndvi_threshold,
                   lst_single_channel, ndvi)
 from .met import read_met_grid
 from .terrain import TerrainFit, fit_terrain_regression, read_dem, slope_aspect, southness, terrain_term
 
-__all__ = ["PortBackground", "build_background_from_files", "build_port_background", "unmix_border_pixels"]
+__all__ = ["PortBackground", "OverpassProducts", "build_overpass", "fill_masked_pixels",
+           "build_background_from_files", "build_port_background", "unmix_border_pixels"]
+
+LST_ACCURACY_SINGLE_CHANNEL_K = 3.0
+"""Stated accuracy of the single-channel band-10 LST [K]: 2–3 K too cold against an
+independent atmosphere (:mod:`.lst` module docstring, measured in its tests)."""
 
 WATER = 1
 LAND_CLASSES = (2, 3, 4)
@@ -97,8 +103,8 @@ class PortBackground:
     overpass_utc : datetime
     overpass_hour_local : float
         [h]
-    atmosphere : AtmosphereB10
-        Band-10 atmosphere used by the LST retrieval.
+    atmosphere : AtmosphereB10 or None
+        Band-10 atmosphere used by the LST retrieval (None when ST_B10 was the LST).
     emissivity_model : str
         NDVI-thresholds coefficient set used (:data:`.lst.EMISSIVITY_PARAMETERS`).
     unmixed_pixels : int
@@ -135,7 +141,7 @@ class PortBackground:
     sst: np.ndarray
     overpass_utc: datetime
     overpass_hour_local: float
-    atmosphere: AtmosphereB10
+    atmosphere: AtmosphereB10 | None
     utc_offset_hours: float
     dem_masked_pixels: int
     emissivity_model: str = "tirs_b10"
@@ -144,6 +150,7 @@ class PortBackground:
     outputs: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
     synthetic_truth: dict | None = field(default=None, repr=False)
+    overpass: "OverpassProducts | None" = field(default=None, repr=False)
 
     @property
     def class_names(self) -> dict:
@@ -173,9 +180,10 @@ class PortBackground:
             "crs": str(self.grid.crs),
             "overpass_utc": self.overpass_utc.isoformat(),
             "overpass_hour_local": self.overpass_hour_local,
-            "water_vapour_g_cm2": self.atmosphere.water_vapour,
+            "water_vapour_g_cm2": getattr(self.atmosphere, "water_vapour", None),
             "emissivity_model": self.emissivity_model,
-            "tau": self.atmosphere.tau, "l_up": self.atmosphere.l_up, "l_down": self.atmosphere.l_down,
+            "tau": getattr(self.atmosphere, "tau", None), "l_up": getattr(self.atmosphere, "l_up", None),
+            "l_down": getattr(self.atmosphere, "l_down", None),
             "held_out_split": c.split,
             "overall_accuracy": c.overall_accuracy, "kappa_quadratic": c.kappa_quadratic,
             "kappa_unweighted": c.kappa_unweighted,
@@ -189,6 +197,7 @@ class PortBackground:
             "unmixed_border_pixels": self.unmixed_pixels,
             "lst_K": [float(np.nanmin(self.lst)), float(np.nanmax(self.lst))],
             "timings_s": {k: round(v, 3) for k, v in self.timings.items()},
+            **(self.overpass.summary_extra() if self.overpass is not None else {}),
         }
 
 
@@ -281,6 +290,188 @@ def unmix_border_pixels(class_map, lst, t0_ov, terr, b0_map, reflectance=None, r
             "terr_land": terr_land, "b0_land": b0_land, "water_ov": water_ov}
 
 
+@dataclass
+class OverpassProducts:
+    """Everything the Landsat overpass alone gives: LST, classes, masks, their checks.
+
+    Attributes
+    ----------
+    scene : LandsatScene
+    grid : SceneGrid
+    class_map : ndarray uint8
+        Classes after masked pixels were filled (0 = fill with no valid neighbour).
+    lst : ndarray float32
+        Surface temperature at the overpass [K]: ``ST_B10`` (Level-2) or single-channel.
+    lst_source : {"ST_B10", "single_channel"}
+    lst_accuracy_k : float
+        Stated accuracy of that LST [K] (:data:`.landsat.LST_ACCURACY_ST_B10_K`,
+        :data:`LST_ACCURACY_SINGLE_CHANNEL_K`).
+    brightness_temperature : ndarray float32
+        Band-10 brightness temperature [K] (NaN for Level-2: no TOA band 10).
+    emissivity, ndvi : ndarray float32
+    features : ndarray (rows, cols, 6)
+        Reflectances of bands 2–7 [-], masked pixels filled.
+    atmosphere : AtmosphereB10 or None
+        Band-10 atmosphere of the single-channel retrieval (None for ST_B10).
+    classification : ClassificationResult
+    water_check : dict
+        :func:`.classify.water_index_check` (without its per-pixel mask).
+    water_disagreement : ndarray bool
+        Pixels where MNDWI and the water class disagree.
+    mask : ndarray uint8
+        Bit mask of replaced pixels: 1 fill, 2 cloud, 4 cirrus, 8 cloud shadow.
+    filled_pixels : int
+    notes : list[str]
+    """
+
+    scene: LandsatScene
+    grid: SceneGrid
+    class_map: np.ndarray
+    lst: np.ndarray
+    lst_source: str
+    lst_accuracy_k: float
+    brightness_temperature: np.ndarray
+    emissivity: np.ndarray
+    ndvi: np.ndarray
+    features: np.ndarray
+    atmosphere: AtmosphereB10 | None
+    classification: ClassificationResult
+    water_check: dict
+    water_disagreement: np.ndarray
+    mask: np.ndarray
+    filled_pixels: int
+    notes: list
+
+    def summary_extra(self) -> dict:
+        c = self.classification
+        return {"landsat_level": self.scene.level, "landsat_collection": self.scene.mtl.collection,
+                "lst_source": self.lst_source, "lst_stated_accuracy_K": self.lst_accuracy_k,
+                "georeferenced_from_mtl": self.scene.georeferenced_from_mtl,
+                "masked_pixels": {**{f: int(np.count_nonzero(self.mask & (1 << k)))
+                                     for k, f in enumerate(QA_MASK_FLAGS)}, "filled": self.filled_pixels},
+                "accuracy_over_splits": c.spread(),
+                "water_check": self.water_check, "notes": list(self.notes)}
+
+
+MASK_BITS = {flag: 1 << k for k, flag in enumerate(QA_MASK_FLAGS)}
+"""Bits of the written mask raster (``qa_mask.tif``): fill 1, cloud 2, cirrus 4, shadow 8."""
+
+
+def fill_masked_pixels(class_map, masked, layers):
+    """Give masked pixels the class of the nearest valid pixel and, per layer, the value of
+    the nearest valid pixel **of that class**.
+
+    Parameters
+    ----------
+    class_map : ndarray uint8
+        Classes of the valid pixels (masked pixels are ignored).
+    masked : ndarray bool
+    layers : dict[str, ndarray]
+        (rows, cols) or (rows, cols, k) arrays to fill.
+
+    Returns
+    -------
+    class_map, layers : filled copies (unchanged where no valid pixel exists at all).
+    """
+    from scipy.ndimage import distance_transform_edt
+
+    valid = ~masked & (class_map > 0)
+    out_cls = class_map.copy()
+    out = {k: np.array(v, copy=True) for k, v in layers.items()}
+    if not masked.any() or not valid.any():
+        return out_cls, out
+    _, (ri, ci) = distance_transform_edt(~valid, return_indices=True)
+    out_cls[masked] = class_map[ri[masked], ci[masked]]
+    for c in np.unique(out_cls[masked]):
+        ok = valid & (class_map == c)
+        if not ok.any():
+            continue
+        _, (rj, cj) = distance_transform_edt(~ok, return_indices=True)
+        sel = masked & (out_cls == c)
+        for k, v in out.items():
+            v[sel] = layers[k][rj[sel], cj[sel]]
+    return out_cls, out
+
+
+def build_overpass(scene: LandsatScene, roi_path, *, water_vapour: float | None = None,
+                   lst_method: str = "planck", emissivity_model: str = "tirs_b10",
+                   test_fraction: float = 0.5, roi_split: str = "regions", seed: int = 0,
+                   n_splits: int = N_SPLITS) -> OverpassProducts:
+    """LST, classes and masks of a Landsat scene (the overpass part of the background).
+
+    Masked pixels (QA fill, cloud, cirrus, cloud shadow; DN fill) are left out of training
+    and classification, then take the class of the nearest valid pixel and the LST,
+    reflectances and emissivity of the nearest valid pixel of that class.
+
+    Parameters
+    ----------
+    scene : LandsatScene
+    roi_path : path-like
+        Training ROIs (:func:`.classify.read_roi`).
+    water_vapour : float, optional
+        Column water vapour [g cm-2] for the single-channel LST (Level-1 only; required then).
+    lst_method, emissivity_model, test_fraction, roi_split, seed, n_splits
+        As :func:`build_background_from_files`.
+    """
+    grid = scene.grid
+    notes = list(scene.notes)
+    masked = scene.masked
+    mask = np.zeros(grid.shape, np.uint8)
+    mask[scene.fill] |= MASK_BITS["fill"]
+    if scene.qa is not None:
+        for f in QA_MASK_FLAGS:
+            mask[scene.qa[f]] |= MASK_BITS[f]
+    red = scene.reflectance(RED_BAND)
+    nir = scene.reflectance(NIR_BAND)
+    ndvi_map = ndvi(red, nir)
+    emissivity = emissivity_ndvi_threshold(ndvi_map, red, emissivity_model)
+    atmosphere = None
+    if scene.level == "L2":
+        lst = scene.surface_temperature()
+        bt = np.full(grid.shape, np.nan)
+        source, accuracy = "ST_B10", LST_ACCURACY_ST_B10_K
+        notes.append(f"LST = Level-2 ST_B10 (stated accuracy ~{LST_ACCURACY_ST_B10_K:g} K)")
+    else:
+        require(water_vapour is not None, "water_vapour", None,
+                "the single-channel LST of a Level-1 scene needs the column water vapour [g cm-2]",
+                "Give it, or a met grid with tcwv, or use the Level-2 product (ST_B10)")
+        atmosphere = atmospheric_functions(water_vapour)
+        lst = lst_single_channel(scene.radiance(), emissivity, atmosphere, scene.mtl.k1, scene.mtl.k2, lst_method)
+        bt = scene.brightness_temperature()
+        source, accuracy = "single_channel", LST_ACCURACY_SINGLE_CHANNEL_K
+        notes.append(f"LST = single-channel band 10, w = {water_vapour:.2f} g cm-2 (stated accuracy "
+                     f"{LST_ACCURACY_SINGLE_CHANNEL_K:g} K, systematic)")
+    features = np.stack([scene.reflectance(b) for b in REFLECTIVE_BANDS], axis=-1)
+    features[masked] = np.nan
+    roi = read_roi(roi_path, grid)
+    n_masked_roi = int((roi > 0)[masked].sum())
+    if n_masked_roi:
+        notes.append(f"{n_masked_roi} ROI pixels are masked (cloud/shadow/fill) and not used for training")
+    classification = classify_scene(features, roi, test_fraction=test_fraction, seed=seed, split=roi_split,
+                                    n_splits=n_splits)
+    sp = classification.spread()["overall_accuracy"]
+    notes.append(f"classification over {n_splits} held-out ROI splits ({roi_split}): overall accuracy "
+                 f"{sp['mean']:.3f} +- {sp['std']:.3f} (min {sp['min']:.3f}, max {sp['max']:.3f}); "
+                 "final map from all ROIs")
+    b = {k: scene.reflectance(k) for k in (3, 5, 6)}
+    wc = water_index_check(b[3], b[5], b[6], classification.class_map)
+    disagree = wc.pop("disagree")
+    notes.append(wc["message"])
+    layers = {"lst": lst, "features": features, "emissivity": emissivity, "ndvi": ndvi_map, "bt": bt}
+    class_map, filled = fill_masked_pixels(classification.class_map, masked, layers)
+    n_filled = int((masked & (class_map > 0)).sum())
+    if masked.any():
+        notes.append(f"{int(masked.sum())} masked pixels; {n_filled} filled from the nearest valid pixel of "
+                     "the same class (mask in qa_mask.tif)")
+    return OverpassProducts(scene=scene, grid=grid, class_map=class_map, lst=filled["lst"].astype(np.float32),
+                            lst_source=source, lst_accuracy_k=accuracy,
+                            brightness_temperature=filled["bt"].astype(np.float32),
+                            emissivity=filled["emissivity"].astype(np.float32),
+                            ndvi=filled["ndvi"].astype(np.float32), features=filled["features"],
+                            atmosphere=atmosphere, classification=classification, water_check=wc,
+                            water_disagreement=disagree, mask=mask, filled_pixels=n_filled, notes=notes)
+
+
 def _sun_sin_elevation(grid: SceneGrid, when_utc) -> np.ndarray:
     import pvlib
     from rasterio.warp import transform as warp_transform
@@ -323,14 +514,17 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
                                 dem_nodata: str = "error",
                                 residual_scaling: str = "constant", border_unmixing: bool = True,
                                 test_fraction: float = 0.5, roi_split: str = "regions", seed: int = 0,
-                                bounds=None, out_dir=None,
+                                bounds=None, out_dir=None, band_files=None, use_qa: bool = True,
+                                n_splits: int = N_SPLITS,
                                 progress: bool = False) -> PortBackground:
     """Run the full background chain on real-format inputs.
 
     Parameters
     ----------
     mtl_path : path-like
-        Landsat C2 L1 ``*_MTL.txt`` or ``*_MTL.json`` (bands 2–7, 10 next to it).
+        Landsat 8/9 ``*_MTL.txt`` or ``*_MTL.json``: Collection-2 Level-1 (bands 2–7, 10) or
+        Level-2 (SR_B2–B7, ST_B10 used as LST), Collection-1 or pre-collection Level-1; the
+        quality band next to it when present.
     dem_path : path-like
         DEM GeoTIFF (any CRS; resampled bilinearly onto the scene grid).
     met_path : path-like
@@ -373,6 +567,13 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     out_dir : path-like, optional
         Write GeoTIFFs, PNGs and CSVs there (:mod:`.outputs`); nothing is written unless the
         whole chain succeeded.
+    band_files : str or dict, optional
+        Band files named differently on disk than in the MTL (:func:`.landsat.read_mtl`).
+    use_qa : bool
+        Mask fill, cloud, cirrus and cloud shadow from the quality band (QA_PIXEL / BQA) and
+        fill those pixels from same-class neighbours (:func:`build_overpass`).
+    n_splits : int
+        Held-out ROI splits for the accuracy (mean and spread); the map uses all ROIs.
     progress : bool
         Show a tqdm progress bar over the hourly kriging.
 
@@ -390,7 +591,7 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
 
-    scene = read_landsat_scene(mtl_path, bounds)
+    scene = read_landsat_scene(mtl_path, bounds, band_files=band_files, use_qa=use_qa)
     grid = scene.grid
     met = read_met_grid(met_path)
     require(met.sst is not None, "met[sst]", "missing",
@@ -398,7 +599,7 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
             "Add an hourly SST series (e.g. from OISST) to the NetCDF")
     overpass = np.datetime64(scene.mtl.acquired_utc.replace(tzinfo=None), "s")
     sst_ov = met.interp_time(met.sst, overpass)      # also checks the met day contains the overpass
-    if water_vapour is None:
+    if water_vapour is None and scene.level == "L1":
         require(met.tcwv is not None, "met[tcwv]", "missing",
                 "needed for the LST atmosphere unless water_vapour= is given")
         water_vapour = met.interp_time(met.tcwv, overpass)
@@ -406,25 +607,16 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     dem = read_dem(dem_path, grid)
     timings["read"] = time.perf_counter() - t0
 
-    # --- LST (single channel) ---------------------------------------------------------------
+    # --- LST, classification, masks (the overpass) ------------------------------------------
     t1 = time.perf_counter()
-    red = scene.reflectance(RED_BAND)
-    nir = scene.reflectance(NIR_BAND)
-    ndvi_map = ndvi(red, nir)
-    emissivity = emissivity_ndvi_threshold(ndvi_map, red, emissivity_model)
-    atmosphere = atmospheric_functions(water_vapour)
-    radiance = scene.radiance()
-    lst = lst_single_channel(radiance, emissivity, atmosphere, scene.mtl.k1, scene.mtl.k2, lst_method)
-    bt = scene.brightness_temperature()
-    timings["lst"] = time.perf_counter() - t1
-
-    # --- classification -----------------------------------------------------------------------
-    t1 = time.perf_counter()
-    features = np.stack([scene.reflectance(b) for b in REFLECTIVE_BANDS], axis=-1)
-    roi = read_roi(roi_path, grid)
-    classification = classify_scene(features, roi, test_fraction=test_fraction, seed=seed, split=roi_split)
-    class_map = classification.class_map
-    timings["classify"] = time.perf_counter() - t1
+    ov = build_overpass(scene, roi_path, water_vapour=water_vapour, lst_method=lst_method,
+                        emissivity_model=emissivity_model, test_fraction=test_fraction, roi_split=roi_split,
+                        seed=seed, n_splits=n_splits)
+    lst, bt, emissivity, ndvi_map, features = ov.lst, ov.brightness_temperature, ov.emissivity, ov.ndvi, ov.features
+    atmosphere = ov.atmosphere
+    classification = ov.classification
+    class_map = ov.class_map
+    timings["overpass"] = time.perf_counter() - t1
 
     # --- DEM checks (before any heavy work or output) ---------------------------------------
     land = np.isin(class_map, LAND_CLASSES)
@@ -516,7 +708,7 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
         baseline=baseline_utc[order].astype(np.float32), sst=met.sst[order], overpass_utc=acquired,
         overpass_hour_local=float(hour_ov), atmosphere=atmosphere, utc_offset_hours=float(utc_offset_hours),
         dem_masked_pixels=dem_masked, emissivity_model=emissivity_model,
-        unmixed_pixels=int(m.sum()), land_fraction=mix.get("f"), timings=timings)
+        unmixed_pixels=int(m.sum()), land_fraction=mix.get("f"), timings=timings, overpass=ov)
     if out_dir is not None:
         from .outputs import write_outputs
 

@@ -15,7 +15,7 @@ import rasterio
 
 from .classify import CLASS_CODES, CLASS_COLOURS, CLASS_NAMES, format_jm_table
 
-__all__ = ["write_outputs", "write_geotiff"]
+__all__ = ["write_outputs", "write_overpass_outputs", "write_geotiff"]
 
 
 def _tmp(path: str) -> str:
@@ -57,6 +57,116 @@ def _hex_rgb(h: str):
     return tuple(int(h[i:i + 2], 16) for i in (1, 3, 5))
 
 
+def _classification_tables(c, p, out: dict) -> None:
+    out["jm_csv"] = _csv(c.jm, p("jm_separability.csv"))
+    tmp = _tmp(p("jm_separability.txt"))
+    with open(tmp, "w", encoding="utf-8") as fh:
+        fh.write("Sample separability (Jeffries-Matusita, eqs. 3-4), all ROI pixels\n" + format_jm_table(c.jm) + "\n")
+        spread = c.spread()
+        if spread:
+            fh.write(f"\nHeld-out accuracy over {spread['n_splits']} ROI splits ({c.split}): mean +- std [min, max]\n")
+            for k in ("overall_accuracy", "kappa_quadratic", "kappa_unweighted"):
+                v = spread[k]
+                fh.write(f"  {k:18s} {v['mean']:.3f} +- {v['std']:.3f}  [{v['min']:.3f}, {v['max']:.3f}]\n")
+    os.replace(tmp, p("jm_separability.txt"))
+    out["jm_txt"] = p("jm_separability.txt")
+    out["confusion"] = _csv(c.confusion, p("confusion_matrix.csv"))
+    spread = c.spread()
+    rows = [("overall_accuracy", c.overall_accuracy), ("kappa_quadratic_sklearn", c.kappa_quadratic),
+            ("kappa_quadratic_eq5", c.kappa_quadratic_eq5), ("kappa_unweighted", c.kappa_unweighted)]
+    std = {"overall_accuracy": "overall_accuracy", "kappa_quadratic_sklearn": "kappa_quadratic",
+           "kappa_unweighted": "kappa_unweighted"}
+    acc = pd.DataFrame({"metric": [r[0] for r in rows], "value": [r[1] for r in rows],
+                        "std_over_splits": [spread[std[r[0]]]["std"] if r[0] in std and spread else np.nan
+                                            for r in rows]})
+    out["accuracy"] = _csv(acc, p("accuracy.csv"), index=False)
+    if c.splits is not None:
+        out["splits"] = _csv(c.splits, p("accuracy_splits.csv"), index=False)
+    out["fractions"] = _csv(c.fractions, p("class_fractions.csv"), index=False)
+
+
+def _overpass_rasters(ov, g, p, out: dict) -> None:
+    from .background import MASK_BITS
+
+    out["qa_mask"] = write_geotiff(p("qa_mask.tif"), ov.mask.astype(np.uint8), g,
+                                   descriptions=["replaced pixels: " + ", ".join(f"{v}={k}" for k, v in MASK_BITS.items())])
+    out["water_disagreement"] = write_geotiff(p("water_disagreement.tif"), ov.water_disagreement.astype(np.uint8), g,
+                                              descriptions=["1 = MNDWI and the water class disagree"])
+
+
+def write_overpass_outputs(ov, out_dir) -> dict:
+    """Write the overpass products (:class:`~.background.OverpassProducts`) into ``out_dir``:
+    ``lst_K.tif``, ``class_map.tif``/``.png``, ``qa_mask.tif``, ``water_disagreement.tif``,
+    ``lst.png``, the classification tables and ``summary.json``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out_dir = os.fspath(out_dir)
+    os.makedirs(out_dir, exist_ok=True)
+    p = lambda name: os.path.join(out_dir, name)  # noqa: E731
+    out: dict[str, str] = {}
+    g = ov.grid
+    nan = np.float32(np.nan)
+    out["lst"] = write_geotiff(p("lst_K.tif"), ov.lst.astype(np.float32), g, nodata=nan,
+                               descriptions=[f"surface temperature [K] ({ov.lst_source})"])
+    out["class_map"] = _class_map_tif(p, ov.class_map, g)
+    _overpass_rasters(ov, g, p, out)
+    _classification_tables(ov.classification, p, out)
+    out["class_map_png"] = _class_png(p, ov.class_map, ov.classification, g)
+    b = g.transform
+    extent = [b.c / 1000, (b.c + g.shape[1] * b.a) / 1000, (b.f + g.shape[0] * b.e) / 1000, b.f / 1000]
+    fig, ax = plt.subplots(figsize=(6.5, 6))
+    im = ax.imshow(ov.lst, cmap="inferno", extent=extent)
+    fig.colorbar(im, ax=ax, label="LST [K]", shrink=0.8)
+    ax.set(title=f"LST ({ov.lst_source}), {ov.scene.mtl.acquired_utc:%Y-%m-%d %H:%M} UTC",
+           xlabel="easting [km]", ylabel="northing [km]")
+    out["lst_png"] = _savefig(fig, p("lst.png"))
+    plt.close(fig)
+    summary = {"shape": list(g.shape), "crs": str(g.crs), "overpass_utc": ov.scene.mtl.acquired_utc.isoformat(),
+               "lst_K": [float(np.nanmin(ov.lst)), float(np.nanmax(ov.lst))],
+               "class_fractions": dict(zip(ov.classification.fractions["class"],
+                                           ov.classification.fractions["fraction"].round(4))),
+               **ov.summary_extra()}
+    tmp = _tmp(p("summary.json"))
+    with open(tmp, "w", encoding="utf-8") as fh:
+        json.dump(summary, fh, indent=2, default=str)
+    os.replace(tmp, p("summary.json"))
+    out["summary"] = p("summary.json")
+    return out
+
+
+def _class_map_tif(p, class_map, g) -> str:
+    cmap_tab = {0: (0, 0, 0, 0), **{c: (*_hex_rgb(CLASS_COLOURS[c]), 255) for c in CLASS_CODES}}
+    return write_geotiff(p("class_map.tif"), class_map.astype(np.uint8), g, nodata=0,
+                         descriptions=["class: " + ", ".join(f"{c}={n}" for c, n in CLASS_NAMES.items())],
+                         colormap=cmap_tab)
+
+
+def _class_png(p, class_map, c, g) -> str:
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.patches import Patch
+
+    b = g.transform
+    extent = [b.c / 1000, (b.c + g.shape[1] * b.a) / 1000, (b.f + g.shape[0] * b.e) / 1000, b.f / 1000]
+    cmap = ListedColormap(["#000000"] + [CLASS_COLOURS[k] for k in CLASS_CODES])
+    norm = BoundaryNorm(np.arange(-0.5, len(CLASS_CODES) + 1.0), cmap.N)
+    fig, ax = plt.subplots(figsize=(6.5, 6))
+    ax.imshow(class_map, cmap=cmap, norm=norm, extent=extent, interpolation="nearest")
+    frac = dict(zip(c.fractions["class"], c.fractions["fraction"]))
+    ax.legend(handles=[Patch(color=CLASS_COLOURS[k], label=f"{CLASS_NAMES[k]} ({100 * frac[CLASS_NAMES[k]]:.1f} %)")
+                       for k in CLASS_CODES], loc="lower left", fontsize=8)
+    sp = c.spread().get("overall_accuracy")
+    oa = (f"OA {sp['mean']:.3f} +- {sp['std']:.3f} over {c.spread()['n_splits']} splits" if sp
+          else f"OA {c.overall_accuracy:.3f}")
+    ax.set(title=f"Land-cover classes ({oa})", xlabel=f"easting [km] ({g.crs})", ylabel="northing [km]")
+    path = _savefig(fig, p("class_map.png"))
+    plt.close(fig)
+    return path
+
+
 def write_outputs(bg, out_dir) -> dict:
     """Write all products of a :class:`~.background.PortBackground` into ``out_dir``.
 
@@ -70,8 +180,6 @@ def write_outputs(bg, out_dir) -> dict:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.colors import BoundaryNorm, ListedColormap
-    from matplotlib.patches import Patch
 
     out_dir = os.fspath(out_dir)
     os.makedirs(out_dir, exist_ok=True)
@@ -84,27 +192,15 @@ def write_outputs(bg, out_dir) -> dict:
     out["background"] = write_geotiff(
         p("background_K.tif"), bg.temperature.astype(np.float32), g, nodata=nan,
         descriptions=[f"background temperature [K] at {h:05.2f} h local" for h in bg.hours_local])
-    cmap_tab = {0: (0, 0, 0, 0), **{c: (*_hex_rgb(CLASS_COLOURS[c]), 255) for c in CLASS_CODES}}
-    out["class_map"] = write_geotiff(p("class_map.tif"), bg.class_map.astype(np.uint8), g, nodata=0,
-                                     descriptions=["class: " + ", ".join(f"{c}={n}" for c, n in CLASS_NAMES.items())],
-                                     colormap=cmap_tab)
+    out["class_map"] = _class_map_tif(p, bg.class_map, g)
+    if bg.overpass is not None:
+        _overpass_rasters(bg.overpass, g, p, out)
     out["slope"] = write_geotiff(p("slope_deg.tif"), bg.slope_deg.astype(np.float32), g, nodata=nan)
     out["aspect"] = write_geotiff(p("aspect_deg.tif"), bg.aspect_deg.astype(np.float32), g, nodata=nan)
 
     # --- tables ------------------------------------------------------------------------------
     c = bg.classification
-    out["jm_csv"] = _csv(c.jm, p("jm_separability.csv"))
-    tmp = _tmp(p("jm_separability.txt"))
-    with open(tmp, "w", encoding="utf-8") as fh:
-        fh.write("Sample separability (Jeffries-Matusita, eqs. 3-4)\n" + format_jm_table(c.jm) + "\n")
-    os.replace(tmp, p("jm_separability.txt"))
-    out["jm_txt"] = p("jm_separability.txt")
-    out["confusion"] = _csv(c.confusion, p("confusion_matrix.csv"))
-    acc = pd.DataFrame({"metric": ["overall_accuracy", "kappa_quadratic_sklearn", "kappa_quadratic_eq5",
-                                   "kappa_unweighted"],
-                        "value": [c.overall_accuracy, c.kappa_quadratic, c.kappa_quadratic_eq5, c.kappa_unweighted]})
-    out["accuracy"] = _csv(acc, p("accuracy.csv"), index=False)
-    out["fractions"] = _csv(c.fractions, p("class_fractions.csv"), index=False)
+    _classification_tables(c, p, out)
     vrows = [{"hour_local": h, "model": f.model, **f.parameters, "n_points": f.n_points, "Q1": f.q1,
               "Q2": f.q2, "cR": f.cr} for h, f in zip(bg.hours_local, bg.variograms)]
     out["variograms"] = _csv(pd.DataFrame(vrows), p("variograms.csv"), index=False)
@@ -121,22 +217,13 @@ def write_outputs(bg, out_dir) -> dict:
     # --- pictures ----------------------------------------------------------------------------
     b = g.transform
     extent = [b.c / 1000, (b.c + g.shape[1] * b.a) / 1000, (b.f + g.shape[0] * b.e) / 1000, b.f / 1000]
-    cmap = ListedColormap(["#000000"] + [CLASS_COLOURS[k] for k in CLASS_CODES])
-    norm = BoundaryNorm(np.arange(-0.5, len(CLASS_CODES) + 1.0), cmap.N)
-    fig, ax = plt.subplots(figsize=(6.5, 6))
-    ax.imshow(bg.class_map, cmap=cmap, norm=norm, extent=extent, interpolation="nearest")
-    frac = dict(zip(c.fractions["class"], c.fractions["fraction"]))
-    ax.legend(handles=[Patch(color=CLASS_COLOURS[k], label=f"{CLASS_NAMES[k]} ({100 * frac[CLASS_NAMES[k]]:.1f} %)")
-                       for k in CLASS_CODES], loc="lower left", fontsize=8)
-    ax.set(title=f"Land-cover classes (OA {c.overall_accuracy:.3f}, kappa_q {c.kappa_quadratic:.3f})",
-           xlabel=f"easting [km] ({g.crs})", ylabel="northing [km]")
-    out["class_map_png"] = _savefig(fig, p("class_map.png"))
-    plt.close(fig)
+    out["class_map_png"] = _class_png(p, bg.class_map, c, g)
 
     fig, ax = plt.subplots(figsize=(6.5, 6))
     im = ax.imshow(bg.lst, cmap="inferno", extent=extent)
     fig.colorbar(im, ax=ax, label="LST [K]", shrink=0.8)
-    ax.set(title=f"Landsat band-10 LST, {bg.overpass_utc:%Y-%m-%d %H:%M} UTC",
+    src = bg.overpass.lst_source if bg.overpass is not None else "single_channel"
+    ax.set(title=f"Landsat LST ({src}), {bg.overpass_utc:%Y-%m-%d %H:%M} UTC",
            xlabel="easting [km]", ylabel="northing [km]")
     out["lst_png"] = _savefig(fig, p("lst.png"))
     plt.close(fig)
