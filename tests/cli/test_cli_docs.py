@@ -158,7 +158,7 @@ def test_runs_cover_the_documented_subcommands():
     documented = {_argv(c)[1][0] for c in COMMANDS
                   if _argv(c)[0] in ("shipthermal", "run") and _argv(c)[1]
                   and _argv(c)[1][0] not in RUN_WORDS | {"--help"}}
-    ran = {r.split()[1] for r in RUNS} | {"demo", "validate"}      # those two: tests below
+    ran = {r.split()[1] for r in RUNS} | {"demo", "validate", "background"}   # tests below
     assert documented <= ran, documented - ran
 
 
@@ -193,6 +193,19 @@ def test_scenario_md_python_block_runs(workdir, monkeypatch):
     for block in blocks:
         exec(compile(block.replace("runs/x/", "runs/x-doc/"), "SCENARIO.md", "exec"), {})
     assert (workdir / "runs" / "x-doc" / "scenario.toml").is_file()
+
+
+def test_background_example_as_documented(tmp_path, monkeypatch):
+    """examples/real_port/README.md: `shipthermal background examples/real_port/background.toml
+    --out runs/mersey-background` (the real Mersey crop, no user code)."""
+    text = (ROOT / "examples" / "real_port" / "README.md").read_text(encoding="utf-8")
+    cmd = "shipthermal background examples/real_port/background.toml --out runs/mersey-background"
+    assert cmd in text
+    monkeypatch.chdir(tmp_path)
+    argv = shlex.split(cmd)[1:]
+    argv[1] = str(ROOT / argv[1])
+    assert main(["-q"] + argv) == 0
+    assert (tmp_path / "runs" / "mersey-background" / "class_map.tif").is_file()
 
 
 def test_demo_quick_as_documented(workdir, monkeypatch, capsys):
