@@ -70,6 +70,15 @@ def surface_quality(vertices: np.ndarray, faces: np.ndarray) -> dict:
                 frac_min_angle_below_20=float(np.mean(amin < 20.0)))
 
 
+def _quantize(x: np.ndarray, rel: float = 1e-9) -> np.ndarray:
+    """Values rounded to ``rel`` of their largest magnitude, so that values equal up to
+    round-off (mirror-image edges, last-bit differences between SIMD code paths) sort as
+    exact ties and are ordered by the explicit tie-breakers of the caller."""
+    x = np.asarray(x, float)
+    unit = rel * (float(np.abs(x).max()) if len(x) else 1.0) or rel
+    return np.round(x / unit)
+
+
 def _angles(p0, p1, p2):
     """Interior angles at p0, p1, p2 of triangles (rows) [rad]."""
     def ang(o, u, w):
@@ -131,7 +140,11 @@ def flip_coplanar_edges(vertices, faces, face_part, max_passes: int = 30,
         good = np.flatnonzero(same & (new > old + 1e-9))
         if len(good) == 0:
             break
-        good = good[np.argsort(-(new - old)[good])]
+        # Largest gain first; ties (a symmetric hull has many) broken by the edge's
+        # vertices, so the result does not depend on the sort algorithm numpy picks for
+        # the CPU (an unstable sort orders ties differently on AVX2 and AVX-512 machines).
+        gain = _quantize(new - old)[good]
+        good = good[np.lexsort((b[good], a[good], -gain))]
         used = np.zeros(len(f), bool)
         chosen = []
         for g in good:                      # independent set: a face flips once per pass
@@ -168,8 +181,11 @@ def collapse_short_edges(vertices, faces, face_part, min_length: float, plane_to
         key = np.unique(e[:, 0] * len(v) + e[:, 1])
         e = np.stack(np.divmod(key, len(v)), axis=1)
         length = np.linalg.norm(v[e[:, 0]] - v[e[:, 1]], axis=1)
-        cand = e[length < min_length]
-        cand = cand[np.argsort(length[length < min_length])]
+        short = length < min_length
+        cand = e[short]
+        # Shortest first; equal lengths (mirror-image edges) in vertex order: deterministic
+        # whatever sort numpy uses on this CPU.
+        cand = cand[np.lexsort((cand[:, 1], cand[:, 0], _quantize(length[short])))]
         if len(cand) == 0:
             break
         # vertex -> alive faces (CSR)
