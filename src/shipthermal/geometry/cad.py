@@ -137,7 +137,7 @@ def assign_parts(vertices, faces, n_stations: int = 60,
     """Parts of an unlabelled ship surface by rules (waterline at z = 0, x along the ship).
 
     The ship is cut into ``n_stations`` stations along x. In each, the deck height is the
-    lowest 'upward' face above the waterline (normal within ``deck_normal_deg`` of
+    lowest 'upward' face above the waterline reaching into the station (normal within ``deck_normal_deg`` of
     vertical, either sign, so inverted normals do not matter); stations without one take
     the height of their neighbours. Then per face:
 
@@ -164,8 +164,16 @@ def assign_parts(vertices, faces, n_stations: int = 60,
     up = (nz >= np.cos(np.radians(deck_normal_deg))) & (c[:, 2] > 0) & (nlen > 0)
     edges = np.linspace(v[:, 0].min(), v[:, 0].max(), n_stations + 1)
     st = np.clip(np.searchsorted(edges, c[:, 0], side="right") - 1, 0, n_stations - 1)
+    # Every upward face counts for each station its x-extent covers (coarse CAD decks are
+    # a few long triangles whose centroids miss most stations).
+    lo = np.clip(np.searchsorted(edges, p[up, :, 0].min(axis=1), side="right") - 1, 0, n_stations - 1)
+    hi = np.clip(np.searchsorted(edges, p[up, :, 0].max(axis=1), side="left") - 1, 0, n_stations - 1)
+    hi = np.maximum(hi, lo)
+    span = hi - lo + 1
+    rows = np.repeat(np.arange(len(lo)), span)
+    cover = lo[rows] + (np.arange(len(rows)) - np.repeat(np.cumsum(span) - span, span))
     deck = np.full(n_stations, np.inf)
-    np.minimum.at(deck, st[up], c[up, 2])
+    np.minimum.at(deck, cover, c[up, 2][rows])
     have = np.isfinite(deck)
     if not have.any():
         raise InputError("ship.files.part_map", "auto", "found no upward-facing surface above "
@@ -273,8 +281,11 @@ def diagnose_surface(vertices, faces, units: str = "m", *, check_scale: bool = T
     if n_unique < len(f):
         out.append(Problem("duplicate", f"{len(f) - n_unique} duplicate triangles",
                            "ship.files.clean = true"))
-    fu = f[~degenerate]
-    fu = fu[np.unique(np.sort(fu, axis=1), axis=0, return_index=True)[1]] if len(fu) else fu
+    # Topology on the triangles with three distinct vertices (a zero-area "needle" at a
+    # T-junction still closes the surface: clean flips it away), duplicates counted once.
+    repeated = (f[:, 0] == f[:, 1]) | (f[:, 1] == f[:, 2]) | (f[:, 2] == f[:, 0])
+    fu = f[~repeated]
+    fu = fu[np.sort(np.unique(np.sort(fu, axis=1), axis=0, return_index=True)[1])] if len(fu) else fu
     open_e, nonman = boundary_edges(fu) if len(fu) else (np.zeros((0, 2)), np.zeros((0, 2)))
     comp = _components(fu, len(v)) if len(fu) else np.zeros(0, int)
     n_comp = int(comp.max()) + 1 if len(comp) else 0
@@ -294,11 +305,12 @@ def diagnose_surface(vertices, faces, units: str = "m", *, check_scale: bool = T
     if check_intersections and len(fu) and not len(open_e) and not len(nonman):
         try:
             from ..mesh import find_self_intersections
-            pairs = find_self_intersections(v, fu, max_report=1)
+            fa = fu[face_areas(v, fu) > 1e-14 * scale * scale]
+            pairs = find_self_intersections(v, fa, max_report=1)
         except ImportError:                       # the FV mesh package is absent
             pairs = np.zeros((0, 2), int)
         if len(pairs):
-            w = v[fu[int(pairs[0][0])]].mean(axis=0)
+            w = v[fa[int(pairs[0][0])]].mean(axis=0)
             what = (f"{n_comp} separate pieces that overlap" if n_comp > 1
                     else "the surface intersects itself")
             out.append(Problem("intersecting", f"{what} (first crossing near ({w[0]:.3f}, "
