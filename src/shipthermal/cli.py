@@ -227,13 +227,19 @@ def cmd_mesh(args, con: Console) -> int:
             files = write_ship(ship, tmp, stem="ship")
             backend = render_parts_png(ship, tmp / "parts.png")
             if "auto_parts" in read_report:
+                from .geometry.cad import CHECK_COLOURS
+
                 auto = read_report.pop("auto_parts")
                 (tmp / "auto_parts.json").write_text(json.dumps(auto, indent=1))
                 files["auto_parts"] = tmp / "auto_parts.json"
-                con.info("mesh: parts assigned by rules: check parts.png; edit auto_parts.json "
-                         "and give it as ship.files.part_map" if auto["faces_as_in_file"] else
-                         "mesh: parts assigned by rules: check parts.png; the repaired surface "
-                         "with its parts is ship.ply + ship_parts.json")
+                for view in ("iso", "side"):
+                    render_parts_png(ship, tmp / f"auto_parts_{view}.png", view=view,
+                                     colours=CHECK_COLOURS)
+                reuse = ("edit auto_parts.json and give it as ship.files.part_map"
+                         if auto["faces_as_in_file"] else "the repaired surface with its "
+                         "parts is ship.ply + ship_parts.json")
+                con.info("mesh: parts assigned by rules: check auto_parts_iso.png and "
+                         f"auto_parts_side.png; {reuse}")
             report = {"ship": ship.name, "length_m": ship.length, "beam_m": ship.beam,
                       "draught_m": ship.draught, "edge_length_m": ship.edge_length,
                       **report, "read_report": read_report, "picture_backend": backend,

@@ -1019,7 +1019,8 @@ class ShipSettings:
                                       "one", cls=ShipFiles, optional=True)
     edge_length: Optional[float] = _opt(None, "float", "Target surface edge length "
                                         "(built-in default 0.5 m per 132 m of length; user "
-                                        "meshes are refined to it when given)", unit="m",
+                                        "meshes are remeshed to it, finer or coarser, when "
+                                        "given)", unit="m",
                                         lo=0.0, hi=50.0, lo_open=True, optional=True)
     heading: float = _opt(180.0, "float", "Heading, clockwise from north (default: moored "
                           "along the synthetic port's N-S pier, bow to the harbour entrance)",
@@ -1178,8 +1179,23 @@ class ShipSettings:
                 fix_normals=f.fix_normals, repair=None if f.repair == "none" else f.repair,
                 check_scale=f.check_scale, max_repair_change=f.max_repair_change)
             if self.edge_length is not None:
-                ship = remesh_ship(ship, self.edge_length)
+                ship, rem = remesh_ship(ship, self.edge_length, return_report=True)
+                if rem:
+                    report["remesh"] = rem
+                    report.setdefault("repairs", []).append(_remesh_line(rem))
         return (ship, report) if return_report else ship
+
+
+def _remesh_line(rem: dict) -> str:
+    """One console line on an isotropic remesh of a user ship."""
+    qb, qa = rem["quality_before"], rem["quality_after"]
+    shrunk = ("" if rem["edge_length"] == rem["target_edge_length"] else
+              f" (target {rem['target_edge_length']:g} m: reduced until >= 99 % of triangles "
+              "have a smallest angle >= 20 deg)")
+    return (f"remesh: {qb['n_faces']} -> {qa['n_faces']} triangles at {rem['edge_length']:.3g} m"
+            f"{shrunk}; smallest angle >= 20 deg: {100 * (1 - qb['frac_min_angle_below_20']):.1f} "
+            f"-> {100 * (1 - qa['frac_min_angle_below_20']):.1f} % of triangles; area "
+            f"{100 * rem['area_change']:+.2f} %, volume {100 * rem['volume_change']:+.2f} %")
 
 
 def _check_particulars(obj: ShipSettings, path: str, ctx: _Context) -> Optional[tuple]:

@@ -46,6 +46,10 @@ MAX_REPAIR_CHANGE = 0.01
 user raises ``ship.files.max_repair_change`` (1 %: merging coincident pieces and closing
 slits changes far less; a repair that changes more has rebuilt the ship)."""
 
+CHECK_COLOURS = {"hull_wetted": "#8b2d2d", "hull_dry": "#3f78b5", "deck": "#e0a830",
+                 "superstructure": "#c4c9ce"}
+"""Contrasting part colours of the picture that shows a rule-based part assignment."""
+
 _NAME_SUFFIX = re.compile(r"\.\d+$")          # Blender-style duplicates: "deck.001"
 
 
