@@ -1152,6 +1152,21 @@ class ShipSettings:
         return {part: [(l.material, l.thickness, l.cells) for l in layers]
                 for part, layers in self.layups.items()}
 
+    def read_files(self):
+        """Read, check and repair the user ship of [ship.files] (no remeshing): every
+        problem of the mesh is raised in one :class:`InputError` naming the keys that fix
+        it. Returns ``(ShipGeometry, report)``."""
+        from shipthermal.geometry import read_ship
+
+        f = self.files
+        source = dict(f.parts) if f.parts else f.mesh
+        return read_ship(
+            source, units=f.units, part_map=f.part_map, draught=f.draught,
+            waterline_z=f.waterline_z, layups=self._layup_overrides(),
+            compartment_temperature=self._compartment_overrides(), clean=f.clean,
+            fix_normals=f.fix_normals, repair=None if f.repair == "none" else f.repair,
+            check_scale=f.check_scale, max_repair_change=f.max_repair_change)
+
     def __call__(self, return_report: bool = False):
         """Build the ship geometry (slow: meshing / reading files).
 
@@ -1160,7 +1175,7 @@ class ShipSettings:
         ShipGeometry, or (ShipGeometry, dict) with ``return_report`` (the read/repair
         report of a user ship; ``{}`` for a built-in one).
         """
-        from shipthermal.geometry import BUILTIN_SHIPS, read_ship, remesh_ship
+        from shipthermal.geometry import BUILTIN_SHIPS, remesh_ship
 
         report: dict = {}
         if self.files is None:
@@ -1170,14 +1185,7 @@ class ShipSettings:
                 compartment_temperature=self._compartment_overrides(),
                 superstructure_material=self.superstructure_material)
         else:
-            f = self.files
-            source = dict(f.parts) if f.parts else f.mesh
-            ship, report = read_ship(
-                source, units=f.units, part_map=f.part_map, draught=f.draught,
-                waterline_z=f.waterline_z, layups=self._layup_overrides(),
-                compartment_temperature=self._compartment_overrides(), clean=f.clean,
-                fix_normals=f.fix_normals, repair=None if f.repair == "none" else f.repair,
-                check_scale=f.check_scale, max_repair_change=f.max_repair_change)
+            ship, report = self.read_files()
             if self.edge_length is not None:
                 ship, rem = remesh_ship(ship, self.edge_length, return_report=True)
                 if rem:
@@ -1939,6 +1947,8 @@ def main(argv=None) -> int:
     for f in args.files:
         try:
             sc = load_scenario(f)
+            if sc.ship.files is not None:       # open the meshes: every mesh check
+                sc.ship.read_files()
             print(f"{f}: ok ({sc.name}: {sc.time.season} {sc.time.date}, "
                   f"{sc.ship.builtin or 'user ship'}, bands {', '.join(sc.bands)})")
         except InputError as exc:

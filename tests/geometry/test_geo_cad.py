@@ -211,3 +211,20 @@ def test_union_repair_of_overlapping_pieces_matches_hand_figures(tmp_path):
     areas = u.part_areas()
     assert areas["superstructure"] == pytest.approx(336.0 + 160.0, rel=1e-9)
     assert areas["deck"] == pytest.approx(1200.0 - 160.0, rel=1e-9)
+
+
+def test_scenario_validate_opens_the_mesh(ship, tmp_path, capsys):
+    # a scenario whose mesh file exists but is a millimetre export with duplicates:
+    # `python -m shipthermal.scenario validate` opens it and lists both problems
+    from shipthermal.scenario import main
+
+    v, f = _soup(ship)
+    trimesh.Trimesh(v * 1000.0, np.vstack([f, f[:7]]), process=False).export(tmp_path / "s.stl")
+    (tmp_path / "sc.toml").write_text('[ship.files]\nmesh = "s.stl"\nunits = "m"\n'
+                                      'part_map = "auto"\n')      # the file's z = 0 is the waterline
+    assert main(["validate", str(tmp_path / "sc.toml")]) == 2
+    err = capsys.readouterr().err
+    assert "has 2 problems" in err and 'units = "mm"' in err and "7 duplicate" in err
+    (tmp_path / "sc.toml").write_text('[ship.files]\nmesh = "s.stl"\nunits = "mm"\n'
+                                      'part_map = "auto"\nclean = true\n')
+    assert main(["validate", str(tmp_path / "sc.toml")]) == 0
