@@ -228,3 +228,37 @@ def test_scenario_validate_opens_the_mesh(ship, tmp_path, capsys):
     (tmp_path / "sc.toml").write_text('[ship.files]\nmesh = "s.stl"\nunits = "mm"\n'
                                       'part_map = "auto"\nclean = true\n')
     assert main(["validate", str(tmp_path / "sc.toml")]) == 0
+
+
+def test_soup_of_overlapping_solids_is_united_fast(tmp_path, monkeypatch):
+    # The frigate as a CAD tool exports an assembly: hull and seven deckhouse solids,
+    # overlapping and stacked (touching face to face), never united, every triangle its
+    # own piece. The union repair gives the generator's surface back (its own union of
+    # the same solids; float32 STL, hence 1e-5), in seconds where a tetrahedral remesh
+    # takes minutes.
+    import shipthermal.geometry.ship as gs
+
+    solids = {}
+    real = gs._union
+    monkeypatch.setattr(gs, "_union", lambda m: (solids.setdefault("m", m), real(m))[1])
+    s = gs.frigate(2.5)
+    off, vs, fs = 0, [], []
+    for v, f in solids["m"]:
+        vs.append(v)
+        fs.append(f + off)
+        off += len(v)
+    v, f = np.concatenate(vs), np.concatenate(fs)
+    trimesh.Trimesh(v[f].reshape(-1, 3), np.arange(3 * len(f)).reshape(-1, 3),
+                    process=False).export(tmp_path / "assembly.stl")
+    with pytest.raises(InputError, match="separate pieces that overlap.*repair = \"union\""):
+        read_ship(tmp_path / "assembly.stl", units="m", part_map="auto", draught=s.draught,
+                  clean=True)
+    u, rep = read_ship(tmp_path / "assembly.stl", units="m", part_map="auto",
+                       draught=s.draught, repair="union", max_repair_change=0.5)
+    assert rep["repair"]["pieces"] >= len(solids["m"])
+    assert u.is_watertight
+    assert u.total_area == pytest.approx(s.total_area, rel=1e-5)
+    assert u.signed_volume == pytest.approx(s.signed_volume, rel=1e-5)
+    truth, got = _main_areas(s), _main_areas(u)
+    for part in ("hull_wetted", "hull_dry", "superstructure"):
+        assert got[part] == pytest.approx(truth[part], rel=0.01), part

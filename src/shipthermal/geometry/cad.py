@@ -242,6 +242,26 @@ def _components(f: np.ndarray, n_vertices: int) -> np.ndarray:
     return connected_components(g, directed=False)[1][f[:, 0]]
 
 
+def _solid_pieces(f: np.ndarray) -> np.ndarray:
+    """Piece of each triangle, joining triangles only across edges that exactly two
+    triangles share (solids that touch along an edge or a face stay separate pieces)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    m = len(f)
+    e = np.sort(f[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    key = e[:, 0] * (int(f.max()) + 1) + e[:, 1]
+    owner = np.repeat(np.arange(m), 3)
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    start = np.flatnonzero(np.r_[True, ks[1:] != ks[:-1]])
+    count = np.diff(np.r_[start, len(ks)])
+    two = start[count == 2]
+    a, b = owner[order[two]], owner[order[two + 1]]
+    g = coo_matrix((np.ones(len(a)), (a, b)), shape=(m, m))
+    return connected_components(g, directed=False)[1]
+
+
 def diagnose_surface(vertices, faces, units: str = "m", *, check_scale: bool = True,
                      check_intersections: bool = True) -> list[Problem]:
     """Every problem of a ship surface, without changing it.
@@ -350,8 +370,10 @@ def union_repair(vertices, faces, face_part):
     """Boolean union (manifold3d) of the connected pieces of a surface.
 
     For exports made of many closed pieces that touch or overlap (a deckhouse standing
-    in the deck, a soup of solids): each piece must be closed; the union removes the
-    inner surfaces exactly. Parts follow the faces (manifold3d keeps each output
+    in the deck, a soup of solids): pieces are the triangles joined across edges shared
+    by exactly two triangles (so solids touching along an edge or a face, e.g. stacked
+    deckhouses, stay separate); each must be closed; the union removes the inner
+    surfaces exactly. Parts follow the faces (manifold3d keeps each output
     triangle's source face). Pieces with inconsistent or inward winding are re-oriented
     first.
 
@@ -366,18 +388,25 @@ def union_repair(vertices, faces, face_part):
     v = np.asarray(vertices, float)
     f = np.asarray(faces, np.int64)
     lab = np.asarray(face_part)
-    comp = _components(f, len(v))
+    keep = (f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 2] != f[:, 0])
+    f, lab = f[keep], lab[keep]
+    comp = _solid_pieces(f)
     n = int(comp.max()) + 1
     pieces, src, total = [], [], 0
     order = np.argsort(comp, kind="stable")
     bounds = np.searchsorted(comp[order], np.arange(n + 1))
-    bad = 0
+    bad = flat = 0
+    tiny = 1e-12 * float(np.ptp(v, axis=0).max()) ** 3
     for k in range(n):
         rows = order[bounds[k]:bounds[k + 1]]
         fk, _ = _fix_winding(f[rows])
         used, inv = np.unique(fk, return_inverse=True)
         vk, fk = v[used], inv.reshape(-1, 3)
-        if signed_volume(vk, fk) < 0:
+        vol = signed_volume(vk, fk)
+        if abs(vol) <= tiny:          # a face exported twice back to back: no solid
+            flat += 1
+            continue
+        if vol < 0:
             fk = fk[:, ::-1]
         man = Manifold(Mesh64(vert_properties=vk, tri_verts=fk.astype(np.uint64),
                               face_id=np.arange(total, total + len(fk), dtype=np.uint64)))
@@ -398,7 +427,7 @@ def union_repair(vertices, faces, face_part):
     a0, a1 = float(face_areas(v, f).sum()), float(face_areas(nv, nf).sum())
     v0 = float(sum(abs(signed_volume(v, f[r])) for r in src))
     v1 = signed_volume(nv, nf)
-    report = dict(method="union", pieces=n, area_before=a0, area_after=a1,
+    report = dict(method="union", pieces=n, flat_pieces_dropped=flat, area_before=a0, area_after=a1,
                   area_change=(a1 - a0) / a0, volume_before=v0, volume_after=v1,
                   volume_change=(v1 - v0) / v0 if v0 else float("inf"),
                   seconds=time.perf_counter() - t0)

@@ -581,7 +581,7 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
     n_file_faces = len(f)
     if repair is not None and any(p.kind in ("open", "nonmanifold", "intersecting")
                                   for p in problems):
-        if clean:           # the repairs want no zero-area / duplicate triangles
+        if clean and repair == "tetwild":      # no zero-area / duplicate triangles
             v, f, labels, pre = check_surface(v, f, units, check_scale=False, clean=True,
                                               fix_normals=False, face_part=labels,
                                               require_closed=False)
