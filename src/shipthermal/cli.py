@@ -230,7 +230,11 @@ def cmd_mesh(args, con: Console) -> int:
                 from .geometry.cad import CHECK_COLOURS
 
                 auto = read_report.pop("auto_parts")
-                (tmp / "auto_parts.json").write_text(json.dumps(auto, indent=1))
+                import re
+
+                text = json.dumps(auto, indent=1)       # one [start, stop] range per line
+                text = re.sub(r"\[\s+(-?[\d.e+-]+),\s+(-?[\d.e+-]+)\s+\]", r"[\1, \2]", text)
+                (tmp / "auto_parts.json").write_text(text)
                 files["auto_parts"] = tmp / "auto_parts.json"
                 for view in ("iso", "side"):
                     render_parts_png(ship, tmp / f"auto_parts_{view}.png", view=view,

@@ -262,3 +262,34 @@ def test_soup_of_overlapping_solids_is_united_fast(tmp_path, monkeypatch):
     truth, got = _main_areas(s), _main_areas(u)
     for part in ("hull_wetted", "hull_dry", "superstructure"):
         assert got[part] == pytest.approx(truth[part], rel=0.01), part
+
+
+def test_mesh_command_writes_the_part_picture_and_an_editable_json(tmp_path, capsys):
+    # hull box with a deckhouse, one unlabelled STL: `shipthermal mesh` assigns parts by
+    # rules, prints it, writes the pictures and the JSON; the JSON as part_map reproduces
+    # the parts
+    from shipthermal.cli import main
+
+    hull = trimesh.creation.box((100.0, 12.0, 10.0))
+    hull.apply_translation([0.0, 0.0, 1.0])
+    house = trimesh.creation.box((20.0, 8.0, 6.0))
+    house.apply_translation([-20.0, 0.0, 9.0])              # stands on the deck (z = 6)
+    united = hull.union(house, engine="manifold")
+    united.export(tmp_path / "barge.stl")
+    (tmp_path / "a.toml").write_text('[ship.files]\nmesh = "barge.stl"\nunits = "m"\n'
+                                     'part_map = "auto"\ndraught = 4.0\n')
+    assert main(["mesh", str(tmp_path / "a.toml"), "--out", str(tmp_path / "m")]) == 0
+    err = capsys.readouterr().err
+    assert "parts assigned by rules" in err and "auto_parts.json" in err
+    out = tmp_path / "m" / "mesh"
+    assert (out / "auto_parts_iso.png").stat().st_size > 10_000
+    assert (out / "auto_parts_side.png").stat().st_size > 10_000
+    auto = json.loads((out / "auto_parts.json").read_text())
+    assert set(auto["parts"]) == {"hull", "deck", "superstructure"}
+    u, _ = read_ship(tmp_path / "barge.stl", units="m", part_map=out / "auto_parts.json",
+                     draught=4.0)
+    areas = u.part_areas()
+    # by hand: deck 1200 - 160 = 1040 m2; deckhouse walls 2 (20 + 8) 6 + roof 160 = 496 m2
+    assert areas["deck"] == pytest.approx(1040.0, rel=1e-9)
+    assert areas["superstructure"] == pytest.approx(496.0, rel=1e-9)
+    assert areas["hull_wetted"] + areas["hull_dry"] == pytest.approx(4640.0 - 1200.0, rel=1e-9)
