@@ -582,8 +582,9 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
     if repair is not None and any(p.kind in ("open", "nonmanifold", "intersecting")
                                   for p in problems):
         if clean and repair == "tetwild":      # no zero-area / duplicate triangles
+            # (and consistently wound: fTetWild's inside test uses the winding number)
             v, f, labels, pre = check_surface(v, f, units, check_scale=False, clean=True,
-                                              fix_normals=False, face_part=labels,
+                                              fix_normals=True, face_part=labels,
                                               require_closed=False)
         if repair == "union":
             v, f, labels, rep = union_repair(v, f, labels)
