@@ -917,6 +917,11 @@ class ShipFiles:
                        "closed overlapping pieces (manifold3d, seconds); tetwild = robust "
                        "remesh that also closes gaps (pytetwild, minutes)",
                        choices=("none", "union", "tetwild"))
+    repair_edge_length: Optional[float] = _opt(None, "float", "Tet size of the tetwild "
+                                               "repair (default pytetwild's: 5 % of the "
+                                               "bounding-box diagonal; finer is slower)",
+                                               unit="m", lo=0.0, hi=50.0, lo_open=True,
+                                               optional=True)
     max_repair_change: float = _opt(MAX_REPAIR_CHANGE, "float", "Largest relative change of "
                                     "area or volume a repair may make (raise it to accept a "
                                     "larger one)", lo=0.0, hi=1.0, lo_open=True)
@@ -1165,7 +1170,8 @@ class ShipSettings:
             waterline_z=f.waterline_z, layups=self._layup_overrides(),
             compartment_temperature=self._compartment_overrides(), clean=f.clean,
             fix_normals=f.fix_normals, repair=None if f.repair == "none" else f.repair,
-            check_scale=f.check_scale, max_repair_change=f.max_repair_change)
+            check_scale=f.check_scale, max_repair_change=f.max_repair_change,
+            repair_edge_length=f.repair_edge_length)
 
     def __call__(self, return_report: bool = False):
         """Build the ship geometry (slow: meshing / reading files).
