@@ -293,3 +293,21 @@ def test_mesh_command_writes_the_part_picture_and_an_editable_json(tmp_path, cap
     assert areas["deck"] == pytest.approx(1040.0, rel=1e-9)
     assert areas["superstructure"] == pytest.approx(496.0, rel=1e-9)
     assert areas["hull_wetted"] + areas["hull_dry"] == pytest.approx(4640.0 - 1200.0, rel=1e-9)
+
+
+def test_repairs_are_printed_on_the_console(tmp_path, capsys):
+    from shipthermal.cli import main
+
+    hull = trimesh.creation.box((100.0, 12.0, 10.0))
+    hull.apply_translation([0.0, 0.0, 1.0])
+    house = trimesh.creation.box((20.0, 8.0, 8.0))
+    house.apply_translation([-20.0, 0.0, 8.0])
+    trimesh.util.concatenate([hull, house]).export(tmp_path / "two.stl")
+    (tmp_path / "a.toml").write_text('[ship.files]\nmesh = "two.stl"\nunits = "m"\n'
+                                     'part_map = "auto"\ndraught = 4.0\nrepair = "union"\n'
+                                     'max_repair_change = 0.1\n')
+    assert main(["mesh", str(tmp_path / "a.toml"), "--out", str(tmp_path / "m")]) == 0
+    err = capsys.readouterr().err
+    # the hand figures of test_union_repair_of_overlapping_pieces_matches_hand_figures
+    assert "mesh: repair (union" in err
+    assert "area 5408 -> 4976 m2 (-7.99 %), volume 13280 -> 12960 m3 (-2.41 %)" in err
