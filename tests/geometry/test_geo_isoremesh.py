@@ -58,7 +58,6 @@ def _check(raw, v, f, lab, rep, h):
     for k, (name, ref) in enumerate(raw.part_areas().items()):
         assert a[lab == k].sum() == pytest.approx(ref, rel=0.01), name
     # the waterline is exact: no wetted face above it, no dry hull face below
-    zc = v[f, 2].mean(axis=1)
     names = raw.part_names
     assert (v[f[lab == names.index("hull_wetted")], 2] <= 1e-9).all()
     assert (v[f[lab == names.index("hull_dry")], 2] >= -1e-9).all()
