@@ -234,9 +234,29 @@ def cmd_mesh(args, con: Console) -> int:
         with run.stage("mesh") as tmp:
             t0 = time.perf_counter()
             ship, read_report = sc.ship(return_report=True)
+            for line in read_report.get("repairs", []):
+                con.info(f"mesh: {line}")
             graph, report = build_ship_mesh(ship)
             files = write_ship(ship, tmp, stem="ship")
             backend = render_parts_png(ship, tmp / "parts.png")
+            if "auto_parts" in read_report:
+                from .geometry.cad import CHECK_COLOURS
+
+                auto = read_report.pop("auto_parts")
+                import re
+
+                text = json.dumps(auto, indent=1)       # one [start, stop] range per line
+                text = re.sub(r"\[\s+(-?[\d.e+-]+),\s+(-?[\d.e+-]+)\s+\]", r"[\1, \2]", text)
+                (tmp / "auto_parts.json").write_text(text)
+                files["auto_parts"] = tmp / "auto_parts.json"
+                for view in ("iso", "side"):
+                    render_parts_png(ship, tmp / f"auto_parts_{view}.png", view=view,
+                                     colours=CHECK_COLOURS)
+                reuse = ("edit auto_parts.json and give it as ship.files.part_map"
+                         if auto["faces_as_in_file"] else "the repaired surface with its "
+                         "parts is ship.ply + ship_parts.json")
+                con.info("mesh: parts assigned by rules: check auto_parts_iso.png and "
+                         f"auto_parts_side.png; {reuse}")
             report = {"ship": ship.name, "length_m": ship.length, "beam_m": ship.beam,
                       "draught_m": ship.draught, "edge_length_m": ship.edge_length,
                       **report, "read_report": read_report, "picture_backend": backend,
@@ -269,7 +289,7 @@ def cmd_run(args, con: Console) -> int:
     case = sc.name
     RunDir.check_target(out, resume=args.resume, force=args.force, scenario=sc)
     con.debug("reading the inputs (ship, weather" + (", background)" if args.image else ")"))
-    ship, background = prepare(sc, imaging=args.image, progress=con.progress)
+    ship, background = prepare(sc, imaging=args.image, progress=con.progress, log=con.info)
     for line in sc.check_weather():     # gaps interpolated, constants used, wind height
         con.info(f"  {line}")
     with RunDir(out, resume=args.resume, force=args.force, command=args.argv, kind="run",

@@ -279,17 +279,19 @@ def check_imaging_bands(scenario) -> None:
                          'Use "3-5" / "8-14", or run the thermal stage only')
 
 
-def prepare(scenario, imaging: bool = False, progress: bool = False):
+def prepare(scenario, imaging: bool = False, progress: bool = False, log=None):
     """Read every input file of a scenario before anything is written: build the ship
     (mesh files), the weather record (weather file) and, with ``imaging``, the port
     background (rasters). A bad file raises :class:`InputError` here, so a failed run
     leaves no folder behind.
 
-    Returns ``(ship, background or None)``.
+    Returns ``(ship, background or None)``; ``log`` receives one line per mesh repair.
     """
     if imaging:
         check_imaging_bands(scenario)
-    ship = scenario.ship()
+    ship, ship_report = scenario.ship(return_report=True)
+    for line in ship_report.get("repairs", []) if log else ():
+        log(f"ship: {line}")
     scenario.environment()
     background = build_background(scenario, progress=progress) if imaging else None
     return ship, background

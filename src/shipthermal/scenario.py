@@ -131,6 +131,11 @@ MESH_EXTENSIONS = (".glb", ".gltf", ".obj", ".off", ".ply", ".stl", ".vtk", ".vt
 """Surface formats read by shipthermal.geometry.io.read_ship."""
 MESH_WITH_PART_ARRAY = (".vtk", ".vtp", ".vtu")
 """Formats that may carry a per-cell ``part`` array instead of a part map."""
+MESH_WITH_PART_NAMES = (".glb", ".gltf", ".obj")
+"""= shipthermal.geometry.cad.SCENE_EXTENSIONS: part names from OBJ groups / glTF meshes."""
+MAX_REPAIR_CHANGE = 0.01
+"""= shipthermal.geometry.cad.MAX_REPAIR_CHANGE: largest accepted relative change of area or
+volume by a mesh repair."""
 OUTPUT_FORMATS = ("csv", "geotiff", "html", "json", "netcdf", "png", "vtkhdf", "vtu")
 
 # Paper §5 band emissivities per main part (3–5 µm: hull 0.85, deck 0.90, superstructure
@@ -630,6 +635,8 @@ _CONVERTERS = {
     "file": lambda raw, path, spec, ctx: _file(raw, path, ctx),
     "mesh_file": lambda raw, path, spec, ctx: _file(raw, path, ctx, MESH_EXTENSIONS),
     "json_file": lambda raw, path, spec, ctx: _file(raw, path, ctx, (".json",)),
+    "part_map": lambda raw, path, spec, ctx: (raw if raw == "auto"
+                                              else _file(raw, path, ctx, (".json",))),
 }
 
 
@@ -951,9 +958,12 @@ class ShipFiles:
     mesh: Optional[str] = _opt(None, "mesh_file", "One surface mesh (STL/OBJ/PLY/OFF/GLB, "
                                "or VTK/VTP/VTU with a per-cell 'part' array)", optional=True,
                                allowed_text="existing " + "/".join(MESH_EXTENSIONS) + " file")
-    part_map: Optional[str] = _opt(None, "json_file", "JSON file of face ranges per part "
-                                   '({"hull": [[0, 5000]], ...}; write_ship writes one)',
-                                   optional=True, allowed_text="existing .json file")
+    part_map: Optional[str] = _opt(None, "part_map", "JSON file of face ranges per part "
+                                   '({"hull": [[0, 5000]], ...}; write_ship writes one), or '
+                                   '"auto": parts by rules (`shipthermal mesh` writes the '
+                                   "picture and the JSON to check and edit); not needed when "
+                                   "OBJ groups / GLB meshes are named after the parts",
+                                   optional=True, allowed_text='existing .json file or "auto"')
     parts: Mapping = _opt({}, "part_files", "One file per part instead of mesh + part_map "
                           "(part = path)", allowed_text="part names: hull, hull_wetted, "
                           "hull_dry, deck, superstructure or <main>_<detail>")
@@ -964,8 +974,20 @@ class ShipFiles:
                                         "file's frame", unit="m", optional=True)
     clean: bool = _opt(False, "bool", "Drop zero-area and duplicate triangles instead of failing")
     fix_normals: bool = _opt(False, "bool", "Fix inconsistent / inward normals instead of failing")
-    repair: str = _opt("none", "choice", "Robust remeshing through pytetwild before the checks",
-                       choices=("none", "tetwild"))
+    repair: str = _opt("none", "choice", "Repair before the checks: union = boolean union of "
+                       "closed overlapping pieces (manifold3d, seconds); tetwild = robust "
+                       "remesh that also closes gaps (pytetwild, minutes)",
+                       choices=("none", "union", "tetwild"))
+    repair_edge_length: Optional[float] = _opt(None, "float", "Tet size of the tetwild "
+                                               "repair (default pytetwild's: 5 % of the "
+                                               "bounding-box diagonal; finer is slower)",
+                                               unit="m", lo=0.0, hi=50.0, lo_open=True,
+                                               optional=True)
+    max_repair_change: float = _opt(MAX_REPAIR_CHANGE, "float", "Largest relative change of "
+                                    "area or volume a repair may make (raise it to accept a "
+                                    "larger one)", lo=0.0, hi=1.0, lo_open=True)
+    check_scale: bool = _opt(True, "bool", "Refuse a ship length outside 5-500 m (a units "
+                             "mistake); false for a deliberate model of another size")
 
     @staticmethod
     def _check(obj, raw, path, ctx, bad):
@@ -980,13 +1002,14 @@ class ShipFiles:
             ctx.err(f"{path}.part_map", raw["part_map"], "only applies with 'mesh' (with "
                     "'parts' each file is one part)")
         if (has_mesh and "mesh" not in bad and "part_map" not in raw
-                and Path(obj.mesh).suffix.lower() not in MESH_WITH_PART_ARRAY):
+                and Path(obj.mesh).suffix.lower() not in MESH_WITH_PART_ARRAY + MESH_WITH_PART_NAMES):
             ctx.err(f"{path}.part_map", None, "is required with a "
                     f"{Path(obj.mesh).suffix} mesh (only VTK/VTP/VTU files can carry a "
-                    "per-cell 'part' array)", 'e.g. part_map = "ship.json"')
+                    "per-cell 'part' array, OBJ/GLB files part names)",
+                    'e.g. part_map = "ship.json", or part_map = "auto" (parts by rules)')
         if "draught" in raw and "waterline_z" in raw:
             ctx.err(f"{path}.draught", raw["draught"], "give draught or waterline_z, not both")
-        if obj.part_map is not None and "part_map" not in bad:
+        if obj.part_map is not None and obj.part_map != "auto" and "part_map" not in bad:
             try:
                 with open(obj.part_map) as fh:
                     data = json.load(fh)
@@ -1005,6 +1028,8 @@ class ShipFiles:
         """Part names known without reading the mesh (None if only the mesh knows them)."""
         if self.parts:
             names = tuple(self.parts)
+        elif self.part_map == "auto":
+            names = ("hull", "deck", "superstructure")
         elif self.part_map is not None:
             try:
                 with open(self.part_map) as fh:
@@ -1060,7 +1085,8 @@ class ShipSettings:
                                       "one", cls=ShipFiles, optional=True)
     edge_length: Optional[float] = _opt(None, "float", "Target surface edge length "
                                         "(built-in default 0.5 m per 132 m of length; user "
-                                        "meshes are refined to it when given)", unit="m",
+                                        "meshes are remeshed to it, finer or coarser, when "
+                                        "given)", unit="m",
                                         lo=0.0, hi=50.0, lo_open=True, optional=True)
     heading: float = _opt(180.0, "float", "Heading, clockwise from north (default: moored "
                           "along the synthetic port's N-S pier, bow to the harbour entrance)",
@@ -1192,6 +1218,22 @@ class ShipSettings:
         return {part: [(l.material, l.thickness, l.cells) for l in layers]
                 for part, layers in self.layups.items()}
 
+    def read_files(self):
+        """Read, check and repair the user ship of [ship.files] (no remeshing): every
+        problem of the mesh is raised in one :class:`InputError` naming the keys that fix
+        it. Returns ``(ShipGeometry, report)``."""
+        from shipthermal.geometry import read_ship
+
+        f = self.files
+        source = dict(f.parts) if f.parts else f.mesh
+        return read_ship(
+            source, units=f.units, part_map=f.part_map, draught=f.draught,
+            waterline_z=f.waterline_z, layups=self._layup_overrides(),
+            compartment_temperature=self._compartment_overrides(), clean=f.clean,
+            fix_normals=f.fix_normals, repair=None if f.repair == "none" else f.repair,
+            check_scale=f.check_scale, max_repair_change=f.max_repair_change,
+            repair_edge_length=f.repair_edge_length)
+
     def __call__(self, return_report: bool = False):
         """Build the ship geometry (slow: meshing / reading files).
 
@@ -1200,7 +1242,7 @@ class ShipSettings:
         ShipGeometry, or (ShipGeometry, dict) with ``return_report`` (the read/repair
         report of a user ship; ``{}`` for a built-in one).
         """
-        from shipthermal.geometry import BUILTIN_SHIPS, read_ship, remesh_ship
+        from shipthermal.geometry import BUILTIN_SHIPS, remesh_ship
 
         report: dict = {}
         if self.files is None:
@@ -1210,16 +1252,25 @@ class ShipSettings:
                 compartment_temperature=self._compartment_overrides(),
                 superstructure_material=self.superstructure_material)
         else:
-            f = self.files
-            source = dict(f.parts) if f.parts else f.mesh
-            ship, report = read_ship(
-                source, units=f.units, part_map=f.part_map, draught=f.draught,
-                waterline_z=f.waterline_z, layups=self._layup_overrides(),
-                compartment_temperature=self._compartment_overrides(), clean=f.clean,
-                fix_normals=f.fix_normals, repair=None if f.repair == "none" else f.repair)
+            ship, report = self.read_files()
             if self.edge_length is not None:
-                ship = remesh_ship(ship, self.edge_length)
+                ship, rem = remesh_ship(ship, self.edge_length, return_report=True)
+                if rem:
+                    report["remesh"] = rem
+                    report.setdefault("repairs", []).append(_remesh_line(rem))
         return (ship, report) if return_report else ship
+
+
+def _remesh_line(rem: dict) -> str:
+    """One console line on an isotropic remesh of a user ship."""
+    qb, qa = rem["quality_before"], rem["quality_after"]
+    shrunk = ("" if rem["edge_length"] == rem["target_edge_length"] else
+              f" (target {rem['target_edge_length']:g} m: reduced until >= 99 % of triangles "
+              "have a smallest angle >= 20 deg)")
+    return (f"remesh: {qb['n_faces']} -> {qa['n_faces']} triangles at {rem['edge_length']:.3g} m"
+            f"{shrunk}; smallest angle >= 20 deg: {100 * (1 - qb['frac_min_angle_below_20']):.1f} "
+            f"-> {100 * (1 - qa['frac_min_angle_below_20']):.1f} % of triangles; area "
+            f"{100 * rem['area_change']:+.2f} %, volume {100 * rem['volume_change']:+.2f} %")
 
 
 def _check_particulars(obj: ShipSettings, path: str, ctx: _Context) -> Optional[tuple]:
@@ -1921,6 +1972,7 @@ _TYPE_TEXT = {"float": "float", "int": "int", "bool": "bool", "choice": "string"
               "clock_list": "list of strings", "band_list": "list of strings",
               "choice_list": "list of strings", "vec2": "[float, float]",
               "file": "path", "mesh_file": "path", "json_file": "path",
+              "part_map": 'path or "auto"',
               "weather_source": "string", "part_table": "float per part",
               "part_bands": "float per part and band", "layups": "list of layers per part",
               "part_files": "path per part"}
@@ -2036,8 +2088,9 @@ def main(argv=None) -> int:
         try:
             sc = load_scenario(f)
             # open the input files too, and list every problem at once: the weather over
-            # the simulated span (columns, units, coverage of the date, gaps) and the
-            # background rasters (headers, georeferencing, bands, QA, ROIs, DEM, met grid)
+            # the simulated span (columns, units, coverage of the date, gaps), the ship's
+            # meshes (every mesh check) and the background rasters (headers,
+            # georeferencing, bands, QA, ROIs, DEM, met grid)
             problems, notes = [], []
             try:
                 notes = list(sc.check_weather())
@@ -2045,6 +2098,11 @@ def main(argv=None) -> int:
                 problems += [str(e) for e in exc.errors]
             except InputError as exc:
                 problems.append(str(exc))
+            if sc.ship.files is not None:       # open the meshes: every mesh check
+                try:
+                    sc.ship.read_files()
+                except InputError as exc:
+                    problems.append(str(exc))
             bgs = sc.background
             if bgs.source == "files":
                 from imaging.background.inputs import check_background_inputs

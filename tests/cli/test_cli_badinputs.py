@@ -138,11 +138,11 @@ def W(name):
 CASES = [
     # ---- user meshes (ship.files) ---------------------------------------------------------
     ("mesh-open", "mesh", M("a", mesh="open.stl", part_map="parts11.json"),
-     ["3 open edges", "must be closed (watertight)", "repair='tetwild'"]),
+     ["3 open edges", "must be closed (watertight)", 'ship.files.repair = "tetwild"']),
     ("mesh-inverted", "mesh", M("a", mesh="flip.stl"),
      ["signed volume", "the normals point into the ship", "fix_normals"]),
     ("mesh-millimetres", "mesh", M("a", mesh="mm.stl"),
-     ["ship length of 100000 m", "outside the plausible 5–500 m", "declare units='mm'"]),
+     ["ship length of 100000 m", "outside the plausible 5–500 m", "ship.files.units = \"mm\""]),
     ("mesh-axes", "mesh", M("a", mesh="swap.stl"),
      ["extent x 12 m, y 100 m", "longest dimension must lie along x"]),
     ("mesh-partmap-overlap", "mesh", M("a", part_map="overlap.json"),
@@ -327,6 +327,76 @@ def _cli_inputs(d):
         (r / "scenario.toml").write_text("")
         if done:
             (r / "COMPLETE").write_text("x")
+
+
+# ---- CAD meshes: named parts, every problem in one message, repair limit ---------------
+def _cad_toml(d, name, mesh, **keys):
+    lines = ["[ship.files]", f'mesh = "{mesh}"', 'units = "m"', "draught = 4.0"]
+    lines += [f"{k} = {v}" for k, v in keys.items()]
+    (d / f"{name}.toml").write_text("\n".join(lines) + "\n")
+    return d / f"{name}.toml"
+
+
+def _cad_box_parts(d):
+    """The box barge as an OBJ with groups that name no ship part."""
+    m = trimesh.creation.box((100.0, 12.0, 10.0))
+    m.apply_translation([0.0, 0.0, 1.0])
+    top = m.face_normals[:, 2] > 0.5
+    lines = [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in m.vertices]
+    for group, sel in (("Hull_Shell", ~top), ("Bridge Deck", top)):
+        lines.append(f"g {group}")
+        lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in m.faces[sel]]
+    (d / "groups.obj").write_text("\n".join(lines) + "\n")
+
+
+def _cad_lines_glb(d):
+    scene = trimesh.Scene()
+    scene.add_geometry(trimesh.load_path(np.array([[0.0, 0, 0], [100.0, 0, 0]])), geom_name="deck")
+    scene.export(d / "lines.glb")
+
+
+def _cad_messy(d):
+    """Millimetres, inverted, one triangle twice: three problems."""
+    m = trimesh.creation.box((100.0, 12.0, 10.0))
+    f = np.vstack([m.faces[:, ::-1], m.faces[:1, ::-1]])
+    trimesh.Trimesh((m.vertices + [0, 0, 1.0]) * 1000.0, f, process=False).export(d / "messy.stl")
+
+
+def _cad_overlap(d):
+    """A hull box and a deckhouse box sunk 2 m into it, exported as two pieces. By hand:
+    areas 4640 + 768 = 5408 m2 before, 4640 - 160 + 336 + 160 = 4976 m2 united (-7.99 %);
+    volumes 12000 + 1280 = 13280 m3 before, 13280 - 320 = 12960 m3 united (-2.41 %)."""
+    hull = trimesh.creation.box((100.0, 12.0, 10.0))
+    hull.apply_translation([0.0, 0.0, 1.0])
+    house = trimesh.creation.box((20.0, 8.0, 8.0))
+    house.apply_translation([-20.0, 0.0, 8.0])
+    trimesh.util.concatenate([hull, house]).export(d / "overlap.stl")
+
+
+def C(name, prepare, mesh, **keys):
+    def make(d):
+        prepare(d)
+        return ["-q", "mesh", str(_cad_toml(d, name, mesh, **keys)), "--out", str(d / "out")]
+    return make
+
+
+CASES += [
+    ("cad-obj-unknown-groups", "mesh", C("g", _cad_box_parts, "groups.obj"),
+     ["groups.obj", "'Bridge Deck', 'Hull_Shell'", "which are no ship parts",
+      'ship.files.part_map', '"auto"']),
+    ("cad-glb-no-triangles", "mesh", C("l", _cad_lines_glb, "lines.glb"),
+     ["lines.glb", "holds no triangles"]),
+    ("cad-all-problems-at-once", "mesh", C("m", _cad_messy, "messy.stl", part_map='"auto"'),
+     ["has 3 problems", 'ship.files.units = \"mm\"', "ship.files.check_scale = false",
+      "1 duplicate triangles", "ship.files.clean = true", "normals point into the ship",
+      "ship.files.fix_normals = true"]),
+    ("cad-overlap-needs-repair", "mesh", C("o", _cad_overlap, "overlap.stl", part_map='"auto"'),
+     ["2 separate pieces that overlap", 'ship.files.repair = \"union\"']),
+    ("cad-repair-change-refused", "mesh",
+     C("r", _cad_overlap, "overlap.stl", part_map='"auto"', repair='"union"'),
+     ["ship.files.max_repair_change = 0.01", "the union repair changed the area by -7.99 % "
+      "and the volume by -2.41 %", "set ship.files.max_repair_change = 0.08 or more"]),
+]
 
 
 @pytest.mark.parametrize("case, kind, make, fragments", CASES, ids=[c[0] for c in CASES])

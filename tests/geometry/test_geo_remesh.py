@@ -103,7 +103,12 @@ def test_build_ship_mesh_shells_conserve_area_and_capacity():
     assert rep["quality"]["n_faces"] == s.n_faces
 
 
-def test_build_ship_mesh_remeshes_user_surface():
+def test_build_ship_mesh_remeshes_user_surface(monkeypatch):
+    # the bisection path (without pymeshlab): exact areas; the isotropic remesher is
+    # tested in test_geo_isoremesh.py
+    import shipthermal.geometry.isoremesh as iso
+
+    monkeypatch.setattr(iso, "have_remesher", lambda: False)
     s = dataclasses.replace(frigate(4.0), parameters=None)
     g, rep = build_ship_mesh(s, edge_length=2.0)
     # Bisection makes every edge <= 2 m; a later collapse of an edge shorter than h/4 can
@@ -183,9 +188,13 @@ def test_flips_keep_geometry_and_parts():
         assert face_areas(v, f2)[lab == k].sum() == pytest.approx(face_areas(v, f)[lab == k].sum(), rel=1e-12)
 
 
-def test_user_surface_finer_than_target_is_reported_not_hidden():
-    # Refinement only: a user surface already finer than asked keeps its triangles, and the
-    # report says so instead of pretending the target was met.
+def test_user_surface_finer_than_target_is_reported_not_hidden(monkeypatch):
+    # Without the isotropic remesher (pymeshlab, extra 'cad'): refinement only; a user
+    # surface already finer than asked keeps its triangles, and the report says so instead
+    # of pretending the target was met.
+    import shipthermal.geometry.isoremesh as iso
+
+    monkeypatch.setattr(iso, "have_remesher", lambda: False)
     s = dataclasses.replace(frigate(2.0), parameters=None)
     g, rep = build_ship_mesh(s, edge_length=6.0)
     assert rep["edge_median"] < 0.5 * 6.0          # measured ~2 m

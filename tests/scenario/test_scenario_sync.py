@@ -96,6 +96,12 @@ def test_geometry_mirrors():
     spec = S.ShipParticulars.__dataclass_fields__["length"].metadata["spec"]
     assert (spec.lo, spec.hi) == io.SHIP_LENGTH_RANGE
 
+    # ---- CAD meshes (named parts, repair limit)
+    from shipthermal.geometry import cad
+
+    assert S.MESH_WITH_PART_NAMES == tuple(sorted(cad.SCENE_EXTENSIONS))
+    assert S.MAX_REPAIR_CHANGE == cad.MAX_REPAIR_CHANGE
+
 
 def test_paper_emissivities():
     # paper §5: 3-5 µm hull 0.85, deck 0.90, superstructure 0.78; 8-14 µm 0.90, 0.95, 0.88

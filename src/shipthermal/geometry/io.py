@@ -456,7 +456,7 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
               compartment_temperature: Mapping | None = None, clean: bool = False,
               fix_normals: bool = False, repair: str | None = None,
               repair_edge_length: float | None = None, check_scale: bool = True,
-              recentre: bool = True):
+              recentre: bool = True, max_repair_change: float | None = None):
     """Read a user ship and return it checked, positioned and split into parts.
 
     Parameters
@@ -465,8 +465,10 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
         One mesh file (with ``part_map`` or a ``part`` cell array), or one file per part.
     units : {'m', 'mm'}
         Unit of the file coordinates (required).
-    part_map : array, dict or path, optional
-        See :func:`read_part_map`.
+    part_map : array, dict, path or 'auto', optional
+        See :func:`read_part_map`. ``'auto'``: parts by rules (:func:`.cad.assign_parts`);
+        the report's ``auto_parts`` then holds the face ranges to edit and reuse. Without
+        a part map, OBJ groups / GLB named meshes name the parts.
     part_names : sequence of str, optional
         Names for an integer part map.
     draught : float, optional
@@ -481,9 +483,11 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
         Drop zero-area and duplicate triangles (reported) instead of failing.
     fix_normals : bool
         Fix inconsistent / inward normals (reported) instead of failing.
-    repair : {None, 'tetwild'}
-        Robust remeshing through pytetwild before the checks (closes gaps, resolves
-        self-intersections); area and volume change are reported.
+    repair : {None, 'union', 'tetwild'}
+        Before the checks: ``'union'`` unites closed overlapping pieces exactly
+        (manifold3d, seconds); ``'tetwild'`` remeshes through pytetwild (closes gaps,
+        resolves self-intersections; minutes for large soups). Area and volume change
+        are reported and limited by ``max_repair_change``.
     repair_edge_length : float, optional
         Target edge length of the repair [m] (default: pytetwild's, 5 % of the bounding
         box diagonal; finer is much slower, e.g. ~50 s at 1 m for a 100 m box).
@@ -491,17 +495,31 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
         Reject implausible ship sizes (units mistakes).
     recentre : bool
         Move the origin amidships on the centreline (x, y of the bounding-box centre).
+    max_repair_change : float, optional
+        Largest relative change of area or volume a repair may make (default
+        :data:`.cad.MAX_REPAIR_CHANGE`).
+
+    Every problem found is reported in one :class:`InputError` naming the options (the
+    scenario keys ``ship.files.*``) that fix each one.
 
     Returns
     -------
     ship : ShipGeometry
     report : dict
         What was checked and changed (``removed_degenerate``, ``removed_duplicate``,
-        ``flipped_faces``, ``repair`` (area/volume before and after), ``translation`` [m]).
+        ``flipped_faces``, ``repair`` (area/volume before and after), ``translation`` [m]);
+        ``repairs``: one line per change made, for the console.
     """
+    from .cad import (FIXED_BY, MAX_REPAIR_CHANGE, SCENE_EXTENSIONS, assign_parts,
+                      diagnose_surface, load_named_parts, part_ranges, problems_message,
+                      repair_change_check, union_repair)
+
     require(units in UNITS, "units", units, "must be declared: 'm' or 'mm'",
             "Pass units='m' or units='mm' (the unit the file's coordinates are in)")
-    require(repair in (None, "tetwild"), "repair", repair, "must be None or 'tetwild'")
+    require(repair in (None, "union", "tetwild"), "repair", repair,
+            "must be None, 'union' or 'tetwild'")
+    max_change = MAX_REPAIR_CHANGE if max_repair_change is None else float(max_repair_change)
+    auto = isinstance(part_map, str) and part_map == "auto"
     report: dict = {"units": units}
     if isinstance(source, Mapping):
         vs, fs, labs, names = [], [], [], []
@@ -517,11 +535,22 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
         labels = np.concatenate(labs)
         names = tuple(names)
         src_name = name or "user_ship"
+    elif (part_map is None and Path(source).suffix.lower() in SCENE_EXTENSIONS
+          and (named := load_named_parts(source, UNITS[units])) is not None):
+        check_finite(f"{Path(source).name}.vertices", named[0])
+        v, f = _weld(named[0], named[1])
+        labels, names = named[2], named[3]
+        src_name = name or Path(source).stem
+    elif auto:
+        v, f, _, _ = load_surface(source, units)
+        labels, names = np.zeros(len(f), np.int64), ("hull",)
+        src_name = name or Path(source).stem
     else:
         v, f, cell_part, file_names = load_surface(source, units)
         if part_map is None:
             require(cell_part is not None, "part_map", None,
-                    "is required: give a per-face array, a JSON/dict of face ranges, or one file per part",
+                    "is required: give a per-face array, a JSON/dict of face ranges, 'auto' "
+                    "(parts by rules), or one file per part",
                     "e.g. part_map={'hull': [[0, 5000]], 'deck': [[5000, 6200]], 'superstructure': [[6200, 9000]]}")
             labels, names = read_part_map(cell_part, len(f), part_names or file_names)
         else:
@@ -538,17 +567,51 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
     for n in names:
         main_part(n)
 
-    if check_scale:
-        _check_scale(v, units)
-    if repair == "tetwild":
-        from .remesh import tetwild_surface
+    # Every problem at once, each with the keys that fix it; the ones the options handle
+    # are repaired below.
+    enabled = {"clean": clean, "fix_normals": fix_normals, "repair": repair is not None,
+               "check_scale": not check_scale}
+    problems = diagnose_surface(v, f, units, check_scale=check_scale)
+    report["problems_found"] = [str(p) for p in problems]
+    left = [p for p in problems if not enabled.get(FIXED_BY.get(p.kind, ""), False)]
+    if left:
+        raise problems_message(source if not isinstance(source, Mapping) else
+                               ", ".join(str(x) for x in source.values()), left)
+    lines = report["repairs"] = []
+    n_file_faces = len(f)
+    if repair is not None and any(p.kind in ("open", "nonmanifold", "intersecting")
+                                  for p in problems):
+        if clean and repair == "tetwild":      # no zero-area / duplicate triangles
+            # (and consistently wound: fTetWild's inside test uses the winding number)
+            v, f, labels, pre = check_surface(v, f, units, check_scale=False, clean=True,
+                                              fix_normals=True, face_part=labels,
+                                              require_closed=False)
+        if repair == "union":
+            v, f, labels, rep = union_repair(v, f, labels)
+        else:
+            from .remesh import tetwild_surface
 
-        v, f, labels, rep = tetwild_surface(v, f, labels, edge_length=repair_edge_length)
+            v, f, labels, rep = tetwild_surface(v, f, labels, edge_length=repair_edge_length)
+            rep["method"] = "tetwild"
         report["repair"] = rep
+        lines.append(f"repair ({rep['method']}, {rep['seconds']:.1f} s): area "
+                     f"{rep['area_before']:.6g} -> {rep['area_after']:.6g} m2 "
+                     f"({100 * rep['area_change']:+.2f} %), volume {rep['volume_before']:.6g} -> "
+                     f"{rep['volume_after']:.6g} m3 ({100 * rep['volume_change']:+.2f} %)")
+        repair_change_check(rep, max_change)
+    a_before = float(face_areas(v, f).sum())
     v, f, labels, chk = check_surface(v, f, units, check_scale=False, clean=clean,
                                       fix_normals=fix_normals, face_part=labels,
                                       allow_nonmanifold=repair is not None)
     report.update(chk)
+    if chk["removed_degenerate"] or chk["removed_duplicate"] or chk.get("needles_flipped"):
+        lines.append(f"clean: {chk['removed_duplicate']} duplicate and "
+                     f"{chk['removed_degenerate']} zero-area triangles removed, "
+                     f"{chk.get('needles_flipped', 0)} needles flipped; area {a_before:.6g} -> "
+                     f"{chk['area']:.6g} m2 ({100 * (chk['area'] / a_before - 1):+.4f} %)")
+    if chk["flipped_faces"]:
+        lines.append(f"fix_normals: {chk['flipped_faces']} triangles re-oriented (area and "
+                     f"volume unchanged, volume {chk['signed_volume']:.6g} m3)")
 
     # Position: waterline at z = 0, origin amidships on the centreline.
     if draught is not None:
@@ -568,6 +631,14 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
         shift[:2] = -mid[:2]
     v = v + shift
     report["translation"] = shift.tolist()
+    if auto:
+        labels, names, info = assign_parts(v, f)
+        report["auto_parts"] = dict(
+            parts=part_ranges(labels, names), units=units, rules=info,
+            faces_as_in_file=bool(len(f) == n_file_faces and "repair" not in report),
+            note="parts assigned by rules (hull below the waterline and on the sides, deck "
+                 "= upward faces at deck level, superstructure above): check the picture; "
+                 "edit the face ranges and give this file as ship.files.part_map")
 
     # Parts: split 'hull' at the waterline; other parts keep their faces.
     v, f, labels, _ = split_at_waterline(v, f, labels, 0.0, tol=1e-9 * float(np.ptp(v[:, 0])))

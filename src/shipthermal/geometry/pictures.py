@@ -79,7 +79,7 @@ def write_parts_vtu(ship, directory) -> list[Path]:
 
 
 def render_parts_png(ship, path, size=(1600, 900), backend: str = "auto",
-                     view: str = "iso") -> str:
+                     view: str = "iso", colours: dict | None = None) -> str:
     """Render the ship coloured by part to a PNG.
 
     Parameters
@@ -92,6 +92,8 @@ def render_parts_png(ship, path, size=(1600, 900), backend: str = "auto",
     backend : {'auto', 'pyvista', 'matplotlib'}
         'auto' tries pyvista off-screen (EGL) and falls back to matplotlib.
     view : {'iso', 'side'}
+    colours : dict, optional
+        Colour per part name (default :data:`PART_COLOURS`, sub-parts in a palette).
 
     Returns
     -------
@@ -102,12 +104,12 @@ def render_parts_png(ship, path, size=(1600, 900), backend: str = "auto",
     path.parent.mkdir(parents=True, exist_ok=True)
     if backend in ("auto", "pyvista"):
         try:
-            _render_pyvista(ship, path, size, view)
+            _render_pyvista(ship, path, size, view, colours)
             return "pyvista"
         except Exception:
             if backend == "pyvista":
                 raise
-    _render_matplotlib(ship, path, size, view)
+    _render_matplotlib(ship, path, size, view, colours)
     return "matplotlib"
 
 
@@ -148,8 +150,8 @@ def _mpl_frame(ax, ship, view: str) -> None:
     ax.set_axis_off()
 
 
-def _render_pyvista(ship, path: Path, size, view):
-    colours = _colour_table(ship.part_names)
+def _render_pyvista(ship, path: Path, size, view, colours=None):
+    colours = {**_colour_table(ship.part_names), **(colours or {})}
     poly = ship_polydata(ship)
     pl = _pyvista_plotter(size)
     for k, name in enumerate(ship.part_names):
@@ -162,14 +164,14 @@ def _render_pyvista(ship, path: Path, size, view):
     _pyvista_shoot(pl, ship, view, 1.5, path)
 
 
-def _render_matplotlib(ship, path: Path, size, view):
+def _render_matplotlib(ship, path: Path, size, view, colours=None):
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-    colours = _colour_table(ship.part_names)
+    colours = {**_colour_table(ship.part_names), **(colours or {})}
     dpi = 100
     fig = plt.figure(figsize=(size[0] / dpi, size[1] / dpi), dpi=dpi)
     ax = fig.add_subplot(projection="3d")

@@ -70,6 +70,15 @@ def surface_quality(vertices: np.ndarray, faces: np.ndarray) -> dict:
                 frac_min_angle_below_20=float(np.mean(amin < 20.0)))
 
 
+def _quantize(x: np.ndarray, rel: float = 1e-9) -> np.ndarray:
+    """Values rounded to ``rel`` of their largest magnitude, so that values equal up to
+    round-off (mirror-image edges, last-bit differences between SIMD code paths) sort as
+    exact ties and are ordered by the explicit tie-breakers of the caller."""
+    x = np.asarray(x, float)
+    unit = rel * (float(np.abs(x).max()) if len(x) else 1.0) or rel
+    return np.round(x / unit)
+
+
 def _angles(p0, p1, p2):
     """Interior angles at p0, p1, p2 of triangles (rows) [rad]."""
     def ang(o, u, w):
@@ -131,7 +140,11 @@ def flip_coplanar_edges(vertices, faces, face_part, max_passes: int = 30,
         good = np.flatnonzero(same & (new > old + 1e-9))
         if len(good) == 0:
             break
-        good = good[np.argsort(-(new - old)[good])]
+        # Largest gain first; ties (a symmetric hull has many) broken by the edge's
+        # vertices, so the result does not depend on the sort algorithm numpy picks for
+        # the CPU (an unstable sort orders ties differently on AVX2 and AVX-512 machines).
+        gain = _quantize(new - old)[good]
+        good = good[np.lexsort((b[good], a[good], -gain))]
         used = np.zeros(len(f), bool)
         chosen = []
         for g in good:                      # independent set: a face flips once per pass
@@ -168,8 +181,11 @@ def collapse_short_edges(vertices, faces, face_part, min_length: float, plane_to
         key = np.unique(e[:, 0] * len(v) + e[:, 1])
         e = np.stack(np.divmod(key, len(v)), axis=1)
         length = np.linalg.norm(v[e[:, 0]] - v[e[:, 1]], axis=1)
-        cand = e[length < min_length]
-        cand = cand[np.argsort(length[length < min_length])]
+        short = length < min_length
+        cand = e[short]
+        # Shortest first; equal lengths (mirror-image edges) in vertex order: deterministic
+        # whatever sort numpy uses on this CPU.
+        cand = cand[np.lexsort((cand[:, 1], cand[:, 0], _quantize(length[short])))]
         if len(cand) == 0:
             break
         # vertex -> alive faces (CSR)
@@ -318,13 +334,16 @@ def tetwild_surface(vertices, faces, face_part, edge_length: float | None = None
     return nv, nf, labels, report
 
 
-def remesh_ship(ship, edge_length: float, improve: bool = True):
+def remesh_ship(ship, edge_length: float, improve: bool = True, return_report: bool = False):
     """The ship at a target edge length [m].
 
     Built-in ships (``ship.parameters`` set) are regenerated at that size with the same
-    layups and compartment temperatures; user surfaces are refined by edge bisection, the
-    waterline split is redone exactly and (``improve``) slivers are cleaned up without
-    moving the surface.
+    layups and compartment temperatures. User surfaces are remeshed isotropically, finer
+    or coarser, with a quality floor (:func:`.isoremesh.isotropic_remesh`, needs
+    ``pymeshlab``); without it they are refined by edge bisection only, the waterline split
+    is redone exactly and (``improve``) slivers are cleaned up without moving the surface.
+    With ``return_report`` returns ``(ship, report)`` (``{}`` unless remeshed
+    isotropically).
     """
     check_positive("edge_length", edge_length, "m")
     if ship.parameters is not None:
@@ -333,9 +352,17 @@ def remesh_ship(ship, edge_length: float, improve: bool = True):
         new = build_ship(ship.parameters, edge_length)
         require(new.part_names == ship.part_names, "ship.part_names", ship.part_names,
                 "changed on regeneration")
-        return replace(new, layups=dict(ship.layups),
-                       compartment_temperature=dict(ship.compartment_temperature),
-                       outer_medium=dict(ship.outer_medium))
+        new = replace(new, layups=dict(ship.layups),
+                      compartment_temperature=dict(ship.compartment_temperature),
+                      outer_medium=dict(ship.outer_medium))
+        return (new, {}) if return_report else new
+    from .isoremesh import have_remesher, isotropic_remesh
+
+    if have_remesher():
+        v, f, lab, rep = isotropic_remesh(ship.vertices, ship.faces, ship.face_part,
+                                          ship.part_names, edge_length)
+        new = replace(ship, vertices=v, faces=f, face_part=lab, edge_length=rep["edge_length"])
+        return (new, rep) if return_report else new
     v, f, lab, _ = refine_surface(ship.vertices, ship.faces, ship.face_part, edge_length)
     v, f, lab, _ = split_at_waterline(v, f, lab, 0.0)
     if improve:
@@ -343,7 +370,8 @@ def remesh_ship(ship, edge_length: float, improve: bool = True):
         # flips inside flat regions (see the two functions).
         v, f, lab, _ = collapse_short_edges(v, f, lab, 0.25 * edge_length, 1e-9 * ship.length)
         f, _ = flip_coplanar_edges(v, f, lab, max_passes=4)
-    return replace(ship, vertices=v, faces=f, face_part=lab, edge_length=float(edge_length))
+    new = replace(ship, vertices=v, faces=f, face_part=lab, edge_length=float(edge_length))
+    return (new, {}) if return_report else new
 
 
 def build_ship_mesh(ship, edge_length: float | None = None, solid_parts: Sequence[str] | str = (),
@@ -375,8 +403,9 @@ def build_ship_mesh(ship, edge_length: float | None = None, solid_parts: Sequenc
     from .. import mesh as fvmesh
 
     t0 = time.perf_counter()
+    remesh_report = {}
     if edge_length is not None and not (abs(edge_length - ship.edge_length) <= 1e-12 * edge_length):
-        ship = remesh_ship(ship, edge_length)
+        ship, remesh_report = remesh_ship(ship, edge_length, return_report=True)
     t_remesh = time.perf_counter() - t0
     if layups is not None:
         ship = ship.with_layups(layups)
@@ -393,11 +422,14 @@ def build_ship_mesh(ship, edge_length: float | None = None, solid_parts: Sequenc
                   surface_faces_per_part={n: int(np.sum(ship.face_part == k))
                                           for k, n in enumerate(ship.part_names)},
                   quality=quality, seconds_remesh=t_remesh)
+    if remesh_report:
+        report["remesh"] = {k: x for k, x in remesh_report.items() if k != "quality_after"}
     # User surfaces are refined, never coarsened: say so when the mesh is much finer than
     # asked (fTetWild does not coarsen either: its surface resolution follows its envelope;
     # a 5120-triangle ellipsoid at a 2 m target came back with 2378 triangles of 0.7 m mean
     # edge in 13 s).
-    if ship.parameters is None and report["edge_median"] < 0.5 * ship.edge_length:
+    if (ship.parameters is None and not remesh_report
+            and report["edge_median"] < 0.5 * ship.edge_length):
         report["note"] = (f"the surface is finer than the target ({report['edge_median']:.3g} m median "
                           f"edge vs {ship.edge_length:.3g} m): refinement only, it was not coarsened; "
                           "coarsen it in CAD to save cells")
