@@ -187,7 +187,7 @@ def _check_grib_complete(path: str, field: str) -> None:
             try:
                 h = eccodes.codes_grib_new_from_file(f)
             except Exception as exc:  # noqa: BLE001 - ecCodes raises its own hierarchy
-                raise InputError(field, path, f"is a damaged GRIB file (message {n + 1} unreadable)",
+                raise InputError(field, path, f"is a truncated or damaged GRIB file (message {n + 1} unreadable)",
                                  f"Download it again (ecCodes: {exc})") from None
             if h is None:
                 break
@@ -301,13 +301,21 @@ def _horizontal(ds: xr.Dataset, da: xr.DataArray, tname: str, field: str):
     require(gm is not None and gm in ds.variables, f"{field}.grid_mapping", gm,
             "a projected x/y grid must name its CRS in a CF grid_mapping variable",
             "Add grid_mapping (with crs_wkt or the CF projection parameters), or use lat/lon")
-    from pyproj import CRS
+    from rasterio.crs import CRS
 
     attrs = dict(ds[gm].attrs)
     try:
-        crs = CRS.from_wkt(attrs["crs_wkt"]) if "crs_wkt" in attrs else (
-            CRS.from_wkt(attrs["spatial_ref"]) if "spatial_ref" in attrs else CRS.from_cf(attrs))
-    except Exception as exc:  # noqa: BLE001 - pyproj's CRSError and KeyError alike
+        if "crs_wkt" in attrs or "spatial_ref" in attrs:
+            crs = CRS.from_wkt(attrs.get("crs_wkt") or attrs["spatial_ref"])
+        else:
+            # the CF projection parameters alone (no WKT): pyproj reads them
+            from pyproj import CRS as ProjCRS
+
+            crs = CRS.from_wkt(ProjCRS.from_cf(attrs).to_wkt())
+    except ImportError:
+        raise InputError(f"{field}.grid_mapping", gm, "without crs_wkt, reading the CF projection "
+                         "parameters needs pyproj", "pip install pyproj, or add a crs_wkt attribute") from None
+    except Exception as exc:  # noqa: BLE001 - CRSError, KeyError alike
         raise InputError(f"{field}.grid_mapping", gm, "must describe a CRS (crs_wkt or CF parameters)",
                          str(exc)) from None
     scale = {"km": 1000.0, "kilometre": 1000.0, "kilometer": 1000.0}.get(str(ds[xn].attrs.get("units", "m")), 1.0)
