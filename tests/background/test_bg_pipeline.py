@@ -182,6 +182,15 @@ def test_dem_voids_raise_and_nothing_is_written(port_files, tmp_path):
     assert (out / "background_K.tif").exists()
 
 
+def test_dem_voids_filled_on_request_and_reported(port_files):
+    _void_dem(port_files.dem)
+    bg = build_background_from_files(port_files.mtl_txt, port_files.dem, port_files.met, port_files.roi,
+                                     dem_nodata="fill")
+    assert bg.dem_masked_pixels == 0 and np.isfinite(bg.elevation).all()
+    notes = " | ".join(bg.summary()["input_notes"])
+    assert "DEM voids filled: 3600 of 3600 void source pixels" in notes
+
+
 def test_met_without_sst_and_water_vapour_uses_the_documented_fallbacks(port_files, tmp_path):
     # No SST: the water keeps its Landsat temperature all day; no water vapour: the AFGL
     # mid-latitude summer column (2.92 g cm-2). Both are stated in the notes.

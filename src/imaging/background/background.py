@@ -434,7 +434,8 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
         r, c = (int(i) for i in np.argwhere(bad_land)[0])
         raise InputError("dem", f"{int(bad_land.sum())} land pixels without elevation (first at row {r}, col {c})",
                          "the DEM must cover every land pixel with valid values",
-                         "Fill the voids, use a DEM that covers the scene, or pass dem_nodata='mask'")
+                         "Fill them (dem_nodata='fill'), mask them (dem_nodata='mask'), or use a DEM "
+                         "that covers the scene")
     # Sea pixels without a DEM value are at sea level by definition (many DEMs leave the sea void).
     dem = np.where(dem_nan & water, 0.0, dem)
     slope, aspect = slope_aspect(dem, grid.resolution)
