@@ -159,7 +159,8 @@ def build_background(scenario, progress: bool = False):
                                      lat=scenario.location.latitude,
                                      lon=scenario.location.longitude,
                                      krige_coarsen=bgs.krige_coarsen,
-                                     variogram_model=bgs.variogram_model)
+                                     variogram_model=bgs.variogram_model,
+                                     krige_statistics=bgs.krige_statistics)
     from rasterio.errors import RasterioIOError
 
     from imaging.background import build_background_from_files
@@ -171,7 +172,11 @@ def build_background(scenario, progress: bool = False):
                                            utc_offset_hours=offset,
                                            variogram_model=bgs.variogram_model,
                                            krige_coarsen=bgs.krige_coarsen, seed=bgs.seed,
-                                           progress=progress)
+                                           progress=progress, met_variable=bgs.met_variable,
+                                           met_units=bgs.met_units,
+                                           met_margin_cells=bgs.met_margin_cells,
+                                           krige_statistics=bgs.krige_statistics,
+                                           dem_nodata=bgs.dem_nodata)
     except RasterioIOError as exc:
         # GDAL could not open a raster: a user error (a file the scenario names), reported
         # with its key rather than as a crash

@@ -113,6 +113,10 @@ PAPER_SENSOR = {"altitude_m": 795.0e3, "focal_length_m": 1.06, "aperture_m": 0.5
 """= imaging.sensor.PAPER_SENSOR (paper §5)."""
 VARIOGRAM_MODELS = ("exponential", "gaussian", "linear", "power", "spherical")
 """= sorted(imaging.background.kriging.VARIOGRAM_MODELS)."""
+MET_UNITS = ("auto", "K", "degC", "degF")
+"""= imaging.background.met.MET_UNITS."""
+DEM_NODATA = ("error", "mask", "fill")
+"""What the background does with DEM voids over land (imaging.background.background)."""
 SYNTHETIC_PIXEL_M = 30.0
 """Pixel size of the built-in synthetic port [m]."""
 
@@ -1228,13 +1232,29 @@ class BackgroundSettings:
                               "next to it)", optional=True, allowed_text="existing file")
     dem: Optional[str] = _opt(None, "file", "files: DEM GeoTIFF", optional=True,
                               allowed_text="existing file")
-    met: Optional[str] = _opt(None, "file", "files: hourly met NetCDF (temperature, sst, "
-                              "tcwv)", optional=True, allowed_text="existing file")
+    met: Optional[str] = _opt(None, "file", "files: hourly met grid, NetCDF or GRIB "
+                              "(temperature; sst, tcwv optional)", optional=True,
+                              allowed_text="existing file")
     roi: Optional[str] = _opt(None, "file", "files: training ROIs (label GeoTIFF or GeoJSON)",
                               optional=True, allowed_text="existing file")
     krige_coarsen: int = _opt(5, "int", "Krige every n-th pixel, then bilinear", lo=1, hi=50)
     variogram_model: str = _opt("spherical", "choice", "Variogram model fitted per hour",
                                 choices=VARIOGRAM_MODELS)
+    # -- real met grid and DEM (source = 'files') ------------------------------------------
+    met_variable: Optional[str] = _opt(None, "str", "files: temperature variable of the met "
+                                       "grid (default: detected, e.g. t2m, temperature, tas)",
+                                       optional=True)
+    met_units: str = _opt("auto", "choice", "files: temperature unit of the met grid; 'auto' "
+                          "reads its units attribute and refuses kelvin values labelled degC",
+                          choices=MET_UNITS)
+    met_margin_cells: int = _opt(4, "int", "files: met cells kept around the scene for the "
+                                 "kriging (the grid is clipped to the scene plus this margin)",
+                                 lo=0, hi=100)
+    krige_statistics: bool = _opt(False, "bool", "Leave-one-out statistics (Q1, Q2, cR) of "
+                                  "every hourly variogram (slow for large grids)")
+    dem_nodata: str = _opt("error", "choice", "files: DEM voids over land: refuse, mask (no "
+                           "terrain term there) or fill from the surrounding elevations; "
+                           "the count is reported", choices=DEM_NODATA)
 
     _FILES = ("mtl", "dem", "met", "roi")
 
@@ -1248,6 +1268,9 @@ class BackgroundSettings:
             if obj.source == "files" and key not in raw:
                 ctx.err(f"{path}.{key}", None, "is required with source = 'files' "
                         "(mtl, dem, met and roi)")
+        for key in ("met_variable", "met_units", "met_margin_cells", "dem_nodata"):
+            if obj.source == "builtin" and key in raw:
+                ctx.err(f"{path}.{key}", raw[key], "only applies with source = 'files'")
         if obj.source == "files" and "size_px" in raw:
             ctx.err(f"{path}.size_px", raw["size_px"], "only applies with source = 'builtin'")
         return obj
