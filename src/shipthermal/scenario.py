@@ -1268,15 +1268,17 @@ class BackgroundSettings:
             if obj.source == "files" and key not in raw:
                 ctx.err(f"{path}.{key}", None, "is required with source = 'files' "
                         "(mtl, dem, met and roi)")
-        for key in ("met_variable", "met_units", "met_margin_cells", "dem_nodata"):
+        for key in BackgroundSettings._FILES_ONLY:
             if obj.source == "builtin" and key in raw:
                 ctx.err(f"{path}.{key}", raw[key], "only applies with source = 'files'")
         if obj.source == "files" and "size_px" in raw:
             ctx.err(f"{path}.size_px", raw["size_px"], "only applies with source = 'builtin'")
         return obj
 
+    _FILES_ONLY = ("met_variable", "met_units", "met_margin_cells", "dem_nodata")
+
     def _omit(self) -> tuple:
-        return ("size_px",) if self.source == "files" else ()
+        return ("size_px",) if self.source == "files" else BackgroundSettings._FILES_ONLY
 
     @property
     def half_extent_m(self) -> Optional[float]:
