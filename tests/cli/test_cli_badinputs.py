@@ -8,6 +8,7 @@ command-line misuse. Each case asserts
 """
 
 import json
+from pathlib import Path
 import shutil
 
 import numpy as np
@@ -344,3 +345,75 @@ def test_catalogue_size():
     kinds = [c[1] for c in CASES]
     assert len(CASES) >= 30
     assert min(kinds.count(k) for k in ("mesh", "weather", "raster", "sweep", "cli")) >= 7
+
+
+# ---------------------------------------------------------------------------------------
+# met grids (NetCDF / GRIB) and DEMs as users download them
+# ---------------------------------------------------------------------------------------
+_ERA5 = Path(__file__).resolve().parents[1] / "data" / "met" / "era5_t2m_2019-03-01_02_uk.grib"
+
+MET_DEM_CASES = [
+    ("met-grib-no-time-axis", ["met[t2m].time = 'no time axis (one time step)'", "24 hourly fields"]),
+    ("met-grib-truncated", ["met_path", "truncated or damaged GRIB file", "Download it again"]),
+    ("met-misses-scene", ["met.extent", "misses the scene entirely"]),
+    ("met-kelvin-labelled-celsius", ["met[temperature].units = '[C]'", "are kelvin",
+                                     "met_units = 'K'"]),
+    ("dem-no-overlap", ["dem_path.extent", "does not overlap the scene"]),
+    ("dem-truncated", ["dem", "readable"]),
+]
+
+
+def _met_dem_case(d, case, port):
+    import eccodes
+    from affine import Affine
+
+    src = d / "port"
+    shutil.copytree(port.directory, src)
+    files = {k: src / (getattr(port, k).rsplit("/", 1)[1]) for k in ("mtl_txt", "dem", "met",
+                                                                    "roi")}
+    mtl, dem, met, roi = files["mtl_txt"], files["dem"], files["met"], files["roi"]
+    if case == "met-grib-no-time-axis":
+        met = d / "one.grib"
+        with open(_ERA5, "rb") as f:
+            h = eccodes.codes_grib_new_from_file(f)
+            met.write_bytes(eccodes.codes_get_message(h))
+            eccodes.codes_release(h)
+    elif case == "met-grib-truncated":
+        met = d / "cut.grib"
+        met.write_bytes(_ERA5.read_bytes()[:100_000])
+    elif case == "met-misses-scene":
+        met = d / "far.nc"
+        ds = xr.open_dataset(files["met"]).load()
+        ds.assign_coords(lon=ds.lon + 5.0).to_netcdf(met, engine="h5netcdf")
+    elif case == "met-kelvin-labelled-celsius":
+        met = d / "c.nc"
+        ds = xr.open_dataset(files["met"]).load()
+        ds["temperature"].attrs["units"] = "[C]"
+        ds.to_netcdf(met, engine="h5netcdf")
+    elif case == "dem-no-overlap":
+        dem = d / "far.tif"
+        with rasterio.open(files["dem"]) as s:
+            profile, data = s.profile, s.read(1)
+        profile.update(transform=Affine.translation(20.0, 0.0) * profile["transform"])
+        with rasterio.open(dem, "w", **profile) as out:
+            out.write(data, 1)
+    elif case == "dem-truncated":
+        dem = d / "cut.tif"
+        dem.write_bytes(files["dem"].read_bytes()[:3000])
+    sc = write_tiny(d, name="r")
+    bg = (f'[background]\nsource = "files"\nmtl = "{mtl}"\ndem = "{dem}"\nmet = "{met}"\n'
+          f'roi = "{roi}"\n')
+    sc.write_text(sc.read_text().replace("[background]\nsize_px = 100\n", "") + bg)
+    return ["-q", "run", str(sc), "--image", "--out", str(d / "out")]
+
+
+@pytest.mark.parametrize("case, fragments", MET_DEM_CASES, ids=[c[0] for c in MET_DEM_CASES])
+def test_bad_met_or_dem(case, fragments, tmp_path, capsys, port):
+    argv = _met_dem_case(tmp_path, case, port)
+    before = _tree(tmp_path)
+    code, err = _run(argv, capsys)
+    assert code == 2, err
+    for f in fragments:
+        assert f in err, f"{f!r} not in {err!r}"
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    assert _tree(tmp_path) == before

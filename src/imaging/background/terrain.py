@@ -87,7 +87,9 @@ def load_dem(path: str | os.PathLike, grid: SceneGrid, fill_voids: bool = False,
     Raises
     ------
     InputError
-        Not a readable GeoTIFF (also truncated files), no CRS, no overlap with the scene.
+        Truncated file, no CRS, no overlap with the scene.
+    rasterio.errors.RasterioIOError
+        GDAL cannot open the file at all.
     """
     from affine import Affine
     from rasterio.errors import RasterioError
@@ -100,8 +102,10 @@ def load_dem(path: str | os.PathLike, grid: SceneGrid, fill_voids: bool = False,
     t = grid.transform
     xs = (t.c, t.c + grid.shape[1] * t.a)
     ys = (t.f, t.f + grid.shape[0] * t.e)
-    try:
-        with rasterio.open(path) as src:
+    # A file GDAL cannot open at all raises rasterio's RasterioIOError unchanged (the scenario
+    # layer names the key); a file that opens but cannot be read (truncated) is an InputError.
+    with rasterio.open(path) as src:
+        try:
             require(src.crs is not None, f"{field}.crs", path, "the DEM must carry a CRS",
                     "Assign one (e.g. gdal_edit.py -a_srs EPSG:4326 for SRTM/ASTER tiles)")
             b = transform_bounds(grid.crs, src.crs, min(xs), min(ys), max(xs), max(ys), densify_pts=21)
@@ -126,8 +130,8 @@ def load_dem(path: str | os.PathLike, grid: SceneGrid, fill_voids: bool = False,
             src_transform = src.transform @ Affine.translation(w.col_off, w.row_off)
             src_crs = src.crs
             nodata = src.nodata
-    except RasterioError as exc:
-        raise InputError(field, path, "must be a readable GeoTIFF", f"GDAL: {exc}") from None
+        except RasterioError as exc:
+            raise InputError(field, path, "must be a readable GeoTIFF", f"GDAL: {exc}") from None
     if nodata is not None:
         data[data == nodata] = np.nan
     void = ~np.isfinite(data)
