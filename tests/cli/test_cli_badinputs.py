@@ -394,7 +394,7 @@ def _met_dem_case(d, case, port):
         dem = d / "far.tif"
         with rasterio.open(files["dem"]) as s:
             profile, data = s.profile, s.read(1)
-        profile.update(transform=Affine.translation(20.0, 0.0) * profile["transform"])
+        profile.update(transform=Affine.translation(20.0, 0.0) @ profile["transform"])
         with rasterio.open(dem, "w", **profile) as out:
             out.write(data, 1)
     elif case == "dem-truncated":
