@@ -1926,6 +1926,16 @@ def main(argv=None) -> int:
     for f in args.files:
         try:
             sc = load_scenario(f)
+            if sc.background.source == "files":
+                # open every background file the way the chain will read it
+                from imaging.background.checks import check_background_files
+
+                problems = check_background_files(sc.background)
+                if problems:
+                    for p in problems:
+                        print(f"{f}: {p}", file=sys.stderr)
+                    status = 2
+                    continue
             print(f"{f}: ok ({sc.name}: {sc.time.season} {sc.time.date}, "
                   f"{sc.ship.builtin or 'user ship'}, bands {', '.join(sc.bands)})")
         except InputError as exc:

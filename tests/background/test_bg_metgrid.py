@@ -230,3 +230,32 @@ def test_variogram_range_stuck_at_the_largest_lag_is_flagged():
     assert trend.parameters["range"] == pytest.approx(trend.max_lag, rel=1e-4)
     _, wavy = krige_points(x, y, 280 + np.sin(x / 3e3) * np.cos(y / 3e3), [0.0], [0.0], statistics=False)
     assert wavy.at_bound == () and wavy.parameters["range"] < 0.8 * wavy.max_lag
+
+
+# ---------------------------------------------------------------------------------------------
+# `python -m shipthermal.scenario validate` opens the met grid and the DEM
+# ---------------------------------------------------------------------------------------------
+def test_scenario_validate_opens_met_and_dem_and_lists_every_problem(tmp_path, capsys):
+    from shipthermal.scenario import main
+
+    dem = Path(__file__).resolve().parents[1] / "data" / "dem" / "srtm_N49W124_crop.tif"
+    for name in ("scene_MTL.txt", "roi.tif"):
+        (tmp_path / name).write_text("only checked for existence here")
+    (tmp_path / "cut.grib").write_bytes(ERA5.read_bytes()[:50_000])
+    (tmp_path / "dem.tif").write_bytes(dem.read_bytes()[:20_000])
+
+    def scenario(name, met, dem_path):
+        p = tmp_path / name
+        p.write_text(f'[background]\nsource = "files"\nmtl = "scene_MTL.txt"\nroi = "roi.tif"\n'
+                     f'met = "{met}"\ndem = "{dem_path}"\n')
+        return str(p)
+
+    good = scenario("good.toml", ERA5, dem)
+    assert main(["validate", good]) == 0
+    assert "good.toml: ok" in capsys.readouterr().out
+    bad = scenario("bad.toml", tmp_path / "cut.grib", tmp_path / "dem.tif")
+    assert main(["validate", bad]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 2, err
+    assert "background.met" in err[0] and "truncated or damaged GRIB" in err[0]
+    assert "background.dem" in err[1] and "must be a readable GeoTIFF" in err[1]
