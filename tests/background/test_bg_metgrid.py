@@ -100,6 +100,39 @@ def test_real_era5_kriging_agrees_with_pykrige_and_gstools():
         assert np.ptp(ref) > 0.05                # a real gradient across the 9 km scene
 
 
+def test_grib_with_sst_and_water_vapour_fields(tmp_path):
+    # An ERA5-style download with 2t, sst (missing over land through the GRIB bitmap) and tcwv
+    # (kg m-2, on another level type): the real 2t messages plus derived sst/tcwv messages.
+    eccodes = pytest.importorskip("eccodes")
+    lon = np.tile(np.arange(49) * 0.25 - 10.0, 33)
+    with open(ERA5, "rb") as f, open(tmp_path / "mixed.grib", "wb") as out:
+        for _ in range(24):
+            h = eccodes.codes_grib_new_from_file(f)
+            out.write(eccodes.codes_get_message(h))
+            sst = eccodes.codes_clone(h)
+            eccodes.codes_set(sst, "paramId", 34)
+            eccodes.codes_set(sst, "bitmapPresent", 1)
+            eccodes.codes_set(sst, "missingValue", 9999)
+            eccodes.codes_set_values(sst, np.where(lon < -5.0, eccodes.codes_get_values(h) + 1.0, 9999.0))
+            out.write(eccodes.codes_get_message(sst))
+            wv = eccodes.codes_clone(h)
+            eccodes.codes_set(wv, "paramId", 137)
+            eccodes.codes_set(wv, "typeOfLevel", "heightAboveGround")
+            eccodes.codes_set(wv, "level", 2)
+            eccodes.codes_set_values(wv, np.full(lon.size, 12.0))
+            out.write(eccodes.codes_get_message(wv))
+            for m in (h, sst, wv):
+                eccodes.codes_release(m)
+    met = read_met_grid(tmp_path / "mixed.grib", n_hours=None)
+    assert met.variable == "t2m" and met.sst_field is not None and met.tcwv_field is not None
+    sub = met_for_scene(met, MERSEY, np.datetime64("2019-03-01T11:00"), margin_cells=9)
+    sea = sub.x < -5.0
+    assert sea.any() and (~sea).any()
+    np.testing.assert_allclose(sub.sst, np.nanmean(np.where(sea, sub.temperature + 1.0, np.nan), axis=(1, 2)),
+                               atol=1e-4)
+    np.testing.assert_allclose(sub.tcwv, 1.2)          # 12 kg m-2
+
+
 def test_grib_without_a_time_axis(tmp_path):
     with open(ERA5, "rb") as f:
         import eccodes
