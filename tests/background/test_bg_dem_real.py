@@ -110,3 +110,22 @@ def test_dem_without_overlap_and_truncated_file(tmp_path):
     cut.write_bytes(SRTM.read_bytes()[:30000])
     with pytest.raises(InputError, match=r"dem_path = .*cut\.tif.*must be a readable GeoTIFF"):
         load_dem(cut, GRID)
+
+
+def test_real_dem_through_the_background_chain(tmp_path):
+    # The synthetic port's Landsat/met/ROI files written at the SRTM crop's location, with the
+    # real DEM: voids over land are refused by default, masked or filled on request (counted).
+    from imaging.background import build_background_from_files
+    from imaging.background.synthetic import write_synthetic_port
+
+    port = write_synthetic_port(tmp_path, "summer", seed=5, size_px=120, lat=49.585, lon=-123.29)
+    args = (port.mtl_txt, SRTM, port.met, port.roi)
+    kw = dict(season="summer", utc_offset_hours=-8.0)
+    with pytest.raises(InputError, match=r"land pixels without elevation.*dem_nodata='fill'"):
+        build_background_from_files(*args, **kw)
+    masked = build_background_from_files(*args, dem_nodata="mask", **kw)
+    filled = build_background_from_files(*args, dem_nodata="fill", **kw)
+    assert masked.dem_masked_pixels > 50 and filled.dem_masked_pixels == 0
+    assert any("voids filled" in n for n in filled.summary()["input_notes"])
+    assert np.isfinite(filled.temperature[:, filled.class_map > 0]).all()
+    assert np.nanmax(filled.elevation) > 500                  # the real relief arrived
