@@ -228,6 +228,15 @@ def test_projected_grid_without_crs_and_unknown_variable(tmp_path):
         read_met_grid(tmp_path / "rain.nc")
 
 
+def test_gdal_converted_grib_is_recognised(tmp_path):
+    # gdal_translate GRIB -> NetCDF: Band1..BandN on (lat, lon), no time axis, units '[C]'
+    ds = xr.Dataset({f"Band{i}": (("lat", "lon"), np.full((3, 3), 280.0), {"units": "[C]"}) for i in range(1, 30)},
+                    coords={"lat": [50.0, 50.25, 50.5], "lon": [0.0, 0.25, 0.5]})
+    ds.to_netcdf(tmp_path / "gdal.nc", engine="h5netcdf")
+    with pytest.raises(InputError, match=r"'\.\.\. 21 more'\].*GDAL conversion.*original GRIB"):
+        read_met_grid(tmp_path / "gdal.nc")
+
+
 def test_two_dimensional_lat_lon(tmp_path):
     # curvilinear grids (WRF-like): 2-D latitude/longitude arrays
     times = pd.date_range("2020-09-27", periods=24, freq="h")

@@ -202,7 +202,9 @@ def _check_grib_complete(path: str, field: str) -> None:
 
 
 def _pick_variable(ds: xr.Dataset, var: str | None, field: str) -> str:
-    present = sorted(str(v) for v in ds.data_vars)
+    names = sorted(str(v) for v in ds.data_vars)
+    # a GDAL-converted GRIB holds one variable per band (Band1 .. Band744): keep the line short
+    present = names if len(names) <= 8 else names[:8] + [f"... {len(names) - 8} more"]
     if var is not None:
         require(var in ds.data_vars, f"met[{var}]", "missing", f"the file must hold the variable '{var}'",
                 f"Variables present: {present}")
@@ -213,10 +215,13 @@ def _pick_variable(ds: xr.Dataset, var: str | None, field: str) -> str:
     for name in ds.data_vars:
         if ds[name].attrs.get("standard_name") in ("air_temperature", "surface_temperature"):
             return str(name)
+    gdal = sum(n.startswith("Band") for n in names) > len(names) // 2
     raise InputError("met[temperature]", "missing",
                      f"the file must hold a temperature variable (one of {list(TEMPERATURE_NAMES[:5])}, "
                      "or standard_name air_temperature)",
-                     f"Variables present: {present}; name one with background.met_variable")
+                     f"Variables present: {present}; "
+                     + ("this looks like a GDAL conversion (one variable per band, no time axis): give "
+                        "the original GRIB file instead" if gdal else "name one with background.met_variable"))
 
 
 def _find(ds, names, standard=None):
