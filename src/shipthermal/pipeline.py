@@ -166,7 +166,8 @@ def build_background(scenario, progress: bool = False):
                                      lon=scenario.location.longitude,
                                      krige_coarsen=bgs.krige_coarsen,
                                      variogram_model=bgs.variogram_model,
-                                     n_splits=bgs.roi_splits)
+                                     n_splits=bgs.roi_splits,
+                                     krige_statistics=bgs.krige_statistics)
     from rasterio.errors import RasterioIOError
 
     from imaging.background import build_background_from_files
@@ -185,7 +186,12 @@ def build_background(scenario, progress: bool = False):
                                            variogram_model=bgs.variogram_model,
                                            krige_coarsen=bgs.krige_coarsen, seed=bgs.seed,
                                            band_files=bgs.band_files, use_qa=bgs.qa_mask,
-                                           n_splits=bgs.roi_splits, progress=progress)
+                                           n_splits=bgs.roi_splits, progress=progress,
+                                           met_variable=bgs.met_variable,
+                                           met_units=bgs.met_units,
+                                           met_margin_cells=bgs.met_margin_cells,
+                                           krige_statistics=bgs.krige_statistics,
+                                           dem_nodata=bgs.dem_nodata)
     except RasterioIOError as exc:
         # GDAL could not open a raster: a user error (a file the scenario names), reported
         # with its key rather than as a crash

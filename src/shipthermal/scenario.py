@@ -120,6 +120,10 @@ PAPER_SENSOR = {"altitude_m": 795.0e3, "focal_length_m": 1.06, "aperture_m": 0.5
 """= imaging.sensor.PAPER_SENSOR (paper §5)."""
 VARIOGRAM_MODELS = ("exponential", "gaussian", "linear", "power", "spherical")
 """= sorted(imaging.background.kriging.VARIOGRAM_MODELS)."""
+MET_UNITS = ("auto", "K", "degC", "degF")
+"""= imaging.background.met.MET_UNITS."""
+DEM_NODATA = ("error", "mask", "fill")
+"""What the background does with DEM voids over land (imaging.background.background)."""
 SYNTHETIC_PIXEL_M = 30.0
 """Pixel size of the built-in synthetic port [m]."""
 ROI_SPLITS = 10
@@ -1342,9 +1346,10 @@ class BackgroundSettings:
     dem: Optional[str] = _opt(None, "file", "files: DEM GeoTIFF (needed for the hourly "
                               "background of the imaging stage)", optional=True,
                               allowed_text="existing file")
-    met: Optional[str] = _opt(None, "file", "files: hourly met NetCDF (temperature, sst, "
-                              "tcwv; needed for the hourly background of the imaging stage)",
-                              optional=True, allowed_text="existing file")
+    met: Optional[str] = _opt(None, "file", "files: hourly met grid, NetCDF or GRIB "
+                              "(temperature; sst, tcwv optional; needed for the hourly "
+                              "background of the imaging stage)", optional=True,
+                              allowed_text="existing file")
     roi: Optional[str] = _opt(None, "file", "files: training ROIs (label GeoTIFF, or GeoJSON / "
                               "GeoPackage / Shapefile polygons in any CRS with a 'class' field)",
                               optional=True, allowed_text="existing file")
@@ -1361,6 +1366,21 @@ class BackgroundSettings:
                          "neighbours")
     roi_splits: int = _opt(ROI_SPLITS, "int", "Held-out ROI splits the classification "
                            "accuracy is averaged over (the map uses all ROIs)", lo=1, hi=100)
+    # -- real met grid and DEM (source = 'files') ------------------------------------------
+    met_variable: Optional[str] = _opt(None, "str", "files: temperature variable of the met "
+                                       "grid (default: detected, e.g. t2m, temperature, tas)",
+                                       optional=True)
+    met_units: str = _opt("auto", "choice", "files: temperature unit of the met grid; 'auto' "
+                          "reads its units attribute and refuses kelvin values labelled degC",
+                          choices=MET_UNITS)
+    met_margin_cells: int = _opt(4, "int", "files: met cells kept around the scene for the "
+                                 "kriging (the grid is clipped to the scene plus this margin)",
+                                 lo=0, hi=100)
+    krige_statistics: bool = _opt(False, "bool", "Leave-one-out statistics (Q1, Q2, cR) of "
+                                  "every hourly variogram (slow for large grids)")
+    dem_nodata: str = _opt("error", "choice", "files: DEM voids over land: refuse, mask (no "
+                           "terrain term there) or fill from the surrounding elevations; "
+                           "the count is reported", choices=DEM_NODATA)
 
     _FILES = ("mtl", "dem", "met", "roi")
 
@@ -1376,14 +1396,19 @@ class BackgroundSettings:
             if obj.source == "files" and key not in raw and key in ("mtl", "roi"):
                 ctx.err(f"{path}.{key}", None, "is required with source = 'files' "
                         "(mtl and roi; dem and met for the hourly background)")
+        for key in BackgroundSettings._FILES_ONLY:
+            if obj.source == "builtin" and key in raw:
+                ctx.err(f"{path}.{key}", raw[key], "only applies with source = 'files'")
         if obj.source == "files" and "size_px" in raw:
             ctx.err(f"{path}.size_px", raw["size_px"], "only applies with source = 'builtin'")
         if obj.source == "builtin" and "band_files" in raw:
             ctx.err(f"{path}.band_files", raw["band_files"], "only applies with source = 'files'")
         return obj
 
+    _FILES_ONLY = ("met_variable", "met_units", "met_margin_cells", "dem_nodata")
+
     def _omit(self) -> tuple:
-        return ("size_px",) if self.source == "files" else ()
+        return ("size_px",) if self.source == "files" else BackgroundSettings._FILES_ONLY
 
     @property
     def half_extent_m(self) -> Optional[float]:
@@ -2107,8 +2132,10 @@ def main(argv=None) -> int:
             if bgs.source == "files":
                 from imaging.background.inputs import check_background_inputs
 
-                bg_problems, bg_notes = check_background_inputs(bgs.mtl, bgs.roi, bgs.dem,
-                                                                bgs.met, bgs.band_files)
+                bg_problems, bg_notes = check_background_inputs(
+                    bgs.mtl, bgs.roi, bgs.dem, bgs.met, bgs.band_files,
+                    met_variable=bgs.met_variable, met_units=bgs.met_units,
+                    met_margin_cells=bgs.met_margin_cells)
                 problems += bg_problems
                 for n in bg_notes:
                     print(f"{f}: note: {n}", file=sys.stderr)

@@ -43,7 +43,7 @@ def test_met_grid_missing_variable_and_wrong_dims(tmp_path):
     times = pd.date_range("2023-07-27 16:00", periods=24, freq="h")
     with pytest.raises(InputError, match=r"met\[temperature\] = 'missing'.*Variables present: \['tair'\]"):
         read_met_grid(_hourly(tmp_path / "tair.nc", times, var="tair"))
-    with pytest.raises(InputError, match=r"met\[temperature\]\.dims.*must be \(time, lat, lon\)"):
+    with pytest.raises(InputError, match=r"met\[temperature\]\.dims.*must be \(time, y, x\)"):
         read_met_grid(_hourly(tmp_path / "dims.nc", times, dims=("time", "lat")))
     (tmp_path / "not.nc").write_text("no netcdf here")
     with pytest.raises(InputError, match="met_path.*readable NetCDF"):
@@ -104,7 +104,7 @@ def test_unknown_options_are_named(port):
     with pytest.raises(InputError, match="emissivity_model.*tirs_b10"):
         build_background_from_files(port.mtl_txt, port.dem, port.met, port.roi, emissivity_model="modis")
     with pytest.raises(InputError, match="dem_nodata"):
-        build_background_from_files(port.mtl_txt, port.dem, port.met, port.roi, dem_nodata="fill")
+        build_background_from_files(port.mtl_txt, port.dem, port.met, port.roi, dem_nodata="interpolate")
     with pytest.raises(InputError, match="variogram_model.*spherical"):
         krige_points([0.0, 1.0, 2.0], [0.0, 1.0, 0.0], [1.0, 2.0, 3.0], [0.5], [0.5], "cubic")
     with pytest.raises(InputError, match="utc_offset_hours"):

@@ -107,10 +107,20 @@ def test_met_grid_all_nan_hour(tmp_path):
         read_met_grid(_write_met(tmp_path / "m.nc", times, temp))
 
 
-def test_met_grid_celsius_rejected(tmp_path):
+def test_met_grid_celsius_converted_and_kelvin_labelled_celsius_caught(tmp_path):
     times = pd.date_range("2023-07-27 16:00", periods=24, freq="h")
-    with pytest.raises(InputError, match="units.*must be K"):
-        read_met_grid(_write_met(tmp_path / "m.nc", times, np.full((24, 12, 12), 20.0), units="degC"))
+    met = read_met_grid(_write_met(tmp_path / "c.nc", times, np.full((24, 12, 12), 20.0), units="degC"))
+    np.testing.assert_allclose(met.temperature, 293.15)
+    # the GDAL '[C]' label on kelvin values (ERA5 GRIB through GDAL): refused, with the override
+    with pytest.raises(InputError, match=r"units = '\[C\]'.*median 281\.0\) are kelvin.*met_units = 'K'"):
+        read_met_grid(_write_met(tmp_path / "k.nc", times, np.full((24, 12, 12), 281.0), units="[C]"))
+    met = read_met_grid(tmp_path / "k.nc", units="K")
+    np.testing.assert_allclose(met.temperature, 281.0)
+    assert any("units set to K" in n for n in met.notes)
+    with pytest.raises(InputError, match=r"median 12\.0\) cannot be kelvin"):
+        read_met_grid(_write_met(tmp_path / "f.nc", times, np.full((24, 12, 12), 12.0), units="K"))
+    met = read_met_grid(_write_met(tmp_path / "f2.nc", times, np.full((24, 12, 12), 50.0), units="degF"))
+    np.testing.assert_allclose(met.temperature, 283.15)
 
 
 def test_fitted_variogram_and_nugget_agree_with_gstools():

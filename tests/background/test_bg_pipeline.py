@@ -2,6 +2,7 @@
 
 import json
 import os
+import re
 
 import numpy as np
 import pandas as pd
@@ -182,11 +183,33 @@ def test_dem_voids_raise_and_nothing_is_written(port_files, tmp_path):
     assert (out / "background_K.tif").exists()
 
 
-def test_met_without_sst_is_an_error(port_files, tmp_path):
+def test_dem_voids_filled_on_request_and_reported(port_files):
+    _void_dem(port_files.dem)
+    bg = build_background_from_files(port_files.mtl_txt, port_files.dem, port_files.met, port_files.roi,
+                                     dem_nodata="fill")
+    assert bg.dem_masked_pixels == 0 and np.isfinite(bg.elevation).all()
+    notes = " | ".join(bg.summary()["input_notes"])
+    # every void pixel of the DEM window under the scene filled (the 60x60 void reaches beyond it)
+    m = re.search(r"DEM voids filled: (\d+) of (\d+) void source pixels", notes)
+    assert m and m.group(1) == m.group(2) and 500 < int(m.group(1)) <= 3600
+
+
+def test_met_without_sst_and_water_vapour_uses_the_documented_fallbacks(port_files, tmp_path):
+    # No SST: the water keeps its Landsat temperature all day; no water vapour: the AFGL
+    # mid-latitude summer column (2.92 g cm-2). Both are stated in the notes.
+    from imaging.background.met import STANDARD_WATER_VAPOUR
+
     ds = xr.open_dataset(port_files.met).load()
-    ds.drop_vars("sst").to_netcdf(tmp_path / "nosst.nc", engine="h5netcdf")
-    with pytest.raises(InputError, match=r"met\[sst\].*SST"):
-        build_background_from_files(port_files.mtl_txt, port_files.dem, tmp_path / "nosst.nc", port_files.roi)
+    ds.drop_vars(["sst", "tcwv"]).to_netcdf(tmp_path / "nosst.nc", engine="h5netcdf")
+    bg = build_background_from_files(port_files.mtl_txt, port_files.dem, tmp_path / "nosst.nc",
+                                     port_files.roi, season="summer")
+    water = (bg.class_map == 1) & ~np.isfinite(bg.land_fraction)
+    assert water.sum() > 100
+    spread = np.nanmax(bg.temperature[:, water], axis=0) - np.nanmin(bg.temperature[:, water], axis=0)
+    assert spread.max() < 1e-3
+    assert bg.atmosphere.water_vapour == STANDARD_WATER_VAPOUR["summer"]
+    notes = " | ".join(bg.input_notes)
+    assert "no SST in the met file" in notes and "AFGL mid-latitude summer" in notes
 
 
 def test_bad_arguments():
@@ -199,8 +222,12 @@ def test_bad_arguments():
 def test_met_grid_not_covering_the_scene(port_files, tmp_path):
     ds = xr.open_dataset(port_files.met).load()
     ds.assign_coords(lon=ds.lon + 1.0).to_netcdf(tmp_path / "shifted.nc", engine="h5netcdf")
-    with pytest.raises(InputError, match=r"met\.extent.*must cover the scene"):
+    with pytest.raises(InputError, match=r"met\.extent.*misses the scene entirely"):
         build_background_from_files(port_files.mtl_txt, port_files.dem, tmp_path / "shifted.nc", port_files.roi)
+    # the grid's east edge (centre + 5 cells + half a cell) inside the scene: partial cover
+    ds.assign_coords(lon=ds.lon - 0.32).to_netcdf(tmp_path / "part.nc", engine="h5netcdf")
+    with pytest.raises(InputError, match=r"met\.extent.*must cover the whole scene"):
+        build_background_from_files(port_files.mtl_txt, port_files.dem, tmp_path / "part.nc", port_files.roi)
 
 
 def test_synthetic_port_has_the_described_features(summer):
@@ -230,7 +257,7 @@ def test_default_coarse_kriging_matches_full_resolution_on_the_port():
 def test_met_day_must_contain_the_overpass(port_files, tmp_path):
     ds = xr.open_dataset(port_files.met).load()
     ds.assign_coords(time=ds.time + np.timedelta64(1, "D")).to_netcdf(tmp_path / "nextday.nc", engine="h5netcdf")
-    with pytest.raises(InputError, match=r"met_grid\.time.*must lie within"):
+    with pytest.raises(InputError, match=r"met\.time.*must contain the Landsat overpass"):
         build_background_from_files(port_files.mtl_txt, port_files.dem, tmp_path / "nextday.nc", port_files.roi)
 
 

@@ -8,6 +8,7 @@ command-line misuse. Each case asserts
 """
 
 import json
+from pathlib import Path
 import shutil
 
 import numpy as np
@@ -427,74 +428,7 @@ def test_bad_input(case, kind, make, fragments, tmp_path, capsys, request):
     assert _tree(d) == before        # nothing written, nothing removed
 
 
-# =======================================================================================
-# `shipthermal background` on real Landsat files (committed crops): one message, exit 2,
-# nothing left behind
-# =======================================================================================
-_REPO = __import__("pathlib").Path(__file__).resolve().parents[2]
-_MERSEY = _REPO / "examples/real_port/data"
-_MERSEY_MTL = "LC08_L2SP_204023_20200927_20201006_02_T1_MTL.txt"
-_PRE = _REPO / "tests/data/landsat8_pre_collection"
-
-
-def _bg_case(d, case, port):
-    import re
-
-    scene = d / "scene"
-    shutil.copytree(_MERSEY, scene)
-    mtl, roi = scene / _MERSEY_MTL, scene / "mersey_rois.geojson"
-    extra = []
-    if case == "bg-truncated-tiff":
-        b5 = scene / _MERSEY_MTL.replace("_MTL.txt", "_SR_B5.TIF")
-        b5.write_bytes(b5.read_bytes()[:50_000])
-    elif case == "bg-mtl-missing-key":
-        mtl.write_text("\n".join(ln for ln in mtl.read_text().splitlines()
-                                 if "TEMPERATURE_ADD_BAND_ST_B10" not in ln))
-    elif case == "bg-rois-outside":
-        roi.write_text(re.sub(r"\[\s*(-?\d+\.\d+),", lambda m: f"[{float(m.group(1)) + 20:.6f},",
-                              roi.read_text()))
-    elif case in ("bg-met-misses-scene", "bg-met-misses-overpass"):
-        met = port.met
-        if case == "bg-met-misses-scene":    # the synthetic port's grid (38.9 N 121.7 E) on the overpass day
-            ds = xr.open_dataset(port.met).load()
-            t = ds["time"].values
-            ds = ds.assign_coords(time=t - t[0] + np.datetime64("2020-09-27T00:00:00"))
-            met = d / "met_day.nc"
-            ds.to_netcdf(met, engine="h5netcdf")
-        extra = ["--dem", str(_REPO / "tests/data/dem_srtm/N49W124_crop.tif"), "--met", str(met)]
-    elif case == "bg-dem-without-met":
-        extra = ["--dem", str(_REPO / "tests/data/dem_srtm/N49W124_crop.tif")]
-    elif case == "bg-band-files":
-        shutil.copytree(_PRE, d / "pre")
-        mtl, extra = d / "pre" / "l8_MTL.txt", ["--band-files", "x_{band}.tif"]
-    elif case == "bg-level1-no-water-vapour":
-        shutil.copytree(_PRE, d / "pre")
-        mtl = d / "pre" / "l8_MTL.txt"
-    elif case == "bg-out-not-empty":
-        (d / "out").mkdir()
-        (d / "out" / "keep.txt").write_text("mine")
-    argv = ["-q", "background", "--mtl", str(mtl), "--out", str(d / "out"), *extra]
-    return argv if case == "bg-no-roi" else argv + ["--roi", str(roi)]
-
-
-BACKGROUND_CASES = [
-    ("bg-truncated-tiff", ["FILE_NAME_BAND_5", "must be a readable GeoTIFF"]),
-    ("bg-mtl-missing-key", ["TEMPERATURE_ADD_BAND_ST_B10", "Level-2 MTL must contain"]),
-    ("bg-rois-outside", ["roi_path", "polygons lie outside the scene"]),
-    ("bg-met-misses-scene", ["met.extent", "must cover the scene"]),
-    ("bg-met-misses-overpass", ["met_grid.time", "must lie within the met grid's span"]),
-    ("bg-dem-without-met", ["--dem/--met", "go together"]),
-    ("bg-band-files", ["FILE_NAME_BAND_2", "must be an existing GeoTIFF file"]),
-    ("bg-level1-no-water-vapour", ["water_vapour", "column water vapour", "ST_B10"]),
-    ("bg-out-not-empty", ["--out", "exists and is not empty", "--force"]),
-    ("bg-no-roi", ["--roi = None", "is required"]),
-]
-
-
-@pytest.mark.parametrize("case, fragments", BACKGROUND_CASES, ids=[c[0] for c in BACKGROUND_CASES])
-def test_background_bad_input(case, fragments, tmp_path, capsys, request):
-    argv = _bg_case(tmp_path, case, request.getfixturevalue("port"))
-    before = _tree(tmp_path)
+# ================================================================================    before = _tree(tmp_path)
     code, err = _run(argv, capsys)
     assert code == 2, err
     for f in fragments:
@@ -525,3 +459,75 @@ def test_background_command_hourly_with_dem_and_met(port, tmp_path, capsys):
     summary = json.loads((tmp_path / "bg" / "summary.json").read_text())
     assert summary["lst_source"] == "single_channel" and summary["accuracy_over_splits"]["n_splits"] == 10
     assert (tmp_path / "bg" / "qa_mask.tif").is_file()
+
+
+# ---------------------------------------------------------------------------------------
+# met grids (NetCDF / GRIB) and DEMs as users download them
+# ---------------------------------------------------------------------------------------
+_ERA5 = Path(__file__).resolve().parents[1] / "data" / "met" / "era5_t2m_2019-03-01_02_uk.grib"
+
+MET_DEM_CASES = [
+    ("met-grib-no-time-axis", ["met[t2m].time = 'no time axis (one time step)'", "24 hourly fields"]),
+    ("met-grib-truncated", ["met_path", "truncated or damaged GRIB file", "Download it again"]),
+    ("met-misses-scene", ["met.extent", "misses the scene entirely"]),
+    ("met-kelvin-labelled-celsius", ["met[temperature].units = '[C]'", "are kelvin",
+                                     "met_units = 'K'"]),
+    ("dem-no-overlap", ["dem_path.extent", "does not overlap the scene"]),
+    ("dem-truncated", ["dem", "readable"]),
+]
+
+
+def _met_dem_case(d, case, port):
+    import eccodes
+    from affine import Affine
+
+    src = d / "port"
+    shutil.copytree(port.directory, src)
+    files = {k: src / (getattr(port, k).rsplit("/", 1)[1]) for k in ("mtl_txt", "dem", "met",
+                                                                    "roi")}
+    mtl, dem, met, roi = files["mtl_txt"], files["dem"], files["met"], files["roi"]
+    if case == "met-grib-no-time-axis":
+        met = d / "one.grib"
+        with open(_ERA5, "rb") as f:
+            h = eccodes.codes_grib_new_from_file(f)
+            met.write_bytes(eccodes.codes_get_message(h))
+            eccodes.codes_release(h)
+    elif case == "met-grib-truncated":
+        met = d / "cut.grib"
+        met.write_bytes(_ERA5.read_bytes()[:100_000])
+    elif case == "met-misses-scene":
+        met = d / "far.nc"
+        ds = xr.open_dataset(files["met"]).load()
+        ds.assign_coords(lon=ds.lon + 5.0).to_netcdf(met, engine="h5netcdf")
+    elif case == "met-kelvin-labelled-celsius":
+        met = d / "c.nc"
+        ds = xr.open_dataset(files["met"]).load()
+        ds["temperature"].attrs["units"] = "[C]"
+        ds.to_netcdf(met, engine="h5netcdf")
+    elif case == "dem-no-overlap":
+        dem = d / "far.tif"
+        with rasterio.open(files["dem"]) as s:
+            profile, data = s.profile, s.read(1)
+        profile.update(transform=Affine.translation(20.0, 0.0) @ profile["transform"])
+        with rasterio.open(dem, "w", **profile) as out:
+            out.write(data, 1)
+    elif case == "dem-truncated":
+        dem = d / "cut.tif"
+        dem.write_bytes(files["dem"].read_bytes()[:3000])
+    sc = write_tiny(d, name="r")
+    bg = (f'[background]\nsource = "files"\nmtl = "{mtl}"\ndem = "{dem}"\nmet = "{met}"\n'
+          f'roi = "{roi}"\n')
+    sc.write_text(sc.read_text().replace("[background]\nsize_px = 100\n", "") + bg)
+    return ["-q", "run", str(sc), "--image", "--out", str(d / "out")]
+
+
+@pytest.mark.parametrize("case, fragments", MET_DEM_CASES, ids=[c[0] for c in MET_DEM_CASES])
+def test_bad_met_or_dem(case, fragments, tmp_path, capsys, port):
+    argv = _met_dem_case(tmp_path, case, port)
+    before = _tree(tmp_path)
+    code, err = _run(argv, capsys)
+    assert code == 2, err
+    for f in fragments:
+        assert f in err, f"{f!r} not in {err!r}"
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    assert _tree(tmp_path) == before

@@ -70,6 +70,9 @@ def test_imaging_mirrors():
     assert S.MAX_VIEW_ZENITH == core.MAX_VIEW_ZENITH
     assert S.PAPER_SENSOR == dataclasses.asdict(PAPER_SENSOR)
     assert S.VARIOGRAM_MODELS == tuple(sorted(kriging.VARIOGRAM_MODELS))
+    from imaging.background import met
+
+    assert S.MET_UNITS == met.MET_UNITS
     # band limits: the scenario accepts exactly what the imaging stage accepts
     lo, hi = S.ATMOSPHERE_WAVELENGTH_UM
     for band in [(lo, hi), (3.0, 5.0), (lo + 0.01, hi - 0.01)]:

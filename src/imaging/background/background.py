@@ -46,13 +46,13 @@ from scipy.ndimage import binary_erosion
 from shipthermal.errors import InputError, check_range, require
 
 from .classify import CLASS_NAMES, N_SPLITS, ClassificationResult, classify_scene, read_roi, water_index_check
-from .kriging import krige_hourly, met_points_on_grid
+from .kriging import krige_hourly
 from .landsat import (LST_ACCURACY_ST_B10_K, NIR_BAND, QA_MASK_FLAGS, RED_BAND, REFLECTIVE_BANDS, LandsatScene,
                       SceneGrid, read_landsat_scene)
 from .lst import (EMISSIVITY_PARAMETERS, AtmosphereB10, atmospheric_functions, emissivity_ndvi_threshold,
                   lst_single_channel, ndvi)
-from .met import read_met_grid
-from .terrain import TerrainFit, fit_terrain_regression, read_dem, slope_aspect, southness, terrain_term
+from .met import met_for_scene, read_met_grid
+from .terrain import TerrainFit, fit_terrain_regression, load_dem, slope_aspect, southness, terrain_term
 
 __all__ = ["PortBackground", "OverpassProducts", "build_overpass", "fill_masked_pixels",
            "build_background_from_files", "build_port_background", "unmix_border_pixels"]
@@ -107,6 +107,9 @@ class PortBackground:
         Band-10 atmosphere used by the LST retrieval (None when ST_B10 was the LST).
     emissivity_model : str
         NDVI-thresholds coefficient set used (:data:`.lst.EMISSIVITY_PARAMETERS`).
+    input_notes : tuple[str, ...]
+        How the met grid and DEM were read: clipping, unit inference, SST / water-vapour
+        sources and fallbacks, DEM voids filled or masked.
     unmixed_pixels : int
         Land–water border pixels treated as two-end-member mixtures (module docstring).
     land_fraction : ndarray or None
@@ -151,6 +154,7 @@ class PortBackground:
     timings: dict = field(default_factory=dict)
     synthetic_truth: dict | None = field(default=None, repr=False)
     overpass: "OverpassProducts | None" = field(default=None, repr=False)
+    input_notes: tuple = ()
 
     @property
     def class_names(self) -> dict:
@@ -194,6 +198,9 @@ class PortBackground:
             "class_intercepts_K": self.terrain.intercepts,
             "r2": self.terrain.r2,
             "dem_masked_pixels": self.dem_masked_pixels,
+            "input_notes": list(self.input_notes),
+            "variogram_hours_at_bound": {f"{h:g}": list(f.at_bound) for h, f in
+                                         zip(self.hours_local, self.variograms) if f.at_bound},
             "unmixed_border_pixels": self.unmixed_pixels,
             "lst_K": [float(np.nanmin(self.lst)), float(np.nanmax(self.lst))],
             "timings_s": {k: round(v, 3) for k, v in self.timings.items()},
@@ -490,23 +497,6 @@ def _tqdm(desc: str):
     return lambda it: tqdm(it, desc=desc, unit="h")
 
 
-def _check_met_covers_scene(met, grid: SceneGrid) -> None:
-    """Kriging far outside the data only returns the mean: require the met grid to span the scene."""
-    from rasterio.warp import transform as warp_transform
-
-    t = grid.transform
-    xs = [t.c, t.c + grid.shape[1] * t.a] * 2
-    ys = [t.f, t.f, t.f + grid.shape[0] * t.e, t.f + grid.shape[0] * t.e]
-    lon, lat = warp_transform(grid.crs, "EPSG:4326", xs, ys)
-    half_lat = 0.5 * abs(np.diff(met.lat).mean()) if met.lat.size > 1 else 0.0
-    half_lon = 0.5 * abs(np.diff(met.lon).mean()) if met.lon.size > 1 else 0.0
-    inside = (met.lat.min() - half_lat <= min(lat) and max(lat) <= met.lat.max() + half_lat
-              and met.lon.min() - half_lon <= min(lon) and max(lon) <= met.lon.max() + half_lon)
-    require(inside, "met.extent", f"lat {met.lat.min():.4f}..{met.lat.max():.4f}, lon {met.lon.min():.4f}..{met.lon.max():.4f}",
-            f"must cover the scene (lat {min(lat):.4f}..{max(lat):.4f}, lon {min(lon):.4f}..{max(lon):.4f})",
-            "Cut the met grid with a margin of a few cells around the scene")
-
-
 def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, season: str | None = None,
                                 utc_offset_hours: float = 8.0, water_vapour: float | None = None,
                                 variogram_model: str = "spherical", krige_coarsen: int = 5,
@@ -515,8 +505,9 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
                                 residual_scaling: str = "constant", border_unmixing: bool = True,
                                 test_fraction: float = 0.5, roi_split: str = "regions", seed: int = 0,
                                 bounds=None, out_dir=None, band_files=None, use_qa: bool = True,
-                                n_splits: int = N_SPLITS,
-                                progress: bool = False) -> PortBackground:
+                                n_splits: int = N_SPLITS, progress: bool = False,
+                                met_variable: str | None = None, met_units: str = "auto",
+                                met_margin_cells: int = 4, krige_statistics: bool = False) -> PortBackground:
     """Run the full background chain on real-format inputs.
 
     Parameters
@@ -528,8 +519,9 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     dem_path : path-like
         DEM GeoTIFF (any CRS; resampled bilinearly onto the scene grid).
     met_path : path-like
-        Hourly met NetCDF (:func:`.met.read_met_grid`), with ``sst``; ``tcwv`` unless
-        ``water_vapour`` is given.
+        Hourly met grid, NetCDF or GRIB (:func:`.met.read_met_grid`); the 24 hours of the
+        overpass day are used, clipped to the scene (:func:`.met.met_for_scene`, which also
+        states the SST and water-vapour fallbacks).
     roi_path : path-like
         Training ROIs (label GeoTIFF on the scene grid, or GeoJSON polygons).
     season : str, optional
@@ -537,7 +529,8 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     utc_offset_hours : float
         Local standard time minus UTC [h].
     water_vapour : float, optional
-        Column water vapour [g cm-2]; default: the met file's ``tcwv`` at the overpass.
+        Column water vapour [g cm-2]; default: the met file's at the overpass (or its
+        fallback, :func:`.met.met_for_scene`).
     variogram_model : str
         pykrige model fitted per hour.
     krige_coarsen : int
@@ -546,8 +539,9 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     emissivity_model : str
         NDVI-thresholds coefficient set (:data:`.lst.EMISSIVITY_PARAMETERS`): ``"tirs_b10"``
         (band-10 specific, default) or ``"tm6_sobrino2004"``.
-    dem_nodata : {"error", "mask"}
-        DEM nodata over land: raise, or mask explicitly (terrain term left out there; counted).
+    dem_nodata : {"error", "mask", "fill"}
+        DEM voids over land: raise, mask explicitly (terrain term left out there; counted), or
+        fill them from the surrounding elevations (:func:`.terrain.load_dem`; counted).
     residual_scaling : {"constant", "solar"}
         Diurnal weight ``w(t)`` of the Landsat class residual (module docstring).
     border_unmixing : bool
@@ -576,12 +570,21 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
         Held-out ROI splits for the accuracy (mean and spread); the map uses all ROIs.
     progress : bool
         Show a tqdm progress bar over the hourly kriging.
+    met_variable : str, optional
+        Temperature variable of the met file (default: detected).
+    met_units : {"auto", "K", "degC", "degF"}
+        Temperature unit of the met file (``auto``: its ``units`` attribute, checked).
+    met_margin_cells : int
+        Met cells kept around the scene for the kriging.
+    krige_statistics : bool
+        pykrige's leave-one-out statistics per hour (slow for large grids).
 
     Returns
     -------
     PortBackground
     """
-    require(dem_nodata in ("error", "mask"), "dem_nodata", dem_nodata, "must be 'error' or 'mask'")
+    require(dem_nodata in ("error", "mask", "fill"), "dem_nodata", dem_nodata,
+            "must be 'error', 'mask' or 'fill'")
     require(residual_scaling in ("constant", "solar"), "residual_scaling", residual_scaling,
             "must be 'constant' or 'solar'")
     require(lst_method in ("planck", "taylor"), "lst_method", lst_method, "must be 'planck' or 'taylor'")
@@ -593,18 +596,14 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
 
     scene = read_landsat_scene(mtl_path, bounds, band_files=band_files, use_qa=use_qa)
     grid = scene.grid
-    met = read_met_grid(met_path)
-    require(met.sst is not None, "met[sst]", "missing",
-            "the met file must carry sst(time) [K]: water pixels follow the SST cycle",
-            "Add an hourly SST series (e.g. from OISST) to the NetCDF")
     overpass = np.datetime64(scene.mtl.acquired_utc.replace(tzinfo=None), "s")
+    met = met_for_scene(read_met_grid(met_path, met_variable, None, met_units), grid, overpass,
+                        margin_cells=met_margin_cells, season=season, utc_offset_hours=utc_offset_hours)
     sst_ov = met.interp_time(met.sst, overpass)      # also checks the met day contains the overpass
     if water_vapour is None and scene.level == "L1":
-        require(met.tcwv is not None, "met[tcwv]", "missing",
-                "needed for the LST atmosphere unless water_vapour= is given")
         water_vapour = met.interp_time(met.tcwv, overpass)
-    _check_met_covers_scene(met, grid)
-    dem = read_dem(dem_path, grid)
+    dem_info = load_dem(dem_path, grid, fill_voids=dem_nodata == "fill")
+    dem = dem_info.elevation
     timings["read"] = time.perf_counter() - t0
 
     # --- LST, classification, masks (the overpass) ------------------------------------------
@@ -627,7 +626,8 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
         r, c = (int(i) for i in np.argwhere(bad_land)[0])
         raise InputError("dem", f"{int(bad_land.sum())} land pixels without elevation (first at row {r}, col {c})",
                          "the DEM must cover every land pixel with valid values",
-                         "Fill the voids, use a DEM that covers the scene, or pass dem_nodata='mask'")
+                         "Fill them (dem_nodata='fill'), mask them (dem_nodata='mask'), or use a DEM "
+                         "that covers the scene")
     # Sea pixels without a DEM value are at sea level by definition (many DEMs leave the sea void).
     dem = np.where(dem_nan & water, 0.0, dem)
     slope, aspect = slope_aspect(dem, grid.resolution)
@@ -638,10 +638,11 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
 
     # --- kriging of the met grid (eq. 12) -------------------------------------------------------
     t1 = time.perf_counter()
-    x_met, y_met = met_points_on_grid(met.lat, met.lon, grid)
+    x_met, y_met = met.points_in(grid.crs)
     values = met.temperature.reshape(met.temperature.shape[0], -1)
     baseline_utc, fits = krige_hourly(x_met, y_met, values, grid, model=variogram_model,
-                                      coarsen=krige_coarsen, progress=_tqdm("kriging") if progress else None)
+                                      coarsen=krige_coarsen, progress=_tqdm("kriging") if progress else None,
+                                      statistics=krige_statistics)
     timings["kriging"] = time.perf_counter() - t1
 
     # --- eq. 15 on the overpass ---------------------------------------------------------------
@@ -708,7 +709,8 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
         baseline=baseline_utc[order].astype(np.float32), sst=met.sst[order], overpass_utc=acquired,
         overpass_hour_local=float(hour_ov), atmosphere=atmosphere, utc_offset_hours=float(utc_offset_hours),
         dem_masked_pixels=dem_masked, emissivity_model=emissivity_model,
-        unmixed_pixels=int(m.sum()), land_fraction=mix.get("f"), timings=timings, overpass=ov)
+        unmixed_pixels=int(m.sum()), land_fraction=mix.get("f"), timings=timings, overpass=ov,
+        input_notes=met.notes + dem_info.notes)
     if out_dir is not None:
         from .outputs import write_outputs
 

@@ -89,7 +89,9 @@ def _check_dem(path, grid, problems: list) -> None:
                                    "Give a DEM tile of the port"))
 
 
-def check_background_inputs(mtl, roi=None, dem=None, met=None, band_files=None) -> tuple[list, list]:
+def check_background_inputs(mtl, roi=None, dem=None, met=None, band_files=None, *,
+                            met_variable=None, met_units: str = "auto",
+                            met_margin_cells: int = 4) -> tuple[list, list]:
     """Open every background input and collect all problems.
 
     Parameters
@@ -99,6 +101,8 @@ def check_background_inputs(mtl, roi=None, dem=None, met=None, band_files=None) 
     roi, dem, met : path-like, optional
     band_files : str or dict, optional
         As :func:`.landsat.read_mtl`.
+    met_variable, met_units, met_margin_cells
+        As :func:`.met.read_met_grid` and :func:`.met.met_for_scene`.
 
     Returns
     -------
@@ -107,10 +111,9 @@ def check_background_inputs(mtl, roi=None, dem=None, met=None, band_files=None) 
     notes : list[str]
         What the readers decided (MTL georeferencing, band files found by suffix, ...).
     """
-    from .background import _check_met_covers_scene
     from .classify import CLASS_CODES, CLASS_NAMES, read_roi
     from .landsat import read_mtl
-    from .met import read_met_grid
+    from .met import met_for_scene, read_met_grid
 
     problems: list[InputError] = []
     notes: list[str] = []
@@ -132,10 +135,10 @@ def check_background_inputs(mtl, roi=None, dem=None, met=None, band_files=None) 
     if dem is not None:
         _check_dem(os.fspath(dem), grid, problems)
     if met is not None:
-        grid_met = _collect(problems, "met", read_met_grid, met)
-        if grid_met is not None and meta is not None:
+        grid_met = _collect(problems, "met", read_met_grid, met, met_variable, None, met_units)
+        if grid_met is not None and meta is not None and grid is not None:
+            # the overpass's local day and the scene plus margin, as the chain will take them
             overpass = np.datetime64(meta.acquired_utc.replace(tzinfo=None), "s")
-            _collect(problems, "met", grid_met.interp_time, grid_met.temperature[:, 0, 0], overpass)
-            if grid is not None:
-                _collect(problems, "met", _check_met_covers_scene, grid_met, grid)
+            _collect(problems, "met", met_for_scene, grid_met, grid, overpass,
+                     margin_cells=met_margin_cells)
     return problems, notes

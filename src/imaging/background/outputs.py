@@ -202,7 +202,8 @@ def write_outputs(bg, out_dir) -> dict:
     c = bg.classification
     _classification_tables(c, p, out)
     vrows = [{"hour_local": h, "model": f.model, **f.parameters, "n_points": f.n_points, "Q1": f.q1,
-              "Q2": f.q2, "cR": f.cr} for h, f in zip(bg.hours_local, bg.variograms)]
+              "Q2": f.q2, "cR": f.cr, "max_lag": f.max_lag, "at_bound": ";".join(f.at_bound)}
+             for h, f in zip(bg.hours_local, bg.variograms)]
     out["variograms"] = _csv(pd.DataFrame(vrows), p("variograms.csv"), index=False)
     t = bg.terrain
     trows = [{"term": "beta1_elevation", "value": t.beta_elevation, "stderr": t.stderr[0], "unit": "K/m"},
