@@ -2116,32 +2116,40 @@ def main(argv=None) -> int:
             # the simulated span (columns, units, coverage of the date, gaps), the ship's
             # meshes (every mesh check) and the background rasters (headers,
             # georeferencing, bands, QA, ROIs, DEM, met grid)
-            problems, notes = [], []
+            problems, notes = [], []           # lines to print, and notes
             try:
                 notes = list(sc.check_weather())
-            except ScenarioError as exc:
-                problems += [str(e) for e in exc.errors]
-            except InputError as exc:
+            except ScenarioError as exc:        # its own head line and one line per problem
                 problems.append(str(exc))
+            except InputError as exc:
+                problems.append(f"{f}: {exc}")
             if sc.ship.files is not None:       # open the meshes: every mesh check
                 try:
                     sc.ship.read_files()
                 except InputError as exc:
-                    problems.append(str(exc))
+                    problems.append(f"{f}: {exc}")
             bgs = sc.background
             if bgs.source == "files":
+                from imaging.background.checks import check_dem_file, check_met_file
                 from imaging.background.inputs import check_background_inputs
 
+                # each file on its own first (readable, units, hours), then against the
+                # scene (bands, QA, ROIs, DEM overlap, the overpass day and extent of the
+                # met grid) for the files that passed
+                met_problems = check_met_file(bgs.met, bgs.met_variable, bgs.met_units) \
+                    if bgs.met else []
+                dem_problems = check_dem_file(bgs.dem) if bgs.dem else []
                 bg_problems, bg_notes = check_background_inputs(
-                    bgs.mtl, bgs.roi, bgs.dem, bgs.met, bgs.band_files,
+                    bgs.mtl, bgs.roi, None if dem_problems else bgs.dem,
+                    None if met_problems else bgs.met, bgs.band_files,
                     met_variable=bgs.met_variable, met_units=bgs.met_units,
                     met_margin_cells=bgs.met_margin_cells)
-                problems += bg_problems
+                problems += [f"{f}: {p}" for p in bg_problems + met_problems + dem_problems]
                 for n in bg_notes:
                     print(f"{f}: note: {n}", file=sys.stderr)
             if problems:
                 for p in problems:
-                    print(f"{f}: {p}", file=sys.stderr)
+                    print(p, file=sys.stderr)
                 status = 2
                 continue
             print(f"{f}: ok ({sc.name}: {sc.time.season} {sc.time.date}, "

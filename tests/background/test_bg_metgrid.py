@@ -319,12 +319,15 @@ def test_scenario_validate_opens_met_and_dem_and_lists_every_problem(tmp_path, c
                      f'met = "{met}"\ndem = "{dem_path}"\n')
         return str(p)
 
+    # the stand-in MTL is reported (it is opened too); the real met grid and DEM pass
     good = scenario("good.toml", ERA5, dem)
-    assert main(["validate", good]) == 0
-    assert "good.toml: ok" in capsys.readouterr().out
+    assert main(["validate", good]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "background.mtl" in err[0], err
     bad = scenario("bad.toml", tmp_path / "cut.grib", tmp_path / "dem.tif")
     assert main(["validate", bad]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 2, err
-    assert "background.met" in err[0] and "truncated or damaged GRIB" in err[0]
-    assert "background.dem" in err[1] and "must be a readable GeoTIFF" in err[1]
+    assert len(err) == 3, err
+    assert "background.mtl" in err[0]
+    assert "background.met" in err[1] and "truncated or damaged GRIB" in err[1]
+    assert "background.dem" in err[2] and "must be a readable GeoTIFF" in err[2]

@@ -428,7 +428,75 @@ def test_bad_input(case, kind, make, fragments, tmp_path, capsys, request):
     assert _tree(d) == before        # nothing written, nothing removed
 
 
-# ================================================================================    before = _tree(tmp_path)
+# =======================================================================================
+# `shipthermal background` on real Landsat files (committed crops): one message, exit 2,
+# nothing left behind
+# =======================================================================================
+_REPO = __import__("pathlib").Path(__file__).resolve().parents[2]
+_MERSEY = _REPO / "examples/real_port/data"
+_MERSEY_MTL = "LC08_L2SP_204023_20200927_20201006_02_T1_MTL.txt"
+_PRE = _REPO / "tests/data/landsat8_pre_collection"
+
+
+def _bg_case(d, case, port):
+    import re
+
+    scene = d / "scene"
+    shutil.copytree(_MERSEY, scene)
+    mtl, roi = scene / _MERSEY_MTL, scene / "mersey_rois.geojson"
+    extra = []
+    if case == "bg-truncated-tiff":
+        b5 = scene / _MERSEY_MTL.replace("_MTL.txt", "_SR_B5.TIF")
+        b5.write_bytes(b5.read_bytes()[:50_000])
+    elif case == "bg-mtl-missing-key":
+        mtl.write_text("\n".join(ln for ln in mtl.read_text().splitlines()
+                                 if "TEMPERATURE_ADD_BAND_ST_B10" not in ln))
+    elif case == "bg-rois-outside":
+        roi.write_text(re.sub(r"\[\s*(-?\d+\.\d+),", lambda m: f"[{float(m.group(1)) + 20:.6f},",
+                              roi.read_text()))
+    elif case in ("bg-met-misses-scene", "bg-met-misses-overpass"):
+        met = port.met
+        if case == "bg-met-misses-scene":    # the synthetic port's grid (38.9 N 121.7 E) on the overpass day
+            ds = xr.open_dataset(port.met).load()
+            t = ds["time"].values
+            ds = ds.assign_coords(time=t - t[0] + np.datetime64("2020-09-27T00:00:00"))
+            met = d / "met_day.nc"
+            ds.to_netcdf(met, engine="h5netcdf")
+        extra = ["--dem", str(_REPO / "tests/data/dem_srtm/N49W124_crop.tif"), "--met", str(met)]
+    elif case == "bg-dem-without-met":
+        extra = ["--dem", str(_REPO / "tests/data/dem_srtm/N49W124_crop.tif")]
+    elif case == "bg-band-files":
+        shutil.copytree(_PRE, d / "pre")
+        mtl, extra = d / "pre" / "l8_MTL.txt", ["--band-files", "x_{band}.tif"]
+    elif case == "bg-level1-no-water-vapour":
+        shutil.copytree(_PRE, d / "pre")
+        mtl = d / "pre" / "l8_MTL.txt"
+    elif case == "bg-out-not-empty":
+        (d / "out").mkdir()
+        (d / "out" / "keep.txt").write_text("mine")
+    argv = ["-q", "background", "--mtl", str(mtl), "--out", str(d / "out"), *extra]
+    return argv if case == "bg-no-roi" else argv + ["--roi", str(roi)]
+
+
+BACKGROUND_CASES = [
+    ("bg-truncated-tiff", ["FILE_NAME_BAND_5", "must be a readable GeoTIFF"]),
+    ("bg-mtl-missing-key", ["TEMPERATURE_ADD_BAND_ST_B10", "Level-2 MTL must contain"]),
+    ("bg-rois-outside", ["roi_path", "polygons lie outside the scene"]),
+    ("bg-met-misses-scene", ["met.extent", "misses the scene entirely", "around the port"]),
+    ("bg-met-misses-overpass", ["met.time", "must contain the Landsat overpass",
+                                "Use met data of the overpass day"]),
+    ("bg-dem-without-met", ["--dem/--met", "go together"]),
+    ("bg-band-files", ["FILE_NAME_BAND_2", "must be an existing GeoTIFF file"]),
+    ("bg-level1-no-water-vapour", ["water_vapour", "column water vapour", "ST_B10"]),
+    ("bg-out-not-empty", ["--out", "exists and is not empty", "--force"]),
+    ("bg-no-roi", ["--roi = None", "is required"]),
+]
+
+
+@pytest.mark.parametrize("case, fragments", BACKGROUND_CASES, ids=[c[0] for c in BACKGROUND_CASES])
+def test_background_bad_input(case, fragments, tmp_path, capsys, request):
+    argv = _bg_case(tmp_path, case, request.getfixturevalue("port"))
+    before = _tree(tmp_path)
     code, err = _run(argv, capsys)
     assert code == 2, err
     for f in fragments:
