@@ -1,6 +1,6 @@
-"""Failures of the operating system on the user's paths are user errors: exit 2, one line
-naming the path, what went wrong (with its errno name) and how to fix it, no traceback,
-and nothing half-written left behind."""
+"""Failures of the operating system on the user's paths (and an empty export) are user
+errors: exit 2, one line naming the path, what went wrong (with its errno name) and how to
+fix it, no traceback, and nothing half-written left behind."""
 
 import errno
 import os
@@ -125,3 +125,15 @@ def test_errors_inside_the_installation_stay_internal(name, capsys, monkeypatch)
     user = OSError(getattr(errno, name), os.strerror(getattr(errno, name)), "/data/my/run")
     assert input_error_from_os(user).field == "path"
     assert input_error_from_os(ValueError("x")) is None
+
+
+def test_header_only_weather_csv(tmp_path, capsys):
+    """A weather CSV with its header and no rows (an export that stopped early)."""
+    sc = write_tiny(tmp_path, name="h")
+    sc.write_text(sc.read_text().replace("[ship]", '[weather]\nsource = "w.csv"\n\n[ship]'))
+    (tmp_path / "w.csv").write_text("time,temp_air,relative_humidity,wind_speed,"
+                                    "wind_direction,cloud_cover,temp_sea\n")
+    before = _tree(tmp_path)
+    code, err = _run(["-q", "run", str(sc), "--out", str(tmp_path / "run")], capsys)
+    _check(code, err, ["w.csv", "holds no data rows"])
+    assert _tree(tmp_path) == before
