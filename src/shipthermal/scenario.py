@@ -1097,9 +1097,11 @@ class ShipSettings:
                           unit="deg", lo=0.0, hi=360.0, hi_open=True)
     speed: float = _opt(0.0, "float", "Speed over ground (0 moored)", unit="m/s", lo=0.0,
                         hi=30.0)
-    mooring_position: tuple = _opt((300.0, 100.0), "vec2", "Ship centre in the port scene, "
-                                   "[east, north] of the scene centre (default: a berth "
-                                   "between two piers of the synthetic port)", unit="m",
+    mooring_position: tuple = _opt((38.5, 100.0), "vec2", "Ship centre in the port scene, "
+                                   "[east, north] of the scene centre (default: alongside "
+                                   "the east face of the synthetic port's first N-S pier, "
+                                   "30 m east of the centre in its class map, plus half the "
+                                   "frigate's 15 m beam and 1 m of fenders)", unit="m",
                                    allowed_text="[x, y], inside the port scene")
     layups: Mapping = _opt({}, "layups", "Plate layup overrides per part, outer layer first "
                            "(defaults: shipthermal.geometry.layups)",
