@@ -222,10 +222,14 @@ def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 
             cb.set_label(f"radiance {band} um [W m-2 sr-1]", fontsize=7)
             cb.ax.tick_params(labelsize=6)
             if row_lim[0] > 0:
-                tb = cb.ax.secondary_yaxis(
-                    "left", functions=(lambda L: brightness_temperature(np.maximum(L, 1e-9),
-                                                                        band),
-                                       lambda T: band_radiance(np.maximum(T, 1.0), band)))
+                def to_t(L):
+                    return brightness_temperature(np.maximum(L, 1e-6), band)
+
+                def to_l(T):
+                    with np.errstate(over="ignore"):
+                        return band_radiance(np.maximum(T, 100.0), band)
+
+                tb = cb.ax.secondary_yaxis("left", functions=(to_t, to_l))
                 tb.set_ylabel("apparent temperature [K]", fontsize=7)
                 tb.tick_params(labelsize=6)
     fig.suptitle(f"Ship in port, at-aperture radiance {band} um; "

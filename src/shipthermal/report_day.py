@@ -276,16 +276,6 @@ def _image_frames(nc: Path, band: str):
     return uris, bar, cap
 
 
-def _project(vertices: np.ndarray, azim_deg: float = -50.0, elev_deg: float = 25.0):
-    """Orthographic screen coordinates (u right, v up) and depth of a view from azimuth
-    ``azim_deg`` (matplotlib convention) and elevation ``elev_deg``."""
-    a, e = np.radians(azim_deg), np.radians(elev_deg)
-    view = np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
-    right = np.array([-np.sin(a), np.cos(a), 0.0])
-    up = np.cross(view, right)
-    return vertices @ right, vertices @ up, vertices @ view
-
-
 def _surface_frames(npz: Path, title: str):
     """(PNG data URIs per slider hour, caption) of the ship coloured by its surface
     temperature, one colour scale over the day."""
@@ -301,7 +291,9 @@ def _surface_frames(npz: Path, title: str):
     temp = d["face_temperature"]
     ks = [_nearest(th % 24.0 if th[-1] > 24.0 + 1e-9 else th, hr) for hr in SLIDER_HOURS]
     vmin, vmax = np.nanpercentile(temp[ks], [0.5, 99.5])
-    u, w, depth = _project(v)
+    from .geometry.surface_maps import OBLIQUE_VIEW_DEG, project
+
+    u, w, depth = project(v, *OBLIQUE_VIEW_DEG)
     order = np.argsort(-depth[f].mean(axis=1))          # far faces first (painter's order)
     polys = np.stack([u[f], w[f]], axis=-1)[order]
     fig, ax = plt.subplots(figsize=(5.2, 2.6), dpi=80)
@@ -324,8 +316,8 @@ def _surface_frames(npz: Path, title: str):
         fig.savefig(buf, format="png")
         uris.append(_b64png(buf.getvalue()))
     plt.close(fig)
-    return uris, (f"one colour scale for the whole day ({vmin:.1f}–{vmax:.1f} K), view from "
-                  "the south-west quarter, 25° above the horizon")
+    return uris, (f"one colour scale for the whole day ({vmin:.1f}–{vmax:.1f} K); oblique view "
+                  "from the starboard quarter, bow to the right")
 
 
 def _scr_svg(m: pd.DataFrame, crossovers: list[float], label: str) -> str:
