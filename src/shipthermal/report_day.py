@@ -294,7 +294,7 @@ def _surface_frames(npz: Path, title: str):
     from .geometry.surface_maps import OBLIQUE_VIEW_DEG, project
 
     u, w, depth = project(v, *OBLIQUE_VIEW_DEG)
-    order = np.argsort(-depth[f].mean(axis=1))          # far faces first (painter's order)
+    order = np.argsort(depth[f].mean(axis=1))           # far faces first (painter's order)
     polys = np.stack([u[f], w[f]], axis=-1)[order]
     fig, ax = plt.subplots(figsize=(5.2, 2.6), dpi=80)
     coll = PolyCollection(polys, cmap="inferno", edgecolors="none", antialiaseds=False)
