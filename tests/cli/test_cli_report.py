@@ -212,3 +212,28 @@ def test_run_writes_the_port_background(imaged_run):
 
     assert set(classes) - {0} and set(classes) <= {0, *CLASS_CODES}
     assert (bg / "lst_K.tif").is_file() and (bg / "class_map.png").is_file()
+
+
+def test_mesh_report_is_tables_not_json(imaged_run, tmp_path):
+    """A nested mesh repair report shows as tables (objects as key/value rows, lists of
+    objects as one table), with no raw JSON left in the page."""
+    import json
+
+    from shipthermal.report import build_report
+
+    run = tmp_path / "run"
+    shutil.copytree(imaged_run, run)
+    (run / "mesh").mkdir(exist_ok=True)
+    rep = {"file": "ship.obj", "faces": 1520, "closed": True,
+           "parts": [{"name": "hull", "faces": 800, "area_m2": 1234.5},
+                     {"name": "deck", "faces": 720, "area_m2": 987.25}],
+           "repairs": {"merged_vertices": 12, "flipped": {"count": 3, "faces": [4, 9, 11]}},
+           "problems": []}
+    (run / "mesh" / "mesh_report.json").write_text(json.dumps(rep))
+    text = build_report(run)
+    mesh = text.split('<section id="mesh">', 1)[1].split("</section>", 1)[0]
+    assert "{" not in mesh and '"' not in mesh.replace('class="kv"', "")
+    assert "<th>name</th><th>faces</th><th>area_m2</th>" in mesh
+    assert "<td>hull</td><td>800</td><td>1234.5</td>" in mesh
+    assert "<th>count</th><td>3</td>" in mesh and "4, 9, 11" in mesh
+    assert "<th>problems</th><td>none</td>" in mesh
