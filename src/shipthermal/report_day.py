@@ -99,6 +99,8 @@ def hardest_to_see(imaging: Path) -> pd.DataFrame:
             continue
         t = m["time_h"].to_numpy(float)
         scr = m["scr"].to_numpy(float)
+        if not np.isfinite(scr).any():
+            continue
         k = int(np.nanargmin(scr))
         step = float(np.median(np.diff(t))) if t.size > 1 else float("nan")
         runs = _low_periods(t, scr, SCR_CLUTTER_LIMIT)
