@@ -1,6 +1,8 @@
 """The report's first screen on a hand-made SCR series: lowest SCR, its band and time, the
 periods with SCR below 1 and their length, and the sentence that says so."""
 
+from html import unescape
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -34,7 +36,7 @@ def test_hardest_to_see_from_known_series(tmp_path):
     assert df.loc["3-5", "low_hours"] == pytest.approx(5 * 10 / 60, rel=1e-12)
     assert df.loc["3-5", "crossovers"] == "06:06"
     assert df.loc["8-14", "low_periods"] == "none" and df.loc["8-14", "crossovers"] == "none"
-    html = first_screen(tmp_path)
+    html = unescape(first_screen(tmp_path))
     assert "hardest at <b>06:10</b> local in the <b>3-5 µm</b> band, local SCR 0.3." in html
     assert "0.8 h in all" in html and "time to ±5 min" in html
     assert "the 8-14 µm band's lowest SCR is 1.2 at 06:10 (4.0× the 3-5 µm minimum)" in html
