@@ -52,7 +52,8 @@ table.kv td{text-align:left}
 border-bottom:1px solid #d0d7de}
 .slider input{width:60%;vertical-align:middle}.slider output{font-weight:bold;font-size:1.2em}
 .row{display:flex;flex-wrap:wrap;align-items:flex-start}
-figure.frames{max-width:420px}figure.frames img{display:block}figure.frames img[hidden]{display:none}
+figure.frames{max-width:420px}figure.frames img{display:block}
+figure.frames img[hidden]{display:none}
 svg.scr{display:inline-block;vertical-align:top;background:white;border:1px solid #d0d7de;
 margin:.8em 0 0 .8em}
 """
