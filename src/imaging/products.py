@@ -275,8 +275,8 @@ def plot_scr_curves(path, series: dict, band: str) -> str:
     return out
 
 
-def write_products(out_dir, series, crossovers, comparison, scenarios, histories, typical
-                   ) -> dict:
+def write_products(out_dir, series, crossovers, comparison, scenarios, histories, typical,
+                   shared_panel_scale: bool = True) -> dict:
     """Write every product of :func:`imaging.experiment.run_experiment`; returns the paths."""
     from .scene import as_scene_background
 
@@ -303,7 +303,8 @@ def write_products(out_dir, series, crossovers, comparison, scenarios, histories
         backgrounds = {s: as_scene_background(scenarios[s].background) for s, b in series
                        if b == band}
         files[f"panels_{band}"] = plot_panels(p(f"panels_{band}.png"), series, band, typical,
-                                              backgrounds=backgrounds)
+                                              backgrounds=backgrounds,
+                                              shared_scale=shared_panel_scale)
         files[f"scr_{band}"] = plot_scr_curves(p(f"scr_{band}.png"), series, band)
     files["crossovers"] = _csv(crossovers, p("crossovers.csv"))
     files["band_comparison"] = _csv(comparison, p("band_comparison.csv"))

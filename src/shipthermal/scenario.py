@@ -1466,6 +1466,10 @@ class ImagingSettings:
     scr_interval: float = _opt(600.0, "float", "Step of the SCR / contrast curves and the "
                                "crossover search (at most 10 min, the paper's resolution)",
                                unit="s", lo=0.0, hi=600.0, lo_open=True)
+    panel_colour_scale: str = _opt("shared", "choice", "Colour scale of the image panels: "
+                                   "'shared' = one per band and season for all times (with "
+                                   "the apparent temperature), 'per_panel' = one per image",
+                                   choices=("shared", "per_panel"))
     samples_per_pixel_side: int = _opt(16, "int", "Ship rendering samples per pixel side "
                                        "(n x n per pixel; >= 16 x 16)", lo=16, hi=256)
     sensor: SensorSettings = _opt(None, "section", "Sensor", cls=SensorSettings)
