@@ -158,6 +158,15 @@ def first_screen(run: Path) -> str:
         if src:
             sure.append(f"ship temperatures: {src}")
         parts.append("<ul>" + "".join(f"<li>{html.escape(s)}</li>" for s in sure) + "</ul>")
+    for f in sorted((run / "thermal").glob("*/thermal_summary.json")):
+        th = json.loads(f.read_text(encoding="utf-8"))
+        changes = [c for c in th.get("day_changes_K", []) if c is not None]
+        if th.get("converged") is False:
+            parts.append(f'<p class="note">Caution: the thermal spin-up of '
+                         f"{html.escape(f.parent.name)} did not converge"
+                         + (f" (last day-to-day change {changes[-1]:.3g} K, tolerance "
+                            f"{th.get('spinup_tolerance_K')} K)" if changes else "")
+                         + ": the ship temperatures, hence these times, may still drift.</p>")
     show = df[["season", "band", "scr_min", "time_min", "low_periods", "low_hours",
                "crossovers"]].rename(columns={
                    "scr_min": "lowest SCR [-]", "time_min": "at (local)",

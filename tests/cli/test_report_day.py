@@ -40,3 +40,20 @@ def test_hardest_to_see_from_known_series(tmp_path):
     assert "hardest at <b>06:10</b> local in the <b>3-5 µm</b> band, local SCR 0.3." in html
     assert "0.8 h in all" in html and "time to ±5 min" in html
     assert "the 8-14 µm band's lowest SCR is 1.2 at 06:10 (4.0× the 3-5 µm minimum)" in html
+
+
+def test_first_screen_warns_when_the_spin_up_did_not_converge(tmp_path):
+    import json
+
+    img = tmp_path / "imaging"
+    img.mkdir()
+    _write(img, "summer", "8-14", np.linspace(2.0, 0.5, 145))
+    th = tmp_path / "thermal" / "summer"
+    th.mkdir(parents=True)
+    summary = {"converged": False, "day_changes_K": [None, 3.0, 2.5], "spinup_tolerance_K": 0.01}
+    (th / "thermal_summary.json").write_text(json.dumps(summary))
+    assert "did not converge (last day-to-day change 2.5 K, tolerance 0.01 K)" in \
+        first_screen(tmp_path)
+    summary["converged"] = True
+    (th / "thermal_summary.json").write_text(json.dumps(summary))
+    assert "did not converge" not in first_screen(tmp_path)
