@@ -386,7 +386,8 @@ class ExperimentResult:
 def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
                    times=DEFAULT_TIMES_S, progress: bool = True, scenarios: dict | None = None,
                    typical_hours: dict | None = None, crop_px: int | None = 128,
-                   crossover_window_h: float = 0.5) -> ExperimentResult:
+                   crossover_window_h: float = 0.5,
+                   shared_panel_scale: bool = True) -> ExperimentResult:
     """The paper's experiment in one call: seasons x bands over a day, with all products.
 
     Parameters
@@ -411,6 +412,8 @@ def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
         Side of the NetCDF image stacks around the ship [pixels]; None: full scene.
     crossover_window_h : float
         Half-width of the crossover periods of the band comparison [h].
+    shared_panel_scale : bool
+        One colour scale per band and season for all panel times (False: one per panel).
 
     Returns
     -------
@@ -458,7 +461,8 @@ def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
     cross = pd.DataFrame(rows, columns=["season", "band", "time_h", "time_local", "direction"])
     comp = band_comparison(series, crossover_window_h)
     t0 = _time.perf_counter()
-    files = P.write_products(out_dir, series, cross, comp, scenarios, history_by_season, typical)
+    files = P.write_products(out_dir, series, cross, comp, scenarios, history_by_season, typical,
+                             shared_panel_scale)
     seconds["outputs"] = _time.perf_counter() - t0
     return ExperimentResult(series, cross, comp, files, seconds)
 

@@ -108,49 +108,135 @@ def _display_box(coverage, size, shape):
     return r0, r0 + h, c0, c0 + w
 
 
-def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 40) -> str:
+def _rect(ax, box, h, res_km, **kw):
+    """Draw the half-open pixel box ``(row0, row1, col0, col1)`` of a crop ``h`` rows high
+    on axes whose extent is in km with the origin at the crop's lower-left corner."""
+    from matplotlib.patches import Rectangle
+
+    r0, r1, c0, c1 = box
+    ax.add_patch(Rectangle((c0 * res_km, (h - r1) * res_km), (c1 - c0) * res_km,
+                           (r1 - r0) * res_km, fill=False, **kw))
+
+
+def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 40,
+                backgrounds: dict | None = None, shared_scale: bool = True) -> str:
     """Image panels at the typical times, one row per season (like the paper's Figs. 14/16).
 
     Each panel is the at-aperture radiance [W m-2 sr-1] of a ``display_px`` square around the
-    ship with its own colour scale; the title gives the time and the signed contrast.
+    ship, both axes in km from the crop's south-west corner; the title gives the time, the
+    signed contrast and the local SCR. The ship's pixels (target) and the SCR's local
+    background window (:func:`imaging.metrics.background_window`) are outlined.
+
+    ``shared_scale`` (default): one colour scale per season row, shared by all its times (1st
+    to 99.5th percentile of the row), on one colour bar with the radiance units and the
+    apparent (brightness) temperature at the aperture as a second scale; False: one scale
+    per panel. ``backgrounds`` (``{season: GriddedBackground}``): a first column shows the
+    crop's background classes with a legend, and the pixel size comes from it (else 30 m).
     """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
 
+    from .background.classify import CLASS_COLOURS, CLASS_NAMES
+    from .metrics import background_window
+    from .radiometry import band_radiance, brightness_temperature
+
+    backgrounds = backgrounds or {}
     seasons = [s for s in ("summer", "winter") if (s, band) in series] + sorted(
         {s for s, b in series if b == band and s not in ("summer", "winter")})
-    ncol = max(1, max(len(typical.get(s, ())) for s in seasons))
-    fig, axes = plt.subplots(len(seasons), ncol, figsize=(2.6 * ncol, 2.7 * len(seasons)),
+    ntime = max(1, max(len(typical.get(s, ())) for s in seasons))
+    with_classes = any(s in backgrounds for s in seasons)
+    lead = 1 if with_classes else 0
+    ncol = ntime + lead
+    fig, axes = plt.subplots(len(seasons), ncol, figsize=(2.5 * ncol + 1.2, 2.75 * len(seasons)),
                              squeeze=False, constrained_layout=True)
     for i, season in enumerate(seasons):
         sr = series[(season, band)]
-        res = 30.0
-        for j in range(ncol):
-            ax = axes[i, j]
-            hours = typical.get(season, ())
-            if j >= len(hours) or float(hours[j]) * HOUR not in sr.frames:
+        bg = backgrounds.get(season)
+        res = float(bg.resolution_m) if bg is not None else 30.0
+        res_km = res / 1000.0
+        hours = [h for h in typical.get(season, ()) if float(h) * HOUR in sr.frames]
+        if not hours:
+            for ax in axes[i]:
+                ax.axis("off")
+            continue
+        first = sr.frames[float(hours[0]) * HOUR]
+        mask = first.coverage > 0
+        r0, r1, c0, c1 = _display_box(mask, display_px, first.radiance.shape)
+        h, w = r1 - r0, c1 - c0
+        ext = [0, w * res_km, 0, h * res_km]
+        rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
+        target = (rows[0] - r0, rows[-1] + 1 - r0, cols[0] - c0, cols[-1] + 1 - c0)
+        wr0, wr1, wc0, wc1 = background_window(mask)
+        window = (wr0 - r0, wr1 - r0, wc0 - c0, wc1 - c0)
+        imgs = [sr.frames[float(hr) * HOUR].radiance[r0:r1, c0:c1] for hr in hours]
+        row_lim = np.percentile(np.stack(imgs), [1, 99.5])
+        if with_classes:
+            ax = axes[i, 0]
+            if bg is not None:
+                cm = np.asarray(bg.class_map)[r0:r1, c0:c1]
+                codes = sorted(CLASS_NAMES)
+                ax.imshow(cm, cmap=ListedColormap([CLASS_COLOURS[c] for c in codes]),
+                          vmin=codes[0] - 0.5, vmax=codes[-1] + 0.5, extent=ext,
+                          interpolation="nearest")
+                _rect(ax, target, h, res_km, ec="k", lw=1.0)
+                present = [c for c in codes if (cm == c).any()]
+                ax.legend(handles=[Patch(color=CLASS_COLOURS[c], label=CLASS_NAMES[c])
+                                   for c in present] + [Patch(fill=False, ec="k", label="ship")],
+                          fontsize=6, loc="upper left", framealpha=0.85)
+                ax.set_title(f"{season}: background classes", fontsize=8)
+                ax.set_xlabel("km east", fontsize=7)
+                ax.set_ylabel("km north", fontsize=7)
+                ax.tick_params(labelsize=6)
+            else:
+                ax.axis("off")
+        im = None
+        for j in range(ntime):
+            ax = axes[i, lead + j]
+            if j >= len(hours):
                 ax.axis("off")
                 continue
-            fr = sr.frames[float(hours[j]) * HOUR]
-            r0, r1, c0, c1 = _display_box(fr.coverage > 0, display_px, fr.radiance.shape)
-            img = fr.radiance[r0:r1, c0:c1]
-            vmin, vmax = np.percentile(img, [1, 99.5])
-            ext = [0, (c1 - c0) * res / 1000, 0, (r1 - r0) * res / 1000]
+            img = imgs[j]
+            vmin, vmax = row_lim if shared_scale else np.percentile(img, [1, 99.5])
             im = ax.imshow(img, cmap="inferno", vmin=vmin, vmax=vmax, extent=ext,
                            interpolation="nearest")
+            _rect(ax, target, h, res_km, ec="cyan", lw=0.9)
+            _rect(ax, window, h, res_km, ec="white", lw=0.8, ls="--")
             k = int(np.argmin(np.abs(sr.times_s - float(hours[j]) * HOUR)))
             con = sr.metrics["contrast"].iloc[k]
             scr = sr.metrics["scr"].iloc[k]
             ax.set_title(f"{season} {_hhmm(hours[j])}\nC={con:+.3g}, SCR={scr:.2g}", fontsize=8)
             ax.tick_params(labelsize=6)
-            if j == 0:
-                ax.set_ylabel("km", fontsize=7)
-            cb = fig.colorbar(im, ax=ax, shrink=0.8)
+            ax.set_xlabel("km east", fontsize=7)
+            if j == 0 and not with_classes:
+                ax.set_ylabel("km north", fontsize=7)
+            if not shared_scale:
+                cb = fig.colorbar(im, ax=ax, shrink=0.8)
+                cb.ax.tick_params(labelsize=6)
+                cb.set_label("W m-2 sr-1", fontsize=6)
+        if shared_scale and im is not None:
+            cb = fig.colorbar(im, ax=list(axes[i, lead:]), shrink=0.9, pad=0.02)
+            cb.set_label(f"radiance {band} um [W m-2 sr-1]", fontsize=7)
             cb.ax.tick_params(labelsize=6)
-    fig.suptitle(f"Ship in port, at-aperture radiance {band} um [W m-2 sr-1] "
-                 "(C: target - background contrast)", fontsize=9)
+            if row_lim[0] > 0:
+                def to_t(L):
+                    return brightness_temperature(np.maximum(L, 1e-6), band)
+
+                def to_l(T):
+                    with np.errstate(over="ignore"):
+                        return band_radiance(np.maximum(T, 100.0), band)
+
+                tb = cb.ax.secondary_yaxis("left", functions=(to_t, to_l))
+                tb.set_ylabel("apparent temperature [K]", fontsize=7)
+                tb.tick_params(labelsize=6)
+    fig.suptitle(f"Ship in port, at-aperture radiance {band} um; "
+                 + ("one colour scale per season for all times" if shared_scale
+                    else "one colour scale per panel")
+                 + "\ncyan: ship pixels, white dashed: local SCR background window; "
+                   "C: target - background contrast [W m-2 sr-1]", fontsize=8)
     out = _savefig(fig, os.fspath(path))
     plt.close(fig)
     return out
@@ -189,8 +275,8 @@ def plot_scr_curves(path, series: dict, band: str) -> str:
     return out
 
 
-def write_products(out_dir, series, crossovers, comparison, scenarios, histories, typical
-                   ) -> dict:
+def write_products(out_dir, series, crossovers, comparison, scenarios, histories, typical,
+                   shared_panel_scale: bool = True) -> dict:
     """Write every product of :func:`imaging.experiment.run_experiment`; returns the paths."""
     from .scene import as_scene_background
 
@@ -214,7 +300,11 @@ def write_products(out_dir, series, crossovers, comparison, scenarios, histories
             files[f"geotiff_{tag}"] = tif
         files[f"metrics_{tag}"] = _csv(sr.metrics, p(f"metrics_{tag}.csv"))
     for band in bands:
-        files[f"panels_{band}"] = plot_panels(p(f"panels_{band}.png"), series, band, typical)
+        backgrounds = {s: as_scene_background(scenarios[s].background) for s, b in series
+                       if b == band}
+        files[f"panels_{band}"] = plot_panels(p(f"panels_{band}.png"), series, band, typical,
+                                              backgrounds=backgrounds,
+                                              shared_scale=shared_panel_scale)
         files[f"scr_{band}"] = plot_scr_curves(p(f"scr_{band}.png"), series, band)
     files["crossovers"] = _csv(crossovers, p("crossovers.csv"))
     files["band_comparison"] = _csv(comparison, p("band_comparison.csv"))

@@ -206,16 +206,31 @@ class DiurnalResult:
                     fs.to_csv(tmp, float_format="%.5g")
                 written["forcing_csv"] = out / "forcing_summary.csv"
         if "png" in formats:
-            from .geometry.pictures import render_values_png
+            from .geometry.surface_maps import render_surface_map
 
+            where = self.where()
             written["part_means_png"] = plot_part_means(self.part_means, out / "part_means.png",
                                                         title=f"{self.ship.name}: area-mean "
-                                                        "outer-surface temperature")
+                                                        f"outer-surface temperature{where}")
+            env = self.environment
+            heading = float(getattr(env, "ship_heading", 0.0))
+            view = self.meta.get("sensor_view_deg") or (0.0, 0.0)
+            clim = None
+            if map_hours:
+                allt = np.concatenate([self.face_temperature_at(h) for h in map_hours])
+                clim = (float(np.percentile(allt, 1)), float(np.percentile(allt, 99)))
             for hour in map_hours:
                 name = out / f"surface_{int(hour):02d}{int(round(60 * (hour % 1))):02d}.png"
-                render_values_png(self.ship, self.face_temperature_at(hour), name,
-                                  title=f"{self.ship.name}, outer surface at {_clock(hour)} "
-                                  "local [K]")
+                sun_az, sun_el = 180.0, -90.0
+                if env is not None:
+                    st = env.at([hour * HOUR])
+                    sun_az, sun_el = float(st.azimuth[0]), 90.0 - float(st.zenith[0])
+                render_surface_map(self.ship.vertices, self.ship.faces,
+                                   self.face_temperature_at(hour), name, heading_deg=heading,
+                                   sun_azimuth_deg=sun_az, sun_elevation_deg=sun_el,
+                                   view_zenith_deg=view[0], view_azimuth_deg=view[1],
+                                   clim=clim, title=f"{self.ship.name}, outer surface at "
+                                   f"{_clock(hour)} local{where}")
                 written[f"surface_{hour:g}h"] = name
         if "vtkhdf" in formats:
             written["vtkhdf"] = self.results.to_vtkhdf(out / "thermal.vtkhdf")
@@ -224,6 +239,14 @@ class DiurnalResult:
                 tmp.write_text(json.dumps(self.summary(), indent=2, default=_json_default))
             written["summary_json"] = out / "thermal_summary.json"
         return written
+
+    def where(self) -> str:
+        """``" — season, date, lat N lon E"`` for picture titles (what is known)."""
+        bits = [str(self.meta[k]) for k in ("season", "date") if self.meta.get(k)]
+        env = self.environment
+        if env is not None and hasattr(env, "latitude"):
+            bits.append(f"{env.latitude:.2f} N {env.longitude:.2f} E")
+        return (" — " + ", ".join(bits)) if bits else ""
 
     def face_temperature_at(self, hour: float) -> np.ndarray:
         """Outer-surface temperature per triangle at a local hour (linear in time) [K]."""
@@ -573,5 +596,8 @@ def run_scenario_thermal(scenario, *, ship=None, progress: bool = True, checkpoi
                       initial_state=initial_state)
     res.meta["scenario"] = scenario.name
     res.meta["date"] = str(scenario.time.date)
+    res.meta["season"] = scenario.time.season
+    sensor = scenario.imaging.sensor
+    res.meta["sensor_view_deg"] = [float(sensor.view_zenith_deg), float(sensor.view_azimuth_deg)]
     res.meta["weather_report"] = scenario.check_weather()
     return res

@@ -349,7 +349,8 @@ def image_cases(cases: dict, out_dir, progress: bool = True, log=None,
         results[folder] = run_experiment(hist, target, bands=sc0.bands,
                                          times=frame_times(sc0, step_s),
                                          progress=progress, scenarios=scen,
-                                         typical_hours=typical)
+                                         typical_hours=typical, shared_panel_scale=(
+                                             sc0.imaging.panel_colour_scale == "shared"))
         say(f"imaging {'+'.join(hist)} x {', '.join(sc0.bands)} um "
             f"({_time.perf_counter() - t0:.1f} s)")
     require(bool(results), "cases", cases, "must hold at least one case")

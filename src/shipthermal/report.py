@@ -1,10 +1,12 @@
 """One self-contained HTML page per run directory.
 
 Everything is inside the file: pictures are embedded as base64 PNG (``data:`` URIs), the
-style sheet is inline, there are no scripts and no external URLs, so the page opens from a
-disk, a mail attachment or an archive without a server.
+style sheet and the one small script (the time slider) are inline, there are no external
+URLs, so the page opens from a disk, a mail attachment or an archive without a server.
 
-Sections (each only when the run has it): run (status, manifest, versions, timings),
+Sections (each only when the run has it): the answer first (when the ship is hardest to
+see, in which band, how sure: :mod:`shipthermal.report_day`), the day under a time slider
+(images, SCR cursor, surface temperature), run (status, manifest, versions, timings),
 scenario summary per case (and the full TOML, folded), mesh, thermal (part-mean curves,
 surface maps, spin-up, energy balance with a per-step plot, deck means next to the paper's
 reference values), imaging (panels per band and time, SCR curves, crossover table, band
@@ -44,6 +46,16 @@ pre{background:#f0f2f4;padding:.8em;overflow-x:auto;font-size:.8em}
 .note{color:#57606a;font-size:.9em}
 nav a{margin-right:1em}
 table.kv td{text-align:left}
+.answer{background:#fff8e6;border:1px solid #e3b341;padding:.2em 1em 1em;margin:1em 0}
+.answer h2{margin-top:.6em;border:none}.headline{font-size:1.15em}
+.slider{position:sticky;top:0;background:#fafbfc;padding:.5em 0;z-index:2;
+border-bottom:1px solid #d0d7de}
+.slider input{width:60%;vertical-align:middle}.slider output{font-weight:bold;font-size:1.2em}
+.row{display:flex;flex-wrap:wrap;align-items:flex-start}
+figure.frames{max-width:420px}figure.frames img{display:block}
+figure.frames img[hidden]{display:none}
+svg.scr{display:inline-block;vertical-align:top;background:white;border:1px solid #d0d7de;
+margin:.8em 0 0 .8em}
 """
 
 
@@ -281,14 +293,39 @@ def _validation_section(d: Path) -> str:
     return "".join(parts)
 
 
+def _nested_table(value) -> str:
+    """A JSON value as HTML tables: objects as key/value tables (nested objects as
+    nested tables), lists of objects as one table with a column per key."""
+    if isinstance(value, dict):
+        if not value:
+            return "—"
+        rows = "".join(f"<tr><th>{html.escape(str(k))}</th><td>{_nested_table(v)}</td></tr>"
+                       for k, v in value.items())
+        return f'<table class="kv">{rows}</table>'
+    if isinstance(value, list):
+        if value and all(isinstance(v, dict) for v in value):
+            df = pd.DataFrame(value)
+            head = "".join(f"<th>{html.escape(str(c))}</th>" for c in df.columns)
+            body = "".join("<tr>" + "".join(f"<td>{_nested_table(row.get(c))}</td>"
+                                            for c in df.columns) + "</tr>" for row in value)
+            return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+        if not value:
+            return "none"
+        return ", ".join(_nested_table(v) for v in value)
+    if value is None:
+        return "—"
+    if isinstance(value, float):
+        return html.escape(f"{value:.6g}")
+    return html.escape(str(value))
+
+
 def _mesh_section(d: Path) -> str:
     parts = []
     for png in sorted(d.glob("*.png")):
         parts.append(_img_file(png, "ship coloured by part"))
     if (d / "mesh_report.json").is_file():
         rep = json.loads((d / "mesh_report.json").read_text())
-        flat = [(k, v if not isinstance(v, dict) else json.dumps(v)) for k, v in rep.items()]
-        parts.append(_kv(flat))
+        parts.append(_nested_table(rep))
     return "".join(parts)
 
 
@@ -330,6 +367,10 @@ def build_report(run_dir, finishing: bool = False) -> str:
     if timings:
         run_html += "<h3>Wall time per stage [s]</h3>" + _table(pd.DataFrame(
             [{"stage": k, "seconds": v} for k, v in timings.items()]), "{:.1f}")
+    from . import report_day
+
+    answer = report_day.first_screen(run)
+    section("day", "The day, hour by hour", report_day.day_section(run))
     section("run", "Run", run_html)
     section("scenario", "Scenario", "".join(_scenario_section(c, f) for c, f in cases.items()))
     if (run / "mesh").is_dir():
@@ -361,8 +402,10 @@ def build_report(run_dir, finishing: bool = False) -> str:
             f"<h1>{html.escape(title)}</h1><p>Status: <span class=\"{cls}\">"
             f"{html.escape(str(status))}</span>"
             + ("" if complete else " — this run did not finish: its results are partial")
-            + f"</p><nav>{''.join(nav)}</nav>")
-    return head + "".join(body) + "</main></body></html>\n"
+            + f"</p>{answer}<nav>{''.join(nav)}</nav>")
+    has_slider = 'id="day-slider"' in "".join(body)
+    script = f"<script>{report_day.SCRIPT}</script>" if has_slider else ""
+    return head + "".join(body) + f"</main>{script}</body></html>\n"
 
 
 def write_report(run_dir, path=None, finishing: bool = False) -> Path:

@@ -1097,9 +1097,11 @@ class ShipSettings:
                           unit="deg", lo=0.0, hi=360.0, hi_open=True)
     speed: float = _opt(0.0, "float", "Speed over ground (0 moored)", unit="m/s", lo=0.0,
                         hi=30.0)
-    mooring_position: tuple = _opt((300.0, 100.0), "vec2", "Ship centre in the port scene, "
-                                   "[east, north] of the scene centre (default: a berth "
-                                   "between two piers of the synthetic port)", unit="m",
+    mooring_position: tuple = _opt((38.5, 100.0), "vec2", "Ship centre in the port scene, "
+                                   "[east, north] of the scene centre (default: alongside "
+                                   "the east face of the synthetic port's first N-S pier, "
+                                   "30 m east of the centre in its class map, plus half the "
+                                   "frigate's 15 m beam and 1 m of fenders)", unit="m",
                                    allowed_text="[x, y], inside the port scene")
     layups: Mapping = _opt({}, "layups", "Plate layup overrides per part, outer layer first "
                            "(defaults: shipthermal.geometry.layups)",
@@ -1464,6 +1466,10 @@ class ImagingSettings:
     scr_interval: float = _opt(600.0, "float", "Step of the SCR / contrast curves and the "
                                "crossover search (at most 10 min, the paper's resolution)",
                                unit="s", lo=0.0, hi=600.0, lo_open=True)
+    panel_colour_scale: str = _opt("shared", "choice", "Colour scale of the image panels: "
+                                   "'shared' = one per band and season for all times (with "
+                                   "the apparent temperature), 'per_panel' = one per image",
+                                   choices=("shared", "per_panel"))
     samples_per_pixel_side: int = _opt(16, "int", "Ship rendering samples per pixel side "
                                        "(n x n per pixel; >= 16 x 16)", lo=16, hi=256)
     sensor: SensorSettings = _opt(None, "section", "Sensor", cls=SensorSettings)

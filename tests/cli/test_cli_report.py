@@ -1,5 +1,6 @@
-"""The HTML report: one self-contained file (no external URLs, no scripts), every picture
-embedded as a PNG that decodes; opened in headless Chromium when it is installed."""
+"""The HTML report: one self-contained file (no external URLs, inline scripts only), every
+picture embedded as a PNG that decodes; opened in headless Chromium when it is installed
+(the browser test saves screenshots of the first screen under the test's tmp dir)."""
 
 import base64
 import html.parser
@@ -23,6 +24,7 @@ class _Collect(html.parser.HTMLParser):
     def __init__(self):
         super().__init__()
         self.images, self.links, self.tags, self.sections = [], [], [], []
+        self.scripts = []
 
     def handle_starttag(self, tag, attrs):
         a = dict(attrs)
@@ -32,6 +34,8 @@ class _Collect(html.parser.HTMLParser):
         for key in ("href", "src", "action", "data", "poster"):
             if key in a:
                 self.links.append(a[key])
+        if tag == "script":
+            self.scripts.append(a)
         if tag == "section":
             self.sections.append(a.get("id"))
 
@@ -47,11 +51,15 @@ def report(imaged_run):
 
 def test_report_is_self_contained(report):
     path, text, p = report
-    assert "script" not in p.tags and "link" not in p.tags and "iframe" not in p.tags
+    assert "link" not in p.tags and "iframe" not in p.tags and "object" not in p.tags
+    # scripts: inline only (no src), and none of them fetches anything
+    assert p.scripts and all(not a for a in p.scripts)
+    for code in re.findall(r"<script>(.*?)</script>", text, flags=re.S):
+        assert not re.search(r"https?:|fetch\(|XMLHttpRequest|import\(|src\s*=", code)
     for ref in p.links:
         assert ref.startswith(("data:image/png;base64,", "#")), ref[:60]
     assert not re.search(r"url\(|@import|https?://", text.split("</style>")[0])
-    assert set(p.sections) >= {"run", "scenario", "thermal", "imaging"}
+    assert set(p.sections) >= {"answer", "day", "run", "scenario", "thermal", "imaging"}
 
 
 def test_every_embedded_image_decodes(report):
@@ -59,8 +67,9 @@ def test_every_embedded_image_decodes(report):
     from PIL import Image
 
     path, text, p = report
-    # part means, 2 surface maps, energy, 2 panels, 2 SCR plots
-    assert len(p.images) >= 8
+    # part means, 2 surface maps, energy, 2 panels, 2 SCR plots; slider: 25 hourly frames
+    # per band (2) and of the surface temperature, 2 colour bars
+    assert len(p.images) >= 8 + 3 * 25 + 2
     for a in p.images:
         data = base64.b64decode(a["src"].split(",", 1)[1], validate=True)
         assert data[:8] == b"\x89PNG\r\n\x1a\n"
@@ -93,24 +102,86 @@ def test_report_command_rewrites_and_marks_unfinished_runs(imaged_run, tmp_path,
     assert "did not finish" in (partial / "report.html").read_text()
 
 
+def _chromium(*args, timeout=120):
+    return subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu",
+                           "--hide-scrollbars", "--enable-logging=stderr", "--v=0", *args],
+                          capture_output=True, text=True, timeout=timeout)
+
+
+#: Put first in <head>: records script errors and console.error calls; after load, counts
+#: the images that decoded, moves the slider to 06:00 and records what is shown.
+_PROBE = """<script>
+window.__errs=[];window.addEventListener('error',function(e){window.__errs.push(String(
+e.message));});var __ce=console.error;console.error=function(){window.__errs.push(
+[].join.call(arguments,' '));__ce.apply(console,arguments);};
+window.addEventListener('load',function(){var b=document.body,im=[].slice.call(
+document.images);b.setAttribute('data-decoded',im.filter(function(i){return i.complete&&
+i.naturalWidth>0;}).length+'/'+im.length);b.setAttribute('data-before',
+b.getAttribute('data-shown'));var vis=function(){return [].slice.call(document.querySelectorAll(
+'img[data-frame]')).filter(function(i){return !i.hidden&&i.offsetWidth>0;}).map(function(i){
+return i.getAttribute('data-frame');}).join(',');};b.setAttribute('data-vis-before',vis());
+var s=document.getElementById('day-slider');s.value=6;s.dispatchEvent(new Event('input'));
+b.setAttribute('data-vis-after',vis());b.setAttribute('data-cursor',
+document.querySelector('line.cursor').getAttribute('x1'));
+b.setAttribute('data-errors',String(window.__errs.length)+':'+window.__errs.join('|'));});
+</script>"""
+
+
 @pytest.mark.skipif(CHROMIUM is None, reason="headless Chromium not installed (/usr/bin/chromium "
                     "absent); the embedded images are still decoded by the other tests")
 def test_report_opens_in_headless_chromium(report, tmp_path):
-    """Chromium loads the file from disk (no server), runs a probe script appended to a
-    copy, and the dumped DOM says every image decoded (naturalWidth > 0)."""
+    """Chromium loads the file from disk (no server) with a probe script put first: no
+    script error or console error, every image decodes (naturalWidth > 0), the slider
+    moved to 06:00 shows the 06:00 frame of every group (and only it) and moves the SCR
+    cursor; screenshots of the first screen are kept in the test's tmp dir."""
     path, text, p = report
-    probe = ("<script>window.addEventListener('load',()=>{const im=[...document.images];"
-             "document.body.setAttribute('data-probe',im.filter(i=>i.complete&&"
-             "i.naturalWidth>0).length+'/'+im.length);});</script>")
     copy = tmp_path / "probe.html"
-    copy.write_text(text.replace("</body>", probe + "</body>"), encoding="utf-8")
-    res = subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu",
-                          "--virtual-time-budget=10000", "--dump-dom", copy.as_uri()],
-                         capture_output=True, text=True, timeout=120)
-    m = re.search(r'data-probe="(\d+)/(\d+)"', res.stdout)
-    assert m, res.stderr[-2000:]
-    ok, total = int(m.group(1)), int(m.group(2))
+    copy.write_text(text.replace("<head>", "<head>" + _PROBE, 1), encoding="utf-8")
+    res = _chromium("--virtual-time-budget=10000", "--dump-dom", copy.as_uri())
+    attrs = dict(re.findall(r'data-([a-z-]+)="([^"]*)"', res.stdout.split("<body", 1)[1]
+                            .split(">", 1)[0]))
+    assert "decoded" in attrs, res.stderr[-2000:]
+    ok, total = map(int, attrs["decoded"].split("/"))
     assert total == len(p.images) and ok == total
+    assert attrs["errors"] == "0:", attrs["errors"]
+    assert "Uncaught" not in res.stderr, res.stderr[-2000:]
+    n_groups = len({re.sub(r" \d\d:\d\d$", "", a["alt"]) for a in p.images
+                    if "data-frame" in a})
+    assert n_groups >= 3
+    assert attrs["before"] == "12:00" and attrs["shown"] == "06:00"
+    assert attrs["vis-before"] == ",".join(["12"] * n_groups)
+    assert attrs["vis-after"] == ",".join(["6"] * n_groups)
+    m = re.search(r'class="cursor" data-x0="([\d.]+)" data-dx="([\d.]+)"', text)
+    assert float(attrs["cursor"]) == pytest.approx(float(m.group(1)) + 6 * float(m.group(2)))
+    for name, size in (("first_screen.png", "1280,1000"), ("first_screen_narrow.png", "800,1200")):
+        shot = tmp_path / name
+        _chromium(f"--window-size={size}", "--virtual-time-budget=5000",
+                  f"--screenshot={shot}", path.as_uri())
+        from PIL import Image
+
+        with Image.open(shot) as im:
+            im.load()
+            assert im.size == tuple(int(v) for v in size.split(","))
+            # not a blank page: the first screen has text and the answer box
+            assert len(im.convert("L").getcolors(65536) or []) > 20
+
+
+def test_first_screen_answers_from_the_metrics(report, imaged_run):
+    """The headline band and time are those of the lowest SCR in the metrics CSVs
+    (recomputed here with pandas), and every SCR-below-1 frame is counted."""
+    _, text, _ = report
+    best = None
+    for f in sorted((imaged_run / "imaging").glob("metrics_*.csv")):
+        m = pd.read_csv(f)
+        k = m["scr"].idxmin()
+        if best is None or m["scr"][k] < best[0]:
+            h = int(round(m["time_h"][k] * 60))
+            best = (m["scr"][k], f.stem.split("_")[-1], f"{h // 60:02d}:{h % 60:02d}",
+                    int((m["scr"] < 1.0).sum()) * 10 / 60)
+    answer = text.split('<section id="answer"', 1)[1].split("</section>", 1)[0]
+    assert (f"hardest at <b>{best[2]}</b> local in the <b>{best[1]} µm</b> band, local SCR "
+            f"{best[0]:.2g}") in answer
+    assert f"{best[3]:.1f} h in all" in answer or "never falls below" in answer
 
 
 def test_report_shows_start_and_finish(report, imaged_run):
@@ -141,3 +212,28 @@ def test_run_writes_the_port_background(imaged_run):
 
     assert set(classes) - {0} and set(classes) <= {0, *CLASS_CODES}
     assert (bg / "lst_K.tif").is_file() and (bg / "class_map.png").is_file()
+
+
+def test_mesh_report_is_tables_not_json(imaged_run, tmp_path):
+    """A nested mesh repair report shows as tables (objects as key/value rows, lists of
+    objects as one table), with no raw JSON left in the page."""
+    import json
+
+    from shipthermal.report import build_report
+
+    run = tmp_path / "run"
+    shutil.copytree(imaged_run, run)
+    (run / "mesh").mkdir(exist_ok=True)
+    rep = {"file": "ship.obj", "faces": 1520, "closed": True,
+           "parts": [{"name": "hull", "faces": 800, "area_m2": 1234.5},
+                     {"name": "deck", "faces": 720, "area_m2": 987.25}],
+           "repairs": {"merged_vertices": 12, "flipped": {"count": 3, "faces": [4, 9, 11]}},
+           "problems": []}
+    (run / "mesh" / "mesh_report.json").write_text(json.dumps(rep))
+    text = build_report(run)
+    mesh = text.split('<section id="mesh">', 1)[1].split("</section>", 1)[0]
+    assert "{" not in mesh and '"' not in mesh.replace('class="kv"', "")
+    assert "<th>name</th><th>faces</th><th>area_m2</th>" in mesh
+    assert "<td>hull</td><td>800</td><td>1234.5</td>" in mesh
+    assert "<th>count</th><td>3</td>" in mesh and "4, 9, 11" in mesh
+    assert "<th>problems</th><td>none</td>" in mesh
