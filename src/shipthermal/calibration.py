@@ -425,7 +425,7 @@ def calibrate(measurements, unknowns, scenarios: dict | None = None, *, holdout:
                     c.scenario.updated({u.key: v})
                 except InputError as exc:
                     raise InputError("--unknown", u.label, f"bound {v:g} is not accepted by the "
-                                     f"scenario ({exc})")
+                                     f"scenario ({exc.field} {exc.allowed})")
         defaults.append(d)
         starts.append(u.start if u.start is not None else min(max(d, u.lower), u.upper))
     lo = np.array([u.lower for u in unknowns])
