@@ -254,6 +254,31 @@ class _Case:
         return out
 
 
+#: settings where the larger value is the coarser (the others: the smaller)
+_COARSER_IS_LARGER = ("ship.edge_length", "solver.time_step", "solver.spinup_tolerance")
+
+
+def _coarsest(scenario, tweaks: dict) -> dict:
+    """The calibration setting, but never finer than the scenario's own (a scenario that is
+    already coarser keeps its values)."""
+    out = {}
+    for key, value in tweaks.items():
+        own = _default_value(scenario, key)
+        if own is None:
+            out[key] = value
+        elif key in _COARSER_IS_LARGER:
+            out[key] = max(own, value)
+        else:
+            out[key] = min(own, value)
+        if isinstance(value, int):
+            out[key] = int(out[key])
+    step = out.get("solver.time_step")
+    interval = _default_value(scenario, "time.output_interval")
+    if step is not None and interval is not None and abs(interval / step - round(interval / step)) > 1e-9:
+        out.pop("solver.time_step")            # must divide the recording interval
+    return out
+
+
 def _default_value(scenario, key: str) -> float | None:
     """The scenario's current value of a dotted key (None when it has no plain number)."""
     if key.startswith("ship.solar_absorptivity."):
@@ -404,7 +429,7 @@ def calibrate(measurements, unknowns, scenarios: dict | None = None, *, holdout:
                 require(p.is_file(), "measurements: case", name, "must be 'summer', 'winter' or "
                         "a scenario TOML file (relative to the CSV)")
                 sc = load_scenario(p)
-        sc = sc.updated(tweaks) if tweaks else sc
+        sc = sc.updated(_coarsest(sc, tweaks)) if tweaks else sc
         cases[name] = _Case(name, sc, meas[meas["case"] == name], progress=False)
     for u in unknowns:
         require(u.case is None or u.case in cases, "--unknown", u.label,
