@@ -490,10 +490,18 @@ def calibrate(measurements, unknowns, scenarios: dict | None = None, *, holdout:
 
     # covariance from the Jacobian at the solution (in x units)
     n_fit, p = int(fit_mask.sum()), len(unknowns)
-    jac = sol.jac / span                           # d(residual/sigma)/dx
-    r = sol.fun
+    # Jacobian at the solution by one-sided steps into the interior (the optimiser's own
+    # is not reported for unknowns held on a bound)
+    r = ((model - meas_t) / sig)[fit_mask]
+    jac_u = np.empty((n_fit, p))
+    for j in range(p):
+        step = DIFF_STEP if u_hat[j] <= 0.5 else -DIFF_STEP
+        x_j = x_hat.copy()
+        x_j[j] = lo[j] + (u_hat[j] + step) * span[j]
+        jac_u[:, j] = (((predict_all(x_j) - meas_t) / sig)[fit_mask] - r) / step
+    jac = jac_u / span                             # d(residual/sigma)/dx
     dof = n_fit - p
-    _, sv, vt = np.linalg.svd(sol.jac, full_matrices=False)   # range-scaled Jacobian
+    _, sv, vt = np.linalg.svd(jac_u, full_matrices=False)     # range-scaled Jacobian
     rel = sv / sv[0] if sv.size and sv[0] > 0 else np.zeros_like(sv)
     rank = int(np.sum(rel > IDENTIFIABILITY_RTOL))
     cov = np.linalg.pinv(jac.T @ jac, rcond=IDENTIFIABILITY_RTOL ** 2)
