@@ -754,3 +754,49 @@ def run_calibrate_command(args, con) -> int:
                 text = res.text()
     con.out(text)
     return 0
+
+
+# --------------------------------------------------------------------------- validate ---
+def _variant_table(paper: dict) -> pd.DataFrame:
+    rows = []
+    for name, res in paper.items():
+        if not isinstance(res, CalibrationResult):
+            continue
+        for _, r in res.parameters.iterrows():
+            rows.append({"variant": name, **r.to_dict(),
+                         "heldout_rms_K": res.summary["rms_holdout_K"],
+                         "untuned_heldout_rms_K": res.summary["rms_untuned_holdout_K"],
+                         "flags": " | ".join(res.flags)})
+    return pd.DataFrame(rows)
+
+
+def validation_text(calibration: dict) -> str:
+    """The calibrated paper case and the anchor, for the validation printout."""
+    lines = [paper_text({k: v for k, v in calibration.items() if k != "anchor"})]
+    anchor = calibration.get("anchor")
+    if anchor is not None and len(anchor):
+        cols = ["surface", "time", "faces", "air_K", "irradiance_W_m2", "sol_air_K", "model_K",
+                "model_minus_sol_air_K", "expected_low_K", "expected_high_K"]
+        lines += ["", "Independent anchor: ASHRAE sol-air temperature (dark surface, "
+                  "h_o = 17 W m-2 K-1) vs the model, clear-sky summer design day; expected: "
+                  "below sol-air by the loss to the compartment (inside film 2.5-8 W m-2 K-1)",
+                  "", anchor[cols].to_string(index=False, float_format=lambda x: f"{x:.1f}")]
+    return "\n".join(lines)
+
+
+def write_validation_tables(calibration: dict, out_dir) -> dict:
+    """``validation_calibrated.csv`` (the four moments: reference, untuned, each variant),
+    ``validation_calibrated_parameters.csv`` and ``validation_anchor.csv`` (the report
+    shows every CSV of the validation folder)."""
+    out = Path(out_dir)
+    tables = {"validation_calibrated": calibration.get("table"),
+              "validation_calibrated_parameters": _variant_table(calibration),
+              "validation_anchor": calibration.get("anchor")}
+    paths = {}
+    for name, df in tables.items():
+        if df is None:
+            continue
+        with atomic_path(out / f"{name}.csv") as tmp:
+            df.to_csv(tmp, index=False, float_format="%.4f")
+        paths[name] = out / f"{name}.csv"
+    return paths

@@ -365,7 +365,8 @@ def cmd_validate(args, con: Console) -> int:
         ctx = RunDir(Path(args.out), force=args.force, command=args.argv, kind="validate")
     with ctx as run:
         with run.stage("validation") as tmp:
-            rep = validate(out_dir=tmp, progress=con.progress, quick=args.quick)
+            rep = validate(out_dir=tmp, progress=con.progress, quick=args.quick,
+                           **({"calibrate": True} if getattr(args, "calibrate", False) else {}))
             from .results import atomic_path
 
             with atomic_path(tmp / "validation_table.csv") as t:
@@ -529,6 +530,9 @@ def build_parser() -> argparse.ArgumentParser:
                    "runs/validation)")
     v.add_argument("--into", help="add the validation to this existing run directory instead")
     v.add_argument("--quick", action="store_true", help="coarse mesh and fewer rays")
+    v.add_argument("--calibrate", action="store_true", help="also fit the reference's "
+                   "conditions to its noon values, predict 07:00 / 08:00 held out, and the "
+                   "sol-air anchor (docs/CALIBRATION.md; a few minutes more)")
     v.add_argument("--force", action="store_true", help="replace a finished run directory")
 
     cb = add("calibrate", "fit unknown scenario quantities (bounded least squares on the "
