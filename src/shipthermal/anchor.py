@@ -59,6 +59,7 @@ def sol_air_anchor(settings: dict | None = None, season: str = "summer") -> pd.D
 
     from .calibration import CALIBRATION_SETTINGS
     from .diurnal import run_scenario_thermal
+    from .environment import to_ship_frame
     from .environment.climatology import climate_day
     from .geometry import main_part
     from .scenario import default_scenario
@@ -83,7 +84,8 @@ def sol_air_anchor(settings: dict | None = None, season: str = "summer") -> pd.D
         lit = np.zeros(ship.n_faces)
         lit[np.asarray(traced.receivers)] = res.forcing.lit_fraction(t)
         parts = ("deck",) if horizontal else ("hull_dry", "hull", "superstructure")
-        sel = (np.isin(mains, parts) & (normals @ np.array(want) > (0.98 if horizontal else 0.9))
+        facing = to_ship_frame(np.array(want), sc.ship.heading)     # East-North-Up → ship
+        sel = (np.isin(mains, parts) & (normals @ facing > (0.98 if horizontal else 0.9))
                & (lit > 0.99))
         env = res.environment.at(np.array([t]))
         albedo = float(env.sea_shortwave_up[0] / env.ghi[0]) if env.ghi[0] > 0 else 0.06
