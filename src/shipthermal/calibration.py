@@ -224,6 +224,14 @@ class _Case:
                         f"must be a part of this ship ({', '.join(sorted(self.parts))}) "
                         "or 'point:x y z'")
 
+    def run(self, changes: dict):
+        """The full diurnal result with these changes (warm-started, ray tracing reused)."""
+        from .diurnal import run_scenario_thermal
+
+        sc = self.scenario.updated(changes) if changes else self.scenario
+        return run_scenario_thermal(sc, ship=self.ship, progress=False, traced=self.traced,
+                                    graph=self.graph, initial_state=self.state)
+
     def predict(self, changes: dict) -> np.ndarray:
         key = tuple(sorted((k, round(float(v), 10)) for k, v in changes.items()))
         if key in self.memo:
@@ -669,11 +677,15 @@ def plausibility(result: CalibrationResult) -> list:
     return out
 
 
-def paper_calibration(settings: dict | None = None, log=None) -> dict:
+def paper_calibration(settings: dict | None = None, log=None, crossovers: bool = False) -> dict:
     """The paper's case: both variants of :func:`paper_variants` fitted to the noon
     reference values; the 07:00 / 08:00 values held out. Returns variant → result (each
-    with ``extra['plausibility']``) and ``'table'``, the four moments side by side."""
+    with ``extra['plausibility']``) and ``'table'``, the four moments side by side.
+
+    ``crossovers``: also render both bands every 10 min with each variant's fitted
+    conditions and put the crossover moments beside the paper's (``'crossovers'``)."""
     from .scenario import default_scenario
+    from .validation import _crossover_rows
 
     meas = paper_measurements()
     scen = {s: default_scenario(s) for s in ("summer", "winter")}
@@ -682,8 +694,18 @@ def paper_calibration(settings: dict | None = None, log=None) -> dict:
     for name, unknowns in paper_variants().items():
         res = calibrate(meas, unknowns, scen, holdout="split", settings=settings, log=log)
         res.extra["plausibility"] = plausibility(res)
-        res.extra.pop("cases", None)
+        cases = res.extra.pop("cases", {})
         out[name] = res
+        if crossovers:
+            runs, fitted = {}, {}
+            for season, c in cases.items():
+                changes = {u.key: float(v) for u, v in zip(unknowns, res.extra["x"])
+                           if u.case in (None, season)}
+                fitted[season] = c.scenario.updated(changes)
+                runs[season] = c.run(changes)
+            rows = pd.DataFrame(_crossover_rows(fitted, runs, False, log or (lambda m: None)))
+            rows.insert(0, "variant", name)
+            out["crossovers"] = pd.concat([out.get("crossovers"), rows], ignore_index=True)
         r = res.residuals
         if table is None:
             table = r[["case", "time", "split", "measured_K", "untuned_K"]].rename(
@@ -702,7 +724,7 @@ def paper_text(paper: dict) -> str:
              "explains the reference by one kind of condition)", "",
              paper["table"].to_string(index=False, float_format=lambda x: f"{x:.2f}")]
     for name, res in paper.items():
-        if name == "table":
+        if not isinstance(res, CalibrationResult):
             continue
         s = res.summary
         lines += ["", f"--- variant '{name}' ---", res.parameters[
@@ -713,6 +735,9 @@ def paper_text(paper: dict) -> str:
         lines += [f"plausibility: {p}" for p in res.extra.get("plausibility", [])]
         lines += [f"FLAG: {f}" for f in res.flags]
         lines.append(f"{s['model_runs']} model runs, {s['seconds']:.0f} s")
+    if paper.get("crossovers") is not None:
+        lines += ["", "Crossover moments with each variant's fitted conditions vs the paper", "",
+                  paper["crossovers"].to_string(index=False)]
     return "\n".join(lines)
 
 
@@ -738,10 +763,14 @@ def run_calibrate_command(args, con) -> int:
     with RunDir(Path(args.out), force=args.force, command=args.argv, kind="calibrate") as run:
         with run.stage("calibration") as tmp:
             if args.paper:
-                paper = paper_calibration(settings=settings, log=con.info)
+                paper = paper_calibration(settings=settings, log=con.info,
+                                          crossovers=args.crossovers)
                 for name, res in paper.items():
-                    if name != "table":
+                    if isinstance(res, CalibrationResult):
                         res.write(tmp / name)
+                if paper.get("crossovers") is not None:
+                    with atomic_path(tmp / "paper_crossovers.csv") as t:
+                        paper["crossovers"].to_csv(t, index=False)
                 with atomic_path(tmp / "paper_case.csv") as t:
                     paper["table"].to_csv(t, index=False, float_format="%.4f")
                 text = paper_text(paper)
@@ -791,7 +820,8 @@ def write_validation_tables(calibration: dict, out_dir) -> dict:
     out = Path(out_dir)
     tables = {"validation_calibrated": calibration.get("table"),
               "validation_calibrated_parameters": _variant_table(calibration),
-              "validation_anchor": calibration.get("anchor")}
+              "validation_anchor": calibration.get("anchor"),
+              "validation_calibrated_crossovers": calibration.get("crossovers")}
     paths = {}
     for name, df in tables.items():
         if df is None:

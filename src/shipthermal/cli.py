@@ -546,6 +546,8 @@ def build_parser() -> argparse.ArgumentParser:
                     "leave-one-out refits")
     cb.add_argument("--paper", action="store_true", help="the paper's case: fit the noon "
                     "reference deck means, predict 07:00 summer and 08:00 winter")
+    cb.add_argument("--crossovers", action="store_true", help="with --paper: crossover "
+                    "moments with the fitted conditions (imaging every 10 min)")
     cb.add_argument("--full", action="store_true", help="the scenarios' own mesh and steps "
                     "instead of the coarse calibration setting (much slower)")
     cb.add_argument("--out", default="runs/calibration", help="run directory (default "

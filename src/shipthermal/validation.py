@@ -219,7 +219,7 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
         from .calibration import paper_calibration
 
         say("calibration of the paper's case (noon fitted, 07:00 / 08:00 held out)")
-        calibration = paper_calibration(log=say)
+        calibration = paper_calibration(log=say, crossovers=crossovers)
         say("sol-air anchor (clear-sky summer day, dark deck and wall)")
         calibration["anchor"] = sol_air_anchor()
         settings["seconds"] = _time.perf_counter() - t_start
