@@ -9,6 +9,7 @@ Subcommands (``shipthermal <command> --help`` for each)::
     image      imaging stage on a finished thermal run directory
     crossover  print the crossover times of a run directory
     validate   deck temperatures vs the paper's reference, sensitivity table
+    calibrate  fit unknown conditions to measured temperatures; held-out errors
     background the port background from real files (Landsat, ROIs[, DEM, met grid])
     sweep      parameter sweep on dask.distributed
     report     (re)write the self-contained HTML report of a run directory
@@ -364,7 +365,8 @@ def cmd_validate(args, con: Console) -> int:
         ctx = RunDir(Path(args.out), force=args.force, command=args.argv, kind="validate")
     with ctx as run:
         with run.stage("validation") as tmp:
-            rep = validate(out_dir=tmp, progress=con.progress, quick=args.quick)
+            rep = validate(out_dir=tmp, progress=con.progress, quick=args.quick,
+                           **({"calibrate": True} if getattr(args, "calibrate", False) else {}))
             from .results import atomic_path
 
             with atomic_path(tmp / "validation_table.csv") as t:
@@ -372,6 +374,12 @@ def cmd_validate(args, con: Console) -> int:
         _report(run, con, finishing=not args.into)
     con.out(rep.text())
     return EXIT_OK
+
+
+def cmd_calibrate(args, con: Console) -> int:
+    from .calibration import run_calibrate_command
+
+    return run_calibrate_command(args, con)
 
 
 def cmd_background(args, con: Console) -> int:
@@ -522,7 +530,29 @@ def build_parser() -> argparse.ArgumentParser:
                    "runs/validation)")
     v.add_argument("--into", help="add the validation to this existing run directory instead")
     v.add_argument("--quick", action="store_true", help="coarse mesh and fewer rays")
+    v.add_argument("--calibrate", action="store_true", help="also fit the reference's "
+                   "conditions to its noon values, predict 07:00 / 08:00 held out, and the "
+                   "sol-air anchor (docs/CALIBRATION.md; a few minutes more)")
     v.add_argument("--force", action="store_true", help="replace a finished run directory")
+
+    cb = add("calibrate", "fit unknown scenario quantities (bounded least squares on the "
+             "full model) to measured temperatures: values, intervals, held-out errors "
+             "(docs/CALIBRATION.md)", cmd_calibrate)
+    cb.add_argument("measurements", nargs="?", help="measurement CSV (docs/CALIBRATION.md)")
+    cb.add_argument("--unknown", action="append", default=[], metavar="[CASE:]KEY=LO:HI[:START]",
+                    help="an unknown scenario key with bounds (repeat)")
+    cb.add_argument("--holdout", choices=["split", "loo", "none"], default="split",
+                    help="held-out error: the CSV's split column (default), or also "
+                    "leave-one-out refits")
+    cb.add_argument("--paper", action="store_true", help="the paper's case: fit the noon "
+                    "reference deck means, predict 07:00 summer and 08:00 winter")
+    cb.add_argument("--crossovers", action="store_true", help="with --paper: crossover "
+                    "moments with the fitted conditions (imaging every 10 min)")
+    cb.add_argument("--full", action="store_true", help="the scenarios' own mesh and steps "
+                    "instead of the coarse calibration setting (much slower)")
+    cb.add_argument("--out", default="runs/calibration", help="run directory (default "
+                    "runs/calibration)")
+    cb.add_argument("--force", action="store_true", help="replace a finished run directory")
 
     b = add("background", "build and write the port background from real files: Landsat "
             "L1/L2 scene + ROIs give LST, classes, QA mask, accuracy; with --dem and --met the "

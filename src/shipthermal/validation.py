@@ -64,6 +64,9 @@ class ValidationReport:
     crossovers: pd.DataFrame
     settings: dict = field(default_factory=dict)
     runs: dict = field(default_factory=dict)
+    #: ``validate(calibrate=True)``: the paper's case calibrated and the sol-air anchor
+    #: (:mod:`shipthermal.calibration`, :mod:`shipthermal.anchor`)
+    calibration: dict = field(default_factory=dict)
 
     def text(self) -> str:
         lines = ["Deck area-mean temperature vs the paper's reference (ref. [26], paper §3.1)",
@@ -77,6 +80,10 @@ class ValidationReport:
         if len(self.crossovers):
             lines += ["", "Thermal-crossover moments [local time] vs the paper (§5)", "",
                       self.crossovers.to_string(index=False)]
+        if self.calibration:
+            from .calibration import validation_text
+
+            lines += ["", validation_text(self.calibration)]
         s = self.settings
         lines += ["", f"mesh edge {s.get('edge_length')} m, {s.get('surface_faces')} surface faces; "
                   f"spin-up days {s.get('days')}; wall time {s.get('seconds', 0):.0f} s"]
@@ -91,6 +98,10 @@ class ValidationReport:
             with atomic_path(out / f"{name}.csv") as tmp:
                 df.to_csv(tmp, index=False, float_format="%.4f")
             paths[name] = out / f"{name}.csv"
+        if self.calibration:
+            from .calibration import write_validation_tables
+
+            paths.update(write_validation_tables(self.calibration, out))
         with atomic_path(out / "validation.txt") as tmp:
             tmp.write_text(self.text() + "\n")
         paths["text"] = out / "validation.txt"
@@ -112,7 +123,7 @@ def _clock(h) -> str:
 
 def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivity: bool = True,
              crossovers: bool = True, edge_length: float | None = None, log=None,
-             scenarios: dict | None = None) -> ValidationReport:
+             scenarios: dict | None = None, calibrate: bool = False) -> ValidationReport:
     """Run the built-in summer and winter scenarios and compare with the paper.
 
     Parameters
@@ -131,6 +142,11 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
         Ship surface edge length [m] (default 2 m; quick 4 m).
     scenarios : dict season → Scenario, optional
         Instead of the built-in defaults.
+    calibrate : bool
+        Also fit the reference's unknown conditions to its noon values and predict the
+        held-out 07:00 / 08:00 values (:func:`shipthermal.calibration.paper_calibration`,
+        coarse calibration setting, a few minutes), and compare a sunlit dark deck with
+        the ASHRAE sol-air temperature (:func:`shipthermal.anchor.sol_air_anchor`).
     """
     from .diurnal import run_scenario_thermal
     from .scenario import default_scenario
@@ -197,7 +213,17 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
                 "days": {s: int(r.days) for s, r in runs.items()},
                 "converged": {s: bool(r.converged) for s, r in runs.items()},
                 "seconds": _time.perf_counter() - t_start}
-    report = ValidationReport(table, sens, pd.DataFrame(cross_rows), settings, runs)
+    calibration = {}
+    if calibrate:
+        from .anchor import sol_air_anchor
+        from .calibration import paper_calibration
+
+        say("calibration of the paper's case (noon fitted, 07:00 / 08:00 held out)")
+        calibration = paper_calibration(log=say, crossovers=crossovers)
+        say("sol-air anchor (clear-sky summer day, dark deck and wall)")
+        calibration["anchor"] = sol_air_anchor()
+        settings["seconds"] = _time.perf_counter() - t_start
+    report = ValidationReport(table, sens, pd.DataFrame(cross_rows), settings, runs, calibration)
     if out_dir is not None:
         report.write(out_dir)
     return report

@@ -618,3 +618,56 @@ def test_bad_panel_colour_scale(value, fragments, tmp_path, capsys):
         assert f in err, f"{f!r} not in {err!r}"
     assert "Traceback" not in err
     assert _tree(tmp_path) == before
+
+
+# =======================================================================================
+# `shipthermal calibrate`: measurement CSV, unknowns and cases; one message, exit 2,
+# nothing left behind (every check comes before the first model run)
+# =======================================================================================
+_CAL_OK = "case,time,target,temperature_K\nmy.toml,12:00,deck,305.0\nmy.toml,15:00,deck,301\n"
+CALIBRATE_CASES = [
+    # (id, csv text or None, extra argv, fragments)
+    ("cal-no-file", None, ["--unknown", "weather.cloud_cover_offset=-0.5:0.5"],
+     ["measurement CSV", "--paper"]),
+    ("cal-no-unknown", _CAL_OK, [], ["--unknown", "at least one unknown"]),
+    ("cal-unknown-syntax", _CAL_OK, ["--unknown", "weather.cloud_cover_offset"],
+     ["--unknown", "KEY=LOWER:UPPER"]),
+    ("cal-unknown-not-numeric", _CAL_OK, ["--unknown", "weather.source=0:1"],
+     ["weather.source", "numeric scenario key"]),
+    ("cal-unknown-bound-rejected", _CAL_OK, ["--unknown", "ship.solar_absorptivity.deck=0.5:1.5"],
+     ["ship.solar_absorptivity.deck", "not accepted by the scenario"]),
+    ("cal-unknown-case", _CAL_OK, ["--unknown", "winter:weather.wind_speed_offset=-1:1"],
+     ["winter:weather.wind_speed_offset", "case without measurements"]),
+    ("cal-missing-column", "case,time,target\nmy.toml,12:00,deck\n",
+     ["--unknown", "weather.wind_speed_offset=-1:1"], ["temperature_K", "missing"]),
+    ("cal-bad-time", "case,time,target,temperature_K\nmy.toml,noon,deck,300\n",
+     ["--unknown", "weather.wind_speed_offset=-1:1"], ["row 2: time", "HH:MM"]),
+    ("cal-celsius-as-kelvin", "case,time,target,temperature_K\nmy.toml,12:00,deck,31.5\n",
+     ["--unknown", "weather.wind_speed_offset=-1:1"], ["temperature_K", "temperature_C"]),
+    ("cal-bad-case", "case,time,target,temperature_K\nautumn,12:00,deck,300\n",
+     ["--unknown", "weather.wind_speed_offset=-1:1"], ["autumn", "scenario TOML"]),
+    ("cal-bad-part", "case,time,target,temperature_K\nmy.toml,12:00,funnel,300\n",
+     ["--unknown", "weather.wind_speed_offset=-1:1"], ["funnel", "must be a part", "point:x y z"]),
+    ("cal-no-fit-rows", "case,time,target,temperature_K,split\nmy.toml,12:00,deck,300,holdout\n",
+     ["--unknown", "weather.wind_speed_offset=-1:1"], ["split 'fit'"]),
+    ("cal-paper-with-file", _CAL_OK, ["--paper"], ["--paper", "no measurement file"]),
+]
+
+
+@pytest.mark.parametrize("case, csv, extra, fragments", CALIBRATE_CASES,
+                         ids=[c[0] for c in CALIBRATE_CASES])
+def test_calibrate_bad_input(case, csv, extra, fragments, tmp_path, capsys, monkeypatch):
+    write_tiny(tmp_path, name="my")
+    argv = ["-q", "calibrate"]
+    if csv is not None:
+        (tmp_path / "m.csv").write_text(csv)
+        argv.append(str(tmp_path / "m.csv"))
+    argv += extra + ["--out", str(tmp_path / "out")]
+    monkeypatch.chdir(tmp_path)
+    before = _tree(tmp_path)
+    code, err = _run(argv, capsys)
+    assert code == 2, err
+    for f in fragments:
+        assert f in err, f"{f!r} not in {err!r}"
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    assert _tree(tmp_path) == before

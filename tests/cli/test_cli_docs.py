@@ -159,6 +159,7 @@ def test_runs_cover_the_documented_subcommands():
                   if _argv(c)[0] in ("shipthermal", "run") and _argv(c)[1]
                   and _argv(c)[1][0] not in RUN_WORDS | {"--help"}}
     ran = {r.split()[1] for r in RUNS} | {"demo", "validate", "background"}   # tests below
+    ran |= {"calibrate"}      # tests/calibration/test_calibration_cli.py (slow: model runs)
     assert documented <= ran, documented - ran
 
 
