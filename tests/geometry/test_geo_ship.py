@@ -69,7 +69,7 @@ def test_waterline_split_exact_at_draught(coarse_ships, k):
     wet = s.faces[s.part_mask("hull_wetted")]
     dry = s.faces[s.part_mask("hull_dry")]
     # The split cuts triangles on z = 0 exactly (new vertices are set to 0.0), so the
-    # tolerance is zero; one edge length is what the issue allows.
+    # tolerance is zero; one edge length is the allowed deviation.
     assert s.vertices[wet, 2].max() <= 0.0
     assert s.vertices[dry, 2].min() >= 0.0
     # The keel lies at -draught: built exactly (the boolean keeps hull vertices).
