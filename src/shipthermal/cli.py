@@ -450,7 +450,7 @@ def cmd_ensemble(args, con: Console) -> int:
     from .ensemble import (DISTRIBUTIONS, draw_members, ensemble_sweep_text,
                            format_distribution, load_ensemble_sweep, parse_distribution,
                            write_ensemble)
-    from .pipeline import QUICK_EDGE_LENGTH, QUICK_SCR_INTERVAL
+    from .pipeline import QUICK_EDGE_LENGTH
     from .rundir import RunDir, atomic_write_text
     from .scenario import SEASONS
     from .sweep import run_sweep
@@ -468,8 +468,7 @@ def cmd_ensemble(args, con: Console) -> int:
             raise InputError("scenario", args.scenario, "must be 'summer', 'winter' or an "
                              "existing scenario TOML file", "Check the path")
         base = str(p.resolve())
-    fixed = ({"ship.edge_length": QUICK_EDGE_LENGTH, "imaging.scr_interval": QUICK_SCR_INTERVAL}
-             if args.quick else None)
+    fixed = {"ship.edge_length": QUICK_EDGE_LENGTH} if args.quick else None
     text = ensemble_sweep_text(base, draws, args.seasons, fixed)
     spec = load_ensemble_sweep(text)          # every member validated before any writing
     out = Path(args.out)
@@ -647,8 +646,8 @@ def build_parser() -> argparse.ArgumentParser:
     en.add_argument("--dist", action="append", default=[], metavar="NAME=KIND:A:B",
                     help="replace a distribution: NAME cloud, wind or air; KIND "
                     "uniform:LOWER:UPPER or normal:MEAN:SD (repeat)")
-    en.add_argument("--quick", action="store_true", help="coarse ship mesh and images "
-                    "every 30 min (as demo --quick)")
+    en.add_argument("--quick", action="store_true", help="coarse ship mesh (as demo "
+                    "--quick)")
     en.add_argument("--out", default="runs/ensemble", help="ensemble directory (default "
                     "runs/ensemble)")
     en.add_argument("--scheduler", help="address of an existing dask scheduler")

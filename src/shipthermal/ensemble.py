@@ -255,8 +255,8 @@ def plot_ensemble(cross: pd.DataFrame, dist: pd.DataFrame, band: pd.DataFrame, p
     bands = sorted(set(cross["band"]) | set(band["band"] if len(band) else []))
     seasons = sorted(set(cross["season"]) | set(band["season"] if len(band) else []))
     colours = {s: c for s, c in zip(seasons, ["#d9822b", "#2b7bba", "#5a9e4b", "#8e44ad"])}
-    fig, axes = plt.subplots(max(len(bands), 1), 2, figsize=(12, 3.4 * max(len(bands), 1)),
-                             squeeze=False)
+    fig, axes = plt.subplots(max(len(bands), 1), 2,
+                             figsize=(12, 3.4 * max(len(bands), 1) + 0.6), squeeze=False)
     for i, b in enumerate(bands):
         a, s_ax = axes[i]
         labels = []
@@ -352,8 +352,8 @@ def write_ensemble(spec, out_dir, draws: pd.DataFrame, dists, seed: int,
     files["ensemble.toml"] = ens / "ensemble.toml"
     files["ensemble.png"] = plot_ensemble(
         cross, dist, band, ens / "ensemble.png",
-        f"weather ensemble: {members} members, seed {seed} "
-        f"({'; '.join(d.describe() for d in dists)})")
+        f"weather ensemble: {members} members, Latin hypercube seed {seed}\n"
+        + "\n".join(d.describe() for d in dists))
     return {"files": files, "crossovers": dist, "scr": band, "members": cross}
 
 
