@@ -36,8 +36,10 @@ import pandas as pd
 
 from .errors import InputError
 
-__all__ = ["Distribution", "DISTRIBUTIONS", "parse_distribution", "draw_members",
-           "ensemble_sweep_text", "summarise", "plot_ensemble", "PERCENTILES"]
+__all__ = ["DISTRIBUTIONS", "PERCENTILES", "Distribution", "draw_members",
+           "ensemble_sweep_text", "format_distribution", "load_ensemble_sweep",
+           "member_crossovers", "parse_distribution", "plot_ensemble", "summarise",
+           "write_ensemble"]
 
 #: Percentiles of the ranges [%] (the range is 5–95 %; the median is the 50th).
 PERCENTILES = (5.0, 50.0, 95.0)
@@ -176,7 +178,7 @@ def load_ensemble_sweep(text: str):
 def _hhmm(h: float) -> str:
     if not np.isfinite(h):
         return ""
-    m = int(round(h * 60.0))
+    m = round(h * 60.0)
     return f"{(m // 60) % 24:02d}:{m % 60:02d}"
 
 
@@ -337,8 +339,8 @@ def write_ensemble(spec, out_dir, draws: pd.DataFrame, dists, seed: int,
     csv(cross, "member_crossovers.csv")
     csv(dist, "crossovers.csv")
     csv(band, "scr.csv")
-    lines = [f"members = {members}", f"seed = {seed}", "sampling = \"latin hypercube "
-             "(scipy.stats.qmc.LatinHypercube)\"", f"quick = {str(bool(quick)).lower()}",
+    lines = [f"members = {members}", f"seed = {seed}",
+             'sampling = "latin hypercube (scipy.stats.qmc.LatinHypercube)"', f"quick = {str(bool(quick)).lower()}",
              f"seasons = {_toml_value(sorted(ok) or list(seasons or []))}",
              f"percentiles = {list(PERCENTILES)}"]
     for d in dists:
