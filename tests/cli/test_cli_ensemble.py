@@ -118,3 +118,23 @@ def test_parse_distribution():
     d = parse_distribution("wind=uniform:-2:2")
     assert (d.key, d.kind, d.a, d.b) == ("weather.wind_speed_offset", "uniform", -2.0, 2.0)
     np.testing.assert_allclose(d.ppf(np.array([0.25, 0.5])), [-1.0, 0.0])
+
+
+def test_scr_band_equals_numpy_percentiles_of_the_member_curves(ensemble):
+    band = pd.read_csv(ensemble / "ensemble" / "scr.csv")
+    curves: dict = {}
+    for f in sorted((ensemble / "cases").glob("*.json")):
+        for b, c in json.loads(f.read_text())["curves"].items():
+            curves.setdefault(b, []).append((np.array(c["time_h"]), np.array(c["scr"])))
+    assert set(band["band"]) == set(curves)
+    for b, members in curves.items():
+        t = members[0][0]
+        scr = np.vstack([s for _, s in members])          # members x frames
+        assert scr.shape == (MEMBERS, len(t))
+        g = band[band["band"] == b].sort_values("time_h")
+        np.testing.assert_allclose(g["time_h"], t, atol=2e-6)
+        p05, p50, p95 = np.percentile(scr, [5, 50, 95], axis=0)
+        np.testing.assert_allclose(g["scr_p05"], p05, rtol=1e-6, atol=2e-6)
+        np.testing.assert_allclose(g["scr_median"], p50, rtol=1e-6, atol=2e-6)
+        np.testing.assert_allclose(g["scr_p95"], p95, rtol=1e-6, atol=2e-6)
+        assert (g["scr_p05"] <= g["scr_median"]).all() and (g["scr_median"] <= g["scr_p95"]).all()
