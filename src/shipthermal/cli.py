@@ -12,6 +12,7 @@ Subcommands (``shipthermal <command> --help`` for each)::
     calibrate  fit unknown conditions to measured temperatures; held-out errors
     background the port background from real files (Landsat, ROIs[, DEM, met grid])
     sweep      parameter sweep on dask.distributed
+    ensemble   weather ensemble: crossover times with a median and a 5-95 % range
     report     (re)write the self-contained HTML report of a run directory
 
 Exit codes: 0 success; 2 user error (bad scenario, sweep file, option or folder: the
@@ -150,6 +151,15 @@ def _imaging(run, cases: dict, con: Console, step_s: float | None = None,
 def _print_crossovers(run_path: Path, con: Console, as_csv: bool = False) -> int:
     import pandas as pd
 
+    ens = run_path / "ensemble" / "crossovers.csv"
+    if ens.is_file():                           # a weather ensemble: the distribution
+        from .ensemble import format_distribution
+
+        df = pd.read_csv(ens, dtype={"median": str, "p05": str, "p95": str})
+        con.out(df.to_csv(index=False).rstrip() if as_csv else
+                "crossover moments over the weather ensemble (median, 5-95 % range):\n"
+                + format_distribution(df))
+        return EXIT_OK
     files = sorted((run_path / "imaging").glob("**/crossovers.csv"))
     if not files:
         raise InputError("run directory", str(run_path), "has no imaging results "
@@ -436,6 +446,53 @@ def cmd_sweep(args, con: Console) -> int:
     return EXIT_OK if res.failed == 0 else EXIT_FAILURE
 
 
+def cmd_ensemble(args, con: Console) -> int:
+    from .ensemble import (DISTRIBUTIONS, draw_members, ensemble_sweep_text,
+                           format_distribution, load_ensemble_sweep, parse_distribution,
+                           write_ensemble)
+    from .pipeline import QUICK_EDGE_LENGTH
+    from .rundir import RunDir, atomic_write_text
+    from .scenario import SEASONS
+    from .sweep import run_sweep
+
+    dists = dict(DISTRIBUTIONS)
+    for text in args.dist:
+        d = parse_distribution(text)
+        dists[d.name] = d
+    draws = draw_members(dists.values(), args.members, args.seed)
+    if args.scenario in SEASONS:
+        base = args.scenario
+    else:
+        p = Path(args.scenario)
+        if not p.is_file():
+            raise InputError("scenario", args.scenario, "must be 'summer', 'winter' or an "
+                             "existing scenario TOML file", "Check the path")
+        base = str(p.resolve())
+    fixed = {"ship.edge_length": QUICK_EDGE_LENGTH} if args.quick else None
+    text = ensemble_sweep_text(base, draws, args.seasons, fixed)
+    spec = load_ensemble_sweep(text)          # every member validated before any writing
+    out = Path(args.out)
+    con.info(f"ensemble: {args.members} members x {len(spec.cases) // args.members} "
+             f"season(s), seed {args.seed}")
+    with RunDir(out, resume=True, force=args.force, command=args.argv, kind="ensemble") as run:
+        atomic_write_text(out / "sweep.toml", text)
+        run.manifest["settings"].update({"members": args.members, "seed": args.seed,
+                                         "quick": args.quick,
+                                         "distributions": [d.describe() for d in dists.values()]})
+        res = run_sweep(spec, out, scheduler=args.scheduler, n_workers=args.workers,
+                        serial=args.serial, progress=con.progress, log=con.info, run=run)
+        ens = write_ensemble(spec, out, draws, list(dists.values()), args.seed, args.seasons,
+                             args.quick)
+        _report(run, con, finishing=True)
+    con.out("crossover moments over the weather ensemble (median, 5-95 % range):")
+    con.out(format_distribution(ens["crossovers"]))
+    for _, r in res.table[res.table["status"] != "ok"].iterrows():
+        con.out(f"member case {r['case']} failed: {r['error']}")
+    con.out(f"{len(res.table)} cases: {res.ran} ran, {res.skipped} skipped, {res.failed} "
+            f"failed; {res.seconds:.1f} s; {ens['files']['ensemble.png']}")
+    return EXIT_OK if res.failed == 0 else EXIT_FAILURE
+
+
 def cmd_report(args, con: Console) -> int:
     from .report import write_report
     from .rundir import RunDir
@@ -577,6 +634,27 @@ def build_parser() -> argparse.ArgumentParser:
                    "runs/background)")
     b.add_argument("--force", action="store_true", help="replace a non-empty output folder")
 
+    en = add("ensemble", "weather ensemble: crossover times and SCR curves with a median "
+             "and a 5-95 percent range (shipthermal.ensemble; one sweep case per member and "
+             "season)", cmd_ensemble)
+    en.add_argument("scenario", help="scenario TOML file, or 'summer' / 'winter' (built-in)")
+    en.add_argument("--members", type=int, default=8, help="members (>= 2; default 8)")
+    en.add_argument("--seed", type=int, default=0, help="seed of the Latin hypercube "
+                    "(default 0)")
+    en.add_argument("--seasons", nargs="+", choices=["summer", "winter"],
+                    help="run these seasons (default: the scenario's own)")
+    en.add_argument("--dist", action="append", default=[], metavar="NAME=KIND:A:B",
+                    help="replace a distribution: NAME cloud, wind or air; KIND "
+                    "uniform:LOWER:UPPER or normal:MEAN:SD (repeat)")
+    en.add_argument("--quick", action="store_true", help="coarse ship mesh (as demo "
+                    "--quick)")
+    en.add_argument("--out", default="runs/ensemble", help="ensemble directory (default "
+                    "runs/ensemble)")
+    en.add_argument("--scheduler", help="address of an existing dask scheduler")
+    en.add_argument("--workers", type=int, help="LocalCluster workers (default: the cores)")
+    en.add_argument("--serial", action="store_true", help="run the members one by one here")
+    en.add_argument("--force", action="store_true", help="start afresh")
+
     s = add("sweep", "parameter sweep: the Cartesian product of scenario changes, one "
             "dask task per case; re-running skips finished cases", cmd_sweep)
     s.add_argument("sweep", help="sweep TOML file (see shipthermal.sweep)")
@@ -602,7 +680,8 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     args.argv = ["shipthermal"] + argv
     con = Console(quiet=getattr(args, "quiet", False), verbose=getattr(args, "verbose", False))
-    if args.command == "sweep" and args.workers is not None and args.workers < 1:
+    if (args.command in ("sweep", "ensemble") and args.workers is not None
+            and args.workers < 1):
         parser.error("--workers must be >= 1")
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     previous = None

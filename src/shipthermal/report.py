@@ -384,6 +384,17 @@ def build_report(run_dir, finishing: bool = False) -> str:
         section("imaging", "Imaging", _imaging_section(run / "imaging"))
     if (run / "validation").is_dir():
         section("validation", "Validation", _validation_section(run / "validation"))
+    if (run / "ensemble" / "crossovers.csv").is_file():   # a weather ensemble
+        ens = run / "ensemble"
+        parts = [_img_file(ens / "ensemble.png", "crossover times of the members with their "
+                           "median and 5-95 % range; SCR median with its 5-95 % band")
+                 if (ens / "ensemble.png").is_file() else ""]
+        dist = pd.read_csv(ens / "crossovers.csv", dtype={"median": str, "p05": str, "p95": str})
+        parts.append(_table(dist[[c for c in dist.columns if not c.endswith("_h")]], "{:.3f}"))
+        if (ens / "ensemble.toml").is_file():
+            parts.append("<details><summary>distributions and seed</summary><pre>"
+                         + html.escape((ens / "ensemble.toml").read_text()) + "</pre></details>")
+        section("ensemble", "Weather ensemble: crossover times", "".join(parts))
     if (run / "table.csv").is_file():
         sweep = []
         if (run / "sweep.toml").is_file():

@@ -324,8 +324,14 @@ def run_case(spec: dict, backgrounds: dict | None = None) -> dict:
             scen = imaging_scenario(sc, _background(sc))
             series = render_series(res.to_history(), scen, sc.bands, frame_times(sc),
                                    progress=False)
+            curves = out["curves"] = {}
             for band, sr in series.items():
                 scr = sr.metrics["scr"].to_numpy(float)
+                # the SCR curve itself (in the case file, not the table): ensemble bands
+                curves[band] = {"time_h": [float(t) for t in sr.metrics["time_h"]],
+                                "scr": [float(x) for x in scr]}
+                out.setdefault("crossovers", {})[band] = [[c.time / HOUR, c.direction]
+                                                          for c in sr.crossovers]
                 v[f"crossovers_{band}"] = "; ".join(f"{_hhmm(c.time)} {c.direction}"
                                                     for c in sr.crossovers)
                 v[f"n_crossovers_{band}"] = len(sr.crossovers)

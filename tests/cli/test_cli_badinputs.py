@@ -671,3 +671,43 @@ def test_calibrate_bad_input(case, csv, extra, fragments, tmp_path, capsys, monk
         assert f in err, f"{f!r} not in {err!r}"
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
     assert _tree(tmp_path) == before
+
+
+# =======================================================================================
+# `shipthermal ensemble`: members, distributions, scenario; one message, exit 2, nothing
+# left behind (every member is validated before the first model run)
+# =======================================================================================
+ENSEMBLE_CASES = [
+    # (id, argv after the scenario, fragments)
+    ("ens-one-member", ["--members", "1"], ["--members", ">= 2"]),
+    ("ens-unknown-dist", ["--dist", "humidity=normal:0:5"], ["--dist", "humidity",
+                                                              "cloud, wind, air"]),
+    ("ens-dist-syntax", ["--dist", "wind=gauss:0:1"], ["--dist", "NAME=uniform:LOWER:UPPER"]),
+    ("ens-dist-empty-range", ["--dist", "cloud=uniform:0.3:-0.3"], ["LOWER < UPPER"]),
+    ("ens-dist-sd", ["--dist", "air=normal:0:0"], ["standard deviation > 0"]),
+    ("ens-dist-out-of-scenario-range", ["--dist", "cloud=uniform:-2:-1.5"],
+     ["weather.cloud_cover_offset", "must lie in"]),
+]
+
+
+@pytest.mark.parametrize("case, extra, fragments", ENSEMBLE_CASES,
+                         ids=[c[0] for c in ENSEMBLE_CASES])
+def test_ensemble_bad_input(case, extra, fragments, tmp_path, capsys, monkeypatch):
+    sc = write_tiny(tmp_path, name="my")
+    monkeypatch.chdir(tmp_path)
+    before = _tree(tmp_path)
+    code, err = _run(["-q", "ensemble", str(sc), "--serial", "--out", str(tmp_path / "out")]
+                     + extra, capsys)
+    assert code == 2, err
+    for f in fragments:
+        assert f in err, f"{f!r} not in {err!r}"
+    assert "Traceback" not in err
+    assert _tree(tmp_path) == before
+
+
+def test_ensemble_missing_scenario(tmp_path, capsys):
+    before = _tree(tmp_path)
+    code, err = _run(["-q", "ensemble", str(tmp_path / "nope.toml"), "--out",
+                      str(tmp_path / "out")], capsys)
+    assert code == 2 and "nope.toml" in err and len(err.strip().splitlines()) == 1, err
+    assert _tree(tmp_path) == before

@@ -160,6 +160,7 @@ def test_runs_cover_the_documented_subcommands():
                   and _argv(c)[1][0] not in RUN_WORDS | {"--help"}}
     ran = {r.split()[1] for r in RUNS} | {"demo", "validate", "background"}   # tests below
     ran |= {"calibrate"}      # tests/calibration/test_calibration_cli.py (slow: model runs)
+    ran |= {"ensemble"}       # tests/cli/test_cli_ensemble.py (3 serial members)
     assert documented <= ran, documented - ran
 
 

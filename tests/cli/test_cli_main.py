@@ -15,7 +15,7 @@ from shipthermal.errors import InputError
 
 from cli_helpers import write_tiny
 
-COMMANDS = ["demo", "mesh", "run", "image", "crossover", "validate", "sweep", "report"]
+COMMANDS = ["demo", "mesh", "run", "image", "crossover", "validate", "sweep", "ensemble", "report"]
 
 
 @pytest.mark.parametrize("command", [None] + COMMANDS)
