@@ -92,15 +92,6 @@ def _require_run(path) -> Path:
     return p
 
 
-def _changes_from_copy(run_path: Path, scenario) -> list:
-    """Keys in which ``scenario`` differs from a run's scenario copy ([] without a copy)."""
-    from .rundir import scenario_changes
-    from .scenario import load_scenario
-
-    copy = run_path / "scenario.toml"
-    return scenario_changes(load_scenario(copy), scenario) if copy.is_file() else []
-
-
 def _cases_of(run_path: Path) -> dict:
     """case → Scenario of a run directory (from its scenario copies)."""
     import json
@@ -284,12 +275,12 @@ def cmd_mesh(args, con: Console) -> int:
 
 def cmd_run(args, con: Console) -> int:
     from .pipeline import prepare, thermal_case
-    from .rundir import RunDir, is_complete
+    from .rundir import RunDir, changes_from_copy, is_complete
 
     sc = _load_scenario(args.scenario)
     out = Path(args.out or sc.outputs.directory)
     if args.resume and is_complete(out):
-        changed = _changes_from_copy(out, sc)
+        changed = changes_from_copy(out, sc)
         if changed:
             raise InputError("--resume", str(out), f"is a finished run of a different scenario "
                              f"(changed: {', '.join(changed)})", "Pass --force to rerun it with "

@@ -51,7 +51,7 @@ from pathlib import Path
 from .errors import InputError, input_error_from_os
 
 __all__ = ["RunDir", "MARKER", "package_versions", "git_commit", "atomic_write_text",
-           "is_complete", "scenario_changes", "stale_lock"]
+           "is_complete", "scenario_changes", "changes_from_copy", "stale_lock"]
 
 MARKER = "COMPLETE"
 MANIFEST = "manifest.json"
@@ -137,10 +137,10 @@ def _list(keys, most: int = 6) -> str:
     return ", ".join(keys[:most]) + more
 
 
-def _changed_against_copy(path: Path, scenario) -> list:
+def changes_from_copy(path, scenario) -> list:
     """Keys in which ``scenario`` differs from the single-case copy in ``path`` ([] when
     there is no scenario or no copy to compare with)."""
-    copy = path / "scenario.toml"
+    copy = Path(path) / "scenario.toml"
     if scenario is None or not copy.is_file():
         return []
     from .scenario import load_scenario
@@ -151,14 +151,18 @@ def _changed_against_copy(path: Path, scenario) -> list:
         return ["(the run's scenario.toml no longer loads)"]
 
 
-def stale_lock(path) -> int | None:
-    """The pid of a lock in ``path`` whose process on this host is gone (else None)."""
-    lock = Path(path) / LOCK
+def _read_lock(lock: Path) -> tuple:
+    """``(pid, host)`` written in a lock file; ``(-1, "")`` when unreadable."""
     try:
         pid_s, _, host = lock.read_text().strip().partition(" ")
-        pid = int(pid_s)
+        return int(pid_s), host
     except (OSError, ValueError):
-        return None
+        return -1, ""
+
+
+def stale_lock(path) -> int | None:
+    """The pid of a lock in ``path`` whose process on this host is gone (else None)."""
+    pid, host = _read_lock(Path(path) / LOCK)
     if host == socket.gethostname() and pid > 0 and not _pid_alive(pid):
         return pid
     return None
@@ -305,7 +309,7 @@ class RunDir:
             who = f"; its process {stale} is gone (stale .lock)" if stale else ""
             what = (f"holds an unfinished run with checkpoints "
                     f"({', '.join(c.name for c in ckpts)}){who}")
-            changed = _changed_against_copy(p, scenario)
+            changed = changes_from_copy(p, scenario)
             if changed:
                 raise InputError("--out", str(p), f"{what}, of a different scenario (changed: "
                                  f"{_list(changed)})", "Pass --force to discard it and start "
@@ -321,11 +325,7 @@ class RunDir:
             try:
                 fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
             except FileExistsError:
-                try:
-                    pid_s, _, host = lock.read_text().strip().partition(" ")
-                    pid = int(pid_s)
-                except (OSError, ValueError):
-                    pid, host = -1, ""
+                pid, host = _read_lock(lock)
                 if pid > 0 and host == socket.gethostname() and _pid_alive(pid):
                     raise InputError("--out", str(self.path), f"is in use by process {pid} "
                                      "(its .lock file)", "Wait for it to finish, or choose "
