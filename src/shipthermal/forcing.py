@@ -15,6 +15,12 @@ Data flow::
                                       convection coefficients; scalar series of T_air,
                                       L_down, sea long-wave, SST
     ShipForcing.conditions()      ──►  {patch: SurfaceBalance / Convection} with f(t)
+
+:func:`build_ship_forcing` is a chain of small stages: :func:`surface_properties` (forced
+patches, part, medium, optics) → :func:`flow_lengths` (convection lengths per part) →
+convection (:func:`wetted_hull_convection`, :func:`air_convection` with a model of
+:data:`~shipthermal.environment.convection.CONVECTION_MODELS` chosen by ``convection=``,
+the inner films) → the tables.
     ShipForcing.radiative_exchange() ──► (bfaces, A_i ε_i ε_j F_ij) for RadiativeExchange
 
 Physics per outer face i (normal n_i, area A_i, solar absorptivity α_i, long-wave
@@ -43,8 +49,9 @@ emissivity ε_i), at time t with sun direction s in the ship frame:
   long-wave, conserving energy between faces exactly (the part (1 − ε_j) of i's emission
   reflected by j is taken to return to i). Without the exchange (``with_exchange=False``) the
   other ship faces a face sees are replaced by black bodies at the air temperature.
-* **convection, air faces**: mixed forced + natural convection of
-  :func:`~shipthermal.environment.convection.h_exterior_air` (Churchill 1977, n = 3).
+* **convection, air faces**: by default (``convection='flat_plate_mixed'``) mixed forced +
+  natural convection of :func:`~shipthermal.environment.convection.h_exterior_air`
+  (Churchill 1977, n = 3).
   Forced: flat plate at the apparent wind at the face's height (true wind brought from
   10 m to the centroid height by the neutral log profile, then the ship's velocity
   subtracted); flow length = extent of the part's horizontal bounding box along the
@@ -88,47 +95,20 @@ from .environment import Environment, to_ship_frame
 from .environment import convection as conv
 from .errors import check_range, require
 from .geometry.parts import MAIN_PARTS, main_part
+from .parameters import LONGWAVE_EMISSIVITY, SOLAR_ABSORPTIVITY, part_default
 from .raytrace import make_tracer, sun_lit_fraction, symmetrize, view_factors
 from .raytrace.viewfactors import ViewFactors
 from .units import DAY, SIGMA
 
-__all__ = ["SOLAR_ABSORPTIVITY", "LONGWAVE_EMISSIVITY", "MAX_TABLE_GAP", "TracedShip",
-           "ShipForcing", "trace_ship", "build_ship_forcing", "part_values",
-           "quasi_steady_surface_temperature", "PeriodicTable", "RecordTable"]
+__all__ = ["MAX_TABLE_GAP", "INTERIOR_EMISSIVITY", "TracedShip", "ShipForcing", "trace_ship",
+           "build_ship_forcing", "part_values", "quasi_steady_surface_temperature",
+           "PeriodicTable", "RecordTable", "SurfaceProperties", "surface_properties",
+           "FlowLengths", "flow_lengths", "BackSide", "back_side", "wetted_hull_convection",
+           "air_convection"]
 
-SOLAR_ABSORPTIVITY: dict[str, float] = {
-    "hull_wetted": 0.70,
-    "hull_dry": 0.70,
-    "deck": 0.85,
-    "superstructure": 0.70,
-}
-"""Default solar (short-wave) absorptivity per main part [-].
-
-ASSUMPTION bracketed by a source: ASHRAE Handbook — Fundamentals (2017), ch. 18, sol-air
-temperature, takes α/h_o = 0.026 m² K W-1 for light-coloured and 0.052 for dark surfaces
-with h_o = 17 W m-2 K-1, i.e. α ≈ 0.45 (light) and α ≈ 0.9 (dark). Naval haze-grey topside
-paint is a medium grey: 0.70 (the hull below the waterline never sees the sun; its value
-is unused). Weather decks carry a dark-grey epoxy non-skid covering: 0.85, near the dark
-end. Fixed before any comparison with the paper's reference deck temperatures; override
-with ``absorptivity={...}`` when paint data are known. Low-solar-absorbance navy paints
-(US Navy since the 1990s) are lower.
-"""
-
-LONGWAVE_EMISSIVITY: dict[str, float] = {
-    "hull_wetted": 0.90,
-    "hull_dry": 0.90,
-    "deck": 0.90,
-    "superstructure": 0.90,
-}
-"""Default broadband (thermal, ~4–50 µm) hemispherical emissivity per main part [-].
-
-0.90: the hemispherical emissivity ISO 6946:2017 Annex C uses for ordinary building and
-painted surfaces (Incropera et al., 6th ed., Table A.11, lists 0.90–0.98 for paints, oil
-and acrylic, of all colours). The paper's §5 band emissivities (8–14 µm: hull 0.90, deck
-0.95, superstructure 0.88; 3–5 µm: 0.85 / 0.90 / 0.78) are for imaging; the broadband
-value is dominated by 6–30 µm, where paints are near-black, and the 8–14 µm values bracket
-0.90. Kirchhoff: the same value absorbs the incident long-wave.
-"""
+INTERIOR_EMISSIVITY = 0.9
+"""Hemispherical emissivity of the inner faces for the linearised interior radiation of the
+inner film [-]: ISO 6946:2017 Annex C's value for ordinary building surfaces."""
 
 MAX_TABLE_GAP = 3600.0
 """Largest allowed step between table times (with the wrap from the last to the first
@@ -152,7 +132,8 @@ def part_values(part_names, defaults: Mapping[str, float], overrides, field_name
     part_names : sequence of str
         Parts of the ship (``'superstructure_funnel'`` …).
     defaults : mapping
-        Value per main part.
+        Value per main part (``'hull'`` for both hull parts, as in
+        :mod:`shipthermal.parameters`).
     overrides : float or mapping or None
         One number for every part, or ``{part: value}`` where a key may be a part, a main
         part (applies to its sub-parts unless they are given too) or ``'hull'`` (both hull
@@ -189,7 +170,7 @@ def part_values(part_names, defaults: Mapping[str, float], overrides, field_name
         elif main.startswith("hull") and "hull" in overrides:
             out[name] = float(overrides["hull"])
         else:
-            out[name] = float(defaults["hull_dry" if main == "hull" else main])
+            out[name] = float(part_default(defaults, main))
     return out
 
 
@@ -571,6 +552,8 @@ class ShipForcing:
         Per outer face [-].
     temp_air, longwave_down, sea_longwave_up, temp_sea, h_water : (n,) float
         Scalar series at the table times [K], [W m-2], [W m-2], [K], [W m-2 K-1].
+    convection_model : str
+        Name of the exterior convection model of the air faces.
     seconds : dict
         Wall time of each stage [s].
     """
@@ -599,6 +582,7 @@ class ShipForcing:
     inner_bfaces: np.ndarray
     unforced_patches: tuple
     sun_ship: np.ndarray
+    convection_model: str = conv.DEFAULT_CONVECTION_MODEL
     seconds: dict = field(default_factory=dict)
 
     # ---- geometry and view factors per outer face -----------------------------------
@@ -634,19 +618,6 @@ class ShipForcing:
         """Absorbed short-wave of every outer face at ``t`` [W m-2] (0 on wetted faces),
         in ``outer_bfaces`` order."""
         return self._column_values(self._sw, t, "air")
-
-    def convection_coefficient(self, t: float) -> np.ndarray:
-        """Convection coefficient of every outer face at ``t`` [W m-2 K-1] (air faces: to
-        the air, wetted faces: to the sea), in ``outer_bfaces`` order."""
-        out = self._column_values(self._h, t, "air")
-        sea = ~self.outer_is_air
-        out[sea] = self.table(self.h_water, t)
-        return out
-
-    def longwave_environment(self, t: float) -> np.ndarray:
-        """``F_sky L↓ + F_sea L_sea↑`` of every outer face at ``t`` [W m-2]."""
-        return (self.F_sky * self.table(self.longwave_down, t)
-                + self.F_sea * self.table(self.sea_longwave_up, t))
 
     def lit_fraction(self, t: float) -> np.ndarray:
         """Lit fraction of the sun-receiving faces (``traced.receivers``) at ``t`` [-],
@@ -818,6 +789,98 @@ class ShipForcing:
         return f"{text}\nrays traced: {rays}\ntimings: {secs}"
 
 
+# ---------------------------------------------------------------------------------------
+# The chain: surface properties → flow lengths → convection → tables
+# ---------------------------------------------------------------------------------------
+@dataclass(eq=False)
+class SurfaceProperties:
+    """Stage 1: which boundary faces are forced, their part, medium and optics.
+
+    Attributes
+    ----------
+    part_names : tuple of str
+    patch_part : dict
+        Patch → (part, ``'outer'`` | ``'inner'``).
+    unforced : tuple of str
+        Patches that are neither (left to the caller).
+    outer_bfaces, inner_bfaces : (K,), (M,) int
+        Boundary faces of the outer / inner patches (increasing).
+    bpart : (n_bfaces,) int
+        Part index of every boundary face (-1: unforced).
+    outer_part : (K,) int
+    outer_is_air : (K,) bool
+    absorptivity, emissivity : dict
+        Per part [-].
+    alpha, epsilon : (K,) float
+        Per outer face [-].
+    """
+
+    part_names: tuple
+    patch_part: dict
+    unforced: tuple
+    outer_bfaces: np.ndarray
+    inner_bfaces: np.ndarray
+    bpart: np.ndarray
+    outer_part: np.ndarray
+    outer_is_air: np.ndarray
+    absorptivity: dict
+    emissivity: dict
+    alpha: np.ndarray
+    epsilon: np.ndarray
+
+
+def surface_properties(ship, graph, absorptivity=None, emissivity=None) -> SurfaceProperties:
+    """Stage 1: forced patches of ``graph`` and the optics of their faces.
+
+    ``absorptivity`` and ``emissivity`` as in :func:`build_ship_forcing` (defaults
+    :data:`~shipthermal.parameters.SOLAR_ABSORPTIVITY` and
+    :data:`~shipthermal.parameters.LONGWAVE_EMISSIVITY`).
+    """
+    names = tuple(ship.part_names)
+    alpha_part = part_values(names, SOLAR_ABSORPTIVITY, absorptivity, "absorptivity", 0.0, 1.0)
+    eps_part = part_values(names, LONGWAVE_EMISSIVITY, emissivity, "emissivity", 0.0, 1.0,
+                           low_open=True)
+    is_outer = np.zeros(graph.n_bfaces, bool)
+    is_inner = np.zeros(graph.n_bfaces, bool)
+    patch_part = {}
+    unforced = []
+    for name in graph.patch_names:
+        part, _, side = name.rpartition(":")
+        if side not in ("outer", "inner") or not part:
+            unforced.append(name)
+            continue
+        require(part in names, f"graph patch {name!r}", part,
+                f"must name a part of the ship ({', '.join(names)})",
+                "Build the graph from this ship (geometry.build_ship_mesh(ship))")
+        patch_part[name] = (part, side)
+        (is_outer if side == "outer" else is_inner)[graph.patch_faces(name)] = True
+    outer_bfaces = np.flatnonzero(is_outer)
+    require(len(outer_bfaces) > 0, "graph.patch_names", graph.patch_names,
+            "must contain '{part}:outer' patches")
+    part_index = {n: i for i, n in enumerate(names)}
+    bpart = np.full(graph.n_bfaces, -1)
+    for name, (part, _) in patch_part.items():
+        bpart[graph.patch_faces(name)] = part_index[part]
+    outer_part = bpart[outer_bfaces]
+    medium = np.array([ship.outer_medium[n] for n in names])
+    return SurfaceProperties(
+        part_names=names, patch_part=patch_part, unforced=tuple(unforced),
+        outer_bfaces=outer_bfaces, inner_bfaces=np.flatnonzero(is_inner), bpart=bpart,
+        outer_part=outer_part, outer_is_air=medium[outer_part] == "air",
+        absorptivity=alpha_part, emissivity=eps_part,
+        alpha=np.array([alpha_part[n] for n in names])[outer_part],
+        epsilon=np.array([eps_part[n] for n in names])[outer_part])
+
+
+def _outer_triangles(graph, outer_bfaces) -> np.ndarray:
+    """(K, 3, 3) corners of the outer faces, wound along the graph's outward normals."""
+    tri = graph.points[graph.bface_vertices[outer_bfaces]]
+    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    flip = np.einsum("ij,ij->i", cross, graph.bface_normal[outer_bfaces]) < 0
+    tri[flip] = tri[flip][:, ::-1]
+    return tri
+
+
 def _part_boxes(centroids, vertices_of_face, part_of_face, names):
     """Per part: x, y extents of the horizontal bounding box and the height above the
     sea of its faces [m]."""
@@ -833,13 +896,225 @@ def _part_boxes(centroids, vertices_of_face, part_of_face, names):
     return out
 
 
+@dataclass(frozen=True)
+class FlowLengths:
+    """Stage 2: convection lengths of the air faces [m], one entry per air face.
+
+    Attributes
+    ----------
+    along_x, along_y : (k,) float
+        Extent of the part's horizontal bounding box along the ship's x and y; the forced
+        flow length at apparent-wind angle θ off the bow is
+        ``along_x |cos θ| + along_y |sin θ|`` (:meth:`along_wind`).
+    vertical : (k,) float
+        Height of the part above the sea (natural convection, vertical plates).
+    horizontal : (k,) float
+        ``A/P`` of the part's horizontal bounding box (natural convection, horizontal
+        plates).
+    """
+
+    along_x: np.ndarray
+    along_y: np.ndarray
+    vertical: np.ndarray
+    horizontal: np.ndarray
+
+    def along_wind(self, off_bow_deg):
+        """Forced-flow length [m] at the apparent wind ``off_bow_deg`` [deg] off the bow."""
+        ang = np.radians(off_bow_deg)
+        return self.along_x * np.abs(np.cos(ang)) + self.along_y * np.abs(np.sin(ang))
+
+
+def flow_lengths(surface: SurfaceProperties, traced: TracedShip, tri) -> FlowLengths:
+    """Stage 2: the lengths of each air face's part; none below the mesh edge length."""
+    names = surface.part_names
+    air = np.flatnonzero(surface.outer_is_air)
+    part_box = _part_boxes(traced.centroids, tri, surface.outer_part, names)
+    edge = float(np.sqrt(np.median(traced.areas) * 2.0))  # ≈ the mesh edge length [m]
+    lengths = {n: (max(bx, edge), max(by, edge), max(bz, edge),
+                   max(bx * by / (2.0 * (bx + by)), edge))
+               for n, (bx, by, bz) in part_box.items()}
+    lx, ly, lv, lh = (np.array([lengths.get(n, (edge,) * 4)[k] for n in names])
+                      [surface.outer_part][air] for k in range(4))
+    return FlowLengths(along_x=lx, along_y=ly, vertical=lv, horizontal=lh)
+
+
+@dataclass(frozen=True)
+class BackSide:
+    """The path from each outer face through its layup to the compartment air.
+
+    Attributes
+    ----------
+    temp_compartment : dict and (K,) float
+        ``temp_part`` per part, ``temp_face`` per outer face [K].
+    h_inner : (K,) float
+        Inner film coefficient of the estimate (ISO 6946 horizontal heat flow plus the
+        linearised interior radiation, or ``interior_h``) [W m-2 K-1].
+    u_back : (K,) float
+        Conductance layup + inner film [W m-2 K-1].
+    """
+
+    temp_part: dict
+    temp_face: np.ndarray
+    h_inner: np.ndarray
+    u_back: np.ndarray
+
+
+def back_side(ship, surface: SurfaceProperties, interior_h=None,
+              interior_emissivity: float = INTERIOR_EMISSIVITY) -> BackSide:
+    """The back-side conductance of every outer face for the quasi-steady estimate."""
+    names = surface.part_names
+    temp_part = {n: float(ship.compartment_temperature[n]) for n in names}
+    temp_face = np.array([temp_part[n] for n in names])[surface.outer_part]
+    h_in0 = interior_h if interior_h is not None else \
+        conv.ISO6946_INTERIOR_CONVECTION["horizontal"] \
+        + interior_emissivity * 4.0 * SIGMA * temp_face ** 3
+    r_layup = np.array([ship.layups[n].thermal_resistance for n in names])[surface.outer_part]
+    u_back = 1.0 / (r_layup + 1.0 / h_in0)
+    return BackSide(temp_part=temp_part, temp_face=temp_face, u_back=u_back,
+                    h_inner=np.broadcast_to(np.asarray(h_in0, dtype=float), u_back.shape))
+
+
+def wetted_hull_convection(ship, environment, state, traced, surface, back: BackSide,
+                           current_speed: float):
+    """Stage 3a: one coefficient per table time for every wetted face [W m-2 K-1] (same
+    length, draught and speed everywhere) and the wetted-surface estimate [K]."""
+    sea = np.flatnonzero(~surface.outer_is_air)
+    n_t = len(state.temp_sea)
+    h_water = np.zeros(n_t)
+    temp_wet = np.asarray(state.temp_sea, float).copy()
+    if len(sea):
+        tsea = np.asarray(state.temp_sea, float)
+        tc = np.average(back.temp_face[sea], weights=traced.areas[sea])
+        ub = np.average(back.u_back[sea], weights=traced.areas[sea])
+        temp_wet = tsea + 1.0
+        for _ in range(_T_SURFACE_NEWTON_STEPS):
+            dt = np.maximum(np.abs(temp_wet - tsea), _MIN_DELTA_T_WATER)
+            h_water = conv.h_hull_water(tsea + dt, tsea, environment.ship_speed, ship.length,
+                                        ship.draught, current_speed)
+            temp_wet = (h_water * tsea + ub * tc) / (h_water + ub)
+    return h_water, temp_wet
+
+
+def _inner_twins(graph, surface: SurfaceProperties, traced) -> np.ndarray:
+    """Column of the outer face behind every inner face (its estimate sets ISO 6946's
+    heat-flow direction)."""
+    inner, outer = surface.inner_bfaces, surface.outer_bfaces
+    if not len(inner):
+        return np.zeros(0, np.int64)
+    n_surface = graph.metadata.get("n_surface_faces") if graph.metadata else None
+    if graph.kind == "shell" and n_surface is not None and np.all(inner >= n_surface):
+        is_outer = np.zeros(graph.n_bfaces, bool)
+        is_outer[outer] = True
+        if np.all(is_outer[inner - n_surface]):
+            # shell graphs: inner face M + i belongs to surface triangle i = outer face i
+            return np.searchsorted(outer, inner - n_surface)
+    from scipy.spatial import cKDTree
+
+    return cKDTree(traced.centroids).query(graph.bface_centroid[inner])[1]
+
+
+@dataclass(frozen=True)
+class _AirFaces:
+    """What the per-row convection and balance of the air faces need (stage 3b)."""
+
+    cols: np.ndarray          # columns of the air faces among the outer faces
+    normals: np.ndarray       # (k, 3) outward normals [-]
+    height: np.ndarray        # centroid height above the sea, >= 0 [m]
+    share: np.ndarray         # F_sky + F_sea [-]
+    inv_share: np.ndarray     # 1 / share (0 where share = 0)
+    lengths: FlowLengths
+
+
+def air_convection(model: conv.ConvectionModel, air: _AirFaces, state, rows, environment,
+                   absorbed, eps_env, u_back, temp_back, F_sky, F_sea):
+    """Stage 3b: convection coefficients of the air faces at the table rows ``rows``.
+
+    The apparent wind at face height (true wind brought from 10 m by the neutral log
+    profile, then the ship's velocity subtracted) over the flow length of the part along
+    it; the temperature-dependent ``model.h`` evaluated at the quasi-steady surface
+    estimate (:func:`quasi_steady_surface_temperature`).
+
+    Returns
+    -------
+    h : (n_rows, k) float
+        [W m-2 K-1].
+    temp_surface : (n_rows, k) float
+        The estimate [K].
+    """
+    ta = state.temp_air[rows, None]
+    speed_true = conv.wind_speed_at_height(state.wind_speed[rows, None], air.height[None, :])
+    speed_rel, _, off_bow = conv.relative_wind(speed_true, state.wind_direction[rows, None],
+                                               environment.ship_speed,
+                                               environment.ship_heading)
+    length_flow = air.lengths.along_wind(off_bow)
+    lw_env = (F_sky[air.cols] * state.longwave_down[rows, None]
+              + F_sea[air.cols] * state.sea_longwave_up[rows, None])
+    lv, lh, nz = air.lengths.vertical, air.lengths.horizontal, air.normals[:, 2]
+
+    def h_of(temp_s):
+        return model.h(temp_s, ta, nz, speed_rel, length_flow, lv, lh)
+
+    ts = quasi_steady_surface_temperature(absorbed, eps_env, lw_env * air.inv_share, ta, h_of,
+                                          u_back, temp_back)
+    return h_of(ts), ts
+
+
+def _absorbed_shortwave(state, rows, sun, lit, air: _AirFaces, traced, alpha, n_out,
+                        ship_reflection):
+    """Absorbed short-wave of every outer face at the table rows [W m-2]: direct (traced
+    shadows), diffuse sky, sea-reflected, and the first diffuse bounce off the ship."""
+    a_ = air.cols
+    F_sky, F_sea = traced.view.F_sky, traced.view.F_sea
+    incident = np.zeros((rows.stop - rows.start, n_out))
+    cos_inc = np.clip(sun[rows] @ air.normals.T, 0.0, None)
+    incident[:, a_] = (state.dni[rows, None] * cos_inc * lit[rows]
+                       + state.dhi[rows, None] * F_sky[a_]
+                       + state.sea_shortwave_up[rows, None] * F_sea[a_])
+    if ship_reflection:
+        # first diffuse bounce off the ship: E1 = F (1 − α) E0
+        bounce = (traced.view.F_faces @ ((1.0 - alpha)[:, None] * incident.T)).T
+        incident[:, a_] += bounce[:, a_]
+    return alpha * incident
+
+
+def _patches(graph, surface: SurfaceProperties, ship) -> dict:
+    out = {}
+    for name, (part, side) in surface.patch_part.items():
+        bf = graph.patch_faces(name)
+        if side == "outer":
+            cols = np.searchsorted(surface.outer_bfaces, bf)
+            kind = "air" if ship.outer_medium[part] == "air" else "sea"
+        else:
+            cols = np.searchsorted(surface.inner_bfaces, bf)
+            kind = "inner"
+        out[name] = _Patch(name=name, part=part, kind=kind, bfaces=bf, cols=cols)
+    return out
+
+
+def _table_times(environment, times):
+    w = environment.weather
+    if w.periodic:
+        require(abs(len(w.time) * w.step - DAY) < 1e-6, "environment.weather.period",
+                len(w.time) * w.step, "must be 86400 s (one day)")
+        times = _check_times(np.arange(0.0, DAY, 600.0) if times is None else times)
+        return times, PeriodicTable(times)
+    # a weather record: one table over the whole record (t = seconds after its start)
+    span = (w.time[-1] - environment.start).total_seconds()
+    times = _check_record_times(np.arange(0.0, span + 1.0, 600.0) if times is None
+                                else times, span)
+    return times, RecordTable(times)
+
+
 def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
                        samples_per_face: int = 16, rays_per_face: int = 256, seed: int = 0,
                        absorptivity=None, emissivity=None, backend: str = "auto",
                        progress=None, ship_reflection: bool = True,
-                       interior_h: float | None = None, interior_emissivity: float = 0.9,
+                       interior_h: float | None = None,
+                       interior_emissivity: float = INTERIOR_EMISSIVITY,
                        current_speed: float = 0.0, traced: TracedShip | None = None,
-                       dtype=np.float32) -> ShipForcing:
+                       dtype=np.float32,
+                       convection: str | conv.ConvectionModel = conv.DEFAULT_CONVECTION_MODEL
+                       ) -> ShipForcing:
     """Precompute the boundary forcing of every outer and inner face for a design day.
 
     Parameters
@@ -865,9 +1140,11 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
     seed : int
         Seed of all ray samples.
     absorptivity : float or mapping, optional
-        Solar absorptivity per part [-] in [0, 1]; defaults :data:`SOLAR_ABSORPTIVITY`.
+        Solar absorptivity per part [-] in [0, 1]; defaults
+        :data:`shipthermal.parameters.SOLAR_ABSORPTIVITY`.
     emissivity : float or mapping, optional
-        Long-wave emissivity per part [-] in (0, 1]; defaults :data:`LONGWAVE_EMISSIVITY`.
+        Long-wave emissivity per part [-] in (0, 1]; defaults
+        :data:`shipthermal.parameters.LONGWAVE_EMISSIVITY`.
     backend : {'auto', 'embree', 'numba'}
         Ray tracer.
     progress : bool, optional
@@ -887,6 +1164,10 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
         and ``backend`` are then those of ``traced``.
     dtype : numpy dtype
         Storage of the per-face tables (float32 halves the memory; float64 for tests).
+    convection : str or ConvectionModel
+        Exterior convection model of the air faces, a name of
+        :data:`~shipthermal.environment.convection.CONVECTION_MODELS` (default
+        ``'flat_plate_mixed'``).
 
     Returns
     -------
@@ -895,214 +1176,66 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
     t_start = _time.perf_counter()
     require(isinstance(environment, Environment), "environment", type(environment).__name__,
             "must be a shipthermal.environment.Environment")
-    w = environment.weather
-    if w.periodic:
-        require(abs(len(w.time) * w.step - DAY) < 1e-6, "environment.weather.period",
-                len(w.time) * w.step, "must be 86400 s (one day)")
-        times = _check_times(np.arange(0.0, DAY, 600.0) if times is None else times)
-        table = PeriodicTable(times)
-    else:
-        # a weather record: one table over the whole record (t = seconds after its start)
-        span = (w.time[-1] - environment.start).total_seconds()
-        times = _check_record_times(np.arange(0.0, span + 1.0, 600.0) if times is None
-                                    else times, span)
-        table = RecordTable(times)
+    model = conv.convection_model(convection, "convection")
+    times, table = _table_times(environment, times)
     check_range("current_speed", current_speed, 0.0, 10.0, "m/s")
     check_range("interior_emissivity", interior_emissivity, 0.0, 1.0)
     if interior_h is not None:
         check_range("interior_h", interior_h, 0.0, 1000.0, "W m-2 K-1", low_open=True)
 
-    # ---- patches of the graph -----------------------------------------------------------
-    names = tuple(ship.part_names)
-    alpha_part = part_values(names, SOLAR_ABSORPTIVITY, absorptivity, "absorptivity", 0.0, 1.0)
-    eps_part = part_values(names, LONGWAVE_EMISSIVITY, emissivity, "emissivity", 0.0, 1.0,
-                           low_open=True)
-    is_outer = np.zeros(graph.n_bfaces, bool)
-    is_inner = np.zeros(graph.n_bfaces, bool)
-    patch_part = {}
-    unforced = []
-    for name in graph.patch_names:
-        part, _, side = name.rpartition(":")
-        if side not in ("outer", "inner") or not part:
-            unforced.append(name)
-            continue
-        require(part in names, f"graph patch {name!r}", part,
-                f"must name a part of the ship ({', '.join(names)})",
-                "Build the graph from this ship (geometry.build_ship_mesh(ship))")
-        patch_part[name] = (part, side)
-        (is_outer if side == "outer" else is_inner)[graph.patch_faces(name)] = True
-    outer_bfaces = np.flatnonzero(is_outer)
-    inner_bfaces = np.flatnonzero(is_inner)
-    require(len(outer_bfaces) > 0, "graph.patch_names", graph.patch_names,
-            "must contain '{part}:outer' patches")
-    part_index = {n: i for i, n in enumerate(names)}
-    bpart = np.full(graph.n_bfaces, -1)
-    for name, (part, _) in patch_part.items():
-        bpart[graph.patch_faces(name)] = part_index[part]
-    outer_part = bpart[outer_bfaces]
-    medium = np.array([ship.outer_medium[n] for n in names])
-    outer_is_air = medium[outer_part] == "air"
-
-    # ---- geometry: the outer triangles, wound along the graph's outward normals ---------
-    tri = graph.points[graph.bface_vertices[outer_bfaces]]
-    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    flip = np.einsum("ij,ij->i", cross, graph.bface_normal[outer_bfaces]) < 0
-    tri[flip] = tri[flip][:, ::-1]
-    if traced is None:
-        verts, faces = _merge_triangles(tri)
-        traced = trace_ship(verts, faces, np.flatnonzero(outer_is_air),
-                            samples_per_face=samples_per_face, rays_per_face=rays_per_face,
-                            seed=seed, backend=backend, progress=progress)
-    else:
-        require(isinstance(traced, TracedShip) and len(traced.faces) == len(outer_bfaces),
-                "traced", type(traced).__name__,
-                f"must be the TracedShip of this graph's {len(outer_bfaces)} outer faces")
-        require(np.allclose(traced.centroids, tri.mean(axis=1)), "traced", "centroids",
-                "must come from the same graph (outer face centroids differ)")
+    surface = surface_properties(ship, graph, absorptivity, emissivity)
+    outer_bfaces, inner_bfaces = surface.outer_bfaces, surface.inner_bfaces
+    tri = _outer_triangles(graph, outer_bfaces)
+    traced = _trace(traced, tri, surface, samples_per_face, rays_per_face, seed, backend,
+                    progress)
     t_traced = _time.perf_counter()
 
-    # ---- environment at the table times, sun in the ship frame ---------------------------
+    # environment at the table times, sun in the ship frame
     state = environment.at(times)
     sun = to_ship_frame(state.sun_vector, environment.ship_heading)
     n_t, n_out = len(times), len(outer_bfaces)
-    air_cols = np.flatnonzero(outer_is_air)
-    sea_cols = np.flatnonzero(~outer_is_air)
-    require(np.array_equal(traced.receivers, air_cols), "traced.receivers", None,
+    a_ = np.flatnonzero(surface.outer_is_air)
+    s_ = np.flatnonzero(~surface.outer_is_air)
+    require(np.array_equal(traced.receivers, a_), "traced.receivers", None,
             "must be the air faces of this ship")
     lit = traced.lit_fractions(np.where((state.zenith < 90.0)[:, None], sun, [0.0, 0.0, -1.0]),
                                progress=progress)
     t_sun = _time.perf_counter()
 
-    # ---- per-face constants -------------------------------------------------------------
-    alpha = np.array([alpha_part[n] for n in names])[outer_part]
-    eps = np.array([eps_part[n] for n in names])[outer_part]
     F_sky, F_sea = traced.view.F_sky, traced.view.F_sea
-    a_, s_ = air_cols, sea_cols
-    part_box = _part_boxes(traced.centroids, tri, outer_part, names)
-    edge = float(np.sqrt(np.median(traced.areas) * 2.0))  # ≈ the mesh edge length [m]
-    lengths = {n: (max(bx, edge), max(by, edge), max(bz, edge),
-                   max(bx * by / (2.0 * (bx + by)), edge))
-               for n, (bx, by, bz) in part_box.items()}
-    lx, ly, lv, lh = (np.array([lengths.get(n, (edge,) * 4)[k] for n in names])[outer_part][a_]
-                      for k in range(4))
-    temp_comp_part = {n: float(ship.compartment_temperature[n]) for n in names}
-    temp_comp = np.array([temp_comp_part[n] for n in names])[outer_part]
-    # back-side conductance: layup conduction + the inner film (ISO 6946 horizontal heat
-    # flow, 2.5, plus its linearised radiation ε 4σT³)
-    h_in0 = interior_h if interior_h is not None else \
-        2.5 + interior_emissivity * 4.0 * SIGMA * temp_comp ** 3
-    r_layup = np.array([ship.layups[n].thermal_resistance for n in names])[outer_part]
-    u_back = 1.0 / (r_layup + 1.0 / h_in0)
-    h_in0_face = np.broadcast_to(np.asarray(h_in0, dtype=float), u_back.shape)
-    # surface balance of the air faces against the environment share only: the other ship
-    # faces are at about the face's own temperature (their exchange nearly cancels)
     share = (F_sky + F_sea)[a_]
-    inv_share = np.divide(1.0, share, out=np.zeros_like(share), where=share > 0)
-    nz_air = traced.normals[a_, 2]
-    z_air = np.maximum(traced.centroids[a_, 2], 0.0)
-    normals_air = traced.normals[a_]
-
-    # wetted hull: one coefficient per time (same length, draught and speed everywhere)
-    h_water = np.zeros(n_t)
-    temp_wet = np.asarray(state.temp_sea, float).copy()
-    if len(s_):
-        tsea = np.asarray(state.temp_sea, float)
-        tc = np.average(temp_comp[s_], weights=traced.areas[s_])
-        ub = np.average(u_back[s_], weights=traced.areas[s_])
-        temp_wet = tsea + 1.0
-        for _ in range(_T_SURFACE_NEWTON_STEPS):
-            dt = np.maximum(np.abs(temp_wet - tsea), _MIN_DELTA_T_WATER)
-            h_water = conv.h_hull_water(tsea + dt, tsea, environment.ship_speed, ship.length,
-                                        ship.draught, current_speed)
-            temp_wet = (h_water * tsea + ub * tc) / (h_water + ub)
-
-    # inner faces: their outer twin (whose estimated temperature sets ISO 6946's direction)
-    inner_part = bpart[inner_bfaces]
-    twin = np.zeros(0, np.int64)
-    if len(inner_bfaces):
-        n_surface = graph.metadata.get("n_surface_faces") if graph.metadata else None
-        if graph.kind == "shell" and n_surface is not None and \
-                np.all(inner_bfaces >= n_surface) and np.all(is_outer[inner_bfaces - n_surface]):
-            # shell graphs: inner face M + i belongs to surface triangle i = outer face i
-            twin = np.searchsorted(outer_bfaces, inner_bfaces - n_surface)
-        else:
-            from scipy.spatial import cKDTree
-
-            _, twin = cKDTree(traced.centroids).query(graph.bface_centroid[inner_bfaces])
-    temp_room = np.array([temp_comp_part[n] for n in names])[inner_part] if len(inner_part) \
-        else np.zeros(0)
+    air = _AirFaces(cols=a_, normals=traced.normals[a_],
+                    height=np.maximum(traced.centroids[a_, 2], 0.0), share=share,
+                    inv_share=np.divide(1.0, share, out=np.zeros_like(share), where=share > 0),
+                    lengths=flow_lengths(surface, traced, tri))
+    back = back_side(ship, surface, interior_h, interior_emissivity)
+    h_water, temp_wet = wetted_hull_convection(ship, environment, state, traced, surface,
+                                               back, current_speed)
+    twin = _inner_twins(graph, surface, traced)
+    inner_part = surface.bpart[inner_bfaces]
+    temp_room = np.array([back.temp_part[n] for n in surface.part_names])[inner_part] \
+        if len(inner_part) else np.zeros(0)
     nz_inner = graph.bface_normal[inner_bfaces, 2]
 
-    # ---- patches and their tables ---------------------------------------------------------
-    patches, sw_tab, h_tab = {}, {}, {}
+    patches = _patches(graph, surface, ship)
+    sw_tab = {n: np.empty((n_t, len(p.cols)), dtype) for n, p in patches.items()
+              if p.kind == "air"}
+    h_tab = {n: np.empty((n_t, len(p.cols)), dtype) for n, p in patches.items()
+             if p.kind in ("air", "inner")}
     air_pos = np.full(n_out, -1)
     air_pos[a_] = np.arange(len(a_))
-    for name, (part, side) in patch_part.items():
-        bf = graph.patch_faces(name)
-        if side == "outer":
-            cols = np.searchsorted(outer_bfaces, bf)
-            kind = "air" if ship.outer_medium[part] == "air" else "sea"
-            if kind == "air":
-                sw_tab[name] = np.empty((n_t, len(cols)), dtype)
-                h_tab[name] = np.empty((n_t, len(cols)), dtype)
-        else:
-            cols = np.searchsorted(inner_bfaces, bf)
-            kind = "inner"
-            h_tab[name] = np.empty((n_t, len(cols)), dtype)
-        patches[name] = _Patch(name=name, part=part, kind=kind, bfaces=bf, cols=cols)
-
-    # ---- tables, a block of rows (times) at a time ----------------------------------------
     for rows in _row_chunks(n_t, n_out):
-        nr = rows.stop - rows.start
-        # short-wave incident on the air faces: direct (traced shadows), diffuse sky,
-        # sea-reflected
-        incident = np.zeros((nr, n_out))
-        cos_inc = np.clip(sun[rows] @ normals_air.T, 0.0, None)
-        incident[:, a_] = (state.dni[rows, None] * cos_inc * lit[rows]
-                           + state.dhi[rows, None] * F_sky[a_]
-                           + state.sea_shortwave_up[rows, None] * F_sea[a_])
-        if ship_reflection:
-            # first diffuse bounce off the ship: E1 = F (1 − α) E0
-            bounce = (traced.view.F_faces @ ((1.0 - alpha)[:, None] * incident.T)).T
-            incident[:, a_] += bounce[:, a_]
-        absorbed = alpha * incident
-        del incident
-
-        # convection of the air faces at the apparent wind at face height
-        ta = state.temp_air[rows, None]
-        speed_true = conv.wind_speed_at_height(state.wind_speed[rows, None], z_air[None, :])
-        speed_rel, _, off_bow = conv.relative_wind(speed_true, state.wind_direction[rows, None],
-                                                   environment.ship_speed,
-                                                   environment.ship_heading)
-        ang = np.radians(off_bow)
-        length_flow = lx * np.abs(np.cos(ang)) + ly * np.abs(np.sin(ang))
-        lw_env = (F_sky[a_] * state.longwave_down[rows, None]
-                  + F_sea[a_] * state.sea_longwave_up[rows, None])
-
-        def h_of(temp_s, ta=ta, speed_rel=speed_rel, length_flow=length_flow):
-            return conv.h_exterior_air(temp_s, ta, nz_air, speed_rel, length_flow, lv, lh)
-
-        ts_air = quasi_steady_surface_temperature(absorbed[:, a_], eps[a_] * share,
-                                                  lw_env * inv_share, ta, h_of, u_back[a_],
-                                                  temp_comp[a_])
-        h_air = h_of(ts_air)
-        temp_surface = np.empty((nr, n_out))
-        temp_surface[:, a_] = ts_air
-        temp_surface[:, s_] = temp_wet[rows, None]
-
+        absorbed = _absorbed_shortwave(state, rows, sun, lit, air, traced, surface.alpha,
+                                       n_out, ship_reflection)
+        h_air, ts_air = air_convection(model, air, state, rows, environment, absorbed[:, a_],
+                                       surface.epsilon[a_] * share, back.u_back[a_],
+                                       back.temp_face[a_], F_sky, F_sea)
         if len(inner_bfaces):
-            if interior_h is not None:
-                h_inner = np.full((nr, len(inner_bfaces)), float(interior_h))
-            else:
-                # inner-face temperature of the same quasi-steady estimate: the drop from
-                # the outer surface to the room splits between the layup and the inner
-                # film, T_in − T_room = (T_out − T_room) U / h_in0. ISO 6946 uses its sign
-                # (heat-flow direction) and T_m for the small radiative part.
-                temp_inner = temp_room + (temp_surface[:, twin] - temp_room) * \
-                    (u_back[twin] / h_in0_face[twin])
-                h_inner = conv.h_interior_iso6946(temp_inner, temp_room[None, :],
-                                                  nz_inner[None, :], include_radiation=True,
-                                                  emissivity=interior_emissivity)
+            temp_surface = np.empty((rows.stop - rows.start, n_out))
+            temp_surface[:, a_] = ts_air
+            temp_surface[:, s_] = temp_wet[rows, None]
+            h_inner = _inner_convection(temp_surface, twin, temp_room, nz_inner, back,
+                                        interior_h, interior_emissivity)
         for name, p in patches.items():
             if p.kind == "air":
                 sw_tab[name][rows] = absorbed[:, p.cols]
@@ -1116,12 +1249,46 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
                "total": t_end - t_start}
     return ShipForcing(
         times=times, table=table, outer_bfaces=outer_bfaces,
-        outer_part=outer_part, outer_is_air=outer_is_air, traced=traced, part_names=names,
-        absorptivity=alpha_part, emissivity=eps_part, alpha=alpha, epsilon=eps,
+        outer_part=surface.outer_part, outer_is_air=surface.outer_is_air, traced=traced,
+        part_names=surface.part_names, absorptivity=surface.absorptivity,
+        emissivity=surface.emissivity, alpha=surface.alpha, epsilon=surface.epsilon,
         temp_air=np.asarray(state.temp_air, float),
         longwave_down=np.asarray(state.longwave_down, float),
         sea_longwave_up=np.asarray(state.sea_longwave_up, float),
         temp_sea=np.asarray(state.temp_sea, float), h_water=np.asarray(h_water, float),
-        compartment_temperature=temp_comp_part, patches=patches, _sw=sw_tab, _h=h_tab,
-        _lit=lit.astype(dtype), inner_bfaces=inner_bfaces, unforced_patches=tuple(unforced),
-        sun_ship=sun, seconds=seconds)
+        compartment_temperature=back.temp_part, patches=patches, _sw=sw_tab, _h=h_tab,
+        _lit=lit.astype(dtype), inner_bfaces=inner_bfaces,
+        unforced_patches=surface.unforced, sun_ship=sun, convection_model=model.name,
+        seconds=seconds)
+
+
+def _trace(traced, tri, surface, samples_per_face, rays_per_face, seed, backend, progress):
+    """The tracer of the outer surface: a new one, or ``traced`` checked against it."""
+    if traced is None:
+        verts, faces = _merge_triangles(tri)
+        return trace_ship(verts, faces, np.flatnonzero(surface.outer_is_air),
+                          samples_per_face=samples_per_face, rays_per_face=rays_per_face,
+                          seed=seed, backend=backend, progress=progress)
+    n = len(surface.outer_bfaces)
+    require(isinstance(traced, TracedShip) and len(traced.faces) == n,
+            "traced", type(traced).__name__,
+            f"must be the TracedShip of this graph's {n} outer faces")
+    require(np.allclose(traced.centroids, tri.mean(axis=1)), "traced", "centroids",
+            "must come from the same graph (outer face centroids differ)")
+    return traced
+
+
+def _inner_convection(temp_surface, twin, temp_room, nz_inner, back: BackSide, interior_h,
+                      interior_emissivity):
+    """Stage 3c: inner-face coefficients at the table rows of ``temp_surface`` (the outer
+    estimate per outer face) [W m-2 K-1]."""
+    if interior_h is not None:
+        return np.full((len(temp_surface), len(twin)), float(interior_h))
+    # inner-face temperature of the same quasi-steady estimate: the drop from the outer
+    # surface to the room splits between the layup and the inner film, T_in − T_room =
+    # (T_out − T_room) U / h_in0. ISO 6946 uses its sign (heat-flow direction) and T_m for
+    # the small radiative part.
+    temp_inner = temp_room + (temp_surface[:, twin] - temp_room) * \
+        (back.u_back[twin] / back.h_inner[twin])
+    return conv.h_interior_iso6946(temp_inner, temp_room[None, :], nz_inner[None, :],
+                                   include_radiation=True, emissivity=interior_emissivity)

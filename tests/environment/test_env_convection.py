@@ -193,3 +193,41 @@ def test_wind_log_profile():
     # ln(20/2e-4) / ln(10/2e-4) = 11.5129 / 10.8198 = 1.06406
     assert cv.wind_speed_at_height(5.0, 20.0) == pytest.approx(5.0 * 1.06406, rel=1e-5)
     assert np.all(np.diff(cv.wind_speed_at_height(5.0, np.linspace(1, 40, 20))) > 0)
+
+
+# ---- the exterior convection models ---------------------------------------------------------
+def test_turbulent_model_is_incropera_7_41_blended_with_natural_convection():
+    # Incropera 6th ed. eq. 7.41: Nu_L = 0.037 Re_L^0.8 Pr^1/3 (tripped at the leading edge),
+    # blended with the natural coefficient by Churchill (1977), h³ = h_F³ + h_N³
+    ts = np.array([300.0, 320.0, 280.0, 310.0])
+    ta = np.array([295.0, 295.0, 290.0, 305.0])
+    nz = np.array([0.0, 1.0, -1.0, 0.5])
+    v = np.array([0.5, 3.0, 8.0, 15.0])
+    length = np.array([2.0, 10.0, 40.0, 5.0])
+    lv, lh = np.array([3.0, 3.0, 6.0, 2.0]), np.array([1.0, 2.5, 5.0, 1.2])
+    props = cv.air_properties(0.5 * (ts + ta))
+    re = v * length / props.kinematic_viscosity
+    h_f = 0.037 * re ** 0.8 * props.prandtl ** (1 / 3) * props.conductivity / length
+    h_n = cv.h_natural(ts, ta, nz, lv, lh, props)
+    expected = (h_f ** 3 + h_n ** 3) ** (1 / 3)
+    model = cv.CONVECTION_MODELS["flat_plate_turbulent"]
+    np.testing.assert_allclose(model.h(ts, ta, nz, v, length, lv, lh), expected, rtol=1e-12)
+
+
+def test_iso6946_exterior_model_is_four_plus_four_v():
+    # ISO 6946:2017 Annex C eq. C.2; its design wind 4 m/s gives h_ce = 20 W m-2 K-1
+    v = np.array([0.0, 1.0, 4.0, 10.0])
+    model = cv.CONVECTION_MODELS["iso6946"]
+    h = model.h(np.full(4, 300.0), 290.0, 0.0, v, 10.0, 3.0, 1.0)
+    np.testing.assert_array_equal(h, [4.0, 8.0, 20.0, 44.0])
+
+
+def test_default_model_is_h_exterior_air_and_unknown_names_are_listed():
+    assert cv.CONVECTION_MODELS[cv.DEFAULT_CONVECTION_MODEL].h is cv.h_exterior_air
+    assert cv.convection_model(cv.CONVECTION_MODELS["iso6946"]).name == "iso6946"
+    with pytest.raises(InputError) as err:
+        cv.convection_model("jurges")
+    assert err.value.field == "convection.model"
+    assert all(name in err.value.allowed for name in cv.CONVECTION_MODELS)
+    for model in cv.CONVECTION_MODELS.values():
+        assert model.source and model.validity

@@ -14,10 +14,10 @@ from shipthermal.environment import Environment, climate_day
 from shipthermal.environment import convection as conv
 from shipthermal.environment.weather import Weather
 from shipthermal.errors import InputError
-from shipthermal.forcing import (LONGWAVE_EMISSIVITY, SOLAR_ABSORPTIVITY, PeriodicTable,
-                                 build_ship_forcing, part_values,
+from shipthermal.forcing import (PeriodicTable, build_ship_forcing, part_values,
                                  quasi_steady_surface_temperature)
 from shipthermal.geometry import build_ship_mesh, patrol_boat
+from shipthermal.parameters import LONGWAVE_EMISSIVITY, SOLAR_ABSORPTIVITY
 from shipthermal.units import DAY, SIGMA
 
 TIMES = np.arange(0.0, DAY, 1800.0)
@@ -253,6 +253,7 @@ def test_part_values_and_defaults():
     (dict(times=np.arange(-600.0, DAY, 600.0)), "times[0]"),      # outside the day
     (dict(samples_per_face=0), "samples_per_face"),
     (dict(current_speed=-1.0), "current_speed"),
+    (dict(convection="mcadams"), "convection"),
 ])
 def test_bad_inputs_name_the_field(boat, env, kwargs, field):
     ship, graph, f = boat

@@ -14,7 +14,8 @@ Temperatures in K, speeds in m/s, lengths in m, coefficients h in W m-2 K-1.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from dataclasses import dataclass
+from typing import Callable, NamedTuple
 
 import numpy as np
 
@@ -41,6 +42,13 @@ __all__ = [
     "h_hull_water",
     "h_interior_iso6946",
     "h_interior",
+    "ISO6946_INTERIOR_CONVECTION",
+    "h_exterior_iso6946",
+    "h_exterior_air_turbulent",
+    "ConvectionModel",
+    "CONVECTION_MODELS",
+    "DEFAULT_CONVECTION_MODEL",
+    "convection_model",
 ]
 
 G = 9.80665
@@ -528,8 +536,9 @@ def h_hull_water(temp_surface, temp_sea, ship_speed, length_flow, draught,
     return combine_mixed(hf, hn)
 
 
-# ISO 6946:2017 Annex C (C.3): convective coefficients for internal surfaces
-_ISO6946_HCI = {"up": 5.0, "horizontal": 2.5, "down": 0.7}
+ISO6946_INTERIOR_CONVECTION = {"up": 5.0, "horizontal": 2.5, "down": 0.7}
+"""Convective coefficient h_ci of internal surfaces by heat-flow direction [W m-2 K-1]:
+ISO 6946:2017 Annex C, C.3."""
 
 
 def h_interior_iso6946(temp_surface, temp_room, normal_z, include_radiation=False,
@@ -569,8 +578,9 @@ def h_interior_iso6946(temp_surface, temp_room, normal_z, include_radiation=Fals
     # heat-flow direction (vertical component): surface→room along +n if surface warmer
     flow_z = np.sign(ts - tr) * nz
     sin30 = 0.5
-    hci = np.where(flow_z > sin30, _ISO6946_HCI["up"],
-                   np.where(flow_z < -sin30, _ISO6946_HCI["down"], _ISO6946_HCI["horizontal"]))
+    hci_ = ISO6946_INTERIOR_CONVECTION
+    hci = np.where(flow_z > sin30, hci_["up"],
+                   np.where(flow_z < -sin30, hci_["down"], hci_["horizontal"]))
     if include_radiation:
         tm = 0.5 * (ts + tr)
         hci = hci + emissivity * 4.0 * SIGMA * tm ** 3
@@ -606,3 +616,98 @@ def h_interior(temp_surface, temp_room, normal_z, length_vertical=None,
         props = air_properties(0.5 * (ts + tr))
         return h_natural(ts, tr, normal_z, length_vertical, length_horizontal, props)
     raise InputError("interior.method", method, "must be 'iso6946' or 'natural'")
+
+
+# ---------------------------------------------------------------------------------------
+# Exterior convection models (registry)
+# ---------------------------------------------------------------------------------------
+def h_exterior_iso6946(temp_surface, temp_air, normal_z, wind_speed_relative, length_flow,
+                       length_vertical, length_horizontal):
+    """Exterior convective coefficient of ISO 6946:2017 Annex C, ``h_ce = 4 + 4 v``
+    [W m-2 K-1].
+
+    Parameters as :func:`h_exterior_air`; only ``wind_speed_relative`` (``v``, the wind
+    speed next to the surface [m s-1]) enters: the coefficient is independent of the
+    surface temperature, orientation and size.
+
+    Notes
+    -----
+    ISO 6946:2017, Annex C, eq. (C.2) (the building standard's external surface
+    convection; its radiative part ``ε h_r0`` is not included: the surface balance carries
+    the long-wave exchange itself).
+    """
+    shape = np.broadcast_shapes(np.shape(temp_surface), np.shape(temp_air),
+                                np.shape(wind_speed_relative))
+    v = np.abs(np.asarray(wind_speed_relative, dtype=float))
+    return np.broadcast_to(4.0 + 4.0 * v, shape).astype(float)
+
+
+def h_exterior_air_turbulent(temp_surface, temp_air, normal_z, wind_speed_relative,
+                             length_flow, length_vertical, length_horizontal):
+    """:func:`h_exterior_air` with a boundary layer tripped at the leading edge
+    [W m-2 K-1]: forced ``Nu = 0.037 Re^0.8 Pr^1/3`` (Incropera eq. 7.41), combined with
+    natural convection by Churchill (1977), n = 3."""
+    return h_exterior_air(temp_surface, temp_air, normal_z, wind_speed_relative, length_flow,
+                          length_vertical, length_horizontal, boundary_layer="turbulent")
+
+
+@dataclass(frozen=True)
+class ConvectionModel:
+    """An exterior (air-side) convection correlation.
+
+    Attributes
+    ----------
+    name : str
+        Key in :data:`CONVECTION_MODELS`.
+    h : callable
+        ``h(temp_surface [K], temp_air [K], normal_z [-], wind_speed_relative [m s-1],
+        length_flow [m], length_vertical [m], length_horizontal [m]) -> [W m-2 K-1]``,
+        vectorised.
+    source : str
+        Where the correlation comes from.
+    validity : str
+        Range in which its source supports it.
+    """
+
+    name: str
+    h: Callable
+    source: str
+    validity: str
+
+
+CONVECTION_MODELS: dict[str, ConvectionModel] = {m.name: m for m in (
+    ConvectionModel(
+        "flat_plate_mixed", h_exterior_air,
+        "forced: flat plate, laminar to Re_c = 5e5 then turbulent (Incropera et al., 6th "
+        "ed., eq. 7.38); natural: Churchill & Chu (1975) vertical, Lloyd & Moran (1974) / "
+        "0.52 Ra^1/5 horizontal, tilt by Raithby & Hollands (1998); combined by Churchill "
+        "(1977), n = 3",
+        "0.6 <= Pr <= 60 (air 0.7), Re_L <= 1e8; natural convection all Ra"),
+    ConvectionModel(
+        "flat_plate_turbulent", h_exterior_air_turbulent,
+        "forced: flat plate tripped at the leading edge, 0.037 Re^0.8 Pr^1/3 (Incropera et "
+        "al., 6th ed., eq. 7.41); natural and blending as flat_plate_mixed",
+        "0.6 <= Pr <= 60, 5e5 <= Re_L <= 1e8 (disturbed leading edge: superstructure "
+        "fittings, a rough sea)"),
+    ConvectionModel(
+        "iso6946", h_exterior_iso6946,
+        "ISO 6946:2017 Annex C, eq. C.2: h_ce = 4 + 4 v (v wind speed at the surface)",
+        "building envelopes; the standard's design values use v = 4 m/s (h_ce = 20)"),
+)}
+"""Exterior convection models by name (pvlib-style named set)."""
+
+DEFAULT_CONVECTION_MODEL = "flat_plate_mixed"
+"""The model of the air faces when none is chosen."""
+
+
+def convection_model(name: str | ConvectionModel, field: str = "convection.model"
+                     ) -> ConvectionModel:
+    """Look a model up in :data:`CONVECTION_MODELS` (a :class:`ConvectionModel` passes
+    through); an unknown name raises :class:`InputError` listing the known ones."""
+    if isinstance(name, ConvectionModel):
+        return name
+    if name not in CONVECTION_MODELS:
+        raise InputError(field, name, f"must be one of {', '.join(CONVECTION_MODELS)}",
+                         "See shipthermal.environment.convection.CONVECTION_MODELS for the "
+                         "sources and validity of each")
+    return CONVECTION_MODELS[name]

@@ -1,0 +1,138 @@
+"""Named parameter sets: every default of the surface physics, written once with its source.
+
+In the spirit of pvlib's ``TEMPERATURE_MODEL_PARAMETERS``: literature values are named data
+that the thermal stage (:mod:`shipthermal.forcing`), the scenario and the imaging
+(:mod:`imaging.radiometry`, :mod:`imaging.atmosphere`) read from here, so the two stages can
+never disagree on a number. The module imports nothing heavier than :mod:`shipthermal.errors`
+(the scenario loads it without numpy-heavy imports and the imaging uses it as a lower
+layer).
+
+The other named sets live next to the code that gives them meaning, each written once as
+well: materials in :data:`shipthermal.materials.MATERIALS`, plate layups and compartment
+temperatures in :mod:`shipthermal.geometry.layups`, the built-in design days in
+:mod:`shipthermal.environment.climatology`, the convection correlations in
+:data:`shipthermal.environment.convection.CONVECTION_MODELS`.
+
+Parts are the main parts of :mod:`shipthermal.geometry.parts` (``hull`` stands for both
+``hull_wetted`` and ``hull_dry``).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from .errors import InputError, check_range
+
+__all__ = [
+    "BAND_EMISSIVITY", "LONGWAVE_EMISSIVITY", "SOLAR_ABSORPTIVITY", "SEA_EMISSIVITY",
+    "BANDS", "BAND_ALIASES", "ATMOSPHERE_WAVELENGTH_UM", "parse_band",
+    "WIND_SPEED_MAX", "check_wind_speed", "part_default",
+]
+
+# ---------------------------------------------------------------------------------------
+# Surface optics of the ship, per main part
+# ---------------------------------------------------------------------------------------
+BAND_EMISSIVITY: dict[str, dict[str, float]] = {
+    "hull": {"3-5": 0.85, "8-14": 0.90},
+    "deck": {"3-5": 0.90, "8-14": 0.95},
+    "superstructure": {"3-5": 0.78, "8-14": 0.88},
+}
+"""Band emissivity per main part and sensor band [-]: the paper's §5 values (3–5 µm: hull
+0.85, deck 0.90, superstructure 0.78; 8–14 µm: 0.90, 0.95, 0.88)."""
+
+LONGWAVE_EMISSIVITY: dict[str, float] = {p: v["8-14"] for p, v in BAND_EMISSIVITY.items()}
+"""Broadband (thermal, ~4–50 µm) hemispherical emissivity per main part [-] of the thermal
+stage: the paper's §5 8–14 µm value of the part (hull 0.90, deck 0.95, superstructure 0.88).
+
+The 8–14 µm window holds the peak of ~300 K emission (about a third of it); outside it the
+paints are near-black (Incropera et al., 6th ed., Table A.11: 0.90–0.98 for paints of all
+colours, and ISO 6946:2017 Annex C's 0.90 for painted surfaces sits inside that range), so
+the band value is the best broadband estimate the sources give per part, and the thermal and
+imaging stages use one emissivity per part where they overlap. Kirchhoff: the same value
+absorbs the incident long-wave."""
+
+SOLAR_ABSORPTIVITY: dict[str, float] = {"hull": 0.70, "deck": 0.85, "superstructure": 0.70}
+"""Solar (short-wave) absorptivity per main part [-].
+
+ASSUMPTION bracketed by a source: ASHRAE Handbook — Fundamentals (2017), ch. 18, sol-air
+temperature, takes α/h_o = 0.026 m² K W-1 for light-coloured and 0.052 for dark surfaces
+with h_o = 17 W m-2 K-1, i.e. α ≈ 0.45 (light) and α ≈ 0.9 (dark). Naval haze-grey topside
+paint is a medium grey: 0.70 (the hull below the waterline never sees the sun; its value is
+unused). Weather decks carry a dark-grey epoxy non-skid covering: 0.85, near the dark end.
+Fixed before any comparison with the paper's reference deck temperatures (and part of the
+validation's ±0.05 sensitivity table); override per part when paint data are known."""
+
+
+def part_default(table: dict, part: str) -> float:
+    """The value of ``table`` (keyed by main part, ``hull`` for both hull parts) for a main
+    part or ``hull_wetted`` / ``hull_dry``."""
+    return table["hull" if part.startswith("hull") else part]
+
+
+SEA_EMISSIVITY = 0.984
+"""Broadband hemispherical emissivity of the sea surface [-]: Konda, Imasato, Nishi & Toda
+(1994), J. Oceanogr. 50, 17–30, measured 0.984 ± 0.004 (the commonly used ≈ 0.98)."""
+
+# ---------------------------------------------------------------------------------------
+# Sensor bands
+# ---------------------------------------------------------------------------------------
+BANDS: dict[str, tuple[float, float]] = {"3-5": (3.0, 5.0), "8-14": (8.0, 14.0)}
+"""The paper's rectangular sensor bands [µm] (§5)."""
+BAND_ALIASES = {"mwir": "3-5", "3-5um": "3-5", "lwir": "8-14", "8-14um": "8-14"}
+"""Other names of :data:`BANDS` (lower case, no spaces, µm written ``um``)."""
+ATMOSPHERE_WAVELENGTH_UM = (2.9, 14.5)
+"""Wavelength range [µm] of the embedded atmosphere tables: every band must lie inside."""
+
+
+def parse_band(band) -> tuple[str, tuple[float, float]]:
+    """Canonical name and limits [µm] of a band.
+
+    Accepts ``"3-5"``, ``"8-14"``, ``"mwir"``, ``"lwir"``, any ``"lo-hi"`` string in µm
+    (``"3.7-4.8"``) or a ``(lo, hi)`` pair, inside :data:`ATMOSPHERE_WAVELENGTH_UM`. A band
+    equal to a named one gets its name.
+    """
+    lo_lim, hi_lim = ATMOSPHERE_WAVELENGTH_UM
+    allowed = (f"must be {', '.join(repr(b) for b in BANDS)}, 'mwir', 'lwir' or 'lo-hi' in "
+               f"µm with {lo_lim:g} <= lo < hi <= {hi_lim:g} (the atmosphere tables' range)")
+    if isinstance(band, str):
+        key = band.strip().lower().replace(" ", "").replace("µm", "um")
+        key = BAND_ALIASES.get(key, key)
+        if key in BANDS:
+            return key, BANDS[key]
+        m = re.match(r"^(\d+(?:\.\d*)?)-(\d+(?:\.\d*)?)(?:um)?$", key)
+        if not m:
+            raise InputError("band", band, allowed)
+        lo, hi = float(m.group(1)), float(m.group(2))
+    else:
+        try:
+            items = list(band)
+        except TypeError:
+            raise InputError("band", band, allowed) from None
+        if len(items) != 2 or any(isinstance(b, (bool, str)) for b in items):
+            raise InputError("band", band, allowed)
+        try:
+            lo, hi = float(items[0]), float(items[1])
+        except (TypeError, ValueError):
+            raise InputError("band", band, allowed) from None
+    if not (lo_lim <= lo < hi <= hi_lim):
+        raise InputError("band", band, allowed)
+    for name, lim in BANDS.items():
+        if math.isclose(lim[0], lo) and math.isclose(lim[1], hi):
+            return name, lim
+    return f"{lo:g}-{hi:g}", (lo, hi)
+
+
+# ---------------------------------------------------------------------------------------
+# Ranges accepted at the interfaces
+# ---------------------------------------------------------------------------------------
+WIND_SPEED_MAX = 40.0
+"""Largest wind speed accepted [m s-1]: above hurricane force (Beaufort 12 starts at 32.7
+m/s, WMO-No. 8); the sea-surface fits (Cox & Munk 1954: 1–14 m/s) are extrapolated well
+before that."""
+
+
+def check_wind_speed(field: str, value) -> None:
+    """Raise :class:`InputError` unless every ``value`` is in [0, :data:`WIND_SPEED_MAX`]
+    m/s."""
+    check_range(field, value, 0.0, WIND_SPEED_MAX, "m/s")

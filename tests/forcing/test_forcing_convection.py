@@ -1,0 +1,140 @@
+"""Convection models of the air faces and the one source of the surface optics.
+
+One patrol boat at 2 m edges is traced once; the other builds reuse its tracer.
+"""
+
+import numpy as np
+import pytest
+
+from shipthermal.environment import Environment, climate_day
+from shipthermal.environment import convection as conv
+from shipthermal.errors import InputError
+from shipthermal.forcing import build_ship_forcing, quasi_steady_surface_temperature
+from shipthermal.geometry import build_ship_mesh, patrol_boat
+from shipthermal.parameters import LONGWAVE_EMISSIVITY, SOLAR_ABSORPTIVITY
+from shipthermal.units import DAY, SIGMA
+
+TIMES = np.arange(0.0, DAY, 1800.0)
+
+
+@pytest.fixture(scope="module")
+def boat():
+    env = Environment.from_climate_day(climate_day("summer"), ship_heading=45.0)
+    ship = patrol_boat(edge_length=2.0)
+    graph, _ = build_ship_mesh(ship)
+    f = build_ship_forcing(ship, env, graph, times=TIMES, dtype=np.float64, progress=False)
+    return ship, env, graph, f
+
+
+def _air_h_table(f):
+    """(n_times, K) convection coefficients of the outer faces (air faces filled)."""
+    out = np.full((len(f.times), len(f.outer_bfaces)), np.nan)
+    for name, p in f.patches.items():
+        if p.kind == "air":
+            out[:, p.cols] = f._h[name]
+    return out[:, f.outer_is_air]
+
+
+def _apparent_wind(f, env, state):
+    """Apparent wind speed [m/s] and angle off the bow [deg] at every air face's height."""
+    air = np.flatnonzero(f.outer_is_air)
+    z = np.maximum(f.traced.centroids[air, 2], 0.0)
+    u = conv.wind_speed_at_height(state.wind_speed[:, None], z[None, :])
+    speed, _, off_bow = conv.relative_wind(u, state.wind_direction[:, None], env.ship_speed,
+                                           env.ship_heading)
+    return speed, off_bow
+
+
+def test_default_model_is_the_churchill_flat_plate_bit_for_bit(boat):
+    # the default tables are those of the documented physics, composed here from the public
+    # correlation functions and nothing of the forcing's own stages: apparent wind at face
+    # height over the part's box length along it, h_exterior_air at the quasi-steady
+    # estimate with the layup + ISO 6946 back side
+    ship, env, graph, f = boat
+    assert f.convection_model == conv.DEFAULT_CONVECTION_MODEL == "flat_plate_mixed"
+    state = env.at(f.times)
+    air = np.flatnonzero(f.outer_is_air)
+    speed, off_bow = _apparent_wind(f, env, state)
+    names = f.part_names
+    part = f.outer_part[air]
+    tri = f.traced.vertices[f.traced.faces]
+    edge = float(np.sqrt(np.median(f.traced.areas) * 2.0))
+    box = {}
+    for k, n in enumerate(names):
+        sel = f.outer_part == k
+        if sel.any():
+            pts = tri[sel].reshape(-1, 3)
+            lo, hi = pts.min(axis=0), pts.max(axis=0)
+            bx, by = hi[0] - lo[0], hi[1] - lo[1]
+            bz = hi[2] - (max(lo[2], 0.0) if hi[2] > 0 else lo[2])
+            box[k] = (max(bx, edge), max(by, edge), max(bz, edge),
+                      max(bx * by / (2.0 * (bx + by)), edge))
+    lx, ly, lv, lh = (np.array([box[k][i] for k in part]) for i in range(4))
+    ang = np.radians(off_bow)
+    length = lx * np.abs(np.cos(ang)) + ly * np.abs(np.sin(ang))
+    t_room = np.array([ship.compartment_temperature[names[k]] for k in part])
+    h_in = 2.5 + 0.9 * 4.0 * SIGMA * t_room ** 3
+    u_back = 1.0 / (np.array([ship.layups[names[k]].thermal_resistance for k in part])
+                    + 1.0 / h_in)
+    share = (f.F_sky + f.F_sea)[air]
+    lw = f.F_sky[air] * state.longwave_down[:, None] + f.F_sea[air] * state.sea_longwave_up[:, None]
+    absorbed = np.stack([f.absorbed_shortwave(t)[air] for t in f.times])
+    ta = state.temp_air[:, None]
+    nz = f.traced.normals[air, 2]
+
+    def h_of(ts):
+        return conv.h_exterior_air(ts, ta, nz, speed, length, lv, lh)
+
+    inv_share = np.divide(1.0, share, out=np.zeros_like(share), where=share > 0)
+    ts = quasi_steady_surface_temperature(absorbed, f.epsilon[air] * share, lw * inv_share, ta,
+                                          h_of, u_back, t_room)
+    np.testing.assert_array_equal(_air_h_table(f), h_of(ts))
+    # choosing it by name or passing the model object changes nothing
+    for model in ("flat_plate_mixed", conv.CONVECTION_MODELS["flat_plate_mixed"]):
+        g = build_ship_forcing(ship, env, graph, times=TIMES, dtype=np.float64,
+                               traced=f.traced, convection=model)
+        np.testing.assert_array_equal(_air_h_table(g), _air_h_table(f))
+
+
+def test_iso6946_model_is_four_plus_four_v_at_the_apparent_wind(boat):
+    # ISO 6946:2017 Annex C eq. C.2: h_ce = 4 + 4 v with v the wind at the surface
+    ship, env, graph, f = boat
+    g = build_ship_forcing(ship, env, graph, times=TIMES, dtype=np.float64, traced=f.traced,
+                           convection="iso6946")
+    assert g.convection_model == "iso6946"
+    speed, _ = _apparent_wind(g, env, env.at(g.times))
+    np.testing.assert_allclose(_air_h_table(g), 4.0 + 4.0 * speed, rtol=1e-14)
+    # the short-wave does not depend on the convection model
+    for t in (6 * 3600.0, 13 * 3600.0):
+        assert np.array_equal(g.absorbed_shortwave(t), f.absorbed_shortwave(t))
+
+
+def test_unknown_model_lists_the_known_ones(boat):
+    ship, env, graph, f = boat
+    with pytest.raises(InputError) as err:
+        build_ship_forcing(ship, env, graph, times=TIMES, traced=f.traced, convection="mcadams")
+    assert err.value.field == "convection" and err.value.value == "mcadams"
+    for name in conv.CONVECTION_MODELS:
+        assert name in str(err.value)
+
+
+def test_direct_api_takes_the_parameter_module_optics(boat):
+    # one source: the forcing's defaults are the parameter module's per part
+    ship, env, graph, f = boat
+    for part in f.part_names:
+        main = "hull" if part.startswith("hull") else part.split("_")[0]
+        assert f.emissivity[part] == LONGWAVE_EMISSIVITY[main]
+        assert f.absorptivity[part] == SOLAR_ABSORPTIVITY[main]
+    assert LONGWAVE_EMISSIVITY["deck"] == 0.95
+
+
+def test_scenario_and_direct_api_give_the_deck_the_same_emissivity(boat):
+    # the default scenario and the forcing's direct API must agree on every part's
+    # broadband emissivity and solar absorptivity (the deck once differed: 0.95 vs 0.90)
+    from shipthermal.scenario import default_scenario
+
+    ship, env, graph, f = boat
+    sc = default_scenario("summer")
+    for part in f.part_names:
+        assert sc.longwave_emissivity(part) == f.emissivity[part], part
+        assert sc.solar_absorptivity(part) == f.absorptivity[part], part
