@@ -17,7 +17,9 @@ import math
 import numpy as np
 from scipy.special import erfc
 
+from shipthermal.environment.sea import fresnel_reflectance  # the one Fresnel reflectance
 from shipthermal.errors import InputError, check_positive, check_range, require
+from shipthermal.parameters import check_wind_speed
 
 __all__ = [
     "direction", "fresnel_reflectance", "fresnel_normal_reflectance", "schlick_fresnel",
@@ -38,36 +40,6 @@ def direction(theta, phi):
 # ---------------------------------------------------------------------------------------
 # Fresnel
 # ---------------------------------------------------------------------------------------
-def fresnel_reflectance(cos_incidence, refractive_index):
-    """Unpolarised Fresnel reflectance of a smooth interface from air.
-
-    Parameters
-    ----------
-    cos_incidence : array_like
-        Cosine of the local incidence angle [-], in [0, 1].
-    refractive_index : complex or array_like
-        Complex refractive index ``n + i k`` of the medium [-] (k >= 0 absorbing).
-
-    Returns
-    -------
-    numpy.ndarray
-        Reflectance ``(|r_s|^2 + |r_p|^2) / 2`` [-].
-
-    Notes
-    -----
-    Born & Wolf, Principles of Optics, §1.5 and §14.2 (absorbing media through a complex
-    index): ``cos t = sqrt(1 - sin^2 i / m^2)`` (principal branch), ``r_s = (cos i - m cos
-    t)/(cos i + m cos t)``, ``r_p = (m cos i - cos t)/(m cos i + cos t)``.
-    """
-    ci = np.clip(np.asarray(cos_incidence, dtype=float), 0.0, 1.0)
-    m = np.asarray(refractive_index, dtype=complex)
-    sin2 = 1.0 - ci * ci
-    ct = np.sqrt(1.0 - sin2 / (m * m))
-    rs = (ci - m * ct) / (ci + m * ct)
-    rp = (m * ci - ct) / (m * ci + ct)
-    return 0.5 * (np.abs(rs) ** 2 + np.abs(rp) ** 2)
-
-
 def fresnel_normal_reflectance(refractive_index):
     """Normal-incidence reflectance ``((n-1)^2 + k^2) / ((n+1)^2 + k^2)`` [-] (``F0``)."""
     m = np.asarray(refractive_index, dtype=complex)
@@ -113,7 +85,7 @@ def cox_munk_slope_variance(wind_speed, anisotropic: bool = False):
     defined.
     """
     u = np.asarray(wind_speed, dtype=float)
-    check_range("wind_speed", u, 0.0, 40.0, "m/s")
+    check_wind_speed("wind_speed", u)
     if not anisotropic:
         return 0.003 + 5.12e-3 * u
     return (np.maximum(3.16e-3 * u, _CALM_COMPONENT_FLOOR),

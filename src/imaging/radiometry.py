@@ -7,13 +7,11 @@ radiance in W m-2 sr-1 (the band radiance is the response-weighted integral
 
 Constants
 ---------
-The paper (eq. 2) gives ``c1 = 1.191e8 W um4 m-2 sr-1`` and ``c2 = 1.4388e4 um K``; these are
-the defaults (:data:`C1_PAPER`, :data:`C2_PAPER`). The exact CODATA values
-(:data:`C1_CODATA` = 2 h c^2, :data:`C2_CODATA` = h c / k) are available for checks.
-With the paper's four/five significant digits the full-band integral differs from
-``sigma T^4 / pi`` by ``(1.191 / 1.191043) (1.438777 / 1.4388)^4 - 1 = -1.00e-4`` relative
-(c1 contributes -3.6e-5, c2 -6.4e-5); with CODATA constants the agreement is at round-off
-(see the tests).
+The radiation constants are those of :mod:`shipthermal.units` (``c1 = 2 h c^2``, ``c2 = h c /
+k`` from the exact SI constants), with which the full-band integral equals ``sigma T^4 / pi``
+to round-off. The paper (eq. 2) rounds them to ``c1 = 1.191e8 W um4 m-2 sr-1`` and ``c2 =
+1.4388e4 um K``: that changes the full-band radiance by ``(1.191 / 1.191043) (1.438777 /
+1.4388)^4 - 1 = -1.00e-4`` relative (c1 -3.6e-5, c2 -6.4e-5; the tests check it).
 
 Paper typo: eq. 2 writes ``eps/pi * int c1 / (lambda^5 (exp(c2/lambda T) - 1))``. With
 ``c1 = 1.191e8 W um4 m-2 sr-1`` (that is ``2 h c^2``, the *radiance* constant) the extra
@@ -43,9 +41,10 @@ import numpy as np
 from scipy.special import bernoulli
 
 from shipthermal.errors import InputError, check_positive, check_range, require
+from shipthermal.parameters import BAND_EMISSIVITY, BANDS, check_wind_speed
+from shipthermal.units import PLANCK_C1, PLANCK_C2
 
 __all__ = [
-    "C1_PAPER", "C2_PAPER", "C1_CODATA", "C2_CODATA",
     "SpectralResponse", "rectangular_response", "standard_band",
     "planck_radiance", "planck_radiance_dt",
     "band_radiance", "band_radiance_dt", "band_radiance_rectangular_exact",
@@ -56,23 +55,6 @@ __all__ = [
     "sea_emissivity", "rough_sea_emissivity", "rough_sea_emissivity_hemispherical",
     "leaving_radiance",
 ]
-
-# ---------------------------------------------------------------------------------------
-# Constants
-# ---------------------------------------------------------------------------------------
-C1_PAPER = 1.191e8
-"""First radiation constant for spectral radiance, paper eq. 2 [W um4 m-2 sr-1]."""
-C2_PAPER = 1.4388e4
-"""Second radiation constant, paper eq. 2 [um K]."""
-
-_H = 6.62607015e-34   # Planck constant [J s] (SI exact)
-_C = 299792458.0      # speed of light [m s-1] (SI exact)
-_K = 1.380649e-23     # Boltzmann constant [J K-1] (SI exact)
-C1_CODATA = 2.0 * _H * _C**2 * 1e24
-"""2 h c^2 = 1.191042972e8 [W um4 m-2 sr-1] (from the exact SI constants)."""
-C2_CODATA = _H * _C / _K * 1e6
-"""h c / k = 1.438776877e4 [um K] (from the exact SI constants)."""
-
 
 # ---------------------------------------------------------------------------------------
 # Spectral response
@@ -150,15 +132,12 @@ def rectangular_response(low_um: float, high_um: float, name: str | None = None
                             np.array([1.0, 1.0]))
 
 
-_STANDARD_BANDS = {"3-5": (3.0, 5.0), "8-14": (8.0, 14.0)}
-
-
 def standard_band(name: str) -> SpectralResponse:
     """The paper's rectangular bands: ``"3-5"`` (3-5 um) or ``"8-14"`` (8-14 um)."""
-    if name not in _STANDARD_BANDS:
-        raise InputError("band", name, f"must be one of {sorted(_STANDARD_BANDS)}",
+    if name not in BANDS:
+        raise InputError("band", name, f"must be one of {sorted(BANDS)}",
                          "Or pass a SpectralResponse built from your own table")
-    return rectangular_response(*_STANDARD_BANDS[name], name=name)
+    return rectangular_response(*BANDS[name], name=name)
 
 
 def _as_response(band) -> SpectralResponse:
@@ -168,7 +147,7 @@ def _as_response(band) -> SpectralResponse:
 # ---------------------------------------------------------------------------------------
 # Planck
 # ---------------------------------------------------------------------------------------
-def planck_radiance(wavelength_um, temp, c1: float = C1_PAPER, c2: float = C2_PAPER):
+def planck_radiance(wavelength_um, temp, c1: float = PLANCK_C1, c2: float = PLANCK_C2):
     """Blackbody spectral radiance.
 
     Parameters
@@ -178,9 +157,9 @@ def planck_radiance(wavelength_um, temp, c1: float = C1_PAPER, c2: float = C2_PA
     temp : array_like
         Temperature [K]; broadcast against ``wavelength_um``.
     c1 : float
-        First radiation constant [W um4 m-2 sr-1]; default the paper's 1.191e8.
+        First radiation constant [W um4 m-2 sr-1]; default ``2 h c^2`` (SI exact).
     c2 : float
-        Second radiation constant [um K]; default the paper's 1.4388e4.
+        Second radiation constant [um K]; default ``h c / k`` (SI exact).
 
     Returns
     -------
@@ -197,7 +176,7 @@ def planck_radiance(wavelength_um, temp, c1: float = C1_PAPER, c2: float = C2_PA
     return c1 / (wl**5 * np.expm1(c2 / (wl * t)))
 
 
-def planck_radiance_dt(wavelength_um, temp, c1: float = C1_PAPER, c2: float = C2_PAPER):
+def planck_radiance_dt(wavelength_um, temp, c1: float = PLANCK_C1, c2: float = PLANCK_C2):
     """Temperature derivative of :func:`planck_radiance` [W m-2 sr-1 um-1 K-1].
 
     ``dL/dT = L * x exp(x) / (T (exp(x) - 1))`` with ``x = c2 / (lambda T)``.
@@ -222,7 +201,7 @@ def _band_sum(kernel, temp, band, nodes_per_segment, c1, c2):
 
 
 def band_radiance(temp, band="8-14", nodes_per_segment: int = 8,
-                  c1: float = C1_PAPER, c2: float = C2_PAPER):
+                  c1: float = PLANCK_C1, c2: float = PLANCK_C2):
     """Blackbody band radiance ``int R(lambda) L_lambda(lambda, T) d lambda``.
 
     Parameters
@@ -234,7 +213,7 @@ def band_radiance(temp, band="8-14", nodes_per_segment: int = 8,
     nodes_per_segment : int
         Gauss-Legendre nodes per response-table segment [-].
     c1, c2 : float
-        Radiation constants [W um4 m-2 sr-1], [um K] (paper values by default).
+        Radiation constants [W um4 m-2 sr-1], [um K] (SI exact by default).
 
     Returns
     -------
@@ -250,7 +229,7 @@ def band_radiance(temp, band="8-14", nodes_per_segment: int = 8,
 
 
 def band_radiance_dt(temp, band="8-14", nodes_per_segment: int = 8,
-                     c1: float = C1_PAPER, c2: float = C2_PAPER):
+                     c1: float = PLANCK_C1, c2: float = PLANCK_C2):
     """Temperature derivative of :func:`band_radiance` [W m-2 sr-1 K-1].
 
     Same parameters as :func:`band_radiance` (``temp`` [K]). Used for NETD -> noise-equivalent
@@ -287,7 +266,7 @@ def _planck_tail(x):
 
 
 def band_radiance_rectangular_exact(temp, low_um, high_um,
-                                    c1: float = C1_PAPER, c2: float = C2_PAPER):
+                                    c1: float = PLANCK_C1, c2: float = PLANCK_C2):
     """Exact blackbody radiance over a rectangular band, from a convergent series.
 
     Parameters
@@ -309,7 +288,7 @@ def band_radiance_rectangular_exact(temp, low_um, high_um,
     With ``x = c2 / (lambda T)``: ``L = c1 T^4 / c2^4 [G(x_high) - G(x_low)]``, ``G`` from
     :func:`_planck_tail`. Independent of any wavelength quadrature, so it is the reference
     for :func:`band_radiance`. Full band: ``c1 pi^4 T^4 / (15 c2^4)`` (= ``sigma T^4 / pi``
-    with CODATA constants).
+    with the default constants).
     """
     t = np.asarray(temp, dtype=float)
     with np.errstate(divide="ignore"):
@@ -319,7 +298,7 @@ def band_radiance_rectangular_exact(temp, low_um, high_um,
 
 
 def brightness_temperature(radiance, band="8-14", nodes_per_segment: int = 8,
-                           c1: float = C1_PAPER, c2: float = C2_PAPER, iterations: int = 6):
+                           c1: float = PLANCK_C1, c2: float = PLANCK_C2, iterations: int = 6):
     """Invert :func:`band_radiance`: the blackbody temperature giving ``radiance``.
 
     Parameters
@@ -398,7 +377,7 @@ class BandRadianceTable:
 
 def band_radiance_table(band="8-14", temp_min: float = 150.0, temp_max: float = 450.0,
                         temp_step: float = 1.0, nodes_per_segment: int = 8,
-                        c1: float = C1_PAPER, c2: float = C2_PAPER) -> BandRadianceTable:
+                        c1: float = PLANCK_C1, c2: float = PLANCK_C2) -> BandRadianceTable:
     """Build a :class:`BandRadianceTable` for ``band`` on ``[temp_min, temp_max]`` [K].
 
     ``temp_step`` [K] is the knot spacing; the achieved maximum relative error is measured
@@ -423,11 +402,10 @@ def band_radiance_table(band="8-14", temp_min: float = 150.0, temp_max: float = 
 # ---------------------------------------------------------------------------------------
 # Emissivities
 # ---------------------------------------------------------------------------------------
-SHIP_EMISSIVITY = {
-    "3-5": {"hull": 0.85, "deck": 0.90, "superstructure": 0.78},
-    "8-14": {"hull": 0.90, "deck": 0.95, "superstructure": 0.88},
-}
-"""Ship part emissivities per band [-], paper §5 (3-5 um and 8-14 um results)."""
+SHIP_EMISSIVITY = {band: {part: values[band] for part, values in BAND_EMISSIVITY.items()}
+                   for band in BANDS}
+"""Ship part emissivities per band [-]: :data:`shipthermal.parameters.BAND_EMISSIVITY` (paper
+§5) arranged band first."""
 
 
 @dataclass(frozen=True)
@@ -483,7 +461,7 @@ def ship_emissivity(part: str, band: str) -> float:
 
     Notes
     -----
-    Paper §5: 3-5 um hull 0.85, deck 0.90, superstructure 0.78; 8-14 um 0.90, 0.95, 0.88.
+    :data:`shipthermal.parameters.BAND_EMISSIVITY` (paper §5).
     """
     if band not in SHIP_EMISSIVITY:
         raise InputError("band", band, f"must be one of {sorted(SHIP_EMISSIVITY)}")
@@ -677,7 +655,7 @@ def rough_sea_emissivity(view_zenith, band="8-14", wind_speed=5.0):
     """
     theta = np.asarray(view_zenith, dtype=float)
     check_range("view_zenith", theta, 0.0, math.pi / 2, "rad")
-    check_range("wind_speed", wind_speed, 0.0, 40.0, "m/s")
+    check_wind_speed("wind_speed", wind_speed)
     m = water_band_mean_index(band)
     alb = [_rough_albedo(float(t), m.real, m.imag, float(wind_speed)) for t in theta.ravel()]
     return 1.0 - np.reshape(alb, theta.shape)

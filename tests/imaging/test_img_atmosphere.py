@@ -6,7 +6,7 @@ import pytest
 from imaging.atmosphere import (BANDS, atmosphere, band_integrate, interpolation_errors,
                                 load_table, planck_weighted_transmittance, sky_radiance)
 from imaging.atmosphere import aerosol as aer
-from imaging.atmosphere.bands import planck_radiance_um
+from imaging.radiometry import planck_radiance
 from shipthermal.errors import InputError
 
 SEASONS = ("summer", "winter")
@@ -92,7 +92,7 @@ def test_radiance_bounds(season, band):
     model = {"summer": 2, "winter": 3}[season]
     t_max = tabs["model_temp_k"][model - 1, 0]  # the surface is the warmest level
     lam = np.linspace(*BANDS[band], 2001)
-    b_max = band_integrate(lam, planck_radiance_um(lam, t_max), BANDS[band])
+    b_max = band_integrate(lam, planck_radiance(lam, t_max), BANDS[band])
     for view in (0.0, 45.0, 80.0):
         r = _band(season, band, view)
         # an atmosphere no warmer than T_max emits at most B(T_max) (1 - tau)
@@ -316,7 +316,7 @@ def test_scattered_solar_peaks_toward_the_sun():
 def test_source_weighted_transmittances():
     r = atmosphere("summer", "3-5", 0.0, 30.0)
     lam, tau = r.wavelength_um, r.transmittance_spectral
-    b = planck_radiance_um(lam, 300.0)
+    b = planck_radiance(lam, 300.0)
     direct = band_integrate(lam, tau * b, (3, 5)) / band_integrate(lam, b, (3, 5))
     got = planck_weighted_transmittance("summer", "3-5", 0.0, [300.0, 250.0])
     assert got[0] == pytest.approx(direct, rel=1e-12)

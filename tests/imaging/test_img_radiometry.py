@@ -9,7 +9,7 @@ from scipy.integrate import quad
 from imaging import radiometry as rad
 from imaging.brdf import fresnel_reflectance
 from shipthermal.errors import InputError
-from shipthermal.units import SIGMA
+from shipthermal.units import PLANCK_C1, PLANCK_C2, SIGMA
 
 TEMPS = np.array([150.0, 200.0, 250.0, 273.15, 300.0, 350.0, 450.0, 700.0, 1000.0])
 
@@ -20,8 +20,10 @@ SIGMA_EXACT = 2 * math.pi**5 * _K**4 / (15 * _H**3 * _C**2)
 
 
 def test_full_band_codata_equals_sigma_t4_over_pi_to_round_off():
-    full = rad.band_radiance_rectangular_exact(TEMPS, 0.0, np.inf, rad.C1_CODATA,
-                                               rad.C2_CODATA)
+    # the default constants are 2hc² and hc/k of the exact SI constants
+    assert PLANCK_C1 == pytest.approx(2 * _H * _C**2 * 1e24, rel=1e-15)
+    assert PLANCK_C2 == pytest.approx(_H * _C / _K * 1e6, rel=1e-15)
+    full = rad.band_radiance_rectangular_exact(TEMPS, 0.0, np.inf)
     rel = full / (SIGMA_EXACT * TEMPS**4 / math.pi) - 1
     # both sides are the same closed form evaluated in double precision: a few ulp
     assert np.max(np.abs(rel)) < 1e-14, rel
@@ -31,9 +33,12 @@ def test_full_band_codata_equals_sigma_t4_over_pi_to_round_off():
 
 
 def test_full_band_paper_constants_relative_difference_is_minus_1e_4():
-    full = rad.band_radiance_rectangular_exact(TEMPS, 0.0, np.inf)
+    # cross-check of the paper's eq. 2 constants, c1 = 1.191e8 W um4 m-2 sr-1 and
+    # c2 = 1.4388e4 um K: they are the SI ones rounded, 1e-4 apart in the full band
+    c1_paper, c2_paper = 1.191e8, 1.4388e4
+    full = rad.band_radiance_rectangular_exact(TEMPS, 0.0, np.inf, c1_paper, c2_paper)
     rel = full / (SIGMA_EXACT * TEMPS**4 / math.pi) - 1
-    expected = (rad.C1_PAPER / rad.C1_CODATA) * (rad.C2_CODATA / rad.C2_PAPER) ** 4 - 1
+    expected = (c1_paper / PLANCK_C1) * (PLANCK_C2 / c2_paper) ** 4 - 1
     # -1.00e-4: c1 rounded to 4 digits gives -3.6e-5, c2 to 5 digits -6.4e-5 (via c2^-4)
     assert expected == pytest.approx(-1.0036e-4, rel=1e-3)
     assert np.allclose(rel, expected, atol=1e-14)
@@ -44,7 +49,7 @@ def test_full_band_by_numerical_quadrature_matches_closed_form():
     for t in (200.0, 300.0, 1000.0):
         q = quad(lambda x: x**3 / math.expm1(x) if x > 0 else 0.0, 0.0, 700.0,
                  epsabs=0, epsrel=1e-13, limit=200)[0]
-        full = rad.C1_CODATA * t**4 / rad.C2_CODATA**4 * q
+        full = PLANCK_C1 * t**4 / PLANCK_C2**4 * q
         assert full == pytest.approx(SIGMA_EXACT * t**4 / math.pi, rel=1e-12)
 
 

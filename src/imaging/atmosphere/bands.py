@@ -1,42 +1,17 @@
-"""Sensor bands: band integration of spectral atmosphere quantities and Planck radiance."""
+"""Sensor bands: band integration of spectral atmosphere quantities.
+
+The bands and their parser are :data:`shipthermal.parameters.BANDS` and
+:func:`shipthermal.parameters.parse_band`; Planck's law is
+:func:`imaging.radiometry.planck_radiance`.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 
-from shipthermal.errors import InputError
+from shipthermal.parameters import BANDS, parse_band  # noqa: F401  (this package's names)
 
-__all__ = ["BANDS", "parse_band", "band_integrate", "planck_radiance_um"]
-
-#: Default rectangular sensor bands [µm] (paper §5)
-BANDS = {"3-5": (3.0, 5.0), "8-14": (8.0, 14.0)}
-_ALIASES = {"mwir": "3-5", "3-5um": "3-5", "lwir": "8-14", "8-14um": "8-14"}
-
-#: Second radiation constant [µm K] and 2hc² [W µm⁴ m⁻² sr⁻¹] (CODATA 2018)
-_C2 = 14387.7688
-_C1L = 1.191042972e8
-
-
-def parse_band(band) -> tuple[str, tuple[float, float]]:
-    """Name and limits [µm] of a band given as ``"3-5"``, ``"8-14"``, ``"mwir"``,
-    ``"lwir"`` or a ``(low_um, high_um)`` pair."""
-    if isinstance(band, str):
-        key = _ALIASES.get(band.lower().replace(" ", "").replace("µm", "um"), band)
-        if key not in BANDS:
-            raise InputError("band", band, f"one of {sorted(BANDS)} or a (low_um, high_um) pair",
-                             "Use '3-5' or '8-14', or pass wavelengths in micrometres")
-        return key, BANDS[key]
-    try:
-        lo, hi = (float(b) for b in band)
-    except (TypeError, ValueError):
-        raise InputError("band", band, "a band name or a (low_um, high_um) pair") from None
-    if not (2.9 <= lo < hi <= 14.5):
-        raise InputError("band", band, "must satisfy 2.9 <= low < high <= 14.5 µm",
-                         "The atmosphere tables cover 2.9–14.5 µm")
-    for name, lim in BANDS.items():
-        if np.allclose(lim, (lo, hi)):
-            return name, lim
-    return f"{lo:g}-{hi:g}", (lo, hi)
+__all__ = ["BANDS", "parse_band", "band_integrate"]
 
 
 def band_integrate(wavelength_um, values, band, response=None, mean: bool = False):
@@ -87,10 +62,3 @@ def band_integrate(wavelength_um, values, band, response=None, mean: bool = Fals
     if mean:
         return total / np.trapezoid(weight, grid)
     return total
-
-
-def planck_radiance_um(wavelength_um, temp_k):
-    """Blackbody spectral radiance [W m⁻² sr⁻¹ µm⁻¹] at wavelength [µm], temperature [K]."""
-    lam = np.asarray(wavelength_um, dtype=float)
-    t = np.asarray(temp_k, dtype=float)
-    return _C1L / lam ** 5 / np.expm1(_C2 / (lam * t))

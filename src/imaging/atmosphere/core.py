@@ -266,12 +266,12 @@ def planck_weighted_transmittance(season, band, view_zenith_deg: float, temp_k,
     ndarray, shape of ``temp_k``
         Planck-weighted band transmittance [-].
     """
-    from .bands import planck_radiance_um
+    from imaging.radiometry import planck_radiance
 
     t = np.asarray(temp_k, dtype=float)
     check_range("temp_k", t, 100.0, 2000.0, "K")
     r = atmosphere(season, band, view_zenith_deg, 45.0, backend=backend, response=response)
-    b = planck_radiance_um(r.wavelength_um[None, :], t.reshape(-1, 1))
+    b = planck_radiance(r.wavelength_um[None, :], t.reshape(-1, 1))
     num = band_integrate(r.wavelength_um, r.transmittance_spectral * b, r.band_um, response)
     den = band_integrate(r.wavelength_um, b, r.band_um, response)
     return (num / den).reshape(t.shape)

