@@ -1,10 +1,11 @@
 """Reflection: Fresnel, Cox-Munk sea (eq. 7), RPV land (eq. 8), Cook-Torrance paint (eq. 19).
 
-Conventions (all functions): angles in radians in the surface's local frame (z = surface
-normal). ``theta_i, phi_i`` are the zenith and azimuth of the direction *toward the source*
-(sun, sky patch), ``theta_r, phi_r`` of the direction *toward the viewer*; both point away
-from the surface. The specular direction of ``(theta_i, phi_i)`` is
-``(theta_i, phi_i + pi)``; the backscatter (hot-spot) direction is ``(theta_i, phi_i)``.
+Conventions (all public functions): angles in degrees in the surface's local frame (z =
+surface normal), as everywhere else in the project (the kernels work in radians inside).
+``theta_i, phi_i`` are the zenith and azimuth of the direction *toward the source* (sun, sky
+patch), ``theta_r, phi_r`` of the direction *toward the viewer*; both point away from the
+surface. The specular direction of ``(theta_i, phi_i)`` is ``(theta_i, phi_i + 180)``; the
+backscatter (hot-spot) direction is ``(theta_i, phi_i)``.
 Every BRDF returns ``f_r`` in [sr-1] (reflected radiance per unit incident irradiance on the
 surface), zero when either direction is below the surface, and broadcasts over arrays.
 :func:`directional_albedo` integrates any of them over the view hemisphere.
@@ -29,7 +30,12 @@ __all__ = [
 
 
 def direction(theta, phi):
-    """Unit vector(s) [-] for zenith ``theta`` [rad] and azimuth ``phi`` [rad], shape (..., 3)."""
+    """Unit vector(s) [-] for zenith ``theta`` [deg] and azimuth ``phi`` [deg], shape (..., 3)."""
+    return _direction(np.radians(theta), np.radians(phi))
+
+
+def _direction(theta, phi):
+    """:func:`direction` with angles in radians."""
     theta = np.asarray(theta, dtype=float)
     phi = np.asarray(phi, dtype=float)
     st = np.sin(theta)
@@ -112,9 +118,9 @@ def cox_munk_brdf(theta_i, phi_i, theta_r, phi_r, wind_speed, refractive_index=1
     Parameters
     ----------
     theta_i, phi_i : array_like
-        Zenith and azimuth of the direction to the sun [rad].
+        Zenith and azimuth of the direction to the sun [deg].
     theta_r, phi_r : array_like
-        Zenith and azimuth of the direction to the sensor [rad].
+        Zenith and azimuth of the direction to the sensor [deg].
     wind_speed : float
         Wind speed [m s-1] (see :func:`cox_munk_slope_variance`).
     refractive_index : complex
@@ -122,7 +128,7 @@ def cox_munk_brdf(theta_i, phi_i, theta_r, phi_r, wind_speed, refractive_index=1
         :func:`imaging.radiometry.water_band_mean_index`); default 1.33 (visible).
     wind_azimuth : float or None
         None: isotropic slopes. Otherwise the azimuth of the wind axis in the same frame as
-        ``phi`` [rad]: anisotropic up/cross-wind Gaussian.
+        ``phi`` [deg]: anisotropic up/cross-wind Gaussian.
     shadowing : bool
         Apply Smith's bidirectional shadowing ``1 / (1 + Lambda_i + Lambda_r)``.
 
@@ -142,10 +148,19 @@ def cox_munk_brdf(theta_i, phi_i, theta_r, phi_r, wind_speed, refractive_index=1
     Without shadowing the hemispherical integral can slightly exceed the Fresnel
     reflectance at grazing sun because facets facing away from the sun are not removed.
     """
+    return _cox_munk_brdf(np.radians(theta_i), np.radians(phi_i), np.radians(theta_r),
+                          np.radians(phi_r), wind_speed, refractive_index,
+                          None if wind_azimuth is None else math.radians(wind_azimuth),
+                          shadowing)
+
+
+def _cox_munk_brdf(theta_i, phi_i, theta_r, phi_r, wind_speed, refractive_index=1.33 + 0j,
+                   wind_azimuth=None, shadowing: bool = False):
+    """:func:`cox_munk_brdf` with angles in radians."""
     mu_i = np.cos(np.asarray(theta_i, dtype=float))
     mu_r = np.cos(np.asarray(theta_r, dtype=float))
-    s = direction(theta_i, phi_i)
-    v = direction(theta_r, phi_r)
+    s = _direction(theta_i, phi_i)
+    v = _direction(theta_r, phi_r)
     h = s + v
     h = h / np.linalg.norm(h, axis=-1, keepdims=True)
     hz = np.maximum(h[..., 2], 1e-12)
@@ -185,7 +200,7 @@ def rpv_brdf(theta_i, phi_i, theta_r, phi_r, rho0, k, b, rho_c=None, phase: str 
     Parameters
     ----------
     theta_i, phi_i, theta_r, phi_r : array_like
-        Sun and view directions [rad] (module conventions).
+        Sun and view directions [deg] (module conventions).
     rho0 : float
         Amplitude (reflectance level) [-].
     k : float
@@ -216,6 +231,12 @@ def rpv_brdf(theta_i, phi_i, theta_r, phi_r, rho0, k, b, rho_c=None, phase: str 
     ``G = sqrt(tan^2 theta_i + tan^2 theta_r - 2 tan theta_i tan theta_r cos(phi_r - phi_i))``
     (G = 0 at the hot spot). Every factor is symmetric in (i, r): reciprocal by construction.
     """
+    return _rpv_brdf(np.radians(theta_i), np.radians(phi_i), np.radians(theta_r),
+                     np.radians(phi_r), rho0, k, b, rho_c, phase)
+
+
+def _rpv_brdf(theta_i, phi_i, theta_r, phi_r, rho0, k, b, rho_c=None, phase: str = "exp"):
+    """:func:`rpv_brdf` with angles in radians."""
     ti = np.asarray(theta_i, dtype=float)
     tr = np.asarray(theta_r, dtype=float)
     mu_i, mu_r = np.cos(ti), np.cos(tr)
@@ -339,7 +360,7 @@ def cook_torrance_brdf_vectors(normal, to_light, to_view, roughness, kd, ks,
 
 
 def cook_torrance_brdf(theta_i, phi_i, theta_r, phi_r, roughness, kd, ks, **kwargs):
-    """Cook-Torrance BRDF [sr-1] in local angles [rad] (normal = z); see
+    """Cook-Torrance BRDF [sr-1] in local angles [deg] (normal = z); see
     :func:`cook_torrance_brdf_vectors` for the parameters and equations (paper eq. 19)."""
     shape = np.broadcast_shapes(*(np.shape(a) for a in (theta_i, phi_i, theta_r, phi_r)))
     l = np.broadcast_to(direction(theta_i, phi_i), shape + (3,))
@@ -358,9 +379,10 @@ def directional_albedo(brdf, theta_i, phi_i: float = 0.0, n_mu: int = 256, n_phi
     Parameters
     ----------
     brdf : callable
-        ``brdf(theta_i, phi_i, theta_r, phi_r, **params)`` returning [sr-1].
+        ``brdf(theta_i, phi_i, theta_r, phi_r, **params)`` with angles in degrees returning
+        [sr-1] (the BRDFs of this module).
     theta_i, phi_i : float
-        Incidence zenith and azimuth [rad].
+        Incidence zenith and azimuth [deg].
     n_mu : int
         Nodes in the polar variable [-]: Gauss-Legendre in ``mu = cos(theta_r)`` on [0, 1]
         (``method="view"``) or in ``t`` with half-vector zenith ``theta_h = (pi/2) t^2``
@@ -381,14 +403,16 @@ def directional_albedo(brdf, theta_i, phi_i: float = 0.0, n_mu: int = 256, n_phi
         reflectance for isotropic sky light seen from ``theta_i``.
     """
     require(callable(brdf), "brdf", brdf, "must be a function of (theta_i, phi_i, theta_r, "
-            "phi_r, **params)")
+            "phi_r, **params) [deg]")
+    deg_i, deg_phi_i = theta_i, phi_i
+    theta_i, phi_i = math.radians(theta_i), math.radians(phi_i)
     x, w = np.polynomial.legendre.leggauss(int(n_mu))
     if method == "view":
         mu = 0.5 * (x + 1.0)
         wmu = 0.5 * w
         phi = phi_i + 2.0 * math.pi * np.arange(n_phi) / n_phi
         theta_r = np.arccos(mu)[:, None]
-        f = brdf(theta_i, phi_i, theta_r, phi[None, :], **params)
+        f = brdf(deg_i, deg_phi_i, np.degrees(theta_r), np.degrees(phi[None, :]), **params)
         return float(np.sum(wmu[:, None] * mu[:, None] * f) * 2.0 * math.pi / n_phi)
     if method != "half":
         raise InputError("method", method, "must be 'view' or 'half'")
@@ -397,14 +421,15 @@ def directional_albedo(brdf, theta_i, phi_i: float = 0.0, n_mu: int = 256, n_phi
     wth = 0.5 * w * math.pi * t            # d theta_h = pi t dt, dt = dx / 2
     # half vectors around the specular direction of l (azimuth phi_i + pi, zenith 0 = normal)
     phi_h = phi_i + 2.0 * math.pi * np.arange(n_phi) / n_phi
-    h = direction(theta_h[:, None], phi_h[None, :])
-    l = direction(theta_i, phi_i)
+    h = _direction(theta_h[:, None], phi_h[None, :])
+    l = _direction(theta_i, phi_i)
     lh = h @ l
     v = 2.0 * lh[..., None] * h - l
     vz = v[..., 2]
     ok = (lh > 0) & (vz > 0)
     theta_r = np.arccos(np.clip(vz, -1.0, 1.0))
     phi_r = np.arctan2(v[..., 1], v[..., 0])
-    f = np.where(ok, brdf(theta_i, phi_i, theta_r, phi_r, **params), 0.0)
+    f = np.where(ok, brdf(deg_i, deg_phi_i, np.degrees(theta_r), np.degrees(phi_r), **params),
+                 0.0)
     integrand = f * np.where(ok, vz, 0.0) * 4.0 * np.maximum(lh, 0.0) * np.sin(theta_h)[:, None]
     return float(np.sum(wth[:, None] * integrand) * 2.0 * math.pi / n_phi)

@@ -558,7 +558,7 @@ def sea_emissivity(view_zenith, band="8-14", temp=None, nodes_per_segment: int =
     Parameters
     ----------
     view_zenith : array_like
-        Emission (view) zenith angle at the surface [rad], 0..pi/2.
+        Emission (view) zenith angle at the surface [deg], 0..90.
     band : str or SpectralResponse
         Band (within 2.6-16 um).
     temp : float or None
@@ -588,12 +588,12 @@ def sea_emissivity(view_zenith, band="8-14", temp=None, nodes_per_segment: int =
     from imaging.brdf import fresnel_reflectance  # reflection lives in brdf.py
 
     theta = np.asarray(view_zenith, dtype=float)
-    check_range("view_zenith", theta, 0.0, math.pi / 2, "rad")
+    check_range("view_zenith", theta, 0.0, 90.0, "deg")
     if wind_speed is not None:
         require(temp is None, "temp", temp, "must be None with wind_speed (the rough-sea "
                 "emissivity uses the band-mean index)")
         return rough_sea_emissivity(theta, band, wind_speed)
-    cos_t = np.cos(theta)
+    cos_t = np.cos(np.radians(theta))
     if temp is None:
         return 1.0 - fresnel_reflectance(cos_t, water_band_mean_index(band))
     resp = _as_response(band)
@@ -611,11 +611,12 @@ differs by < 6e-5 over 0-89 deg, 0-20 m/s, both bands (largest at 80 deg, 0-1 m/
 
 
 @lru_cache(maxsize=4096)  # pure function of floats; scenes ask for few (band, wind, angle)
-def _rough_albedo(theta: float, index_re: float, index_im: float, wind_speed: float) -> float:
+def _rough_albedo(theta_deg: float, index_re: float, index_im: float,
+                  wind_speed: float) -> float:
     from imaging.brdf import cox_munk_brdf, directional_albedo
 
     n_mu, n_phi = ROUGH_SEA_QUADRATURE
-    return directional_albedo(cox_munk_brdf, theta, 0.0, n_mu=n_mu, n_phi=n_phi,
+    return directional_albedo(cox_munk_brdf, theta_deg, 0.0, n_mu=n_mu, n_phi=n_phi,
                               method="half", wind_speed=wind_speed,
                               refractive_index=complex(index_re, index_im), shadowing=True)
 
@@ -632,7 +633,7 @@ def rough_sea_emissivity(view_zenith, band="8-14", wind_speed=5.0):
     Parameters
     ----------
     view_zenith : array_like
-        Emission (view) zenith angle [rad], 0..pi/2.
+        Emission (view) zenith angle [deg], 0..90.
     band : str or SpectralResponse
         Band (within 2.6-16 um).
     wind_speed : float
@@ -654,7 +655,7 @@ def rough_sea_emissivity(view_zenith, band="8-14", wind_speed=5.0):
     Cost: ~20 ms per new (angle, band, wind) on one core, cached.
     """
     theta = np.asarray(view_zenith, dtype=float)
-    check_range("view_zenith", theta, 0.0, math.pi / 2, "rad")
+    check_range("view_zenith", theta, 0.0, 90.0, "deg")
     check_wind_speed("wind_speed", wind_speed)
     m = water_band_mean_index(band)
     alb = [_rough_albedo(float(t), m.real, m.imag, float(wind_speed)) for t in theta.ravel()]
@@ -670,7 +671,7 @@ def rough_sea_emissivity_hemispherical(band="8-14", wind_speed=5.0, n_nodes: int
     """
     x, w = np.polynomial.legendre.leggauss(int(n_nodes))
     mu = 0.5 * (x + 1.0)
-    eps = rough_sea_emissivity(np.arccos(mu), band, wind_speed)
+    eps = rough_sea_emissivity(np.degrees(np.arccos(mu)), band, wind_speed)
     return float(np.sum(w * mu * eps))
 
 

@@ -54,6 +54,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from shipthermal.errors import InputError, check_finite, check_positive, check_range, require
+from shipthermal.parameters import check_wind_speed
 
 from .radiometry import (SHIP_EMISSIVITY, band_radiance_table, rough_sea_emissivity_hemispherical,
                          standard_band)
@@ -448,7 +449,7 @@ class SceneRenderer:
         s = int(samples_per_pixel)
         require(s >= 1 and s == samples_per_pixel, "samples_per_pixel", samples_per_pixel,
                 "must be a positive integer (16 or more for the paper's sub-pixel mixing)")
-        check_range("wind_speed", wind_speed, 0.0, 40.0, "m/s")
+        check_wind_speed("wind_speed", wind_speed)
         check_range("min_sun_elevation_deg", min_sun_elevation_deg, 0.0, 90.0, "deg")
         self.view_zenith_deg = float(view_zenith_deg)
         self.view_azimuth_deg = float(view_azimuth_deg)

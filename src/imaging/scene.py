@@ -33,6 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from shipthermal.errors import InputError, check_finite, check_positive, check_range, require
+from shipthermal.parameters import check_wind_speed
 
 from . import brdf as B
 from .radiometry import background_emissivity, sea_emissivity, water_band_mean_index
@@ -60,8 +61,8 @@ def enu_direction(zenith_deg, azimuth_deg) -> np.ndarray:
 
 def compass_to_math_azimuth(azimuth_deg):
     """Compass azimuth (clockwise from north) [deg] -> mathematical azimuth (counter-clockwise
-    from east) [rad], the ``phi`` of :func:`imaging.brdf.direction`."""
-    return np.radians(90.0 - np.asarray(azimuth_deg, dtype=float))
+    from east) [deg], the ``phi`` of :func:`imaging.brdf.direction`."""
+    return 90.0 - np.asarray(azimuth_deg, dtype=float)
 
 
 # ---------------------------------------------------------------------------------------
@@ -298,10 +299,10 @@ def rpv_rho0(emissivity: float, view_zenith_deg: float, k: float, b: float,
     """
     check_range("emissivity", emissivity, 0.0, 1.0)
     target = 1.0 - float(emissivity)
-    theta = math.radians(min(float(view_zenith_deg), 89.0))
+    theta_deg = min(float(view_zenith_deg), 89.0)
     rho0 = target
     for _ in range(int(iterations)):
-        unit = B.directional_albedo(B.rpv_brdf, theta, 0.0, n_mu=64, n_phi=128, rho0=1.0,
+        unit = B.directional_albedo(B.rpv_brdf, theta_deg, 0.0, n_mu=64, n_phi=128, rho0=1.0,
                                     k=k, b=b, rho_c=rho0)
         rho0 = target / unit
     return float(rho0)
@@ -344,8 +345,7 @@ class BackgroundOptics:
         f_sun = np.zeros(5)
         if sun_zenith_deg >= 90.0:
             return f_sun
-        th_v = math.radians(self.view_zenith_deg)
-        th_s = math.radians(sun_zenith_deg)
+        th_v, th_s = self.view_zenith_deg, sun_zenith_deg
         phi_v = float(compass_to_math_azimuth(self.view_azimuth_deg))
         phi_s = float(compass_to_math_azimuth(sun_azimuth_deg))
         f_sun[1] = self.water_sun_scale * float(B.cox_munk_brdf(
@@ -387,7 +387,7 @@ def background_optics(band: str, view_zenith_deg: float, view_azimuth_deg: float
     tables and RPV amplitude from :func:`rpv_rho0`.
     """
     check_range("view_zenith_deg", view_zenith_deg, 0.0, 85.0, "deg")
-    check_range("wind_speed", wind_speed, 0.0, 40.0, "m/s")
+    check_wind_speed("wind_speed", wind_speed)
     override = dict(emissivity_override or {})
     unknown = sorted(set(override) - set(CLASS_NAMES.values()))
     require(not unknown, "emissivity_override", unknown,
@@ -398,8 +398,7 @@ def background_optics(band: str, view_zenith_deg: float, view_azimuth_deg: float
     scale = 1.0
     for code, name in CLASS_NAMES.items():
         if name == "water":
-            rough = float(sea_emissivity(math.radians(view_zenith_deg), band,
-                                         wind_speed=wind_speed))
+            rough = float(sea_emissivity(view_zenith_deg, band, wind_speed=wind_speed))
             eps[code] = override.get("water", rough)
             scale = (1.0 - eps[code]) / (1.0 - rough)
         else:

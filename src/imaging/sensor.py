@@ -78,13 +78,13 @@ PAPER_SENSOR = SensorSpec()
 
 
 def slant_range(view_zenith, altitude_m: float, earth_radius_m: float | None = EARTH_RADIUS_M):
-    """Sensor-to-ground distance [m] for a view zenith angle at the ground [rad].
+    """Sensor-to-ground distance [m] for a view zenith angle at the ground [deg].
 
     ``altitude_m`` [m]; ``earth_radius_m`` [m] or None for a flat Earth (``H / cos theta``).
     Spherical Earth: ``R = sqrt((Re + H)^2 - Re^2 sin^2 theta) - Re cos theta``.
     """
-    theta = np.asarray(view_zenith, dtype=float)
-    check_range("view_zenith", theta, 0.0, math.pi / 2, "rad", high_open=True)
+    check_range("view_zenith", view_zenith, 0.0, 90.0, "deg", high_open=True)
+    theta = np.radians(np.asarray(view_zenith, dtype=float))
     if earth_radius_m is None:
         return altitude_m / np.cos(theta)
     re = earth_radius_m
@@ -100,7 +100,7 @@ def ground_sample_distance(spec: SensorSpec = PAPER_SENSOR, view_zenith=0.0,
     spec : SensorSpec
         Sensor.
     view_zenith : array_like
-        View zenith angle at the ground [rad] (0 = nadir).
+        View zenith angle at the ground [deg] (0 = nadir).
     earth_radius_m : float or None
         Earth radius [m]; None for a flat Earth.
 
@@ -119,18 +119,18 @@ def ground_sample_distance(spec: SensorSpec = PAPER_SENSOR, view_zenith=0.0,
     """
     r = slant_range(view_zenith, spec.altitude_m, earth_radius_m)
     across = r * spec.pixel_pitch_m / spec.focal_length_m
-    return across / np.cos(np.asarray(view_zenith, dtype=float)), across
+    return across / np.cos(np.radians(np.asarray(view_zenith, dtype=float))), across
 
 
 def view_direction(view_zenith, view_azimuth):
     """Unit vector from the ground to the sensor, east-north-up [-], shape (..., 3).
 
-    ``view_zenith`` [rad] at the ground; ``view_azimuth`` [rad] of the sensor as seen from
+    ``view_zenith`` [deg] at the ground; ``view_azimuth`` [deg] of the sensor as seen from
     the ground, clockwise from north (the same convention as pvlib's solar azimuth, so sun
     and sensor directions are built the same way).
     """
-    th = np.asarray(view_zenith, dtype=float)
-    az = np.asarray(view_azimuth, dtype=float)
+    th = np.radians(np.asarray(view_zenith, dtype=float))
+    az = np.radians(np.asarray(view_azimuth, dtype=float))
     st = np.sin(th)
     return np.stack(np.broadcast_arrays(st * np.sin(az), st * np.cos(az), np.cos(th)), axis=-1)
 
@@ -158,7 +158,7 @@ def focal_plane_irradiance(radiance, spec: SensorSpec = PAPER_SENSOR, field_angl
     spec : SensorSpec
         Sensor (uses tau_o and N = f / D).
     field_angle : array_like
-        Off-axis field angle [rad] for the ``cos^4`` fall-off (0 on axis).
+        Off-axis field angle [deg] for the ``cos^4`` fall-off (0 on axis).
     model : {"aplanatic", "thin_lens"}
         "aplanatic": ``E = tau_o pi L / (4 N^2)`` (exact for an aplanatic system, i.e. one
         obeying Abbe's sine condition with ``N = 1 / (2 sin u')``, object at infinity).
@@ -184,7 +184,7 @@ def focal_plane_irradiance(radiance, spec: SensorSpec = PAPER_SENSOR, field_angl
         geom = 1.0 / (1.0 + 4.0 * n * n)
     else:
         raise InputError("model", model, "must be 'aplanatic' or 'thin_lens'")
-    c4 = np.cos(np.asarray(field_angle, dtype=float)) ** 4
+    c4 = np.cos(np.radians(np.asarray(field_angle, dtype=float))) ** 4
     return spec.optics_transmittance * math.pi * geom * c4 * np.asarray(radiance, dtype=float)
 
 

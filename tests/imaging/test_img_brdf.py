@@ -15,9 +15,10 @@ RNG = np.random.default_rng(20261121)
 
 
 def _random_directions(n):
-    ti = np.arccos(RNG.uniform(0.05, 1.0, n))
-    tr = np.arccos(RNG.uniform(0.05, 1.0, n))
-    return ti, RNG.uniform(0, 2 * np.pi, n), tr, RNG.uniform(0, 2 * np.pi, n)
+    """Zenith and azimuth [deg] of random source and view directions above the surface."""
+    ti = np.degrees(np.arccos(RNG.uniform(0.05, 1.0, n)))
+    tr = np.degrees(np.arccos(RNG.uniform(0.05, 1.0, n)))
+    return ti, RNG.uniform(0, 360.0, n), tr, RNG.uniform(0, 360.0, n)
 
 
 # --------------------------------------------------------------------------- Cox-Munk
@@ -34,7 +35,7 @@ def _cox_munk_albedo_in_slope_space(theta_i, phi_i, wind_speed, index, wind_azim
     z = np.linspace(-lim, lim, n_grid)
     zu, zc = np.meshgrid(z, z, indexing="ij")
     p = np.exp(-0.5 * (zu**2 / var_u + zc**2 / var_c)) / (2 * math.pi * math.sqrt(var_u * var_c))
-    cw, sw = math.cos(wind_azimuth), math.sin(wind_azimuth)
+    cw, sw = math.cos(math.radians(wind_azimuth)), math.sin(math.radians(wind_azimuth))
     zx, zy = zu * cw - zc * sw, zu * sw + zc * cw
     s = B.direction(theta_i, phi_i)
     norm = np.sqrt(1 + zx**2 + zy**2)
@@ -51,7 +52,7 @@ def _cox_munk_albedo_in_slope_space(theta_i, phi_i, wind_speed, index, wind_azim
 def test_cox_munk_hemispherical_integral_equals_slope_space_average(theta_deg, wind):
     # Checks the Jacobian d omega_r = 4 (s.h) cos^3(beta) dz of eq. 7 and the anisotropic
     # rotation: two different integrals of the same physics must agree.
-    ti, pi_, waz = math.radians(theta_deg), 0.3, 0.5
+    ti, pi_, waz = theta_deg, 17.0, 29.0
     view = B.directional_albedo(B.cox_munk_brdf, ti, pi_, n_mu=384, n_phi=768, method="half",
                                 wind_speed=wind, refractive_index=WATER_LWIR,
                                 wind_azimuth=waz)
@@ -68,8 +69,8 @@ def test_cox_munk_albedo_approaches_fresnel_as_slopes_vanish():
     exceeds R(theta_i) (Jensen); near grazing sun reflections leaving below the horizon
     (and, with shadowing, hidden facets) make it negative instead (see the grazing test).
     """
-    ti = math.radians(30.0)
-    r_flat = float(B.fresnel_reflectance(math.cos(ti), WATER_LWIR))
+    ti = 30.0
+    r_flat = float(B.fresnel_reflectance(math.cos(math.radians(ti)), WATER_LWIR))
     winds = np.array([0.5, 1.0, 2.0, 5.0])
     dev = np.array([B.directional_albedo(B.cox_munk_brdf, ti, wind_speed=u,
                                          refractive_index=WATER_LWIR) / r_flat - 1
@@ -87,8 +88,8 @@ def test_cox_munk_albedo_approaches_fresnel_as_slopes_vanish():
 def test_cox_munk_albedo_below_fresnel_at_grazing_sun():
     # at 80 deg incidence part of the glint leaves below the horizon: albedo < R_flat,
     # and shadowing removes more
-    ti = math.radians(80.0)
-    r_flat = float(B.fresnel_reflectance(math.cos(ti), WATER_LWIR))
+    ti = 80.0
+    r_flat = float(B.fresnel_reflectance(math.cos(math.radians(ti)), WATER_LWIR))
     plain = B.directional_albedo(B.cox_munk_brdf, ti, method="half", wind_speed=5.0,
                                  refractive_index=WATER_LWIR)
     shadow = B.directional_albedo(B.cox_munk_brdf, ti, method="half", wind_speed=5.0,
@@ -97,21 +98,21 @@ def test_cox_munk_albedo_below_fresnel_at_grazing_sun():
 
 
 def test_cox_munk_glint_peaks_at_specular_direction():
-    ti, pi_ = math.radians(25.0), 0.4
+    ti, pi_ = 25.0, 23.0
     mu = np.linspace(0.02, 1.0, 300)
-    phi = pi_ + np.linspace(-np.pi, np.pi, 721)
-    f = B.cox_munk_brdf(ti, pi_, np.arccos(mu)[:, None], phi[None, :], 0.5, WATER_MWIR,
-                        shadowing=True)
+    phi = pi_ + np.linspace(-180.0, 180.0, 721)
+    f = B.cox_munk_brdf(ti, pi_, np.degrees(np.arccos(mu))[:, None], phi[None, :], 0.5,
+                        WATER_MWIR, shadowing=True)
     i, j = np.unravel_index(np.argmax(f), f.shape)
     # azimuth: exactly opposite to the sun (grid step 0.5 deg)
-    assert abs(phi[j] - (pi_ + np.pi)) < 1e-9 or abs(phi[j] - (pi_ - np.pi)) < 1e-9
+    assert abs(phi[j] - (pi_ + 180.0)) < 1e-9 or abs(phi[j] - (pi_ - 180.0)) < 1e-9
     # zenith: the facet density peaks at specular; the 1/(cos theta_r cos^4 beta) factor
     # shifts the BRDF maximum outward by O(sigma^2): measured below
-    tr = np.radians(np.linspace(0.0, 89.0, 8901))
+    tr = np.linspace(0.0, 89.0, 8901)
     offsets = []
     for wind in (0.5, 2.0, 5.0):
-        g = B.cox_munk_brdf(ti, pi_, tr, pi_ + np.pi, wind, WATER_MWIR, shadowing=True)
-        offsets.append(math.degrees(tr[np.argmax(g)] - ti))
+        g = B.cox_munk_brdf(ti, pi_, tr, pi_ + 180.0, wind, WATER_MWIR, shadowing=True)
+        offsets.append(tr[np.argmax(g)] - ti)
     # measured +0.4, +1.0, +2.1 deg: positive, growing with wind, under 0.5 deg at 0.5 m/s
     assert 0 < offsets[0] < 0.5 and offsets[0] < offsets[1] < offsets[2]
 
@@ -123,7 +124,7 @@ def test_cox_munk_isotropic_equals_anisotropic_with_equal_variances():
     u = 0.003 / (3.16e-3 - 1.92e-3)
     var_u, var_c = B.cox_munk_slope_variance(u, anisotropic=True)
     assert var_u == pytest.approx(var_c)
-    a = B.cox_munk_brdf(ti, pi_, tr, pr, u, WATER_LWIR, wind_azimuth=1.1)
+    a = B.cox_munk_brdf(ti, pi_, tr, pr, u, WATER_LWIR, wind_azimuth=63.0)
     # same density requires the isotropic total = var_u + var_c
     u_iso = (var_u + var_c - 0.003) / 5.12e-3
     b = B.cox_munk_brdf(ti, pi_, tr, pr, u_iso, WATER_LWIR)
@@ -132,7 +133,7 @@ def test_cox_munk_isotropic_equals_anisotropic_with_equal_variances():
 
 def test_cox_munk_reciprocity():
     ti, pi_, tr, pr = _random_directions(500)
-    for kw in ({}, {"wind_azimuth": 0.7}, {"shadowing": True}):
+    for kw in ({}, {"wind_azimuth": 40.0}, {"shadowing": True}):
         a = B.cox_munk_brdf(ti, pi_, tr, pr, 7.0, WATER_LWIR, **kw)
         b = B.cox_munk_brdf(tr, pr, ti, pi_, 7.0, WATER_LWIR, **kw)
         assert np.allclose(a, b, rtol=1e-12)
@@ -148,9 +149,9 @@ def test_rpv_reciprocity_and_hot_spot():
         assert np.allclose(f1, f2, rtol=1e-13)
     # hot spot: in the principal plane the backscatter side beats the forward side, and
     # at the exact backscatter direction H reaches 1 + (1 - rho_c)
-    ti = math.radians(40.0)
+    ti = 40.0
     back = B.rpv_brdf(ti, 0.0, ti, 0.0, 0.1, 1.0, 0.0)
-    fwd = B.rpv_brdf(ti, 0.0, ti, np.pi, 0.1, 1.0, 0.0)
+    fwd = B.rpv_brdf(ti, 0.0, ti, 180.0, 0.1, 1.0, 0.0)
     assert back / fwd > 1.0
     # k = 1 (M = 1), b = 0 (F = 1), G = 0 (H = 2 - rho_c)
     expected = 0.1 * (2 - 0.1) / math.pi
@@ -162,7 +163,7 @@ def test_rpv_lambertian_limit():
     ti, pi_, tr, pr = _random_directions(100)
     f = B.rpv_brdf(ti, pi_, tr, pr, 0.2, 1.0, 0.0, rho_c=1.0)
     assert np.allclose(f, 0.2 / math.pi, rtol=1e-14)
-    assert B.directional_albedo(B.rpv_brdf, 0.5, n_mu=16, n_phi=8, rho0=0.2, k=1.0, b=0.0,
+    assert B.directional_albedo(B.rpv_brdf, 28.6, n_mu=16, n_phi=8, rho0=0.2, k=1.0, b=0.0,
                                 rho_c=1.0) == pytest.approx(0.2, rel=1e-13)
 
 
@@ -175,12 +176,12 @@ def test_rpv_albedo_not_above_one_on_parameter_grid():
     for rho0, k, b in itertools.product((0.02, 0.1, 0.3), (0.5, 0.75, 1.0, 1.3),
                                         (-0.3, 0.0, 0.3)):
         for th in (0.0, 30.0, 60.0, 70.0):
-            a = B.directional_albedo(B.rpv_brdf, math.radians(th), n_mu=96, n_phi=96,
+            a = B.directional_albedo(B.rpv_brdf, th, n_mu=96, n_phi=96,
                                      rho0=rho0, k=k, b=b)
             worst = max(worst, a)
     assert worst < 1.0
     for k in (0.5, 0.75):
-        a = B.directional_albedo(B.rpv_brdf, math.radians(85.0), n_mu=96, n_phi=96,
+        a = B.directional_albedo(B.rpv_brdf, 85.0, n_mu=96, n_phi=96,
                                  rho0=0.15, k=k, b=-0.3)
         assert a < 1.0
 
@@ -208,7 +209,7 @@ def test_cook_torrance_albedo_not_above_one():
                                                 itertools.product(("beckmann", "ggx"),
                                                                   ("smith", "cook-torrance"))):
         for th in (0.0, 45.0, 80.0, 89.0):
-            a = B.directional_albedo(B.cook_torrance_brdf, math.radians(th), n_mu=192,
+            a = B.directional_albedo(B.cook_torrance_brdf, th, n_mu=192,
                                      n_phi=192, method="half", roughness=rough, kd=0.0,
                                      ks=1.0, refractive_index=1.5 + 8j, distribution=dist,
                                      geometry=geo)
@@ -225,11 +226,11 @@ def test_smith_lambda_consistent_with_distribution(dist):
     th, wt = 0.25 * np.pi * (x + 1), 0.25 * np.pi * w
     nphi = 256
     ph = 2 * np.pi * np.arange(nphi) / nphi
-    h = B.direction(th[:, None], ph[None, :])
+    h = B._direction(th[:, None], ph[None, :])  # radians: the kernel's own frame
     for m in (0.1, 0.3, 0.7):
         d = B._microfacet_d(np.cos(th)[:, None], m, dist)
         for tv in (0.0, 0.6, 1.2, 1.5):
-            vh = np.maximum(h @ B.direction(tv, 0.0), 0.0)
+            vh = np.maximum(h @ B._direction(tv, 0.0), 0.0)
             integral = np.sum(wt[:, None] * d * vh * np.sin(th)[:, None]) * 2 * np.pi / nphi
             lam = B._smith_lambda(np.array(math.cos(tv)), m, dist)
             # quadrature error (kink of max(v.h, 0)) measured <= 2e-6
@@ -281,8 +282,27 @@ def test_cook_torrance_lambertian_part_and_vectors_form():
 
 
 def test_brdfs_zero_below_horizon():
-    for f in (B.cox_munk_brdf(1.0, 0.0, 1.7, 3.0, 5.0),
-              B.rpv_brdf(1.7, 0.0, 0.5, 3.0, 0.1, 0.8, 0.0),
-              B.cook_torrance_brdf(1.0, 0.0, 1.7, 3.0, roughness=0.2, kd=0.5, ks=0.5,
+    for f in (B.cox_munk_brdf(57.0, 0.0, 97.0, 172.0, 5.0),
+              B.rpv_brdf(97.0, 0.0, 29.0, 172.0, 0.1, 0.8, 0.0),
+              B.cook_torrance_brdf(57.0, 0.0, 97.0, 172.0, roughness=0.2, kd=0.5, ks=0.5,
                                    refractive_index=1.5)):
         assert f == 0.0
+
+
+# --------------------------------------------------------------------------- degrees
+def test_degree_interface_equals_the_radian_kernels():
+    # the public functions take degrees; the kernels (the former public radian functions)
+    # give the same values to round-off of the degree conversion
+    ti, pi_, tr, pr = _random_directions(300)
+    r = [np.radians(a) for a in (ti, pi_, tr, pr)]
+    for kw in ({}, {"shadowing": True}):
+        np.testing.assert_allclose(B.cox_munk_brdf(ti, pi_, tr, pr, 6.0, WATER_LWIR, **kw),
+                                   B._cox_munk_brdf(*r, 6.0, WATER_LWIR, **kw), rtol=1e-12)
+    np.testing.assert_allclose(
+        B.cox_munk_brdf(ti, pi_, tr, pr, 6.0, WATER_LWIR, wind_azimuth=35.0),
+        B._cox_munk_brdf(*r, 6.0, WATER_LWIR, wind_azimuth=math.radians(35.0)), rtol=1e-12)
+    np.testing.assert_allclose(B.rpv_brdf(ti, pi_, tr, pr, 0.1, 0.7, -0.2),
+                               B._rpv_brdf(*r, 0.1, 0.7, -0.2), rtol=1e-12)
+    np.testing.assert_allclose(B.direction(ti, pi_), B._direction(r[0], r[1]), atol=1e-15)
+    # a known direction: 90 deg zenith, 90 deg azimuth is +y
+    np.testing.assert_allclose(B.direction(90.0, 90.0), [0.0, 1.0, 0.0], atol=1e-15)

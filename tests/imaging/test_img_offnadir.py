@@ -37,14 +37,14 @@ def _independent(band, view_zenith):
     """Eqs. 1-2 for open water from the atmosphere and BRDF functions directly; the
     emissivity as one minus an albedo integrated over view directions (the product
     integrates over half vectors)."""
-    th_v = math.radians(view_zenith)
+    th_v = view_zenith
     m = water_band_mean_index(band)
     eps = 1.0 - B.directional_albedo(B.cox_munk_brdf, th_v, 0.0, n_mu=256, n_phi=256,
                                      method="view", wind_speed=WIND, refractive_index=m,
                                      shadowing=True)
     rel = (VIEW_AZIMUTH - SUN_AZIMUTH + 180.0) % 360.0 - 180.0
     atm = atmosphere("summer", band, view_zenith, SUN_ZENITH, view_azimuth_from_sun_deg=rel)
-    f = float(B.cox_munk_brdf(math.radians(SUN_ZENITH), float(compass_to_math_azimuth(
+    f = float(B.cox_munk_brdf(SUN_ZENITH, float(compass_to_math_azimuth(
         SUN_AZIMUTH)), th_v, float(compass_to_math_azimuth(VIEW_AZIMUTH)), WIND, m,
         shadowing=True))
     tau_e = float(planck_weighted_transmittance("summer", band, view_zenith, T_SEA))

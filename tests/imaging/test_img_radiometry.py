@@ -174,11 +174,15 @@ def test_fresnel_brewster_angle_for_real_index():
 
 @pytest.mark.parametrize("band", ["3-5", "8-14"])
 def test_sea_emissivity_angular_shape(band):
-    theta = np.radians(np.arange(0, 90, 5.0))
+    theta = np.arange(0, 90, 5.0)
     eps = rad.sea_emissivity(theta, band)
     assert np.all(np.diff(eps) < 0)            # monotone fall toward grazing
     assert 0.97 < eps[0] < 0.99                # nadir water 0.975 (3-5), 0.988 (8-14)
-    assert rad.sea_emissivity(np.pi / 2, band) == pytest.approx(0.0, abs=1e-9)
+    assert rad.sea_emissivity(90.0, band) == pytest.approx(0.0, abs=1e-9)
+    # degrees at the interface: the Fresnel value at the same angle in radians
+    m = rad.water_band_mean_index(band)
+    np.testing.assert_allclose(eps, 1.0 - fresnel_reflectance(np.cos(np.radians(theta)), m),
+                               rtol=1e-14)
     # band-mean index vs Planck-weighted spectral average at 290 K: they differ because
     # Fresnel is nonlinear in (n, k); stated difference < 0.004 at nadir
     spec = rad.sea_emissivity(0.0, band, temp=290.0)

@@ -133,9 +133,9 @@ def test_box_shadow_on_water_removes_reflected_sun_on_the_right_samples(
         assert expected[row, col] == 0.25 and fr.shadow.sum() * RES * RES == 225.0
 
     # radiance: water pixel = emitted + sky + (lit share) * sun glint (Cox-Munk, eq. 7)
-    th_v = math.radians(view_zenith)
+    th_v = view_zenith
     eps_w = float(sea_emissivity(th_v, "3-5", wind_speed=5.0))  # rough sea (renderer default)
-    f_sun = float(cox_munk_brdf(math.radians(sun_zenith),
+    f_sun = float(cox_munk_brdf(sun_zenith,
                                 float(compass_to_math_azimuth(sun_azimuth)), th_v,
                                 float(compass_to_math_azimuth(view_azimuth)), 5.0,
                                 water_band_mean_index("3-5"), shadowing=True))

@@ -20,7 +20,7 @@ def test_nadir_gsd_is_30_m():
 
 def test_off_nadir_gsd_flat_earth_closed_form():
     th = math.radians(30.0)
-    along, across = S.ground_sample_distance(view_zenith=th, earth_radius_m=None)
+    along, across = S.ground_sample_distance(view_zenith=30.0, earth_radius_m=None)
     assert across == pytest.approx(30.0 / math.cos(th), rel=1e-14)
     assert along == pytest.approx(30.0 / math.cos(th) ** 2, rel=1e-14)
 
@@ -38,7 +38,7 @@ def test_off_nadir_gsd_sphere_against_finite_difference_of_ground_arc():
 
     da = 1e-7
     ds_dalpha = (arc(alpha + da) - arc(alpha - da)) / (2 * da)
-    along, across = S.ground_sample_distance(view_zenith=th)
+    along, across = S.ground_sample_distance(view_zenith=40.0)
     ifov = S.PAPER_SENSOR.pixel_pitch_m / S.PAPER_SENSOR.focal_length_m
     assert along == pytest.approx(ds_dalpha * ifov, rel=1e-7)   # FD error ~ da^2
     # across: slant range times the IFOV; range from the law of cosines
@@ -49,7 +49,7 @@ def test_off_nadir_gsd_sphere_against_finite_difference_of_ground_arc():
 
 def test_view_direction_convention_matches_sun_azimuth():
     # azimuth clockwise from north: 90 deg = east
-    v = S.view_direction(math.radians(30.0), math.radians(90.0))
+    v = S.view_direction(30.0, 90.0)
     assert np.allclose(v, [0.5, 0.0, math.cos(math.radians(30.0))], atol=1e-15)
 
 
@@ -60,8 +60,8 @@ def test_camera_equation_values():
     assert e == pytest.approx(0.7 * math.pi * 10 / 16, rel=1e-14)
     e_thin = S.focal_plane_irradiance(lum, model="thin_lens")
     assert e_thin == pytest.approx(0.7 * math.pi * 10 / 17, rel=1e-14)
-    assert S.focal_plane_irradiance(lum, field_angle=0.1) == pytest.approx(
-        e * math.cos(0.1) ** 4, rel=1e-14)
+    assert S.focal_plane_irradiance(lum, field_angle=5.0) == pytest.approx(
+        e * math.cos(math.radians(5.0)) ** 4, rel=1e-14)
 
 
 def test_camera_equation_by_etendue():
@@ -176,3 +176,20 @@ def test_sensor_spec_validation():
         S.SensorSpec(focal_length_m=-1.0)
     with pytest.raises(InputError, match="optics_transmittance"):
         S.SensorSpec(optics_transmittance=0.0)
+
+
+def test_degree_interface_equals_the_radian_formulas():
+    # the public angles are degrees; the results equal the closed forms evaluated in radians
+    re, h = S.EARTH_RADIUS_M, S.PAPER_SENSOR.altitude_m
+    deg = np.array([0.0, 10.0, 45.0, 70.0])
+    th = np.radians(deg)
+    np.testing.assert_allclose(S.slant_range(deg, h),
+                               np.sqrt((re + h) ** 2 - (re * np.sin(th)) ** 2) - re * np.cos(th),
+                               rtol=1e-14)
+    np.testing.assert_allclose(S.slant_range(deg, h, None), h / np.cos(th), rtol=1e-14)
+    az = np.radians(120.0)
+    np.testing.assert_allclose(S.view_direction(deg, 120.0),
+                               np.stack([np.sin(th) * np.sin(az), np.sin(th) * np.cos(az),
+                                         np.cos(th)], axis=-1), atol=1e-15)
+    with pytest.raises(InputError):
+        S.slant_range(90.0, h)  # the horizon: no ground intersection
