@@ -100,11 +100,6 @@ class SpectralResponse:
         w, x = self.quadrature(4)
         return float(np.sum(w * x) / np.sum(w))
 
-    @property
-    def width_um(self) -> float:
-        """Equivalent width ``int R d lambda`` [um]."""
-        return float(np.trapezoid(self.response, self.wavelength_um))
-
     def quadrature(self, nodes_per_segment: int = 8) -> tuple[np.ndarray, np.ndarray]:
         """Gauss-Legendre weights and nodes for ``int R(lambda) g(lambda) d lambda``.
 

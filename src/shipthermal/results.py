@@ -188,17 +188,6 @@ class Results:
             cols[key] = self.face_temperature[:, idx] @ w / w.sum()
         return pd.DataFrame(cols, index=pd.Index(self.times, name="time_s"))
 
-    def cell_part_mean(self) -> pd.DataFrame:
-        """Volume-weighted mean cell temperature per part over time [K]."""
-        g = self.graph
-        cols = {}
-        for k, name in enumerate(g.part_names):
-            sel = g.cell_part == k
-            if sel.any():
-                w = g.cell_volume[sel]
-                cols[name] = self.cell_temperature[:, sel] @ w / w.sum()
-        return pd.DataFrame(cols, index=pd.Index(self.times, name="time_s"))
-
     # ------------------------------------------------------------------ output ------------
     def to_vtu(self, directory, stem: str = "thermal", surface: bool = True) -> list[Path]:
         """One ``.vtu`` per recorded time (cell ``temperature`` [K]) plus a ``.pvd`` series

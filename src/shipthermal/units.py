@@ -24,13 +24,3 @@ MINUTE = 60.0
 HOUR = 3600.0
 DAY = 86400.0
 """Durations [s]."""
-
-
-def celsius_to_kelvin(temp_c):
-    """Convert °C to K."""
-    return temp_c + ZERO_CELSIUS
-
-
-def kelvin_to_celsius(temp_k):
-    """Convert K to °C."""
-    return temp_k - ZERO_CELSIUS

@@ -156,11 +156,6 @@ class ShipGeometry:
         return len(open_e) == 0 and len(nonman) == 0
 
     @property
-    def main_part_of(self) -> dict[str, str]:
-        """Part name → main part name."""
-        return {n: main_part(n) for n in self.part_names}
-
-    @property
     def face_outer_medium(self) -> np.ndarray:
         """What each triangle's outer side faces: ``'sea'`` or ``'air'`` (M,) str."""
         table = np.array([self.outer_medium[n] for n in self.part_names])
@@ -204,12 +199,6 @@ class ShipGeometry:
     def part_heat_capacities(self) -> dict[str, float]:
         """Heat capacity of each part's plating, area × Σρ·c·t [J K-1]."""
         return {n: a * self.layups[n].areal_heat_capacity for n, a in self.part_areas().items()}
-
-    def part_surface(self, name: str) -> tuple[np.ndarray, np.ndarray]:
-        """Compact ``(vertices, faces)`` of one part (main names include sub-parts)."""
-        sel = self.faces[self.part_mask(name)]
-        used, inv = np.unique(sel, return_inverse=True)
-        return self.vertices[used], inv.reshape(-1, 3)
 
     def to_trimesh(self):
         """The surface as a :class:`trimesh.Trimesh` (no processing) with ``face_part``."""
