@@ -30,6 +30,7 @@ import numpy as np
 import pandas as pd
 
 from .errors import check_positive, require
+from .parameters import DEFAULT_CONVECTION_MODEL
 from .results import EnergyLog, Results, atomic_path
 from .units import DAY, HOUR
 
@@ -70,6 +71,9 @@ class DiurnalSettings:
         Most days simulated.
     samples_per_face, rays_per_face, seed, backend
         Ray tracing (see :func:`shipthermal.forcing.build_ship_forcing`).
+    convection : str
+        Exterior convection model of the air faces, a name of
+        :data:`shipthermal.environment.convection.CONVECTION_MODELS`.
     initial_temperature : float, optional
         Start temperature [K]; default the day's mean air temperature.
     """
@@ -83,6 +87,7 @@ class DiurnalSettings:
     rays_per_face: int = 256
     seed: int = 0
     backend: str = "auto"
+    convection: str = DEFAULT_CONVECTION_MODEL
     initial_temperature: float | None = None
 
     def __post_init__(self):
@@ -361,7 +366,8 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
                                  samples_per_face=settings.samples_per_face,
                                  rays_per_face=settings.rays_per_face, seed=settings.seed,
                                  absorptivity=absorptivity, emissivity=emissivity,
-                                 backend=settings.backend, progress=progress, traced=traced)
+                                 backend=settings.backend, progress=progress, traced=traced,
+                                 convection=settings.convection)
     timings["forcing"] = _time.perf_counter() - t0
     say(f"forcing: ray tracing and tables ({timings['forcing']:.1f} s)")
 
@@ -520,7 +526,8 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
                                  times=np.arange(0.0, span + 1.0, step),
                                  absorptivity=spin.forcing.absorptivity,
                                  emissivity=spin.forcing.emissivity, progress=progress,
-                                 traced=spin.forcing.traced)
+                                 traced=spin.forcing.traced,
+                                 convection=spin.forcing.convection_model)
     t_forcing = _time.perf_counter() - t0
     say(f"record forcing: {len(forcing.times)} table times ({t_forcing:.1f} s)")
     model = ThermalModel(graph, forcing.conditions(with_exchange=True),

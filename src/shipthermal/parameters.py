@@ -27,7 +27,7 @@ from .errors import InputError, check_range
 __all__ = [
     "BAND_EMISSIVITY", "LONGWAVE_EMISSIVITY", "SOLAR_ABSORPTIVITY", "SEA_EMISSIVITY",
     "BANDS", "BAND_ALIASES", "ATMOSPHERE_WAVELENGTH_UM", "parse_band",
-    "WIND_SPEED_MAX", "check_wind_speed", "part_default",
+    "WIND_SPEED_MAX", "check_wind_speed", "part_default", "DEFAULT_CONVECTION_MODEL",
 ]
 
 # ---------------------------------------------------------------------------------------
@@ -122,6 +122,14 @@ def parse_band(band) -> tuple[str, tuple[float, float]]:
             return name, lim
     return f"{lo:g}-{hi:g}", (lo, hi)
 
+
+# ---------------------------------------------------------------------------------------
+# Model choices
+# ---------------------------------------------------------------------------------------
+DEFAULT_CONVECTION_MODEL = "flat_plate_mixed"
+"""Exterior convection model of the air faces when none is chosen: a key of
+:data:`shipthermal.environment.convection.CONVECTION_MODELS` (forced flat plate, laminar then
+turbulent, combined with natural convection by Churchill 1977)."""
 
 # ---------------------------------------------------------------------------------------
 # Ranges accepted at the interfaces

@@ -20,6 +20,7 @@ from typing import Callable, NamedTuple
 import numpy as np
 
 from shipthermal.errors import InputError, check_positive
+from shipthermal.parameters import DEFAULT_CONVECTION_MODEL
 from shipthermal.units import SIGMA, ZERO_CELSIUS
 
 __all__ = [
@@ -696,8 +697,6 @@ CONVECTION_MODELS: dict[str, ConvectionModel] = {m.name: m for m in (
 )}
 """Exterior convection models by name (pvlib-style named set)."""
 
-DEFAULT_CONVECTION_MODEL = "flat_plate_mixed"
-"""The model of the air faces when none is chosen."""
 
 
 def convection_model(name: str | ConvectionModel, field: str = "convection.model"
