@@ -138,3 +138,16 @@ def test_scenario_and_direct_api_give_the_deck_the_same_emissivity(boat):
     for part in f.part_names:
         assert sc.longwave_emissivity(part) == f.emissivity[part], part
         assert sc.solar_absorptivity(part) == f.absorptivity[part], part
+
+
+def test_diurnal_settings_choose_the_model():
+    # the model named in the run settings is the one the forcing of the run uses
+    from shipthermal.diurnal import DiurnalSettings, run_diurnal
+
+    env = Environment.from_climate_day(climate_day("winter"))
+    settings = DiurnalSettings(time_step=1800.0, output_interval=3600.0, spinup_max_days=1,
+                               rays_per_face=16, samples_per_face=4, convection="iso6946")
+    res = run_diurnal(patrol_boat(edge_length=4.0), env, settings, progress=False)
+    assert res.forcing.convection_model == "iso6946"
+    speed, _ = _apparent_wind(res.forcing, env, env.at(res.forcing.times))
+    np.testing.assert_allclose(_air_h_table(res.forcing), 4.0 + 4.0 * speed, rtol=1e-6)
