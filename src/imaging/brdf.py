@@ -18,7 +18,9 @@ import math
 import numpy as np
 from scipy.special import erfc
 
-from shipthermal.environment.sea import fresnel_reflectance  # the one Fresnel reflectance
+from shipthermal.environment.sea import (
+    fresnel_reflectance,  # the one Fresnel reflectance
+)
 from shipthermal.errors import InputError, check_positive, check_range, require
 from shipthermal.parameters import check_wind_speed
 

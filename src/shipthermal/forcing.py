@@ -1077,6 +1077,46 @@ def _absorbed_shortwave(state, rows, sun, lit, air: _AirFaces, traced, alpha, n_
     return alpha * incident
 
 
+@dataclass(frozen=True)
+class _InnerFaces:
+    """The inner faces: their outer twin, compartment air and upward normal component."""
+
+    twin: np.ndarray        # column of the outer face behind each inner face
+    temp_room: np.ndarray   # compartment air [K]
+    normal_z: np.ndarray    # upward component of the normal into the room [-]
+
+
+def _inner_faces(graph, surface: SurfaceProperties, traced, back: BackSide) -> _InnerFaces:
+    inner = surface.inner_bfaces
+    part = surface.bpart[inner]
+    temp_room = np.array([back.temp_part[n] for n in surface.part_names])[part] \
+        if len(part) else np.zeros(0)
+    return _InnerFaces(twin=_inner_twins(graph, surface, traced), temp_room=temp_room,
+                       normal_z=graph.bface_normal[inner, 2])
+
+
+def _tables(patches: dict, n_times: int, dtype):
+    """Empty tables: absorbed short-wave of the air patches, coefficients of the air and
+    inner patches, ``(n_times, faces of the patch)``."""
+    sw = {n: np.empty((n_times, len(p.cols)), dtype) for n, p in patches.items()
+          if p.kind == "air"}
+    h = {n: np.empty((n_times, len(p.cols)), dtype) for n, p in patches.items()
+         if p.kind in ("air", "inner")}
+    return sw, h
+
+
+def _store_rows(rows, patches, sw_tab, h_tab, absorbed, h_air, h_inner, air: _AirFaces):
+    """Copy one block of rows into the per-patch tables (columns in patch-face order)."""
+    air_pos = np.full(absorbed.shape[1], -1)
+    air_pos[air.cols] = np.arange(len(air.cols))
+    for name, p in patches.items():
+        if p.kind == "air":
+            sw_tab[name][rows] = absorbed[:, p.cols]
+            h_tab[name][rows] = h_air[:, air_pos[p.cols]]
+        elif p.kind == "inner":
+            h_tab[name][rows] = h_inner[:, p.cols]
+
+
 def _patches(graph, surface: SurfaceProperties, ship) -> dict:
     out = {}
     for name, (part, side) in surface.patch_part.items():
@@ -1211,37 +1251,23 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
     back = back_side(ship, surface, interior_h, interior_emissivity)
     h_water, temp_wet = wetted_hull_convection(ship, environment, state, traced, surface,
                                                back, current_speed)
-    twin = _inner_twins(graph, surface, traced)
-    inner_part = surface.bpart[inner_bfaces]
-    temp_room = np.array([back.temp_part[n] for n in surface.part_names])[inner_part] \
-        if len(inner_part) else np.zeros(0)
-    nz_inner = graph.bface_normal[inner_bfaces, 2]
-
+    inner = _inner_faces(graph, surface, traced, back)
     patches = _patches(graph, surface, ship)
-    sw_tab = {n: np.empty((n_t, len(p.cols)), dtype) for n, p in patches.items()
-              if p.kind == "air"}
-    h_tab = {n: np.empty((n_t, len(p.cols)), dtype) for n, p in patches.items()
-             if p.kind in ("air", "inner")}
-    air_pos = np.full(n_out, -1)
-    air_pos[a_] = np.arange(len(a_))
+    sw_tab, h_tab = _tables(patches, n_t, dtype)
     for rows in _row_chunks(n_t, n_out):
         absorbed = _absorbed_shortwave(state, rows, sun, lit, air, traced, surface.alpha,
                                        n_out, ship_reflection)
         h_air, ts_air = air_convection(model, air, state, rows, environment, absorbed[:, a_],
                                        surface.epsilon[a_] * share, back.u_back[a_],
                                        back.temp_face[a_], F_sky, F_sea)
+        h_inner = None
         if len(inner_bfaces):
             temp_surface = np.empty((rows.stop - rows.start, n_out))
             temp_surface[:, a_] = ts_air
             temp_surface[:, s_] = temp_wet[rows, None]
-            h_inner = _inner_convection(temp_surface, twin, temp_room, nz_inner, back,
-                                        interior_h, interior_emissivity)
-        for name, p in patches.items():
-            if p.kind == "air":
-                sw_tab[name][rows] = absorbed[:, p.cols]
-                h_tab[name][rows] = h_air[:, air_pos[p.cols]]
-            elif p.kind == "inner":
-                h_tab[name][rows] = h_inner[:, p.cols]
+            h_inner = _inner_convection(temp_surface, inner, back, interior_h,
+                                        interior_emissivity)
+        _store_rows(rows, patches, sw_tab, h_tab, absorbed, h_air, h_inner, air)
     t_end = _time.perf_counter()
 
     seconds = {"trace_setup_and_view_factors": t_traced - t_start,
@@ -1278,10 +1304,11 @@ def _trace(traced, tri, surface, samples_per_face, rays_per_face, seed, backend,
     return traced
 
 
-def _inner_convection(temp_surface, twin, temp_room, nz_inner, back: BackSide, interior_h,
+def _inner_convection(temp_surface, inner: _InnerFaces, back: BackSide, interior_h,
                       interior_emissivity):
     """Stage 3c: inner-face coefficients at the table rows of ``temp_surface`` (the outer
     estimate per outer face) [W m-2 K-1]."""
+    twin, temp_room = inner.twin, inner.temp_room
     if interior_h is not None:
         return np.full((len(temp_surface), len(twin)), float(interior_h))
     # inner-face temperature of the same quasi-steady estimate: the drop from the outer
@@ -1290,5 +1317,5 @@ def _inner_convection(temp_surface, twin, temp_room, nz_inner, back: BackSide, i
     # the small radiative part.
     temp_inner = temp_room + (temp_surface[:, twin] - temp_room) * \
         (back.u_back[twin] / back.h_inner[twin])
-    return conv.h_interior_iso6946(temp_inner, temp_room[None, :], nz_inner[None, :],
+    return conv.h_interior_iso6946(temp_inner, temp_room[None, :], inner.normal_z[None, :],
                                    include_radiation=True, emissivity=interior_emissivity)

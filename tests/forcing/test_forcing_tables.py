@@ -14,8 +14,12 @@ from shipthermal.environment import Environment, climate_day
 from shipthermal.environment import convection as conv
 from shipthermal.environment.weather import Weather
 from shipthermal.errors import InputError
-from shipthermal.forcing import (PeriodicTable, build_ship_forcing, part_values,
-                                 quasi_steady_surface_temperature)
+from shipthermal.forcing import (
+    PeriodicTable,
+    build_ship_forcing,
+    part_values,
+    quasi_steady_surface_temperature,
+)
 from shipthermal.geometry import build_ship_mesh, patrol_boat
 from shipthermal.parameters import LONGWAVE_EMISSIVITY, SOLAR_ABSORPTIVITY
 from shipthermal.units import DAY, SIGMA

