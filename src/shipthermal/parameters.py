@@ -28,6 +28,7 @@ __all__ = [
     "BAND_EMISSIVITY", "LONGWAVE_EMISSIVITY", "SOLAR_ABSORPTIVITY", "SEA_EMISSIVITY",
     "BANDS", "BAND_ALIASES", "ATMOSPHERE_WAVELENGTH_UM", "parse_band",
     "WIND_SPEED_MAX", "check_wind_speed", "part_default", "DEFAULT_CONVECTION_MODEL",
+    "CONVECTION_MODEL_SOURCES",
 ]
 
 # ---------------------------------------------------------------------------------------
@@ -126,10 +127,31 @@ def parse_band(band) -> tuple[str, tuple[float, float]]:
 # ---------------------------------------------------------------------------------------
 # Model choices
 # ---------------------------------------------------------------------------------------
+CONVECTION_MODEL_SOURCES: dict[str, dict[str, str]] = {
+    "flat_plate_mixed": {
+        "source": "forced: flat plate, laminar to Re_c = 5e5 then turbulent (Incropera et al., "
+                  "6th ed., eq. 7.38); natural: Churchill & Chu (1975) vertical, Lloyd & Moran "
+                  "(1974) / 0.52 Ra^1/5 horizontal, tilt by Raithby & Hollands (1998); "
+                  "combined by Churchill (1977), n = 3",
+        "validity": "0.6 <= Pr <= 60 (air 0.7), Re_L <= 1e8; natural convection all Ra"},
+    "flat_plate_turbulent": {
+        "source": "forced: flat plate tripped at the leading edge, 0.037 Re^0.8 Pr^1/3 "
+                  "(Incropera et al., 6th ed., eq. 7.41); natural and blending as "
+                  "flat_plate_mixed",
+        "validity": "0.6 <= Pr <= 60, 5e5 <= Re_L <= 1e8 (disturbed leading edge: "
+                    "superstructure fittings, a rough sea)"},
+    "iso6946": {
+        "source": "ISO 6946:2017 Annex C, eq. C.2: h_ce = 4 + 4 v (v wind speed at the surface)",
+        "validity": "building envelopes; the standard's design values use v = 4 m/s "
+                    "(h_ce = 20 W m-2 K-1)"},
+}
+"""Exterior (air-side) convection models by name, with their source and validity; the
+functions are :data:`shipthermal.environment.convection.CONVECTION_MODELS`. The names are
+what a scenario may choose."""
+
 DEFAULT_CONVECTION_MODEL = "flat_plate_mixed"
-"""Exterior convection model of the air faces when none is chosen: a key of
-:data:`shipthermal.environment.convection.CONVECTION_MODELS` (forced flat plate, laminar then
-turbulent, combined with natural convection by Churchill 1977)."""
+"""Exterior convection model of the air faces when none is chosen (forced flat plate,
+laminar then turbulent, combined with natural convection by Churchill 1977)."""
 
 # ---------------------------------------------------------------------------------------
 # Ranges accepted at the interfaces

@@ -21,7 +21,7 @@ from typing import NamedTuple
 import numpy as np
 
 from shipthermal.errors import InputError, check_positive
-from shipthermal.parameters import DEFAULT_CONVECTION_MODEL
+from shipthermal.parameters import CONVECTION_MODEL_SOURCES, DEFAULT_CONVECTION_MODEL
 from shipthermal.units import SIGMA, ZERO_CELSIUS
 
 __all__ = [
@@ -677,26 +677,15 @@ class ConvectionModel:
     validity: str
 
 
-CONVECTION_MODELS: dict[str, ConvectionModel] = {m.name: m for m in (
-    ConvectionModel(
-        "flat_plate_mixed", h_exterior_air,
-        "forced: flat plate, laminar to Re_c = 5e5 then turbulent (Incropera et al., 6th "
-        "ed., eq. 7.38); natural: Churchill & Chu (1975) vertical, Lloyd & Moran (1974) / "
-        "0.52 Ra^1/5 horizontal, tilt by Raithby & Hollands (1998); combined by Churchill "
-        "(1977), n = 3",
-        "0.6 <= Pr <= 60 (air 0.7), Re_L <= 1e8; natural convection all Ra"),
-    ConvectionModel(
-        "flat_plate_turbulent", h_exterior_air_turbulent,
-        "forced: flat plate tripped at the leading edge, 0.037 Re^0.8 Pr^1/3 (Incropera et "
-        "al., 6th ed., eq. 7.41); natural and blending as flat_plate_mixed",
-        "0.6 <= Pr <= 60, 5e5 <= Re_L <= 1e8 (disturbed leading edge: superstructure "
-        "fittings, a rough sea)"),
-    ConvectionModel(
-        "iso6946", h_exterior_iso6946,
-        "ISO 6946:2017 Annex C, eq. C.2: h_ce = 4 + 4 v (v wind speed at the surface)",
-        "building envelopes; the standard's design values use v = 4 m/s (h_ce = 20)"),
-)}
-"""Exterior convection models by name (pvlib-style named set)."""
+_MODEL_FUNCTIONS = {"flat_plate_mixed": h_exterior_air,
+                    "flat_plate_turbulent": h_exterior_air_turbulent,
+                    "iso6946": h_exterior_iso6946}
+
+CONVECTION_MODELS: dict[str, ConvectionModel] = {
+    name: ConvectionModel(name, _MODEL_FUNCTIONS[name], **info)
+    for name, info in CONVECTION_MODEL_SOURCES.items()}
+"""Exterior convection models by name (pvlib-style named set); names, sources and validity
+from :data:`shipthermal.parameters.CONVECTION_MODEL_SOURCES`."""
 
 
 
