@@ -112,7 +112,8 @@ def test_single_channel_against_lowtran7(season, model, temps):
     # taken as the 10.60-11.19 um rectangle. Not the atmosphere the retrieval assumes, so
     # this measures the accuracy of the JM2014 psi(w) functions, not an inverse crime.
     from imaging.atmosphere import atmosphere
-    from imaging.atmosphere.bands import band_integrate, planck_radiance_um
+    from imaging.atmosphere.bands import band_integrate
+    from imaging.radiometry import planck_radiance
     from imaging.background.lst import AtmosphereB10
 
     band = (10.60, 11.19)
@@ -135,7 +136,7 @@ def test_single_channel_against_lowtran7(season, model, temps):
     #    wavelength, band-averaged) for grey surfaces, then the retrieval.
     lam = a.wavelength_um
     eps = np.array([0.95, 0.97, 0.99])[:, None, None]
-    surface = eps * planck_radiance_um(lam, temps[:, None]) + (1 - eps) * a.sky_irradiance_spectral / np.pi
+    surface = eps * planck_radiance(lam, temps[:, None]) + (1 - eps) * a.sky_irradiance_spectral / np.pi
     l_sen = band_integrate(lam, a.transmittance_spectral * surface + a.path_radiance_spectral, band, mean=True)
     # 2a. With LOWTRAN's own band-mean atmosphere the only error left is the band model
     #     (K1/K2 Planck of band means instead of spectral integrals): measured 0.13-0.22 K.
