@@ -1,9 +1,9 @@
-"""The stages of a run, wired from one :class:`~shipthermal.scenario.Scenario`.
+"""The stages of a run, wired from one :class:`~shipthermal.app.scenario.Scenario`.
 
-Used by the command line (:mod:`shipthermal.cli`) and the sweeps (:mod:`shipthermal.sweep`);
+Used by the command line (:mod:`shipthermal.app.cli`) and the sweeps (:mod:`shipthermal.app.sweep`);
 every physical choice lives in the modules called here:
 
-* thermal: :func:`shipthermal.diurnal.run_scenario_thermal` → ``thermal/<case>/``
+* thermal: :func:`shipthermal.app.thermal.run_scenario_thermal` → ``thermal/<case>/``
   (its products plus ``energy.csv`` and ``history.npz``, the imaging stage's input);
 * imaging: :func:`imaging_scenario` turns the same scenario into an
   :class:`imaging.experiment.ImagingScenario` (location, date, time zone, wind, mooring,
@@ -20,8 +20,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .errors import InputError, require
-from .units import DAY, HOUR
+from ..errors import InputError, require
+from ..units import DAY, HOUR
+from .thermal import ship_thermal_history
 
 __all__ = ["DEMO_EDGE_LENGTH", "QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case", "prepare", "check_imaging_bands",
            "write_thermal", "save_history", "load_history", "imaging_scenario",
@@ -42,7 +43,7 @@ QUICK_SCR_INTERVAL = 1800.0
 def demo_scenarios(quick: bool = False, seasons=("summer", "winter")) -> dict:
     """The built-in default scenarios of the demo, one per season, with the demo's mesh.
 
-    The only change to :func:`~shipthermal.scenario.default_scenario` is the ship's edge
+    The only change to :func:`~shipthermal.app.scenario.default_scenario` is the ship's edge
     length (:data:`DEMO_EDGE_LENGTH`, quick :data:`QUICK_EDGE_LENGTH`); everything else is
     the documented default.
     """
@@ -57,7 +58,7 @@ def demo_scenarios(quick: bool = False, seasons=("summer", "winter")) -> dict:
 # ---------------------------------------------------------------------------------------
 def save_history(history, path) -> Path:
     """Write an :class:`imaging.thermal_history.ShipThermalHistory` to ``.npz`` (atomic)."""
-    from .results import atomic_path
+    from ..results import atomic_path
 
     path = Path(path)
     with atomic_path(path) as tmp:
@@ -99,7 +100,7 @@ def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
     ``png`` or ``html`` in ``outputs.formats``; ``thermal.vtkhdf`` with ``vtkhdf``; a VTU
     series with ``vtu``.
     """
-    from .results import EnergyLog, atomic_path
+    from ..results import EnergyLog, atomic_path
 
     out = Path(out_dir)
     fmts = set(scenario.outputs.formats)
@@ -112,7 +113,7 @@ def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
         pd.DataFrame({k: getattr(e, k) for k in EnergyLog.FIELDS}).to_csv(
             tmp, index=False, float_format="%.9g")
     written["energy_csv"] = out / "energy.csv"
-    hist = result.to_history()
+    hist = ship_thermal_history(result)
     written["history"] = save_history(hist, out / "history.npz")
     if "vtu" in fmts:
         written["vtu"] = result.results.to_vtu(out / "vtu")
@@ -121,13 +122,13 @@ def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
 
 def thermal_case(scenario, run, case: str, *, resume: bool = False, progress: bool = True,
                  log=None, ship=None) -> dict:
-    """The thermal stage of one case into ``run`` (a :class:`~shipthermal.rundir.RunDir`),
+    """The thermal stage of one case into ``run`` (a :class:`~shipthermal.app.rundir.RunDir`),
     checkpointed every ``outputs.checkpoint_interval`` of simulated time.
 
     A finished stage (``thermal/<case>/`` exists) is skipped on ``resume``. Returns the
     run's summary (``thermal_summary.json``).
     """
-    from .diurnal import run_scenario_thermal
+    from .thermal import run_scenario_thermal
 
     stage = f"thermal/{case}"
     if resume and run.has(stage):
