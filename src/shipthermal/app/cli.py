@@ -276,11 +276,11 @@ def cmd_mesh(args, con: Console) -> int:
 
 
 def cmd_run(args, con: Console) -> int:
-    from .pipeline import prepare, thermal_case
+    from .pipeline import output_inputs, prepare, thermal_case
     from .rundir import RunDir, changes_from_copy, is_complete
 
     sc = _load_scenario(args.scenario)
-    out = Path(args.out or sc.outputs.directory)
+    out = Path(args.out or output_inputs(sc)["directory"])
     if args.resume and is_complete(out):
         changed = changes_from_copy(out, sc)
         if changed:

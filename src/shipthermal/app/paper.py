@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .run_environment import sky_weather
 from .thermal import ship_thermal_history
 
 __all__ = ["REFERENCE_DECK", "PAPER_CROSSOVERS", "clock_text", "crossover_rows"]
@@ -35,7 +36,6 @@ def crossover_rows(scen, runs, progress, say):
     """Crossover moments next to the paper's: contrast zero crossings every 10 min in
     every band of each season's scenario (``scen[season]``), rendered from its thermal run
     (``runs[season]``); one row per season and band."""
-    from imaging.atmosphere.weather_sky import SkyWeather
     from imaging.experiment import ImagingScenario, render_series
 
     rows = []
@@ -44,8 +44,7 @@ def crossover_rows(scen, runs, progress, say):
         sc = scen[season]
         say(f"{season}: imaging every 10 min for the crossover moments")
         # the image's sky follows this scenario's weather, as the thermal run's does
-        img = ImagingScenario.default(season, sky_weather=SkyWeather.from_weather(
-            sc.weather_record(), sc.start, sc.weather.clear_sky_model, sc.weather.cloud_model))
+        img = ImagingScenario.default(season, sky_weather=sky_weather(sc.environment()))
         series = render_series(ship_thermal_history(res), img, bands=tuple(sc.bands), times_s=times,
                                progress=progress)
         for band, sr in series.items():

@@ -322,8 +322,9 @@ def run_case(spec: dict, backgrounds: dict | None = None) -> dict:
             from .thermal import ship_thermal_history
 
             t1 = _time.perf_counter()
-            scen = imaging_scenario(sc, _background(sc))
-            series = render_series(ship_thermal_history(res), scen, sc.bands, frame_times(sc),
+            hist = ship_thermal_history(res)
+            scen = imaging_scenario(sc, _background(sc), hist)
+            series = render_series(hist, scen, sc.bands, frame_times(sc),
                                    progress=False)
             curves = out["curves"] = {}
             for band, sr in series.items():

@@ -7,7 +7,8 @@ from __future__ import annotations
 from ..diurnal import DiurnalResult, DiurnalSettings, run_diurnal
 from ..units import DAY, HOUR
 
-__all__ = ["settings_from_scenario", "run_scenario_thermal", "ship_thermal_history"]
+__all__ = ["settings_from_scenario", "thermal_inputs", "run_scenario_thermal",
+           "ship_thermal_history"]
 
 
 def settings_from_scenario(scenario) -> DiurnalSettings:
@@ -20,6 +21,21 @@ def settings_from_scenario(scenario) -> DiurnalSettings:
                            seed=s.seed, backend=s.backend)
 
 
+def thermal_inputs(scenario, ship=None) -> dict:
+    """What the thermal stage receives from a scenario: the keyword arguments of
+    :func:`~shipthermal.diurnal.run_diurnal` that carry the scenario — ``ship`` (default
+    ``scenario.ship()``), ``environment`` (the run's one :meth:`Scenario.environment
+    <shipthermal.app.scenario.Scenario.environment>`), ``settings``, per-part
+    ``absorptivity`` and long-wave ``emissivity`` (every part name of the ship, sub-parts
+    included) and ``checkpoint_interval`` [s]."""
+    ship = ship if ship is not None else scenario.ship()
+    return {"ship": ship, "environment": scenario.environment(),
+            "settings": settings_from_scenario(scenario),
+            "absorptivity": {p: scenario.solar_absorptivity(p) for p in ship.part_names},
+            "emissivity": {p: scenario.longwave_emissivity(p) for p in ship.part_names},
+            "checkpoint_interval": scenario.outputs.checkpoint_interval or HOUR}
+
+
 def run_scenario_thermal(scenario, *, ship=None, progress: bool = True, checkpoint=None,
                          resume: bool = False, log=None, overrides: dict | None = None,
                          traced=None, graph=None, initial_state=None) -> DiurnalResult:
@@ -28,20 +44,12 @@ def run_scenario_thermal(scenario, *, ship=None, progress: bool = True, checkpoi
 
     ``overrides`` may replace ``absorptivity`` / ``emissivity`` mappings (sensitivity runs).
     """
-    ship = ship if ship is not None else scenario.ship()
-    env = scenario.environment()
-    mains = {p for p in ship.part_names}
-    absorptivity = {p: scenario.solar_absorptivity(p) for p in mains}
-    emissivity = {p: scenario.longwave_emissivity(p) for p in mains}
+    inputs = thermal_inputs(scenario, ship)
     if overrides:
-        absorptivity = overrides.get("absorptivity", absorptivity)
-        emissivity = overrides.get("emissivity", emissivity)
-    settings = settings_from_scenario(scenario)
-    interval = scenario.outputs.checkpoint_interval or HOUR
-    res = run_diurnal(ship, env, settings, absorptivity=absorptivity, emissivity=emissivity,
-                      progress=progress, checkpoint=checkpoint, resume=resume, log=log,
-                      checkpoint_interval=interval, traced=traced, graph=graph,
-                      initial_state=initial_state)
+        inputs["absorptivity"] = overrides.get("absorptivity", inputs["absorptivity"])
+        inputs["emissivity"] = overrides.get("emissivity", inputs["emissivity"])
+    res = run_diurnal(**inputs, progress=progress, checkpoint=checkpoint, resume=resume,
+                      log=log, traced=traced, graph=graph, initial_state=initial_state)
     res.meta["scenario"] = scenario.name
     res.meta["date"] = str(scenario.time.date)
     res.meta["season"] = scenario.time.season

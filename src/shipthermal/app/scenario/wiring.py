@@ -15,7 +15,7 @@ from typing import Any, Mapping
 from ...errors import InputError
 from .sections import (_RECORD_HINT, BackgroundSettings, ImagingSettings, Location, OutputSettings,
                        ShipSettings, SolverSettings, Time, WeatherSettings, _is_leap)
-from .spec import _BAD, ScenarioError, _Context, _opt, _section, _thaw, clock_seconds, parse_band
+from .spec import _BAD, ScenarioError, _Context, _opt, _section, _thaw, clock_seconds
 from .values import CLIMATE_MONTHS, CLIMATE_RADIUS_DEG, DALIAN, DAY, MAX_RECORD_DAYS, SEASONS
 from .writing import _dump_toml
 
@@ -129,10 +129,6 @@ class Scenario:
         """Imaging band names (canonical)."""
         return self.imaging.bands
 
-    def band_limits(self, band) -> tuple[float, float]:
-        """(low, high) [µm] of a band."""
-        return parse_band(band)[1]
-
     def image_seconds(self) -> tuple:
         """Image times as seconds after local midnight of ``time.date`` [s]."""
         return tuple(clock_seconds(t) for t in self.imaging.times)
@@ -189,7 +185,10 @@ class Scenario:
         """The :class:`~shipthermal.environment.Weather` the run uses, starting at
         :attr:`start` (periodic for the built-in day and for ``weather.day = 'periodic'``).
 
-        Offsets (``*_offset``) are applied. Files are read here, not at load.
+        Offsets (``*_offset``) are applied here, the same way to the built-in day and to a
+        file: air temperature and wind speed shifted (wind clipped at 0), cloud cover
+        shifted and clipped to [0, 1]; humidity, sea temperature and irradiance unchanged.
+        Files are read here, not at load.
         """
         import numpy as np
         from shipthermal.environment import Weather, climate_day
@@ -199,18 +198,18 @@ class Scenario:
             day = dataclasses.replace(climate_day(self.time.season), date=self.time.date,
                                       latitude=loc.latitude, longitude=loc.longitude,
                                       altitude=loc.altitude, tz=loc.time_zone)
-            day = day.perturbed(wind=w.wind_speed_offset, air=w.temp_air_offset,
-                                cloud=w.cloud_cover_offset)
-            return day.weather(60)
-        weather, _ = self._file_weather()
+            weather, periodic, source = day.weather(60), True, None
+        else:
+            weather, _ = self._file_weather()
+            periodic, source = w.day == "periodic", f"{weather.source} from {self.time.date}"
         return Weather(time=weather.time, temp_air=weather.temp_air + w.temp_air_offset,
                        relative_humidity=weather.relative_humidity,
                        wind_speed=np.maximum(weather.wind_speed + w.wind_speed_offset, 0.0),
                        wind_direction=weather.wind_direction,
                        cloud_cover=np.clip(weather.cloud_cover + w.cloud_cover_offset, 0.0, 1.0),
                        temp_sea=weather.temp_sea, ghi=weather.ghi,
-                       longwave_down=weather.longwave_down, periodic=w.day == "periodic",
-                       source=f"{weather.source} from {self.time.date}")
+                       longwave_down=weather.longwave_down, periodic=periodic,
+                       source=source or weather.source)
 
     def weather_span(self, record=None):
         """``(first, last)`` instants of weather the run needs (tz-aware, both included):
@@ -272,19 +271,27 @@ class Scenario:
                 f"{span}"] + report.lines()
 
     def environment(self):
-        """The :class:`~shipthermal.environment.Environment` of this scenario.
+        """The run's :class:`~shipthermal.environment.Environment`: built once per scenario
+        object (the weather file read and the offsets applied once) and the same object for
+        every stage that asks — the thermal stage's forcing, and the imaging stage's sea,
+        aerosol and sky (:mod:`shipthermal.app.run_environment`).
 
         Location, date, time zone, weather, ship heading and speed and the sky models all
         come from the scenario; ``environment().start == scenario.start``.
         """
+        env = self.__dict__.get("_environment")
+        if env is not None:
+            return env
         from shipthermal.environment import Environment
 
         w, loc = self.weather, self.location
-        return Environment(loc.latitude, loc.longitude, self.weather_record(),
-                           ship_heading=self.ship.heading, ship_speed=self.ship.speed,
-                           altitude=loc.altitude, clear_sky_model=w.clear_sky_model,
-                           cloud_model=w.cloud_model, decomposition=w.decomposition,
-                           linke_turbidity=w.linke_turbidity, sea_emissivity=w.sea_emissivity)
+        env = Environment(loc.latitude, loc.longitude, self.weather_record(),
+                          ship_heading=self.ship.heading, ship_speed=self.ship.speed,
+                          altitude=loc.altitude, clear_sky_model=w.clear_sky_model,
+                          cloud_model=w.cloud_model, decomposition=w.decomposition,
+                          linke_turbidity=w.linke_turbidity, sea_emissivity=w.sea_emissivity)
+        object.__setattr__(self, "_environment", env)      # frozen: a cache, not a field
+        return env
 
     def sensor(self):
         """The :class:`imaging.sensor.SensorSpec` of ``[imaging.sensor]``."""
