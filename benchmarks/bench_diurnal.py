@@ -30,8 +30,8 @@ def main():
     ap.add_argument("--max-days", type=int, default=10)
     args = ap.parse_args()
 
-    from shipthermal.diurnal import run_scenario_thermal
-    from shipthermal.scenario import default_scenario
+    from shipthermal.app.thermal import run_scenario_thermal
+    from shipthermal.app.scenario import default_scenario
 
     sc = default_scenario(args.season)
     changes = {"solver.spinup_max_days": args.max_days}

@@ -32,7 +32,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "src"))
 
 import pandas as pd  # noqa: E402
 
-from shipthermal.sweep import load_sweep, run_sweep  # noqa: E402
+from shipthermal.app.sweep import load_sweep, run_sweep  # noqa: E402
 
 HEADINGS = (0, 45, 90, 135, 180, 225, 270, 315)
 WINDS = (-1.0, 1.0)

@@ -87,6 +87,12 @@ class ImagingScenario:
         The thermal stage's near-surface weather (:class:`imaging.atmosphere.weather_sky.
         SkyWeather`): the image's thermal sky follows it (one sky for both stages); None:
         the standard atmosphere's sky of the tables.
+    aerosol : dict or None
+        Conditions of the Navy maritime aerosol (``wind_speed``, ``wind_speed_24h``
+        [m s-1], ``rel_humidity`` [%]; :func:`imaging.atmosphere.aerosol.column_optics`),
+        the thermal stage's weather. Used by the live LOWTRAN backend; the embedded tables
+        hold one fixed setting (LOWTRAN 7's defaults of the model atmosphere), so with
+        ``atmosphere_backend = "table"`` it is not used. None: LOWTRAN 7's defaults.
     """
 
     season: str
@@ -105,6 +111,7 @@ class ImagingScenario:
     sensor_options: SensorOptions | None = None
     renderer_options: dict = field(default_factory=dict)
     sky_weather: object = None
+    aerosol: dict | None = None
 
     def __post_init__(self):
         from .atmosphere import season_model
@@ -134,6 +141,12 @@ class ImagingScenario:
                   sky_weather=SkyWeather.from_weather(day.weather()))
         kw.update(overrides)
         return cls(**kw)
+
+    @property
+    def atmosphere_aerosol(self) -> dict | None:
+        """The aerosol conditions handed to the atmosphere: :attr:`aerosol` for the live
+        LOWTRAN backend, None for the embedded tables (their fixed setting)."""
+        return self.aerosol if self.atmosphere_backend == "lowtran" else None
 
     def renderer(self, ship) -> SceneRenderer:
         """A :class:`SceneRenderer` for ``ship`` in this scenario."""
@@ -253,8 +266,10 @@ def render_series(history, scenario: ImagingScenario, bands=("3-5", "8-14"),
     t0 = _time.perf_counter()
     r = renderer or scenario.renderer(history)
     zen, azi = sun_positions(scenario, t)
+    aerosol = scenario.atmosphere_aerosol
     tau_tables = {b: emitted_transmittance_table(scenario.season, b, scenario.view_zenith_deg,
-                                                 scenario.atmosphere_backend)[:2]
+                                                 scenario.atmosphere_backend,
+                                                 aerosol=aerosol)[:2]
                   for b in bands}
     crop = _crop_box(r.coverage > 0, crop_px, r.shape)
     r0, r1, c0, c1 = crop
@@ -280,7 +295,7 @@ def render_series(history, scenario: ImagingScenario, bands=("3-5", "8-14"),
             cond = conditions_from_atmosphere(scenario.season, b, scenario.view_zenith_deg,
                                               scenario.view_azimuth_deg, min(zen[k], 180.0),
                                               azi[k], scenario.atmosphere_backend,
-                                              tau_tables[b], sky_now)
+                                              tau_tables[b], sky_now, aerosol)
             fr = r.render(cond, temp_f, temp_bg, temp_sea, sun, scenario.sensor_options, tk)
             m = local_scr(fr.radiance, mask)
             rows[b].append(dict(

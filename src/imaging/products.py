@@ -312,6 +312,7 @@ def write_products(out_dir, series, crossovers, comparison, scenarios, histories
         "ship_temperatures": {s: h.label for s, h in histories.items()},
         "scenarios": {s: {"date": sc.date, "latitude": sc.latitude, "longitude": sc.longitude,
                           "tz": sc.tz, "wind_speed": sc.wind_speed,
+                          "aerosol": sc.atmosphere_aerosol,
                           "view_zenith_deg": sc.view_zenith_deg,
                           "view_azimuth_deg": sc.view_azimuth_deg,
                           "samples_per_pixel": sc.samples_per_pixel,

@@ -49,6 +49,7 @@ shadow (cooling) of the ground under the ship's shadow; multiple reflections.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -154,7 +155,8 @@ class BandConditions:
 
 def emitted_transmittance_table(season: str, band: str, view_zenith_deg: float,
                                 backend: str = "table", temp_min: float = 180.0,
-                                temp_max: float = 420.0, temp_step: float = 2.0):
+                                temp_max: float = 420.0, temp_step: float = 2.0,
+                                aerosol: dict | None = None):
     """Planck-weighted view transmittance on a temperature grid, with its interpolation error.
 
     Parameters
@@ -167,6 +169,8 @@ def emitted_transmittance_table(season: str, band: str, view_zenith_deg: float,
         Atmosphere backend.
     temp_min, temp_max, temp_step : float
         Grid [K].
+    aerosol : dict or None
+        Live backend only: the aerosol conditions (:func:`imaging.atmosphere.atmosphere`).
 
     Returns
     -------
@@ -177,9 +181,11 @@ def emitted_transmittance_table(season: str, band: str, view_zenith_deg: float,
     from .atmosphere import planck_weighted_transmittance
 
     t = np.arange(temp_min, temp_max + 0.5 * temp_step, temp_step)
-    tau = planck_weighted_transmittance(season, band, view_zenith_deg, t, backend=backend)
+    tau = planck_weighted_transmittance(season, band, view_zenith_deg, t, backend=backend,
+                                        aerosol=aerosol)
     mid = 0.5 * (t[1:] + t[:-1])
-    exact = planck_weighted_transmittance(season, band, view_zenith_deg, mid, backend=backend)
+    exact = planck_weighted_transmittance(season, band, view_zenith_deg, mid, backend=backend,
+                                          aerosol=aerosol)
     err = float(np.max(np.abs(np.interp(mid, t, tau) - exact)))
     return t, tau, err
 
@@ -187,8 +193,8 @@ def emitted_transmittance_table(season: str, band: str, view_zenith_deg: float,
 def conditions_from_atmosphere(season: str, band: str, view_zenith_deg: float,
                                view_azimuth_deg: float, sun_zenith_deg: float,
                                sun_azimuth_deg: float, backend: str = "table",
-                               tau_table=None, sky_weather: dict | None = None
-                               ) -> BandConditions:
+                               tau_table=None, sky_weather: dict | None = None,
+                               aerosol: dict | None = None) -> BandConditions:
     """:class:`BandConditions` from :func:`imaging.atmosphere.atmosphere` for one geometry.
 
     Parameters
@@ -209,14 +215,19 @@ def conditions_from_atmosphere(season: str, band: str, view_zenith_deg: float,
         (:meth:`imaging.atmosphere.weather_sky.SkyWeather.at`): the thermal sky then follows
         it (:func:`imaging.atmosphere.weather_sky.weather_sky_radiance`); None: the
         standard atmosphere's sky of the tables. Scattered sunlight stays the tables'.
+    aerosol : dict or None
+        Live backend only: the Navy maritime aerosol's conditions (``wind_speed``,
+        ``wind_speed_24h`` [m s-1], ``rel_humidity`` [%]; :func:`imaging.atmosphere.atmosphere`);
+        None: LOWTRAN 7's defaults of the model atmosphere (the embedded tables' setting).
     """
     from .atmosphere import atmosphere
 
     rel = (view_azimuth_deg - sun_azimuth_deg + 180.0) % 360.0 - 180.0
     atm = atmosphere(season, band, view_zenith_deg, min(sun_zenith_deg, 180.0), backend=backend,
-                     view_azimuth_from_sun_deg=rel, spectral=False)
+                     view_azimuth_from_sun_deg=rel, spectral=False, aerosol=aerosol)
     if tau_table is None:
-        tau_table = emitted_transmittance_table(season, band, view_zenith_deg, backend)[:2]
+        tau_table = emitted_transmittance_table(season, band, view_zenith_deg, backend,
+                                                aerosol=aerosol)[:2]
     sky_thermal, sky_hemis = atm.sky_radiance, atm.sky_irradiance
     if sky_weather is not None:
         from .atmosphere.weather_sky import weather_sky_irradiance, weather_sky_radiance
@@ -419,8 +430,10 @@ class SceneRenderer:
     paint : ShipPaint
         Ship reflection parameters.
     ship_emissivity : dict or None
-        ``{band: {"hull": e, "deck": e, "superstructure": e}}`` replacing the paper's §5
-        values (:data:`imaging.radiometry.SHIP_EMISSIVITY`).
+        Per band, either ``{"hull": e, "deck": e, "superstructure": e}`` replacing the
+        paper's §5 values (:data:`imaging.radiometry.SHIP_EMISSIVITY`) for the main parts,
+        or an array with one emissivity per face of ``ship`` (sub-parts with their own
+        values, e.g. a funnel) [-].
     background_emissivity : dict or None
         ``{band: {class name: e}}`` overrides (see :func:`imaging.scene.background_optics`).
     sensor : SensorSpec
@@ -603,7 +616,16 @@ class SceneRenderer:
             return self._ship_eps[band]
         if band not in SHIP_EMISSIVITY and band not in self._ship_eps_override:
             raise InputError("band", band, f"must be one of {sorted(SHIP_EMISSIVITY)}")
-        table = {**SHIP_EMISSIVITY.get(band, {}), **self._ship_eps_override.get(band, {})}
+        given = self._ship_eps_override.get(band)
+        if given is not None and not isinstance(given, Mapping):
+            eps = np.array(given, dtype=float)
+            require(eps.shape == (len(self.faces),), f"ship_emissivity[{band!r}]", eps.shape,
+                    f"must hold one emissivity per ship face ({len(self.faces)})")
+            check_range(f"ship_emissivity[{band!r}]", eps, 0.0, 1.0)
+            eps.setflags(write=False)
+            self._ship_eps[band] = eps
+            return eps
+        table = {**SHIP_EMISSIVITY.get(band, {}), **(given or {})}
         missing = sorted(set(self._key_names) - set(table))
         require(not missing, "ship_emissivity", sorted(table), f"needs values for {missing}")
         per_key = np.array([table[k] for k in self._key_names], dtype=float)

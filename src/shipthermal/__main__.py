@@ -1,7 +1,7 @@
-"""python -m shipthermal: the command line (shipthermal.cli)."""
+"""python -m shipthermal: the command line (shipthermal.app.cli)."""
 
 import sys
 
-from .cli import main
+from .app.cli import main
 
 sys.exit(main())

@@ -34,8 +34,7 @@ from .parameters import DEFAULT_CONVECTION_MODEL
 from .results import EnergyLog, Results, atomic_path
 from .units import DAY, HOUR
 
-__all__ = ["DiurnalSettings", "DiurnalResult", "run_diurnal", "run_scenario_thermal",
-           "part_groups", "MAIN_SERIES"]
+__all__ = ["DiurnalSettings", "DiurnalResult", "run_diurnal", "part_groups", "MAIN_SERIES"]
 
 #: Columns of the part-mean table, in plotting order
 MAIN_SERIES = ("hull", "deck", "superstructure", "hull_wetted")
@@ -151,19 +150,6 @@ class DiurnalResult:
         """(nt, M) outer-surface temperature of each ship triangle [K]."""
         m = self.ship.n_faces
         return self.results.face_temperature[:, :m]
-
-    def to_history(self):
-        """The imaging stage's input (:class:`imaging.thermal_history.ShipThermalHistory`)."""
-        from imaging.thermal_history import ShipThermalHistory
-
-        s = self.ship
-        return ShipThermalHistory(s.vertices, s.faces, s.face_part, s.part_names,
-                                  self.results.times, self.outer_face_temperature(),
-                                  temp_air=self.part_means["temp_air"].to_numpy(),
-                                  temp_sea=self.part_means["temp_sea"].to_numpy(),
-                                  label=f"diurnal thermal run ({self.ship.name})",
-                                  # a weather record is not periodic: no wrap past its end
-                                  period_s=None if self.is_record else DAY)
 
     @property
     def is_record(self) -> bool:
@@ -567,44 +553,3 @@ def _concat_energy(parts) -> EnergyLog:
     if not parts:
         return EnergyLog.from_lists({k: [] for k in EnergyLog.FIELDS})
     return EnergyLog(*[np.concatenate([getattr(p, k) for p in parts]) for k in EnergyLog.FIELDS])
-
-
-def settings_from_scenario(scenario) -> DiurnalSettings:
-    """The thermal settings of a :class:`~shipthermal.scenario.Scenario`."""
-    s = scenario.solver
-    return DiurnalSettings(time_step=s.time_step, scheme=s.scheme,
-                           output_interval=scenario.time.output_interval,
-                           spinup_tolerance=s.spinup_tolerance, spinup_max_days=s.spinup_max_days,
-                           samples_per_face=s.samples_per_face, rays_per_face=s.rays_per_face,
-                           seed=s.seed, backend=s.backend)
-
-
-def run_scenario_thermal(scenario, *, ship=None, progress: bool = True, checkpoint=None,
-                         resume: bool = False, log=None, overrides: dict | None = None,
-                         traced=None, graph=None, initial_state=None) -> DiurnalResult:
-    """The thermal stage of a scenario: its ship, environment, optical properties and solver
-    settings (one object, so nothing can disagree with the imaging stage).
-
-    ``overrides`` may replace ``absorptivity`` / ``emissivity`` mappings (sensitivity runs).
-    """
-    ship = ship if ship is not None else scenario.ship()
-    env = scenario.environment()
-    mains = {p for p in ship.part_names}
-    absorptivity = {p: scenario.solar_absorptivity(p) for p in mains}
-    emissivity = {p: scenario.longwave_emissivity(p) for p in mains}
-    if overrides:
-        absorptivity = overrides.get("absorptivity", absorptivity)
-        emissivity = overrides.get("emissivity", emissivity)
-    settings = settings_from_scenario(scenario)
-    interval = scenario.outputs.checkpoint_interval or HOUR
-    res = run_diurnal(ship, env, settings, absorptivity=absorptivity, emissivity=emissivity,
-                      progress=progress, checkpoint=checkpoint, resume=resume, log=log,
-                      checkpoint_interval=interval, traced=traced, graph=graph,
-                      initial_state=initial_state)
-    res.meta["scenario"] = scenario.name
-    res.meta["date"] = str(scenario.time.date)
-    res.meta["season"] = scenario.time.season
-    sensor = scenario.imaging.sensor
-    res.meta["sensor_view_deg"] = [float(sensor.view_zenith_deg), float(sensor.view_azimuth_deg)]
-    res.meta["weather_report"] = scenario.check_weather()
-    return res

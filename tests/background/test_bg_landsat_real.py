@@ -248,7 +248,8 @@ def test_pre_collection_overpass_fills_clouds_and_writes_mask(pre, tmp_path):
 
 # --- scenario validate opens the rasters and lists every problem --------------------------------
 def test_scenario_validate_reports_every_raster_problem_at_once(tmp_path, capsys):
-    from shipthermal.scenario import ROI_SPLITS, main
+    from shipthermal.app.cli import main
+    from shipthermal.app.scenario.values import ROI_SPLITS
     from imaging.background.classify import N_SPLITS
 
     assert ROI_SPLITS == N_SPLITS
@@ -264,13 +265,13 @@ def test_scenario_validate_reports_every_raster_problem_at_once(tmp_path, capsys
     sc = tmp_path / "s.toml"
     sc.write_text(f'[background]\nsource = "files"\nmtl = "{scene / MERSEY.name}"\nroi = "{roi}"\n'
                   f'dem = "{dem}"\nmet = "{met}"\n')
-    assert main(["validate", str(sc)]) == 2
+    assert main(["check", str(sc)]) == 2
     err = capsys.readouterr().err
     for frag in ("FILE_NAME_BAND_6", "truncated or corrupt", "background.roi", "none for building",
                  "background.dem", "must overlap the scene", "background.met", "georeferencing from the MTL"):
         assert frag in err, (frag, err)
     # the untouched example passes
-    assert main(["validate", str(ROOT / "examples/real_port/background.toml")]) == 0
+    assert main(["check", str(ROOT / "examples/real_port/background.toml")]) == 0
 
 
 def test_level2_mtl_json_form_reads_like_the_text(tmp_path):

@@ -302,10 +302,10 @@ def test_variogram_range_stuck_at_the_largest_lag_is_flagged():
 
 
 # ---------------------------------------------------------------------------------------------
-# `python -m shipthermal.scenario validate` opens the met grid and the DEM
+# `shipthermal check` opens the met grid and the DEM
 # ---------------------------------------------------------------------------------------------
 def test_scenario_validate_opens_met_and_dem_and_lists_every_problem(tmp_path, capsys):
-    from shipthermal.scenario import main
+    from shipthermal.app.cli import main
 
     dem = Path(__file__).resolve().parents[1] / "data" / "dem" / "srtm_N49W124_crop.tif"
     for name in ("scene_MTL.txt", "roi.tif"):
@@ -321,11 +321,11 @@ def test_scenario_validate_opens_met_and_dem_and_lists_every_problem(tmp_path, c
 
     # the stand-in MTL is reported (it is opened too); the real met grid and DEM pass
     good = scenario("good.toml", ERA5, dem)
-    assert main(["validate", good]) == 2
+    assert main(["check", good]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "background.mtl" in err[0], err
     bad = scenario("bad.toml", tmp_path / "cut.grib", tmp_path / "dem.tif")
-    assert main(["validate", bad]) == 2
+    assert main(["check", bad]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 3, err
     assert "background.mtl" in err[0]

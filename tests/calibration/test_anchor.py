@@ -4,7 +4,7 @@ full model's sunlit dark deck against it (slow: one full diurnal run)."""
 import numpy as np
 import pytest
 
-from shipthermal.anchor import sol_air
+from shipthermal.app.anchor import sol_air
 
 
 def _f_to_k(f):
@@ -23,7 +23,7 @@ def test_sol_air_in_si_equals_the_handbook_formula_in_ip_units():
 
 @pytest.mark.slow
 def test_sunlit_dark_deck_against_sol_air():
-    from shipthermal.anchor import sol_air_anchor
+    from shipthermal.app.anchor import sol_air_anchor
 
     df = sol_air_anchor().set_index("surface")
     deck = df.loc["horizontal deck"]

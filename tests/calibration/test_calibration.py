@@ -5,10 +5,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from shipthermal.calibration import (Unknown, _Case, calibrate, parse_unknown,
+from shipthermal.app.calibration import (Unknown, _Case, calibrate, parse_unknown,
                                      read_measurements)
 from shipthermal.errors import InputError
-from shipthermal.scenario import default_scenario
+from shipthermal.app.scenario import default_scenario
 
 #: very coarse runs for the test: 8 m mesh, few rays, hourly steps (the recovery is of the
 #: model by itself, so the resolution does not matter, only that truth and fit share it)

@@ -6,9 +6,9 @@ import json
 import pandas as pd
 import pytest
 
-from shipthermal.calibration import _Case
-from shipthermal.cli import main
-from shipthermal.scenario import load_scenario
+from shipthermal.app.calibration import _Case
+from shipthermal.app.cli import main
+from shipthermal.app.scenario import load_scenario
 
 import sys
 from pathlib import Path

@@ -7,8 +7,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import shipthermal.calibration as cal
-from shipthermal.scenario import default_scenario
+import shipthermal.app.calibration as cal
+from shipthermal.app.scenario import default_scenario
 
 KEYS = ("ship.solar_absorptivity.deck", "weather.wind_speed_offset")
 DEFAULTS = np.array([0.85, 0.0])

@@ -13,7 +13,7 @@ TOLERANCE_K = 0.5
 
 @pytest.mark.slow
 def test_paper_case_heldout_errors():
-    from shipthermal.calibration import paper_calibration
+    from shipthermal.app.calibration import paper_calibration
 
     paper = paper_calibration()
     for name, expected in EXPECTED_HELDOUT_RMS_K.items():

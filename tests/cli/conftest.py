@@ -3,7 +3,7 @@
 import pytest
 from cli_helpers import write_tiny
 
-from shipthermal.cli import main
+from shipthermal.app.cli import main
 
 
 @pytest.fixture(scope="session")

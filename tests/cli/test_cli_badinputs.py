@@ -18,7 +18,7 @@ import trimesh
 import xarray as xr
 from cli_helpers import write_tiny
 
-from shipthermal.cli import main
+from shipthermal.app.cli import main
 
 
 def _tree(root):

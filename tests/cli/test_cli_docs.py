@@ -21,7 +21,7 @@ from pathlib import Path
 import pytest
 from cli_helpers import write_tiny
 
-from shipthermal.cli import build_parser, main
+from shipthermal.app.cli import build_parser, main
 
 ROOT = Path(__file__).resolve().parents[2]
 DOCS = [ROOT / "README.md", ROOT / "docs" / "CLI.md", ROOT / "docs" / "SCENARIO.md"]
@@ -46,7 +46,7 @@ def _snippets(text):
     for line in out:
         line = line.split("  #")[0].split(" # ")[0].strip()
         line = line.replace("\\|", "|")
-        m = re.match(r"(?:\./run|shipthermal|python -m shipthermal(?:\.scenario)?)(\s|$)", line)
+        m = re.match(r"(?:\./run|shipthermal|python -m shipthermal)(\s|$)", line)
         if m:
             cmds.append(line)
     return cmds
@@ -91,9 +91,10 @@ COMMANDS = documented_commands()
 
 def test_the_docs_show_commands():
     kinds = {_argv(c)[0] for c in COMMANDS}
-    assert kinds >= {"run", "shipthermal", "shipthermal.scenario"}, kinds
+    assert kinds >= {"run", "shipthermal"}, kinds
     subs = {_argv(c)[1][0] for c in COMMANDS if _argv(c)[0] == "shipthermal" and _argv(c)[1]}
-    assert subs >= {"demo", "mesh", "run", "image", "crossover", "validate", "sweep", "report"}
+    assert subs >= {"demo", "mesh", "run", "image", "crossover", "validate", "sweep", "report",
+                    "check", "schema"}
 
 
 @pytest.mark.parametrize("cmd", sorted(COMMANDS), ids=lambda c: c[:70])
@@ -106,13 +107,6 @@ def test_documented_command_parses(cmd):
             assert re.search(rf"^\s+{word}\)", text, flags=re.M) or word == "demo", cmd
             return
         kind = "shipthermal"                   # ./run <args> is the shipthermal command line
-    if kind == "shipthermal.scenario":
-        from shipthermal.scenario import main as scenario_main
-
-        if argv and argv[0] == "schema":
-            return
-        assert argv[0] == "validate", cmd
-        return
     try:
         args = build_parser().parse_args(argv)
     except SystemExit as exc:
@@ -161,6 +155,7 @@ def test_runs_cover_the_documented_subcommands():
     ran = {r.split()[1] for r in RUNS} | {"demo", "validate", "background"}   # tests below
     ran |= {"calibrate"}      # tests/calibration/test_calibration_cli.py (slow: model runs)
     ran |= {"ensemble"}       # tests/cli/test_cli_ensemble.py (3 serial members)
+    ran |= {"check", "schema"}   # test_scenario_check_and_schema_commands below
     assert documented <= ran, documented - ran
 
 
@@ -178,11 +173,11 @@ def test_documented_command_runs(cmd, workdir, monkeypatch, capsys):
         assert (workdir / "report-copy.html").stat().st_size > 10_000
 
 
-def test_scenario_validate_command(workdir):
-    exe = subprocess.run([sys.executable, "-m", "shipthermal.scenario", "validate", "my.toml"],
+def test_scenario_check_and_schema_commands(workdir):
+    exe = subprocess.run([sys.executable, "-m", "shipthermal", "check", "my.toml"],
                          cwd=workdir, capture_output=True, text=True)
     assert exe.returncode == 0 and "my.toml: ok" in exe.stdout, exe.stderr
-    exe = subprocess.run([sys.executable, "-m", "shipthermal.scenario", "schema"],
+    exe = subprocess.run([sys.executable, "-m", "shipthermal", "schema"],
                          capture_output=True, text=True)
     assert exe.returncode == 0 and "| key |" in exe.stdout
 

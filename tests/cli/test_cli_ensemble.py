@@ -11,10 +11,10 @@ import pytest
 from cli_helpers import write_tiny
 from scipy import stats
 
-from shipthermal.cli import main
-from shipthermal.ensemble import DISTRIBUTIONS, draw_members, parse_distribution
-from shipthermal.scenario import loads_scenario
-from shipthermal.sweep import load_sweep
+from shipthermal.app.cli import main
+from shipthermal.app.ensemble import DISTRIBUTIONS, draw_members, parse_distribution
+from shipthermal.app.scenario import loads_scenario
+from shipthermal.app.sweep import load_sweep
 
 MEMBERS = 3
 

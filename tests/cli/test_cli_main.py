@@ -9,8 +9,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from shipthermal import cli
-from shipthermal.cli import main
+from shipthermal.app import cli
+from shipthermal.app.cli import main
 from shipthermal.errors import InputError
 
 from cli_helpers import write_tiny
@@ -119,7 +119,7 @@ def test_history_file_is_the_thermal_result(imaged_run):
     """history.npz (the imaging input) holds the recorded day: its deck area mean equals the
     part_means.csv column (same triangles, same area weights). The CSV is written with 4
     decimals, hence 5e-5 K."""
-    from shipthermal.pipeline import load_history
+    from shipthermal.app.pipeline import load_history
 
     h = load_history(imaged_run / "thermal" / "tiny" / "history.npz")
     pm = pd.read_csv(imaged_run / "thermal" / "tiny" / "part_means.csv", index_col=0)
@@ -177,9 +177,9 @@ class _FakeReport:
 
 
 def test_validate_plumbing(monkeypatch, tmp_path, capsys):
-    """`validate` calls shipthermal.validation.validate(out_dir, progress, quick) and files
+    """`validate` calls shipthermal.app.validation.validate(out_dir, progress, quick) and files
     its table in a run directory (the real validation runs in its own tests)."""
-    import shipthermal.validation as V
+    import shipthermal.app.validation as V
 
     seen = {}
 
@@ -197,6 +197,6 @@ def test_validate_plumbing(monkeypatch, tmp_path, capsys):
 
 
 def test_validate_missing_module_message(monkeypatch, capsys):
-    monkeypatch.setitem(sys.modules, "shipthermal.validation", None)
+    monkeypatch.setitem(sys.modules, "shipthermal.app.validation", None)
     assert main(["validate", "--out", "unused"]) == 1
     assert "validation is not available" in capsys.readouterr().err

@@ -9,7 +9,7 @@ import pathlib
 import pytest
 from cli_helpers import write_tiny
 
-from shipthermal.cli import main
+from shipthermal.app.cli import main
 
 
 def _tree(root):
@@ -56,7 +56,7 @@ def test_output_folder_not_writable(tmp_path, capsys, monkeypatch):
 
 
 def test_disk_full_while_writing_results(tmp_path, capsys, monkeypatch):
-    from shipthermal import pipeline
+    from shipthermal.app import pipeline
 
     sc = write_tiny(tmp_path)
     out = tmp_path / "run"
@@ -116,7 +116,7 @@ def test_folder_given_as_mesh(tmp_path, capsys):
 @pytest.mark.parametrize("name", ["ENOSPC", "EACCES", "ENAMETOOLONG", "EROFS"])
 def test_errors_inside_the_installation_stay_internal(name, capsys, monkeypatch):
     """An OS error on one of the package's own files is not the user's to fix."""
-    from shipthermal import cli
+    from shipthermal.app import cli
     from shipthermal.errors import input_error_from_os
 
     own = pathlib.Path(cli.__file__)

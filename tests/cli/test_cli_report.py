@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from shipthermal.cli import main
+from shipthermal.app.cli import main
 
 CHROMIUM = next((p for p in ("/usr/bin/chromium", shutil.which("chromium") or "",
                              shutil.which("chromium-browser") or "") if p and Path(p).exists()),
@@ -221,7 +221,7 @@ def test_mesh_report_is_tables_not_json(imaged_run, tmp_path):
     objects as one table), with no raw JSON left in the page."""
     import json
 
-    from shipthermal.report import build_report
+    from shipthermal.app.report import build_report
 
     run = tmp_path / "run"
     shutil.copytree(imaged_run, run)

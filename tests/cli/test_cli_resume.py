@@ -14,9 +14,9 @@ import pandas as pd
 import pytest
 from cli_helpers import write_tiny
 
-from shipthermal.cli import main
+from shipthermal.app.cli import main
 from shipthermal.errors import InputError
-from shipthermal.rundir import RunDir
+from shipthermal.app.rundir import RunDir
 
 # three full days (a tolerance no run meets), checkpoints every simulated hour
 DAYS = 3
@@ -59,7 +59,7 @@ def _nothing_complete(out):
 PARKED_RUN = textwrap.dedent("""
     import sys
     from shipthermal import simulation
-    from shipthermal.cli import main
+    from shipthermal.app.cli import main
 
     after = float(sys.argv[1])
     save = simulation.Simulation.save_checkpoint

@@ -9,8 +9,8 @@ import pandas as pd
 import pytest
 from cli_helpers import write_tiny
 
-from shipthermal.cli import main
-from shipthermal.sweep import load_sweep, run_case, run_sweep
+from shipthermal.app.cli import main
+from shipthermal.app.sweep import load_sweep, run_case, run_sweep
 
 # columns that legitimately differ between runs (wall times, which process ran the case)
 VOLATILE = ("seconds", "thermal_s", "imaging_s", "worker")
@@ -79,8 +79,8 @@ def test_rerun_skips_finished_cases_and_one_case_equals_a_single_run(sweep_file,
     assert again.ran == 0 and again.skipped == 8
     pd.testing.assert_frame_equal(first.table, again.table)
     # a case = the scenario run on its own (the case TOML is a complete scenario)
-    from shipthermal.diurnal import run_scenario_thermal
-    from shipthermal.scenario import loads_scenario
+    from shipthermal.app.thermal import run_scenario_thermal
+    from shipthermal.app.scenario import loads_scenario
 
     case = spec.cases[3]
     res = run_scenario_thermal(loads_scenario(case.toml), progress=False)
@@ -122,7 +122,7 @@ def test_season_axis_moves_the_season_defaults(tmp_path):
     (tmp_path / "s.toml").write_text('base = "summer"\n[axes]\n"time.season" = '
                                      '["summer", "winter"]\n')
     spec = load_sweep(tmp_path / "s.toml")
-    from shipthermal.scenario import default_scenario, loads_scenario
+    from shipthermal.app.scenario import default_scenario, loads_scenario
 
     for case, season in zip(spec.cases, ("summer", "winter")):
         assert loads_scenario(case.toml) == default_scenario(season)

@@ -10,8 +10,7 @@ import numpy as np
 import pandas as pd
 from cli_helpers import write_tiny
 
-from shipthermal.cli import main
-from shipthermal.scenario import main as scenario_main
+from shipthermal.app.cli import main
 
 NDBC = Path(__file__).resolve().parents[1] / "data" / "weather" / "44009h2013_mar03-09.txt"
 
@@ -46,7 +45,7 @@ def test_ndbc_record_run_from_the_command_line(tmp_path, capsys):
     shutil.copy(NDBC, tmp_path / "buoy.txt")
     sc = _with(write_tiny(tmp_path, name="buoy", season="winter"), BUOY, "2013-03-04")
     # validate opens the file and reports what it will do
-    assert scenario_main(["validate", str(sc)]) == 0
+    assert main(["check", str(sc)]) == 0
     out = capsys.readouterr().out
     assert "49 hourly values, 2013-03-04 00:00 … 2013-03-06 00:00 -05" in out
     assert "gap of 2 h between observations" in out and "reduced from 5 m to 10 m" in out
@@ -103,7 +102,7 @@ def test_validate_lists_every_weather_problem_at_once(tmp_path, capsys):
         "days = 2", "days = 3")
     sc = _with(write_tiny(tmp_path, name="buoy", season="winter"), text, "2013-03-04")
     before = sorted(p.name for p in tmp_path.iterdir())
-    assert scenario_main(["validate", str(sc)]) == 2
+    assert main(["check", str(sc)]) == 2
     err = capsys.readouterr().err
     assert "weather file buoy.txt: 6 problems" in err
     assert "has no column for cloud_cover" in err

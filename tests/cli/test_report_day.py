@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from shipthermal.report_day import SCR_CLUTTER_LIMIT, first_screen, hardest_to_see
+from shipthermal.app.report_day import SCR_CLUTTER_LIMIT, first_screen, hardest_to_see
 
 
 def _write(d, season, band, scr):

@@ -9,8 +9,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from shipthermal.diurnal import run_scenario_thermal
-from shipthermal.scenario import load_scenario
+from shipthermal.app.thermal import run_scenario_thermal
+from shipthermal.app.scenario import load_scenario
 
 NDBC = Path(__file__).resolve().parents[1] / "data" / "weather" / "44009h2013_mar03-09.txt"
 
@@ -62,7 +62,8 @@ def test_record_starts_from_the_spun_up_day(record_run):
     record goes on into day 2, the periodic day wraps to its own midnight): until 22:00
     the two must agree to the spin-up tolerance plus the solver's round-off."""
     sc, res = record_run
-    from shipthermal.diurnal import run_diurnal, settings_from_scenario
+    from shipthermal.app.thermal import settings_from_scenario
+    from shipthermal.diurnal import run_diurnal
 
     spin = run_diurnal(res.ship, sc.environment().first_day(), settings_from_scenario(sc),
                        absorptivity={p: sc.solar_absorptivity(p) for p in res.ship.part_names},

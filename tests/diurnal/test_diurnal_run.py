@@ -70,7 +70,9 @@ def test_outputs_written_atomically(summer_run, tmp_path):
         assert p.exists() and p.stat().st_size > 0
     assert (tmp_path / "part_means.png").exists() and (tmp_path / "surface_1200.png").exists()
     assert not list(tmp_path.glob(".*tmp*"))
-    hist = summer_run.to_history()
+    from shipthermal.app.thermal import ship_thermal_history
+
+    hist = ship_thermal_history(summer_run)
     np.testing.assert_allclose(hist.at(12 * HOUR), summer_run.face_temperature_at(12.0))
 
 
@@ -83,7 +85,7 @@ DECK_TOLERANCE_K = 0.5
 
 
 def test_four_moment_validation_table(capsys):
-    from shipthermal.validation import REFERENCE_DECK, validate
+    from shipthermal.app.validation import REFERENCE_DECK, validate
 
     rep = validate(quick=True, sensitivity=False, crossovers=False, progress=False)
     with capsys.disabled():

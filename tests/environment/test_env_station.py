@@ -15,7 +15,7 @@ from shipthermal.environment import convection
 from shipthermal.environment.station import (MAX_GAP_HOURS, check_weather, read_ndbc,
                                              read_station, to_weather, wind_speed_at_10m)
 from shipthermal.errors import InputError
-from shipthermal.scenario import load_scenario
+from shipthermal.app.scenario import load_scenario
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "weather"
 NDBC = DATA / "44009h2013_mar03-09.txt"

@@ -215,19 +215,19 @@ def test_union_repair_of_overlapping_pieces_matches_hand_figures(tmp_path):
 
 def test_scenario_validate_opens_the_mesh(ship, tmp_path, capsys):
     # a scenario whose mesh file exists but is a millimetre export with duplicates:
-    # `python -m shipthermal.scenario validate` opens it and lists both problems
-    from shipthermal.scenario import main
+    # `shipthermal check` opens it and lists both problems
+    from shipthermal.app.cli import main
 
     v, f = _soup(ship)
     trimesh.Trimesh(v * 1000.0, np.vstack([f, f[:7]]), process=False).export(tmp_path / "s.stl")
     (tmp_path / "sc.toml").write_text('[ship.files]\nmesh = "s.stl"\nunits = "m"\n'
                                       'part_map = "auto"\n')      # the file's z = 0 is the waterline
-    assert main(["validate", str(tmp_path / "sc.toml")]) == 2
+    assert main(["check", str(tmp_path / "sc.toml")]) == 2
     err = capsys.readouterr().err
     assert "has 2 problems" in err and 'units = "mm"' in err and "7 duplicate" in err
     (tmp_path / "sc.toml").write_text('[ship.files]\nmesh = "s.stl"\nunits = "mm"\n'
                                       'part_map = "auto"\nclean = true\n')
-    assert main(["validate", str(tmp_path / "sc.toml")]) == 0
+    assert main(["check", str(tmp_path / "sc.toml")]) == 0
 
 
 def test_soup_of_overlapping_solids_is_united_fast(tmp_path, monkeypatch):
@@ -268,7 +268,7 @@ def test_mesh_command_writes_the_part_picture_and_an_editable_json(tmp_path, cap
     # hull box with a deckhouse, one unlabelled STL: `shipthermal mesh` assigns parts by
     # rules, prints it, writes the pictures and the JSON; the JSON as part_map reproduces
     # the parts
-    from shipthermal.cli import main
+    from shipthermal.app.cli import main
 
     hull = trimesh.creation.box((100.0, 12.0, 10.0))
     hull.apply_translation([0.0, 0.0, 1.0])
@@ -296,7 +296,7 @@ def test_mesh_command_writes_the_part_picture_and_an_editable_json(tmp_path, cap
 
 
 def test_repairs_are_printed_on_the_console(tmp_path, capsys):
-    from shipthermal.cli import main
+    from shipthermal.app.cli import main
 
     hull = trimesh.creation.box((100.0, 12.0, 10.0))
     hull.apply_translation([0.0, 0.0, 1.0])

@@ -9,7 +9,7 @@ from imaging.render import SceneRenderer
 from imaging.scene import ShipPlacement, as_scene_background
 from imaging.thermal_history import ShipThermalHistory
 from shipthermal.raytrace.scenes import box
-from shipthermal.scenario import default_scenario
+from shipthermal.app.scenario import default_scenario
 
 
 @pytest.mark.parametrize("season", ["summer", "winter"])

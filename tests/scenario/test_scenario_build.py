@@ -8,7 +8,7 @@ import pytest
 
 from shipthermal.environment import Environment, climate_day
 from shipthermal.errors import InputError
-from shipthermal.scenario import (SEASONS, default_scenario, example_path, load_scenario)
+from shipthermal.app.scenario import (SEASONS, default_scenario, example_path, load_scenario)
 from shipthermal.units import ZERO_CELSIUS
 
 
@@ -132,7 +132,7 @@ def test_builtin_ship_from_scenario():
     with pytest.raises(InputError):
         sc.face_property(ship, "emissivity")
     # every part of the built ship was known at load time (part-name validation is exact)
-    from shipthermal.scenario import _builtin_part_names
+    from shipthermal.app.scenario.sections import _builtin_part_names
     assert set(ship.part_names) == set(_builtin_part_names("patrol_boat", {}))
     # and the scenario's lookups agree with the built ship for every part
     for part in ship.part_names:

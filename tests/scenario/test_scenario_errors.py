@@ -6,7 +6,7 @@ import json
 import pytest
 
 from shipthermal.errors import InputError
-from shipthermal.scenario import ScenarioError, load_scenario, loads_scenario
+from shipthermal.app.scenario import ScenarioError, load_scenario, loads_scenario
 
 
 def _files(tmp):

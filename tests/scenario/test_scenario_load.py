@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from shipthermal.errors import InputError
-from shipthermal.scenario import (SEASONS, Scenario, ScenarioError, clock_seconds,
+from shipthermal.app.scenario import (SEASONS, Scenario, ScenarioError, clock_seconds,
                                   default_scenario, example_path, load_scenario,
                                   loads_scenario, parse_band)
 
@@ -141,7 +141,7 @@ def test_load_is_lazy():
     # measured in benchmarks/, not asserted here.)
     code = textwrap.dedent("""
         import sys
-        from shipthermal.scenario import load_scenario, example_path
+        from shipthermal.app.scenario import load_scenario, example_path
         load_scenario(example_path("summer"))
         heavy = [m for m in ("pandas", "pvlib", "scipy", "imaging", "trimesh", "pyvista",
                              "embreex", "manifold3d", "numba") if m in sys.modules]

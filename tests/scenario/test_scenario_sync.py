@@ -11,7 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from shipthermal import scenario as S
+from shipthermal.app import scenario as S
+from shipthermal.app.scenario import values as V
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -21,22 +22,22 @@ def test_environment_mirrors():
     from shipthermal.environment import Environment, Weather, climatology, sea, sky
     from shipthermal.environment import weather as wmod
 
-    assert S.CLEAR_SKY_MODELS == tuple(sorted(sky.CLEAR_SKY_MODELS))
-    assert S.CLOUD_MODELS == tuple(sorted(sky.CLOUD_MODELS))
-    assert S.SEA_EMISSIVITY == sea.SEA_EMISSIVITY
-    assert S.CLOUD_UNITS == tuple(sorted(wmod._CLOUD_SCALE))
+    assert V.CLEAR_SKY_MODELS == tuple(sorted(sky.CLEAR_SKY_MODELS))
+    assert V.CLOUD_MODELS == tuple(sorted(sky.CLOUD_MODELS))
+    assert V.SEA_EMISSIVITY == sea.SEA_EMISSIVITY
+    assert V.CLOUD_UNITS == tuple(sorted(wmod._CLOUD_SCALE))
     from shipthermal.environment import station
 
-    assert S.WEATHER_FORMATS == ("auto",) + tuple(sorted(station.STATION_FORMATS))
-    assert S.MAX_GAP_HOURS == station.MAX_GAP_HOURS
+    assert V.WEATHER_FORMATS == ("auto",) + tuple(sorted(station.STATION_FORMATS))
+    assert V.MAX_GAP_HOURS == station.MAX_GAP_HOURS
     assert all(station.guess_format(f"x{suffix}") == fmt
-               for suffix, fmt in S.WEATHER_SUFFIXES.items())
-    assert S.DALIAN == {"latitude": climatology.DALIAN["latitude"],
+               for suffix, fmt in V.WEATHER_SUFFIXES.items())
+    assert V.DALIAN == {"latitude": climatology.DALIAN["latitude"],
                         "longitude": climatology.DALIAN["longitude"],
                         "time_zone": climatology.DALIAN["tz"]}
     for season in S.SEASONS:
-        assert S.CLIMATE_DATES[season] == climatology.climate_day(season).date
-        assert int(S.CLIMATE_DATES[season][5:7]) in S.CLIMATE_MONTHS[season]
+        assert V.CLIMATE_DATES[season] == climatology.climate_day(season).date
+        assert int(V.CLIMATE_DATES[season][5:7]) in V.CLIMATE_MONTHS[season]
     # decompositions: exactly the ones Environment accepts (a constant weather record and a
     # fixed Linke turbidity keep this cheap)
     import pandas as pd
@@ -44,7 +45,7 @@ def test_environment_mirrors():
     w = Weather(time=pd.date_range("2023-07-15", periods=2, freq="h", tz="Etc/GMT-8"),
                 temp_air=290.0, relative_humidity=70.0, wind_speed=3.0, wind_direction=0.0,
                 cloud_cover=0.5, temp_sea=290.0)
-    for d in S.DECOMPOSITIONS:
+    for d in V.DECOMPOSITIONS:
         Environment(38.9, 121.6, w, decomposition=d, linke_turbidity=3.0)
     with pytest.raises(Exception, match="decomposition"):
         Environment(38.9, 121.6, w, decomposition="disc", linke_turbidity=3.0)
@@ -65,16 +66,16 @@ def test_imaging_mirrors():
     from imaging.background import kriging
     from imaging.sensor import PAPER_SENSOR
 
-    assert S.BANDS == atmosphere.BANDS
+    assert V.BANDS == atmosphere.BANDS
     assert S.SEASONS == tuple(core.SEASONS)
-    assert S.MAX_VIEW_ZENITH == core.MAX_VIEW_ZENITH
-    assert S.PAPER_SENSOR == dataclasses.asdict(PAPER_SENSOR)
-    assert S.VARIOGRAM_MODELS == tuple(sorted(kriging.VARIOGRAM_MODELS))
+    assert V.MAX_VIEW_ZENITH == core.MAX_VIEW_ZENITH
+    assert V.PAPER_SENSOR == dataclasses.asdict(PAPER_SENSOR)
+    assert V.VARIOGRAM_MODELS == tuple(sorted(kriging.VARIOGRAM_MODELS))
     from imaging.background import met
 
-    assert S.MET_UNITS == met.MET_UNITS
+    assert V.MET_UNITS == met.MET_UNITS
     # band limits: the scenario accepts exactly what the imaging stage accepts
-    lo, hi = S.ATMOSPHERE_WAVELENGTH_UM
+    lo, hi = V.ATMOSPHERE_WAVELENGTH_UM
     for band in [(lo, hi), (3.0, 5.0), (lo + 0.01, hi - 0.01)]:
         assert atmosphere.parse_band(band)[1] == S.parse_band(list(band))[1]
     for band in [(lo - 0.05, 5.0), (8.0, hi + 0.05), (5.0, 3.0)]:
@@ -91,9 +92,9 @@ def test_imaging_mirrors():
 def test_geometry_mirrors():
     from shipthermal.geometry import BUILTIN_SHIPS, io
 
-    assert S.BUILTIN_SHIP_NAMES == tuple(sorted(BUILTIN_SHIPS))
-    assert S.MESH_EXTENSIONS == tuple(sorted(io._TRIMESH_EXT | io._PYVISTA_EXT))
-    assert set(S.MESH_WITH_PART_ARRAY) == io._PYVISTA_EXT
+    assert V.BUILTIN_SHIP_NAMES == tuple(sorted(BUILTIN_SHIPS))
+    assert V.MESH_EXTENSIONS == tuple(sorted(io._TRIMESH_EXT | io._PYVISTA_EXT))
+    assert set(V.MESH_WITH_PART_ARRAY) == io._PYVISTA_EXT
     spec = S.ShipFiles.__dataclass_fields__["units"].metadata["spec"]
     assert set(spec.choices) == set(io.UNITS)
     spec = S.ShipParticulars.__dataclass_fields__["length"].metadata["spec"]
@@ -102,13 +103,13 @@ def test_geometry_mirrors():
     # ---- CAD meshes (named parts, repair limit)
     from shipthermal.geometry import cad
 
-    assert S.MESH_WITH_PART_NAMES == tuple(sorted(cad.SCENE_EXTENSIONS))
-    assert S.MAX_REPAIR_CHANGE == cad.MAX_REPAIR_CHANGE
+    assert V.MESH_WITH_PART_NAMES == tuple(sorted(cad.SCENE_EXTENSIONS))
+    assert V.MAX_REPAIR_CHANGE == cad.MAX_REPAIR_CHANGE
 
 
 def test_paper_emissivities():
     # paper §5: 3-5 µm hull 0.85, deck 0.90, superstructure 0.78; 8-14 µm 0.90, 0.95, 0.88
-    assert S.PAPER_BAND_EMISSIVITY == {"hull": {"3-5": 0.85, "8-14": 0.90},
+    assert V.PAPER_BAND_EMISSIVITY == {"hull": {"3-5": 0.85, "8-14": 0.90},
                                        "deck": {"3-5": 0.90, "8-14": 0.95},
                                        "superstructure": {"3-5": 0.78, "8-14": 0.88}}
 
@@ -147,7 +148,7 @@ def test_docs_table_is_current():
     m = re.search(r"<!-- schema:begin -->\n(.*)<!-- schema:end -->", text, re.S)
     assert m, "docs/SCENARIO.md lost its schema markers"
     assert m.group(1) == S.schema_markdown(), \
-        "regenerate: python -m shipthermal.scenario schema (between the markers)"
+        "regenerate: shipthermal schema (between the markers)"
 
 
 def _flatten(d, prefix=""):

@@ -246,7 +246,8 @@ def _weighted(lam, tau, weight, band_um, response):
 
 
 def planck_weighted_transmittance(season, band, view_zenith_deg: float, temp_k,
-                                  backend: str = "table", response=None):
+                                  backend: str = "table", response=None,
+                                  aerosol: dict | None = None):
     """View transmittance weighted with a blackbody spectrum, ∫τ B(T) R dλ / ∫B(T) R dλ.
 
     The right band transmittance for emitted radiance (grey emissivity within the band)
@@ -255,7 +256,7 @@ def planck_weighted_transmittance(season, band, view_zenith_deg: float, temp_k,
 
     Parameters
     ----------
-    season, band, view_zenith_deg, backend, response
+    season, band, view_zenith_deg, backend, response, aerosol
         As :func:`atmosphere`.
     temp_k : array_like
         Source temperature(s) [K]. For whole images pass a temperature grid (e.g.
@@ -270,7 +271,8 @@ def planck_weighted_transmittance(season, band, view_zenith_deg: float, temp_k,
 
     t = np.asarray(temp_k, dtype=float)
     check_range("temp_k", t, 100.0, 2000.0, "K")
-    r = atmosphere(season, band, view_zenith_deg, 45.0, backend=backend, response=response)
+    r = atmosphere(season, band, view_zenith_deg, 45.0, backend=backend, response=response,
+                   aerosol=aerosol)
     b = planck_radiance(r.wavelength_um[None, :], t.reshape(-1, 1))
     num = band_integrate(r.wavelength_um, r.transmittance_spectral * b, r.band_um, response)
     den = band_integrate(r.wavelength_um, b, r.band_um, response)

@@ -47,7 +47,7 @@ from shipthermal.errors import InputError, check_range, require
 
 from .classify import CLASS_NAMES, N_SPLITS, ClassificationResult, classify_scene, read_roi, water_index_check
 from .kriging import krige_hourly
-from .landsat import (LST_ACCURACY_ST_B10_K, NIR_BAND, QA_MASK_FLAGS, RED_BAND, REFLECTIVE_BANDS, LandsatScene,
+from .landsat import (LST_ACCURACY_ST_B10_K, MASK_BITS, NIR_BAND, QA_MASK_FLAGS, RED_BAND, REFLECTIVE_BANDS, LandsatScene,
                       SceneGrid, read_landsat_scene)
 from .lst import (EMISSIVITY_PARAMETERS, AtmosphereB10, atmospheric_functions, emissivity_ndvi_threshold,
                   lst_single_channel, ndvi)
@@ -360,8 +360,6 @@ class OverpassProducts:
                 "water_check": self.water_check, "notes": list(self.notes)}
 
 
-MASK_BITS = {flag: 1 << k for k, flag in enumerate(QA_MASK_FLAGS)}
-"""Bits of the written mask raster (``qa_mask.tif``): fill 1, cloud 2, cirrus 4, shadow 8."""
 
 
 def fill_masked_pixels(class_map, masked, layers):

@@ -1,6 +1,6 @@
 """Open the background's input files without running the chain: every problem at once.
 
-Used by ``python -m shipthermal.scenario validate``: each file the ``[background]`` section
+Used by ``shipthermal check``: each file the ``[background]`` section
 names (``source = "files"``) is opened and checked the way the chain will read it, so a
 scenario that validates does not fail minutes later on an unreadable input. Each problem is
 an :class:`InputError` (one line: the key, the value, what is allowed, the fix).

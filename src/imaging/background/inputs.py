@@ -4,7 +4,7 @@
 truncated files), the MTL with its georeferencing, the quality band, the ROIs (rasterised,
 inside the scene, every class present), the DEM (CRS, overlap with the scene) and the met
 grid (variables and units by its reader, the overpass inside its time span, the scene
-inside its extent). Used by ``python -m shipthermal.scenario validate``.
+inside its extent). Used by ``shipthermal check``.
 """
 
 from __future__ import annotations

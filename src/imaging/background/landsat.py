@@ -125,6 +125,9 @@ a pixel carries the flag when any ``(qa >> bit) & mask == value`` holds."""
 QA_MASK_FLAGS = ("fill", "cloud", "cirrus", "shadow")
 """Flags whose pixels are masked (and filled from same-class neighbours)."""
 
+MASK_BITS = {flag: 1 << k for k, flag in enumerate(QA_MASK_FLAGS)}
+"""Bits of the written mask raster (``qa_mask.tif``): fill 1, cloud 2, cirrus 4, shadow 8."""
+
 LST_ACCURACY_ST_B10_K = 1.5
 """Stated accuracy of the Collection-2 Level-2 surface temperature [K]: validation of the
 product's single-channel algorithm against in-situ and buoy temperatures reports RMSE of

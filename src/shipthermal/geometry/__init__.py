@@ -18,7 +18,8 @@ from .io import read_ship, write_ship
 from .layups import compartment_temperatures, default_layups, outer_media
 from .parts import MAIN_PARTS, main_part, split_at_waterline
 from .pictures import render_parts_png, write_parts_vtu
-from .remesh import build_ship_mesh, remesh_ship, surface_quality
+from .remesh import build_ship_mesh, remesh_ship
+from .surface_ops import surface_quality
 from .ship import (BUILTIN_SHIPS, DEFAULT_EDGE_LENGTH, Block, ShipGeometry, ShipParameters,
                    build_ship, cargo_ship, frigate, patrol_boat)
 

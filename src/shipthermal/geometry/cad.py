@@ -28,6 +28,9 @@ __all__ = ["SCENE_EXTENSIONS", "DECK_NORMAL_DEG", "DECK_TOLERANCE_FRAC", "MAX_RE
            "load_named_parts", "assign_parts", "part_ranges", "Problem", "diagnose_surface",
            "problems_message", "union_repair", "repair_change_check"]
 
+SHIP_LENGTH_RANGE = (5.0, 500.0)
+"""Plausible overall length of a ship [m] (harbour launches to the largest tankers, 458 m)."""
+
 SCENE_EXTENSIONS = (".obj", ".glb", ".gltf")
 """Formats whose parts may come from names in the file (OBJ groups, glTF meshes)."""
 
@@ -271,8 +274,6 @@ def diagnose_surface(vertices, faces, units: str = "m", *, check_scale: bool = T
     inconsistent winding, inward normals (closed surfaces only). Each problem names the
     scenario keys that fix it.
     """
-    from .io import SHIP_LENGTH_RANGE
-
     v = np.asarray(vertices, float)
     f = np.asarray(faces, np.int64)
     out: list[Problem] = []
@@ -382,7 +383,7 @@ def union_repair(vertices, faces, face_part):
     """
     from manifold3d import Manifold, Mesh64, OpType
 
-    from .io import _fix_winding
+    from .surface_ops import fix_winding
 
     t0 = time.perf_counter()
     v = np.asarray(vertices, float)
@@ -399,7 +400,7 @@ def union_repair(vertices, faces, face_part):
     tiny = 1e-12 * float(np.ptp(v, axis=0).max()) ** 3
     for k in range(n):
         rows = order[bounds[k]:bounds[k + 1]]
-        fk, _ = _fix_winding(f[rows])
+        fk, _ = fix_winding(f[rows])
         used, inv = np.unique(fk, return_inverse=True)
         vk, fk = v[used], inv.reshape(-1, 3)
         vol = signed_volume(vk, fk)

@@ -34,19 +34,18 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from ..errors import InputError, check_finite, require
+from .cad import SHIP_LENGTH_RANGE
 from .layups import compartment_temperatures, default_layups, outer_media
 from .parts import (MAIN_PARTS, boundary_edges, face_areas, main_part, signed_volume,
                     split_at_waterline)
 from .ship import ShipGeometry
+from .surface_ops import fix_winding
 
 __all__ = ["UNITS", "SHIP_LENGTH_RANGE", "load_surface", "read_part_map", "check_surface",
            "read_ship", "write_ship"]
 
 UNITS = {"m": 1.0, "mm": 1e-3}
 """Accepted length units and their factor to metres."""
-
-SHIP_LENGTH_RANGE = (5.0, 500.0)
-"""Plausible overall length of a ship [m] (harbour launches to the largest tankers, 458 m)."""
 
 _TRIMESH_EXT = {".stl", ".obj", ".ply", ".off", ".glb", ".gltf"}
 _PYVISTA_EXT = {".vtk", ".vtp", ".vtu"}
@@ -331,7 +330,7 @@ def check_surface(vertices, faces, units: str = "m", *, check_scale: bool = True
             raise InputError("faces", f"{int((dcount > 1).sum())} edges traversed twice in the same direction",
                              "triangle winding must be consistent (normals all outward)",
                              "Re-export with consistent normals, or pass fix_normals=True (reported)")
-        f, flipped = _fix_winding(f)
+        f, flipped = fix_winding(f)
         report["flipped_faces"] = int(flipped.sum())
     vol = signed_volume(v, f)
     if require_closed and vol < 0:
@@ -396,55 +395,6 @@ def _flip_needles(v: np.ndarray, f: np.ndarray, lab: np.ndarray, idx: np.ndarray
         used[n] = used[d] = True
         resolved[k] = True
     return f, lab, resolved
-
-
-def _fix_winding(f: np.ndarray):
-    """Make the winding consistent by breadth-first search over edge neighbours.
-
-    Each connected component keeps the orientation of its majority (fewest flips); the
-    caller then fixes the global sign from the signed volume. Returns the new faces and a
-    mask of flipped triangles.
-    """
-    from collections import deque
-
-    m = len(f)
-    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
-    face_of = np.tile(np.arange(m), 3)
-    key = np.sort(e, axis=1)
-    _, inv = np.unique(key, axis=0, return_inverse=True)
-    inv = inv.ravel()
-    order = np.argsort(inv, kind="stable")
-    starts = np.searchsorted(inv[order], np.arange(inv.max() + 2))
-    # same[i]: directed edge i runs the same way as its key (u < v).
-    same = e[:, 0] < e[:, 1]
-    flip = np.zeros(m, bool)
-    seen = np.zeros(m, bool)
-    for seed in range(m):
-        if seen[seed]:
-            continue
-        comp = [seed]
-        seen[seed] = True
-        queue = deque([seed])
-        while queue:
-            t = queue.popleft()
-            for k in range(3):
-                i = t + k * m
-                g = inv[i]
-                for j in order[starts[g]:starts[g + 1]]:
-                    u = face_of[j]
-                    if u == t or seen[u]:
-                        continue
-                    # Consistent neighbours traverse the shared edge in opposite directions.
-                    flip[u] = flip[t] ^ (same[i] == same[j])
-                    seen[u] = True
-                    comp.append(u)
-                    queue.append(u)
-        comp = np.asarray(comp)
-        if flip[comp].sum() * 2 > len(comp):
-            flip[comp] = ~flip[comp]
-    out = f.copy()
-    out[flip] = out[flip][:, ::-1]
-    return out, flip
 
 
 # ---------------------------------------------------------------------------------------

@@ -92,7 +92,7 @@ def isotropic_remesh(vertices, faces, face_part, part_names, edge_length: float,
     """
     import trimesh
 
-    from .remesh import surface_quality
+    from .surface_ops import surface_quality
 
     check_positive("edge_length", edge_length, "m")
     if not have_remesher():

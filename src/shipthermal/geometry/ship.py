@@ -796,7 +796,7 @@ def build_ship(params: ShipParameters, edge_length: float | None = None,
     # the short edges that can go without moving any surface, then re-triangulate the flat
     # regions (deck, deckhouse walls). Both keep areas, volume and part boundaries.
     if improve:
-        from .remesh import collapse_short_edges, flip_coplanar_edges
+        from .surface_ops import collapse_short_edges, flip_coplanar_edges
 
         f, _ = flip_coplanar_edges(v, f, face_part, max_passes=4)
         v, f, face_part, _ = collapse_short_edges(v, f, face_part, 0.25 * edge_length,

@@ -14,7 +14,7 @@ import shutil
 import time
 from pathlib import Path
 
-from .errors import InputError, require
+from ..errors import InputError, require
 
 __all__ = ["run_background"]
 

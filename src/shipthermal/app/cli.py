@@ -14,6 +14,8 @@ Subcommands (``shipthermal <command> --help`` for each)::
     sweep      parameter sweep on dask.distributed
     ensemble   weather ensemble: crossover times with a median and a 5-95 % range
     report     (re)write the self-contained HTML report of a run directory
+    check      load scenario files and open their inputs; list every problem
+    schema     print the scenario schema (docs/SCENARIO.md) as a Markdown table
 
 Exit codes: 0 success; 2 user error (bad scenario, sweep file, option or folder: the
 message only, no traceback); 1 internal failure (traceback with ``-v``; a sweep with failed
@@ -32,7 +34,7 @@ import time
 import traceback
 from pathlib import Path
 
-from .errors import InputError, input_error_from_os
+from ..errors import InputError, input_error_from_os
 
 __all__ = ["main", "build_parser"]
 
@@ -174,8 +176,8 @@ def _print_crossovers(run_path: Path, con: Console, as_csv: bool = False) -> int
 # subcommands
 # ---------------------------------------------------------------------------------------
 def cmd_demo(args, con: Console) -> int:
-    from .pipeline import (DEMO_EDGE_LENGTH, QUICK_EDGE_LENGTH, QUICK_SCR_INTERVAL,
-                           demo_scenarios, thermal_case)
+    from .pipeline import (DEMO_EDGE_LENGTH, QUICK_EDGE_LENGTH, QUICK_SCR_INTERVAL, demo_scenarios,
+                           thermal_case)
     from .rundir import RunDir, is_complete
 
     out = Path(args.out)
@@ -217,7 +219,7 @@ def cmd_demo(args, con: Console) -> int:
 def cmd_mesh(args, con: Console) -> int:
     import json
 
-    from .geometry import build_ship_mesh, render_parts_png, write_ship
+    from ..geometry import build_ship_mesh, render_parts_png, write_ship
     from .rundir import RunDir
 
     sc = _load_scenario(args.scenario)
@@ -242,7 +244,7 @@ def cmd_mesh(args, con: Console) -> int:
             files = write_ship(ship, tmp, stem="ship")
             backend = render_parts_png(ship, tmp / "parts.png")
             if "auto_parts" in read_report:
-                from .geometry.cad import CHECK_COLOURS
+                from ..geometry.cad import CHECK_COLOURS
 
                 auto = read_report.pop("auto_parts")
                 import re
@@ -274,11 +276,11 @@ def cmd_mesh(args, con: Console) -> int:
 
 
 def cmd_run(args, con: Console) -> int:
-    from .pipeline import prepare, thermal_case
+    from .pipeline import output_inputs, prepare, thermal_case
     from .rundir import RunDir, changes_from_copy, is_complete
 
     sc = _load_scenario(args.scenario)
-    out = Path(args.out or sc.outputs.directory)
+    out = Path(args.out or output_inputs(sc)["directory"])
     if args.resume and is_complete(out):
         changed = changes_from_copy(out, sc)
         if changed:
@@ -318,9 +320,8 @@ def cmd_run(args, con: Console) -> int:
 
 
 def cmd_image(args, con: Console) -> int:
-    from .rundir import MARKER, RunDir
-
     from .pipeline import build_background, check_imaging_bands, frame_times
+    from .rundir import MARKER, RunDir
 
     step = None if args.step_min is None else 60.0 * args.step_min
     if step is not None and not 60.0 <= step <= 10800.0:
@@ -355,7 +356,7 @@ def cmd_validate(args, con: Console) -> int:
         from .validation import validate
     except ImportError as exc:
         con.error(f"validation is not available in this installation "
-                  f"(shipthermal.validation: {exc})")
+                  f"(shipthermal.app.validation: {exc})")
         return EXIT_FAILURE
     from .rundir import RunDir
 
@@ -368,7 +369,7 @@ def cmd_validate(args, con: Console) -> int:
         with run.stage("validation") as tmp:
             rep = validate(out_dir=tmp, progress=con.progress, quick=args.quick,
                            **({"calibrate": True} if getattr(args, "calibrate", False) else {}))
-            from .results import atomic_path
+            from ..results import atomic_path
 
             with atomic_path(tmp / "validation_table.csv") as t:
                 rep.table.to_csv(t, index=False, float_format="%.4f")
@@ -438,9 +439,8 @@ def cmd_sweep(args, con: Console) -> int:
 
 
 def cmd_ensemble(args, con: Console) -> int:
-    from .ensemble import (DISTRIBUTIONS, draw_members, ensemble_sweep_text,
-                           format_distribution, load_ensemble_sweep, parse_distribution,
-                           write_ensemble)
+    from .ensemble import (DISTRIBUTIONS, draw_members, ensemble_sweep_text, format_distribution,
+                           load_ensemble_sweep, parse_distribution, write_ensemble)
     from .pipeline import QUICK_EDGE_LENGTH
     from .rundir import RunDir, atomic_write_text
     from .scenario import SEASONS
@@ -484,6 +484,19 @@ def cmd_ensemble(args, con: Console) -> int:
     return EXIT_OK if res.failed == 0 else EXIT_FAILURE
 
 
+def cmd_check(args, con: Console) -> int:
+    from .scenario import check_files
+
+    return check_files(args.files)
+
+
+def cmd_schema(args, con: Console) -> int:
+    from .scenario import schema_markdown
+
+    sys.stdout.write(schema_markdown(compact=args.compact))
+    return EXIT_OK
+
+
 def cmd_report(args, con: Console) -> int:
     from .report import write_report
     from .rundir import RunDir
@@ -518,7 +531,7 @@ def build_parser() -> argparse.ArgumentParser:
         "imaging, SCR and crossover times from one scenario file.",
         epilog="Exit codes: 0 ok, 2 user error, 1 internal failure (or failed sweep cases), "
                "130 interrupted (143 on SIGTERM). "
-               "Scenario keys: docs/SCENARIO.md (python -m shipthermal.scenario schema).")
+               "Scenario keys: docs/SCENARIO.md (shipthermal schema).")
     _common(p, True)
     sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
 
@@ -573,7 +586,7 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--csv", action="store_true", help="print CSV")
 
     v = add("validate", "deck temperatures vs the paper's reference values, sensitivity "
-            "table (shipthermal.validation)", cmd_validate)
+            "table (shipthermal.app.validation)", cmd_validate)
     v.add_argument("--out", default="runs/validation", help="run directory (default "
                    "runs/validation)")
     v.add_argument("--into", help="add the validation to this existing run directory instead")
@@ -626,7 +639,7 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--force", action="store_true", help="replace a non-empty output folder")
 
     en = add("ensemble", "weather ensemble: crossover times and SCR curves with a median "
-             "and a 5-95 percent range (shipthermal.ensemble; one sweep case per member and "
+             "and a 5-95 percent range (shipthermal.app.ensemble; one sweep case per member and "
              "season)", cmd_ensemble)
     en.add_argument("scenario", help="scenario TOML file, or 'summer' / 'winter' (built-in)")
     en.add_argument("--members", type=int, default=8, help="members (>= 2; default 8)")
@@ -648,7 +661,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     s = add("sweep", "parameter sweep: the Cartesian product of scenario changes, one "
             "dask task per case; re-running skips finished cases", cmd_sweep)
-    s.add_argument("sweep", help="sweep TOML file (see shipthermal.sweep)")
+    s.add_argument("sweep", help="sweep TOML file (see shipthermal.app.sweep)")
     s.add_argument("--out", help="sweep directory (default runs/sweep-<name>)")
     s.add_argument("--scheduler", help="address of an existing dask scheduler "
                    "(default: a LocalCluster on this machine)")
@@ -661,6 +674,15 @@ def build_parser() -> argparse.ArgumentParser:
     rp = add("report", "write the self-contained HTML report of a run directory", cmd_report)
     rp.add_argument("run_dir", help="run directory")
     rp.add_argument("--output", help="write here instead of <run_dir>/report.html")
+
+    ck = add("check", "load scenario files and open their inputs (weather over the "
+             "simulated span, ship meshes, background rasters): every problem listed at once, "
+             "exit 2 if any", cmd_check)
+    ck.add_argument("files", nargs="+", metavar="FILE", help="scenario TOML files")
+
+    sm = add("schema", "print the scenario schema (every key with type, default, unit, "
+             "allowed values) as a Markdown table", cmd_schema)
+    sm.add_argument("--compact", action="store_true", help="one row per section")
     return p
 
 

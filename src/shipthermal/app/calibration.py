@@ -40,9 +40,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .errors import InputError, require
-from .results import atomic_path
-from .units import ZERO_CELSIUS
+from ..errors import InputError, require
+from ..results import atomic_path
+from ..units import ZERO_CELSIUS
 
 __all__ = ["CALIBRATION_SETTINGS", "DEFAULT_SIGMA_K", "Unknown", "CalibrationResult",
            "read_measurements", "parse_unknown", "calibrate", "paper_calibration"]
@@ -192,7 +192,7 @@ class _Case:
     """One scenario: ship, graph and ray tracing built once; warm-started evaluations."""
 
     def __init__(self, name, scenario, rows: pd.DataFrame, progress=False):
-        from .diurnal import part_groups
+        from ..diurnal import part_groups
 
         self.name = name
         self.scenario = scenario
@@ -226,7 +226,7 @@ class _Case:
 
     def run(self, changes: dict):
         """The full diurnal result with these changes (warm-started, ray tracing reused)."""
-        from .diurnal import run_scenario_thermal
+        from .thermal import run_scenario_thermal
 
         sc = self.scenario.updated(changes) if changes else self.scenario
         return run_scenario_thermal(sc, ship=self.ship, progress=False, traced=self.traced,
@@ -236,7 +236,7 @@ class _Case:
         key = tuple(sorted((k, round(float(v), 10)) for k, v in changes.items()))
         if key in self.memo:
             return self.memo[key]
-        from .diurnal import run_scenario_thermal
+        from .thermal import run_scenario_thermal
 
         t0 = _time.perf_counter()
         sc = self.scenario.updated(changes) if changes else self.scenario
@@ -611,7 +611,7 @@ PAINT_ABSORPTIVITY_RANGE = (0.2, 0.95)
 def paper_measurements() -> pd.DataFrame:
     """The paper's reference deck means as a measurement table: the two noon moments are
     fitted, the two crossover moments (07:00 summer, 08:00 winter) held out."""
-    from .validation import REFERENCE_DECK
+    from .paper import REFERENCE_DECK
 
     rows = [{"case": s, "hour": h, "target": "deck", "temperature_K": t,
              "sigma_K": DEFAULT_SIGMA_K, "split": "fit" if h == 12.0 else "holdout",
@@ -629,7 +629,7 @@ def paper_variants() -> dict:
     * ``absorptivity`` — the coating: one deck solar absorptivity for both seasons (bounds
       :data:`PAINT_ABSORPTIVITY_RANGE`).
     """
-    from .environment.climatology import climate_day
+    from ..environment.climatology import climate_day
 
     cloud = []
     for s in ("summer", "winter"):
@@ -642,7 +642,7 @@ def paper_variants() -> dict:
 def plausibility(result: CalibrationResult) -> list:
     """Say, for each fitted unknown, what it means for Dalian against the climatology's
     sourced numbers."""
-    from .environment.climatology import climate_day
+    from ..environment.climatology import climate_day
 
     out = []
     for _, r in result.parameters.iterrows():
@@ -685,7 +685,7 @@ def paper_calibration(settings: dict | None = None, log=None, crossovers: bool =
     ``crossovers``: also render both bands every 10 min with each variant's fitted
     conditions and put the crossover moments beside the paper's (``'crossovers'``)."""
     from .scenario import default_scenario
-    from .validation import _crossover_rows
+    from .paper import crossover_rows
 
     meas = paper_measurements()
     scen = {s: default_scenario(s) for s in ("summer", "winter")}
@@ -703,7 +703,7 @@ def paper_calibration(settings: dict | None = None, log=None, crossovers: bool =
                            if u.case in (None, season)}
                 fitted[season] = c.scenario.updated(changes)
                 runs[season] = c.run(changes)
-            rows = pd.DataFrame(_crossover_rows(fitted, runs, False, log or (lambda m: None)))
+            rows = pd.DataFrame(crossover_rows(fitted, runs, False, log or (lambda m: None)))
             rows.insert(0, "variant", name)
             out["crossovers"] = pd.concat([out.get("crossovers"), rows], ignore_index=True)
         r = res.residuals

@@ -29,6 +29,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .html_table import html_table
+
 __all__ = ["SCR_CLUTTER_LIMIT", "SLIDER_HOURS", "hardest_to_see", "first_screen",
            "day_section", "SCRIPT"]
 
@@ -173,9 +175,7 @@ def first_screen(run: Path) -> str:
                    "low_periods": f"SCR < {SCR_CLUTTER_LIMIT:g}",
                    "low_hours": f"hours with SCR < {SCR_CLUTTER_LIMIT:g} [h]",
                    "crossovers": "thermal crossovers"})
-    from .report import _table
-
-    parts.append(_table(show, "{:.3g}"))
+    parts.append(html_table(show, "{:.3g}"))
     parts.append('<p class="note">Local SCR = |mean ship − mean local background| / standard '
                  "deviation of the background (paper eq. 22), from the at-aperture images. "
                  '<a href="#day">Explore the day</a>.</p></section>')
@@ -302,7 +302,7 @@ def _surface_frames(npz: Path, title: str):
     temp = d["face_temperature"]
     ks = [_nearest(th % 24.0 if th[-1] > 24.0 + 1e-9 else th, hr) for hr in SLIDER_HOURS]
     vmin, vmax = np.nanpercentile(temp[ks], [0.5, 99.5])
-    from .geometry.surface_maps import OBLIQUE_VIEW_DEG, project
+    from ..geometry.surface_maps import OBLIQUE_VIEW_DEG, project
 
     u, w, depth = project(v, *OBLIQUE_VIEW_DEG)
     order = np.argsort(depth[f].mean(axis=1))           # far faces first (painter's order)

@@ -5,7 +5,7 @@ style sheet and the one small script (the time slider) are inline, there are no 
 URLs, so the page opens from a disk, a mail attachment or an archive without a server.
 
 Sections (each only when the run has it): the answer first (when the ship is hardest to
-see, in which band, how sure: :mod:`shipthermal.report_day`), the day under a time slider
+see, in which band, how sure: :mod:`shipthermal.app.report_day`), the day under a time slider
 (images, SCR cursor, surface temperature), run (status, manifest, versions, timings),
 scenario summary per case (and the full TOML, folded), mesh, thermal (part-mean curves,
 surface maps, spin-up, energy balance with a per-step plot, deck means next to the paper's
@@ -24,7 +24,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .errors import InputError
+from ..errors import InputError
+from .html_table import html_table
 from .rundir import MANIFEST, MARKER, atomic_write_text
 
 __all__ = ["write_report", "build_report"]
@@ -69,18 +70,6 @@ def _img(png: bytes, alt: str, caption: str = "", width: int | None = None) -> s
 
 def _img_file(path: Path, caption: str = "", width: int | None = None) -> str:
     return _img(path.read_bytes(), path.name, caption or path.name, width)
-
-
-def _table(df: pd.DataFrame, floatfmt: str = "{:.2f}") -> str:
-    def cell(v):
-        if isinstance(v, (float, np.floating)):
-            return "—" if not np.isfinite(v) else floatfmt.format(v)
-        return html.escape(str(v))
-
-    head = "".join(f"<th>{html.escape(str(c))}</th>" for c in df.columns)
-    rows = "".join("<tr>" + "".join(f"<td>{cell(v)}</td>" for v in row) + "</tr>"
-                   for row in df.itertuples(index=False))
-    return f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>"
 
 
 def _kv(pairs) -> str:
@@ -128,7 +117,7 @@ def _energy_png(energy: pd.DataFrame, title: str) -> bytes:
 def _part_means_png(pm: pd.DataFrame, title: str) -> bytes:
     import tempfile
 
-    from .diurnal import plot_part_means
+    from ..diurnal import plot_part_means
 
     with tempfile.TemporaryDirectory() as tmp:
         p = plot_part_means(pm, Path(tmp) / "pm.png", title=title)
@@ -223,7 +212,7 @@ def _thermal_section(case: str, d: Path, season: str | None) -> str:
                                           "run (spin-up included)"), "energy balance"))
     if pm is not None and "deck" in pm.columns and season in ("summer", "winter"):
         try:
-            from .validation import REFERENCE_DECK
+            from .paper import REFERENCE_DECK
         except ImportError:
             REFERENCE_DECK = {}
         rows = []
@@ -236,7 +225,7 @@ def _thermal_section(case: str, d: Path, season: str | None) -> str:
                          "difference [%]": 100 * (ours - ref) / ref})
         if rows:
             parts.append("<h4>Deck mean vs the paper's reference (§3.1)</h4>")
-            parts.append(_table(pd.DataFrame(rows)))
+            parts.append(html_table(pd.DataFrame(rows)))
             parts.append('<p class="note">The paper\'s reference conditions are unknown; this '
                          "run's scenario was not tuned to them (see <code>shipthermal "
                          "validate</code> for the sensitivity table).</p>")
@@ -256,14 +245,14 @@ def _imaging_section(d: Path) -> str:
         if (sub / "crossovers.csv").is_file():
             cross = pd.read_csv(sub / "crossovers.csv")
             block.append("<h4>Thermal crossover moments</h4>")
-            block.append(_table(cross) if len(cross) else "<p>No crossover found.</p>")
+            block.append(html_table(cross) if len(cross) else "<p>No crossover found.</p>")
         if (sub / "band_comparison.csv").is_file():
             comp = pd.read_csv(sub / "band_comparison.csv")
             keep = [c for c in ("season", "band", "n_crossovers", "crossover_times",
                                 "scr_in_crossover_mean", "scr_out_crossover_mean", "scr_min",
                                 "scr_max") if c in comp.columns]
             block.append("<h4>Band comparison (SCR in / out of crossover periods)</h4>")
-            block.append(_table(comp[keep]))
+            block.append(html_table(comp[keep]))
         if block:
             parts.append(title + "".join(block))
     return "".join(parts)
@@ -283,10 +272,10 @@ def _validation_section(d: Path) -> str:
             if stem == "validation_table" and "validation_deck" in seen:
                 continue
             seen.add(stem)
-            parts.append(f"<h3>{title}</h3>" + (_table(df) if len(df) else "<p>(empty)</p>"))
+            parts.append(f"<h3>{title}</h3>" + (html_table(df) if len(df) else "<p>(empty)</p>"))
     for f in sorted(d.glob("*.csv")):
         if f.stem not in names:
-            parts.append(f"<h3>{html.escape(f.stem)}</h3>" + _table(pd.read_csv(f)))
+            parts.append(f"<h3>{html.escape(f.stem)}</h3>" + html_table(pd.read_csv(f)))
     if (d / "validation.txt").is_file():
         parts.append("<details><summary>validation.txt</summary><pre>"
                      + html.escape((d / "validation.txt").read_text()) + "</pre></details>")
@@ -365,7 +354,7 @@ def build_report(run_dir, finishing: bool = False) -> str:
                  ("versions", ", ".join(f"{k} {v}" for k, v in versions.items() if v))]
     run_html = _kv(run_pairs)
     if timings:
-        run_html += "<h3>Wall time per stage [s]</h3>" + _table(pd.DataFrame(
+        run_html += "<h3>Wall time per stage [s]</h3>" + html_table(pd.DataFrame(
             [{"stage": k, "seconds": v} for k, v in timings.items()]), "{:.1f}")
     from . import report_day
 
@@ -390,7 +379,7 @@ def build_report(run_dir, finishing: bool = False) -> str:
                            "median and 5-95 % range; SCR median with its 5-95 % band")
                  if (ens / "ensemble.png").is_file() else ""]
         dist = pd.read_csv(ens / "crossovers.csv", dtype={"median": str, "p05": str, "p95": str})
-        parts.append(_table(dist[[c for c in dist.columns if not c.endswith("_h")]], "{:.3f}"))
+        parts.append(html_table(dist[[c for c in dist.columns if not c.endswith("_h")]], "{:.3f}"))
         if (ens / "ensemble.toml").is_file():
             parts.append("<details><summary>distributions and seed</summary><pre>"
                          + html.escape((ens / "ensemble.toml").read_text()) + "</pre></details>")
@@ -404,7 +393,7 @@ def build_report(run_dir, finishing: bool = False) -> str:
             sweep.append(_img_file(run / "table.png", "one point per case"))
         table = pd.read_csv(run / "table.csv")
         table = table[[c for c in table.columns if c not in ("worker",)]]
-        sweep.append(_table(table, "{:.3f}"))
+        sweep.append(html_table(table, "{:.3f}"))
         section("sweep", "Sweep", "".join(sweep))
     title = f"shipthermal run {run.resolve().name}"
     head = (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">'

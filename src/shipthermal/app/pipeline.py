@@ -1,14 +1,21 @@
-"""The stages of a run, wired from one :class:`~shipthermal.scenario.Scenario`.
+"""The stages of a run, wired from one :class:`~shipthermal.app.scenario.Scenario`.
 
-Used by the command line (:mod:`shipthermal.cli`) and the sweeps (:mod:`shipthermal.sweep`);
+Used by the command line (:mod:`shipthermal.app.cli`) and the sweeps (:mod:`shipthermal.app.sweep`);
 every physical choice lives in the modules called here:
 
-* thermal: :func:`shipthermal.diurnal.run_scenario_thermal` → ``thermal/<case>/``
+* thermal: :func:`shipthermal.app.thermal.run_scenario_thermal` → ``thermal/<case>/``
   (its products plus ``energy.csv`` and ``history.npz``, the imaging stage's input);
 * imaging: :func:`imaging_scenario` turns the same scenario into an
-  :class:`imaging.experiment.ImagingScenario` (location, date, time zone, wind, mooring,
-  heading, sensor, bands and per-part band emissivities all taken from it), and
-  :func:`imaging.experiment.run_experiment` renders and measures → ``imaging/``.
+  :class:`imaging.experiment.ImagingScenario` (location, date, time zone, mooring,
+  heading, sensor, bands and per-face band emissivities all taken from it; wind, humidity
+  and sky from the run's one environment), and :func:`imaging.experiment.run_experiment`
+  renders and measures → ``imaging/``.
+
+What each stage receives from a scenario is one function each, so that it can be
+inspected without running the stage: :func:`~shipthermal.app.thermal.thermal_inputs`,
+:func:`background_inputs`, :func:`imaging_scenario` + :func:`experiment_inputs`,
+:func:`output_inputs` (``tests/scenario/test_scenario_reach.py`` checks that every
+scenario key reaches the stages that use it).
 """
 
 from __future__ import annotations
@@ -20,12 +27,15 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .errors import InputError, require
-from .units import DAY, HOUR
+from ..errors import InputError, require
+from ..units import DAY, HOUR
+from .run_environment import aerosol_conditions, sea_glint_wind_speed, sky_weather
+from .thermal import ship_thermal_history
 
-__all__ = ["DEMO_EDGE_LENGTH", "QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case", "prepare", "check_imaging_bands",
-           "write_thermal", "save_history", "load_history", "imaging_scenario",
-           "build_background", "image_cases", "frame_times"]
+__all__ = ["DEMO_EDGE_LENGTH", "QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case", "prepare",
+           "check_imaging_bands", "output_inputs", "write_thermal", "save_history",
+           "load_history", "background_inputs", "build_background", "imaging_scenario",
+           "experiment_inputs", "frame_times", "image_cases"]
 
 #: Ship surface edge of ``shipthermal demo`` [m] (the validation's default too): the
 #: frigate with 4756 triangles (21k shell cells); its converged three-day spin-up took 24 s
@@ -42,7 +52,7 @@ QUICK_SCR_INTERVAL = 1800.0
 def demo_scenarios(quick: bool = False, seasons=("summer", "winter")) -> dict:
     """The built-in default scenarios of the demo, one per season, with the demo's mesh.
 
-    The only change to :func:`~shipthermal.scenario.default_scenario` is the ship's edge
+    The only change to :func:`~shipthermal.app.scenario.default_scenario` is the ship's edge
     length (:data:`DEMO_EDGE_LENGTH`, quick :data:`QUICK_EDGE_LENGTH`); everything else is
     the documented default.
     """
@@ -57,7 +67,7 @@ def demo_scenarios(quick: bool = False, seasons=("summer", "winter")) -> dict:
 # ---------------------------------------------------------------------------------------
 def save_history(history, path) -> Path:
     """Write an :class:`imaging.thermal_history.ShipThermalHistory` to ``.npz`` (atomic)."""
-    from .results import atomic_path
+    from ..results import atomic_path
 
     path = Path(path)
     with atomic_path(path) as tmp:
@@ -91,6 +101,13 @@ def load_history(path):
                                   period_s=None if np.isnan(period) else period)
 
 
+def output_inputs(scenario) -> dict:
+    """What the writers receive from a scenario: the run ``directory``, the ``formats`` and
+    the local hours of the surface maps (``map_hours`` [h])."""
+    return {"directory": scenario.outputs.directory, "formats": tuple(scenario.outputs.formats),
+            "map_hours": [s / HOUR for s in scenario.map_seconds()]}
+
+
 def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
     """Write a :class:`~shipthermal.diurnal.DiurnalResult`'s products into ``out_dir``.
 
@@ -99,20 +116,21 @@ def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
     ``png`` or ``html`` in ``outputs.formats``; ``thermal.vtkhdf`` with ``vtkhdf``; a VTU
     series with ``vtu``.
     """
-    from .results import EnergyLog, atomic_path
+    from ..results import EnergyLog, atomic_path
 
     out = Path(out_dir)
-    fmts = set(scenario.outputs.formats)
+    given = output_inputs(scenario)
+    fmts = set(given["formats"])
     formats = ["csv", "json"] + (["png"] if fmts & {"png", "html"} else []) \
         + (["vtkhdf"] if "vtkhdf" in fmts else [])
-    written = result.write(out, map_hours=[s / HOUR for s in scenario.map_seconds()],
-                           formats=tuple(formats), progress=progress)
+    written = result.write(out, map_hours=given["map_hours"], formats=tuple(formats),
+                           progress=progress)
     e = result.energy
     with atomic_path(out / "energy.csv") as tmp:
         pd.DataFrame({k: getattr(e, k) for k in EnergyLog.FIELDS}).to_csv(
             tmp, index=False, float_format="%.9g")
     written["energy_csv"] = out / "energy.csv"
-    hist = result.to_history()
+    hist = ship_thermal_history(result)
     written["history"] = save_history(hist, out / "history.npz")
     if "vtu" in fmts:
         written["vtu"] = result.results.to_vtu(out / "vtu")
@@ -121,13 +139,13 @@ def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
 
 def thermal_case(scenario, run, case: str, *, resume: bool = False, progress: bool = True,
                  log=None, ship=None) -> dict:
-    """The thermal stage of one case into ``run`` (a :class:`~shipthermal.rundir.RunDir`),
+    """The thermal stage of one case into ``run`` (a :class:`~shipthermal.app.rundir.RunDir`),
     checkpointed every ``outputs.checkpoint_interval`` of simulated time.
 
     A finished stage (``thermal/<case>/`` exists) is skipped on ``resume``. Returns the
     run's summary (``thermal_summary.json``).
     """
-    from .diurnal import run_scenario_thermal
+    from .thermal import run_scenario_thermal
 
     stage = f"thermal/{case}"
     if resume and run.has(stage):
@@ -154,24 +172,18 @@ def thermal_case(scenario, run, case: str, *, resume: bool = False, progress: bo
 # ---------------------------------------------------------------------------------------
 # Imaging stage
 # ---------------------------------------------------------------------------------------
-def build_background(scenario, progress: bool = False):
-    """The port background of ``[background]``: the built-in synthetic port (around
-    ``[location]``) or the real files."""
+def background_inputs(scenario) -> tuple[str, dict]:
+    """What the background stage receives from a scenario: ``("builtin", keyword arguments
+    of imaging.background.build_port_background)`` or ``("files", keyword arguments of
+    imaging.background.build_background_from_files)``."""
     bgs = scenario.background
     if bgs.source == "builtin":
-        from imaging.background import build_port_background
-
-        return build_port_background(scenario.time.season, seed=bgs.seed, size_px=bgs.size_px,
-                                     lat=scenario.location.latitude,
-                                     lon=scenario.location.longitude,
-                                     krige_coarsen=bgs.krige_coarsen,
-                                     variogram_model=bgs.variogram_model,
-                                     n_splits=bgs.roi_splits,
-                                     krige_statistics=bgs.krige_statistics)
-    from rasterio.errors import RasterioIOError
-
-    from imaging.background import build_background_from_files
-
+        return "builtin", dict(season=scenario.time.season, seed=bgs.seed, size_px=bgs.size_px,
+                               lat=scenario.location.latitude,
+                               lon=scenario.location.longitude,
+                               krige_coarsen=bgs.krige_coarsen,
+                               variogram_model=bgs.variogram_model, n_splits=bgs.roi_splits,
+                               krige_statistics=bgs.krige_statistics)
     for key in ("dem", "met"):
         if getattr(bgs, key) is None:
             raise InputError(f"background.{key}", None, "is required with source = 'files' for "
@@ -179,19 +191,30 @@ def build_background(scenario, progress: bool = False):
                              "Add it to [background] (`shipthermal background` writes the "
                              "overpass products without it)")
     offset = scenario.start.utcoffset().total_seconds() / HOUR
+    return "files", dict(mtl_path=bgs.mtl, dem_path=bgs.dem, met_path=bgs.met, roi_path=bgs.roi,
+                         season=scenario.time.season, utc_offset_hours=offset,
+                         variogram_model=bgs.variogram_model, krige_coarsen=bgs.krige_coarsen,
+                         seed=bgs.seed, band_files=bgs.band_files, use_qa=bgs.qa_mask,
+                         n_splits=bgs.roi_splits, met_variable=bgs.met_variable,
+                         met_units=bgs.met_units, met_margin_cells=bgs.met_margin_cells,
+                         krige_statistics=bgs.krige_statistics, dem_nodata=bgs.dem_nodata)
+
+
+def build_background(scenario, progress: bool = False):
+    """The port background of ``[background]``: the built-in synthetic port (around
+    ``[location]``) or the real files."""
+    kind, kwargs = background_inputs(scenario)
+    if kind == "builtin":
+        from imaging.background import build_port_background
+
+        return build_port_background(**kwargs)
+    from rasterio.errors import RasterioIOError
+
+    from imaging.background import build_background_from_files
+
+    bgs = scenario.background
     try:
-        return build_background_from_files(bgs.mtl, bgs.dem, bgs.met, bgs.roi,
-                                           season=scenario.time.season,
-                                           utc_offset_hours=offset,
-                                           variogram_model=bgs.variogram_model,
-                                           krige_coarsen=bgs.krige_coarsen, seed=bgs.seed,
-                                           band_files=bgs.band_files, use_qa=bgs.qa_mask,
-                                           n_splits=bgs.roi_splits, progress=progress,
-                                           met_variable=bgs.met_variable,
-                                           met_units=bgs.met_units,
-                                           met_margin_cells=bgs.met_margin_cells,
-                                           krige_statistics=bgs.krige_statistics,
-                                           dem_nodata=bgs.dem_nodata)
+        return build_background_from_files(**kwargs, progress=progress)
     except RasterioIOError as exc:
         # GDAL could not open a raster: a user error (a file the scenario names), reported
         # with its key rather than as a crash
@@ -204,25 +227,21 @@ def build_background(scenario, progress: bool = False):
                          "MTL") from None
 
 
-def _day_mean_wind(scenario) -> float:
-    """Mean wind speed of the simulated day [m s-1] (sea-surface slopes of the imaging)."""
-    w = scenario.weather_record()
-    t = pd.DatetimeIndex(w.time)
-    sel = (t >= scenario.start) & (t < scenario.start + pd.Timedelta(days=1))
-    ws = np.asarray(w.wind_speed, dtype=float)
-    return float(np.mean(ws[sel] if sel.any() else ws))
+def imaging_scenario(scenario, background, ship):
+    """The :class:`imaging.experiment.ImagingScenario` of a scenario for ``ship`` (the
+    thermal history's or the scenario's ship: ``vertices``, ``faces``, ``face_part``,
+    ``part_names``).
 
-
-def imaging_scenario(scenario, background):
-    """The :class:`imaging.experiment.ImagingScenario` of a scenario.
-
-    Everything comes from the one scenario: location, date and time zone (sun), the day's
-    mean wind speed (sea glint), the mooring position (``[east, north]`` of the scene centre)
-    and heading, the view direction, samples per pixel, ray tracer, atmosphere backend and
-    model, detector effects, the camera, the per-part band emissivities and the day's
-    near-surface weather (the image's thermal sky follows the thermal stage's).
+    Everything comes from the one scenario: location, date and time zone (sun), the
+    mooring position (``[east, north]`` of the scene centre) and heading, the view
+    direction, samples per pixel, ray tracer, atmosphere backend and model, detector
+    effects, the camera, and each face's band emissivity (sub-parts with their own values,
+    :meth:`Scenario.face_property <shipthermal.app.scenario.Scenario.face_property>`). The
+    weather comes from the run's one environment (:meth:`Scenario.environment
+    <shipthermal.app.scenario.Scenario.environment>`, :mod:`.run_environment`): the day's
+    mean wind (sea glint), wind and humidity (aerosol) and near-surface weather (the
+    image's thermal sky follows the thermal stage's).
     """
-    from imaging.atmosphere.weather_sky import SkyWeather
     from imaging.experiment import ImagingScenario
     from imaging.render import SensorOptions
     from imaging.scene import ShipPlacement, as_scene_background
@@ -242,18 +261,26 @@ def imaging_scenario(scenario, background):
     options = None
     if sens.psf or sens.netd_k > 0:
         options = SensorOptions(psf=sens.psf, netd_k=sens.netd_k or None, seed=sc.solver.seed)
-    emissivity = {band: {part: sc.emissivity(part, band)
-                         for part in ("hull", "deck", "superstructure")} for band in sc.bands}
+    emissivity = {band: sc.face_property(ship, "emissivity", band) for band in sc.bands}
+    env = sc.environment()
     return ImagingScenario(
         season=sc.atmosphere_season, background=background, date=str(sc.time.date),
         latitude=sc.location.latitude, longitude=sc.location.longitude,
-        tz=sc.location.time_zone, wind_speed=_day_mean_wind(sc), placement=placement,
+        tz=sc.location.time_zone, wind_speed=sea_glint_wind_speed(env), placement=placement,
         view_zenith_deg=sens.view_zenith_deg, view_azimuth_deg=sens.view_azimuth_deg,
         samples_per_pixel=img.samples_per_pixel_side, backend=sc.solver.backend,
         atmosphere_backend=img.atmosphere.backend, sensor_options=options,
         renderer_options={"ship_emissivity": emissivity, "sensor": sc.sensor()},
-        sky_weather=SkyWeather.from_weather(sc.weather_record(), sc.start,
-                                            sc.weather.clear_sky_model, sc.weather.cloud_model))
+        sky_weather=sky_weather(env), aerosol=aerosol_conditions(env))
+
+
+def experiment_inputs(scenario, step_s: float | None = None) -> dict:
+    """What the imaging run receives from a scenario besides its
+    :func:`imaging_scenario`: ``bands``, frame ``times`` [s] (:func:`frame_times`),
+    ``typical_hours`` of the image panels [h] and ``shared_panel_scale``."""
+    return {"bands": scenario.bands, "times": frame_times(scenario, step_s),
+            "typical_hours": tuple(s / HOUR for s in scenario.image_seconds()),
+            "shared_panel_scale": scenario.imaging.panel_colour_scale == "shared"}
 
 
 def frame_times(scenario, step_s: float | None = None) -> np.ndarray:
@@ -340,18 +367,17 @@ def image_cases(cases: dict, out_dir, progress: bool = True, log=None,
                 bg = build_background(sc, progress=progress)
             write_outputs(bg, (out / folder if folder else out) / "background" / case)
             say(f"{case}: port background, written ({_time.perf_counter() - t0:.1f} s)")
-            scen[season] = imaging_scenario(sc, bg)
+            scen[season] = imaging_scenario(sc, bg, h)
             hist[season] = h
-            typical[season] = tuple(s / HOUR for s in sc.image_seconds())
-        sc0 = next(iter(group.values()))[0]
+            typical[season] = experiment_inputs(sc, step_s)["typical_hours"]
+        given = experiment_inputs(next(iter(group.values()))[0], step_s)
         target = out / folder if folder else out
         t0 = _time.perf_counter()
-        results[folder] = run_experiment(hist, target, bands=sc0.bands,
-                                         times=frame_times(sc0, step_s),
-                                         progress=progress, scenarios=scen,
-                                         typical_hours=typical, shared_panel_scale=(
-                                             sc0.imaging.panel_colour_scale == "shared"))
-        say(f"imaging {'+'.join(hist)} x {', '.join(sc0.bands)} um "
+        results[folder] = run_experiment(hist, target, bands=given["bands"],
+                                         times=given["times"], progress=progress,
+                                         scenarios=scen, typical_hours=typical,
+                                         shared_panel_scale=given["shared_panel_scale"])
+        say(f"imaging {'+'.join(hist)} x {', '.join(given['bands'])} um "
             f"({_time.perf_counter() - t0:.1f} s)")
     require(bool(results), "cases", cases, "must hold at least one case")
     return results

@@ -57,12 +57,12 @@ def sol_air_anchor(settings: dict | None = None, season: str = "summer") -> pd.D
     wall (09:00) on the clear-sky design day; one row per surface."""
     import pvlib
 
+    from ..environment import to_ship_frame
+    from ..environment.climatology import climate_day
+    from ..geometry import main_part
     from .calibration import CALIBRATION_SETTINGS
-    from .diurnal import run_scenario_thermal
-    from .environment import to_ship_frame
-    from .environment.climatology import climate_day
-    from .geometry import main_part
     from .scenario import default_scenario
+    from .thermal import run_scenario_thermal
 
     c0 = climate_day(season).cloud_cover
     changes = dict(CALIBRATION_SETTINGS if settings is None else settings)

@@ -4,7 +4,7 @@ The built-in weather is one design day per season (``shipthermal.environment.cli
 a real day differs from it. An ensemble draws ``N`` members of three weather offsets from
 stated distributions (:data:`DISTRIBUTIONS`, the one place where they and their reasons
 live), with a Latin hypercube of fixed seed (``scipy.stats.qmc``), and runs every member ×
-season as one case of a sweep (:mod:`shipthermal.sweep`: dask LocalCluster, an existing
+season as one case of a sweep (:mod:`shipthermal.app.sweep`: dask LocalCluster, an existing
 scheduler, or serial; thermal and imaging stages). Each crossover moment (band, season,
 direction, its order in the day) is then given as the median and the 5–95 % range of the
 members' times, and the SCR curves as a median with a 5–95 % band.
@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .errors import InputError
+from ..errors import InputError
 
 __all__ = ["DISTRIBUTIONS", "PERCENTILES", "Distribution", "draw_members",
            "ensemble_sweep_text", "format_distribution", "load_ensemble_sweep",
@@ -252,7 +252,7 @@ def plot_ensemble(cross: pd.DataFrame, dist: pd.DataFrame, band: pd.DataFrame, p
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .results import atomic_path
+    from ..results import atomic_path
 
     bands = sorted(set(cross["band"]) | set(band["band"] if len(band) else []))
     seasons = sorted(set(cross["season"]) | set(band["season"] if len(band) else []))
@@ -311,7 +311,7 @@ def plot_ensemble(cross: pd.DataFrame, dist: pd.DataFrame, band: pd.DataFrame, p
 def write_ensemble(spec, out_dir, draws: pd.DataFrame, dists, seed: int,
                    seasons, quick: bool) -> dict:
     """After the sweep: the ensemble files in ``out_dir/ensemble`` (see the module)."""
-    from .results import atomic_path
+    from ..results import atomic_path
     from .rundir import atomic_write_text
 
     out = Path(out_dir)

@@ -30,20 +30,12 @@ import time as _time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 
-from .results import atomic_path
+from ..results import atomic_path
+from .paper import REFERENCE_DECK, clock_text, crossover_rows
 
-__all__ = ["REFERENCE_DECK", "PAPER_CROSSOVERS", "SENSITIVITY", "ValidationReport", "validate"]
-
-#: (season, local hour) → area-mean deck temperature of the paper / its ref. [26] [K]
-REFERENCE_DECK = {("summer", 12.0): 304.67, ("winter", 12.0): 280.51,
-                  ("summer", 7.0): 292.08, ("winter", 8.0): 274.88}
-
-#: (season, band) → the paper's crossover moments [local hour] (§5.1, §5.2)
-PAPER_CROSSOVERS = {("summer", "3-5"): (6.5, 19.5), ("winter", "3-5"): (8.5, 18.5),
-                    ("winter", "8-14"): (8.5, 18.0), ("summer", "8-14"): ()}
+__all__ = ["SENSITIVITY", "ValidationReport", "validate"]
 
 #: name → (scenario key, minus change, plus change); absorptivity is absolute around the
 #: scenario's deck value
@@ -65,7 +57,7 @@ class ValidationReport:
     settings: dict = field(default_factory=dict)
     runs: dict = field(default_factory=dict)
     #: ``validate(calibrate=True)``: the paper's case calibrated and the sol-air anchor
-    #: (:mod:`shipthermal.calibration`, :mod:`shipthermal.anchor`)
+    #: (:mod:`shipthermal.app.calibration`, :mod:`shipthermal.app.anchor`)
     calibration: dict = field(default_factory=dict)
 
     def text(self) -> str:
@@ -114,13 +106,6 @@ class ValidationReport:
         return paths
 
 
-def _clock(h) -> str:
-    if h is None or not np.isfinite(h):
-        return "—"
-    m = int(round(h * 60))
-    return f"{m // 60:02d}:{m % 60:02d}"
-
-
 def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivity: bool = True,
              crossovers: bool = True, edge_length: float | None = None, log=None,
              scenarios: dict | None = None, calibrate: bool = False) -> ValidationReport:
@@ -144,12 +129,12 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
         Instead of the built-in defaults.
     calibrate : bool
         Also fit the reference's unknown conditions to its noon values and predict the
-        held-out 07:00 / 08:00 values (:func:`shipthermal.calibration.paper_calibration`,
+        held-out 07:00 / 08:00 values (:func:`shipthermal.app.calibration.paper_calibration`,
         coarse calibration setting, a few minutes), and compare a sunlit dark deck with
-        the ASHRAE sol-air temperature (:func:`shipthermal.anchor.sol_air_anchor`).
+        the ASHRAE sol-air temperature (:func:`shipthermal.app.anchor.sol_air_anchor`).
     """
-    from .diurnal import run_scenario_thermal
     from .scenario import default_scenario
+    from .thermal import run_scenario_thermal
 
     say = log or (lambda m: None)
     t_start = _time.perf_counter()
@@ -172,7 +157,7 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
             if s != season:
                 continue
             ours = res.part_mean_at("deck", hour)
-            rows.append({"season": season, "time": _clock(hour), "ours_K": ours,
+            rows.append({"season": season, "time": clock_text(hour), "ours_K": ours,
                          "reference_K": ref, "diff_K": ours - ref,
                          "diff_pct": 100.0 * (ours - ref) / ref,
                          "air_K": res.part_mean_at("temp_air", hour),
@@ -199,7 +184,7 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
                     base_v = res.part_mean_at("deck", hour)
                     m = vals["minus"].part_mean_at("deck", hour)
                     p = vals["plus"].part_mean_at("deck", hour)
-                    sens_rows.append({"season": season, "time": _clock(hour), "parameter": name,
+                    sens_rows.append({"season": season, "time": clock_text(hour), "parameter": name,
                                       "minus_K": m, "plus_K": p, "d_minus_K": m - base_v,
                                       "d_plus_K": p - base_v})
     table = pd.DataFrame(rows)
@@ -207,7 +192,7 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
 
     cross_rows = []
     if crossovers:
-        cross_rows = _crossover_rows(scen, runs, progress, say)
+        cross_rows = crossover_rows(scen, runs, progress, say)
     settings = {"edge_length": edge, "quick": quick,
                 "surface_faces": {s: int(r.ship.n_faces) for s, r in runs.items()},
                 "days": {s: int(r.days) for s, r in runs.items()},
@@ -227,35 +212,3 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
     if out_dir is not None:
         report.write(out_dir)
     return report
-
-
-def _crossover_rows(scen, runs, progress, say):
-    """Contrast zero crossings every 10 min in both bands, from the imaging stage."""
-    from imaging.atmosphere.weather_sky import SkyWeather
-    from imaging.experiment import ImagingScenario, render_series
-
-    rows = []
-    times = np.arange(0.0, 86400.0, 600.0)
-    for season, res in runs.items():
-        sc = scen[season]
-        say(f"{season}: imaging every 10 min for the crossover moments")
-        # the image's sky follows this scenario's weather, as the thermal run's does
-        img = ImagingScenario.default(season, sky_weather=SkyWeather.from_weather(
-            sc.weather_record(), sc.start, sc.weather.clear_sky_model, sc.weather.cloud_model))
-        series = render_series(res.to_history(), img, bands=tuple(sc.bands), times_s=times,
-                               progress=progress)
-        for band, sr in series.items():
-            ours = [c.time / 3600.0 for c in sr.crossovers]
-            paper = PAPER_CROSSOVERS.get((season, band), ())
-            diffs = []
-            for p in paper:
-                if ours:
-                    k = int(np.argmin([abs(o - p) for o in ours]))
-                    diffs.append(f"{60 * (ours[k] - p):+.0f} min")
-                else:
-                    diffs.append("none found")
-            rows.append({"season": season, "band": band,
-                         "ours": ", ".join(_clock(h) for h in ours) or "none",
-                         "paper": ", ".join(_clock(h) for h in paper) or "not given",
-                         "difference": ", ".join(diffs) or "—"})
-    return rows

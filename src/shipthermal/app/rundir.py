@@ -48,7 +48,7 @@ import sys
 import time
 from pathlib import Path
 
-from .errors import InputError, input_error_from_os
+from ..errors import InputError, input_error_from_os
 
 __all__ = ["RunDir", "MARKER", "package_versions", "git_commit", "atomic_write_text",
            "is_complete", "scenario_changes", "changes_from_copy", "stale_lock"]

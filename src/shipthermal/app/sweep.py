@@ -56,8 +56,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .errors import InputError
-from .units import HOUR
+from ..errors import InputError
+from ..units import HOUR
 
 __all__ = ["SweepSpec", "SweepCase", "load_sweep", "run_case", "run_sweep", "SweepResult",
            "plot_table"]
@@ -141,7 +141,7 @@ def load_sweep(path) -> SweepSpec:
     ------
     InputError
         A malformed file, an unknown top-level key, an empty axis, a base that cannot be
-        read; or a :class:`~shipthermal.scenario.ScenarioError` naming the case and every
+        read; or a :class:`~shipthermal.app.scenario.ScenarioError` naming the case and every
         problem of its scenario.
     """
     from .scenario import SEASONS, ScenarioError, load_scenario
@@ -293,8 +293,8 @@ def run_case(spec: dict, backgrounds: dict | None = None) -> dict:
     ``backgrounds``: port backgrounds built once by the client and broadcast to the workers
     (key → background), so that each worker does not rebuild the same port.
     """
-    from .diurnal import run_scenario_thermal
     from .scenario import loads_scenario
+    from .thermal import run_scenario_thermal
 
     for key, bg in (backgrounds or {}).items():
         _BACKGROUNDS.setdefault(key, bg)
@@ -319,10 +319,12 @@ def run_case(spec: dict, backgrounds: dict | None = None) -> dict:
             from imaging.experiment import render_series
 
             from .pipeline import frame_times, imaging_scenario
+            from .thermal import ship_thermal_history
 
             t1 = _time.perf_counter()
-            scen = imaging_scenario(sc, _background(sc))
-            series = render_series(res.to_history(), scen, sc.bands, frame_times(sc),
+            hist = ship_thermal_history(res)
+            scen = imaging_scenario(sc, _background(sc), hist)
+            series = render_series(hist, scen, sc.bands, frame_times(sc),
                                    progress=False)
             curves = out["curves"] = {}
             for band, sr in series.items():
@@ -391,7 +393,7 @@ def plot_table(table: pd.DataFrame, axis_names, path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .results import atomic_path
+    from ..results import atomic_path
 
     labels = [" | ".join(str(r[a]) for a in axis_names) for _, r in table.iterrows()]
     x = np.arange(len(table))
@@ -564,7 +566,7 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
     finally:
         bar.close()
     table = _table(spec, results)
-    from .results import atomic_path
+    from ..results import atomic_path
 
     files = {}
     with atomic_path(out / "table.csv") as tmp:

@@ -1,0 +1,207 @@
+"""The package layers, read from the source with ``ast`` (no module is imported).
+
+Three layers, lowest first:
+
+* **physics** — every module of ``shipthermal`` outside ``shipthermal.app`` (geometry, mesh,
+  environment, raytrace, forcing, model, simulation, diurnal, results, ...);
+* **imaging** — ``src/imaging``; it may use only the thermal package's lower layers
+  (:data:`IMAGING_MAY_USE`);
+* **application** — ``shipthermal.app`` (scenario, pipeline, command line, sweeps, run
+  folders, reports, validation, calibration) and ``python -m shipthermal``: the only place
+  that wires stages together.
+
+A module never imports from a layer above its own, and no module imports a module that
+imports it back (directly or through others). Every import counts, also those inside
+functions: a lazy import is still a dependency.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+SRC = Path(__file__).resolve().parents[1] / "src"
+PACKAGES = ("shipthermal", "imaging")
+
+#: What the imaging package may import from the thermal package (with submodules)
+IMAGING_MAY_USE = ("shipthermal.geometry", "shipthermal.environment", "shipthermal.raytrace",
+                   "shipthermal.errors", "shipthermal.units", "shipthermal.parameters")
+
+#: Modules of the application layer besides ``shipthermal.app``
+APP_ENTRY = ("shipthermal.__main__",)
+
+
+def module_name(path: Path, root: Path = SRC) -> tuple[str, bool]:
+    """Dotted name of a source file, and whether it is a package's ``__init__``."""
+    parts = list(path.relative_to(root).with_suffix("").parts)
+    is_package = parts[-1] == "__init__"
+    if is_package:
+        parts = parts[:-1]
+    return ".".join(parts), is_package
+
+
+def import_graph(root: Path = SRC) -> dict:
+    """``{module: {imported module: first line}}`` over the project's own modules.
+
+    ``from pkg import name`` counts as an import of ``pkg.name`` when that is a module,
+    otherwise of ``pkg``; relative imports are resolved against the importing module.
+    """
+    files = {}
+    for pkg in PACKAGES:
+        for path in sorted((root / pkg).rglob("*.py")):
+            files[module_name(path, root)[0]] = path
+    graph = {}
+    for mod, path in files.items():
+        _, is_package = module_name(path, root)
+        edges: dict = {}
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), str(path))):
+            targets = []
+            if isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = mod.split(".") if is_package else mod.split(".")[:-1]
+                    base = base[:len(base) - (node.level - 1)]
+                    pkg = ".".join(base + ([node.module] if node.module else []))
+                else:
+                    pkg = node.module or ""
+                for a in node.names:
+                    sub = f"{pkg}.{a.name}"
+                    targets.append(sub if sub in files else pkg)
+            for t in targets:
+                if t.split(".")[0] in PACKAGES:
+                    while t not in files and "." in t:     # `import a.b.c` of a name in a.b
+                        t = t.rsplit(".", 1)[0]
+                    if t != mod:
+                        edges.setdefault(t, node.lineno)
+        graph[mod] = edges
+    return graph
+
+
+def layer(mod: str) -> str:
+    if mod.startswith("imaging"):
+        return "imaging"
+    if mod == "shipthermal.app" or mod.startswith("shipthermal.app.") or mod in APP_ENTRY:
+        return "app"
+    return "physics"
+
+
+def _within(mod: str, prefixes) -> bool:
+    return any(mod == p or mod.startswith(p + ".") for p in prefixes)
+
+
+def layer_violations(graph: dict) -> list[str]:
+    rank = {"physics": 0, "imaging": 1, "app": 2}
+    out = []
+    for mod, edges in graph.items():
+        for target, line in edges.items():
+            a, b = layer(mod), layer(target)
+            if rank[b] > rank[a]:
+                out.append(f"{mod} (line {line}) imports {target}: the {a} layer must not "
+                           f"use the {b} layer")
+            elif a == "imaging" and b == "physics" and not _within(target, IMAGING_MAY_USE):
+                out.append(f"{mod} (line {line}) imports {target}: imaging may use only "
+                           f"{', '.join(IMAGING_MAY_USE)}")
+    return out
+
+
+def cycles(graph: dict) -> list[list[str]]:
+    """Strongly connected components with more than one module (Tarjan, iterative)."""
+    index, low, on_stack, stack, out = {}, {}, set(), [], []
+    counter = [0]
+    for start in graph:
+        if start in index:
+            continue
+        work = [(start, iter(graph.get(start, ())))]
+        index[start] = low[start] = counter[0]
+        counter[0] += 1
+        stack.append(start)
+        on_stack.add(start)
+        while work:
+            node, it = work[-1]
+            for nxt in it:
+                if nxt not in index:
+                    index[nxt] = low[nxt] = counter[0]
+                    counter[0] += 1
+                    stack.append(nxt)
+                    on_stack.add(nxt)
+                    work.append((nxt, iter(graph.get(nxt, ()))))
+                    break
+                if nxt in on_stack:
+                    low[node] = min(low[node], index[nxt])
+            else:
+                work.pop()
+                if work:
+                    low[work[-1][0]] = min(low[work[-1][0]], low[node])
+                if low[node] == index[node]:
+                    comp = []
+                    while True:
+                        m = stack.pop()
+                        on_stack.discard(m)
+                        comp.append(m)
+                        if m == node:
+                            break
+                    if len(comp) > 1:
+                        out.append(sorted(comp))
+    return out
+
+
+GRAPH = import_graph()
+
+
+def test_the_graph_covers_the_layers():
+    layers = {layer(m) for m in GRAPH}
+    assert layers == {"physics", "imaging", "app"}, layers
+    assert "shipthermal.app.scenario.wiring" in GRAPH["shipthermal.app.scenario"]
+    assert "shipthermal.app.pipeline" in GRAPH["shipthermal.app.cli"]
+
+
+def test_no_module_imports_a_layer_above_its_own():
+    bad = layer_violations(GRAPH)
+    assert not bad, "\n".join(bad)
+
+
+def test_no_import_cycles():
+    found = cycles(GRAPH)
+    assert not found, "import cycles: " + "; ".join(" <-> ".join(c) for c in found)
+
+
+# ---- the checks themselves fail on a violation -----------------------------------------
+def _tree(tmp_path, files: dict) -> Path:
+    for name, text in files.items():
+        p = tmp_path / name
+        p.parent.mkdir(parents=True, exist_ok=True)
+        p.write_text(text)
+    return tmp_path
+
+
+@pytest.mark.parametrize("importer, text, expected", [
+    ("shipthermal/forcing.py", "def f():\n    from .app.pipeline import x\n",
+     "the physics layer must not use the app layer"),
+    ("shipthermal/model.py", "import imaging.render\n",
+     "the physics layer must not use the imaging layer"),
+    ("imaging/render.py", "from shipthermal.app.scenario import Scenario\n",
+     "the imaging layer must not use the app layer"),
+    ("imaging/render.py", "from shipthermal import diurnal\n",
+     "imaging may use only"),
+])
+def test_a_violation_is_reported(tmp_path, importer, text, expected):
+    files = {f"{p}/__init__.py": "" for p in ("shipthermal", "shipthermal/app", "imaging")}
+    files |= {"shipthermal/app/pipeline.py": "", "shipthermal/app/scenario.py": "",
+              "shipthermal/diurnal.py": "", "shipthermal/forcing.py": "",
+              "shipthermal/model.py": "", "imaging/render.py": ""}
+    files[importer] = text
+    bad = layer_violations(import_graph(_tree(tmp_path, files)))
+    assert len(bad) == 1 and expected in bad[0], bad
+
+
+def test_a_cycle_is_reported(tmp_path):
+    files = {"shipthermal/__init__.py": "", "imaging/__init__.py": "",
+             "shipthermal/a.py": "from . import b\n",
+             "shipthermal/b.py": "def f():\n    from .c import x\n",
+             "shipthermal/c.py": "from shipthermal.a import y\n",
+             "shipthermal/d.py": "from . import a\n"}
+    assert cycles(import_graph(_tree(tmp_path, files))) == [
+        ["shipthermal.a", "shipthermal.b", "shipthermal.c"]]
