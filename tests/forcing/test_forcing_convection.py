@@ -131,7 +131,7 @@ def test_direct_api_takes_the_parameter_module_optics(boat):
 def test_scenario_and_direct_api_give_the_deck_the_same_emissivity(boat):
     # the default scenario and the forcing's direct API must agree on every part's
     # broadband emissivity and solar absorptivity (the deck once differed: 0.95 vs 0.90)
-    from shipthermal.scenario import default_scenario
+    from shipthermal.app.scenario import default_scenario
 
     ship, env, graph, f = boat
     sc = default_scenario("summer")
@@ -151,3 +151,16 @@ def test_diurnal_settings_choose_the_model():
     assert res.forcing.convection_model == "iso6946"
     speed, _ = _apparent_wind(res.forcing, env, env.at(res.forcing.times))
     np.testing.assert_allclose(_air_h_table(res.forcing), 4.0 + 4.0 * speed, rtol=1e-6)
+
+
+def test_scenario_key_chooses_the_model_and_names_the_allowed_ones():
+    from shipthermal.app.scenario import loads_scenario
+    from shipthermal.app.thermal import settings_from_scenario
+
+    sc = loads_scenario('[convection]\nmodel = "flat_plate_turbulent"\n')
+    assert settings_from_scenario(sc).convection == "flat_plate_turbulent"
+    with pytest.raises(InputError) as err:
+        loads_scenario('[convection]\nmodel = "mcadams"\n')
+    assert err.value.field == "convection.model" and err.value.value == "mcadams"
+    for name in conv.CONVECTION_MODELS:
+        assert repr(name) in str(err.value)

@@ -240,6 +240,7 @@ CASES = {
     "solver.samples_per_face": ("builtin", 8, {T}),
     "solver.seed": ("builtin", 7, {T}),
     "solver.backend": ("builtin", "numba", {T, I}),
+    "convection.model": ("builtin", "iso6946", {T}),
     "background.source": ("builtin", "files", {B}),
     "background.seed": ("builtin", 5, {B}),
     "background.size_px": ("builtin", 120, {B}),

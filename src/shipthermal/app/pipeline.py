@@ -28,6 +28,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError, require
+from ..parameters import BANDS
 from ..units import DAY, HOUR
 from .run_environment import aerosol_conditions, sea_glint_wind_speed, sky_weather
 from .thermal import ship_thermal_history
@@ -292,7 +293,8 @@ def frame_times(scenario, step_s: float | None = None) -> np.ndarray:
     return np.arange(0.0, DAY + 1.0, step)
 
 
-IMAGING_BANDS = ("3-5", "8-14")
+IMAGING_BANDS = tuple(BANDS)
+"""The bands the renderer draws: the paper's two (:data:`shipthermal.parameters.BANDS`)."""
 
 
 def check_imaging_bands(scenario) -> None:

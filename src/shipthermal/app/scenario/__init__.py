@@ -57,16 +57,18 @@ prints it).
 from .check import check_files
 from .reading import default_scenario, example_path, load_scenario, loads_scenario
 from .schema_doc import schema_keys, schema_markdown
-from .sections import (AtmosphereSettings, BackgroundSettings, ImagingSettings, LayerSpec, Location,
-                       OutputSettings, SensorSettings, ShipFiles, ShipParticulars, ShipSettings,
-                       SolverSettings, Time, WeatherSettings)
+from .sections import (AtmosphereSettings, BackgroundSettings, ConvectionSettings,
+                       ImagingSettings, LayerSpec, Location, OutputSettings, SensorSettings,
+                       ShipFiles, ShipParticulars, ShipSettings, SolverSettings, Time,
+                       WeatherSettings)
 from .spec import ScenarioError, clock_seconds, parse_band
 from .values import SEASONS
 from .wiring import Scenario
 
 __all__ = [
     "Scenario", "ScenarioError", "Location", "Time", "WeatherSettings", "ShipSettings",
-    "ShipParticulars", "ShipFiles", "LayerSpec", "SolverSettings", "BackgroundSettings",
+    "ShipParticulars", "ShipFiles", "LayerSpec", "SolverSettings", "ConvectionSettings",
+    "BackgroundSettings",
     "ImagingSettings", "SensorSettings", "AtmosphereSettings", "OutputSettings",
     "load_scenario", "loads_scenario", "default_scenario", "example_path", "schema_markdown",
     "schema_keys", "parse_band", "clock_seconds", "check_files", "SEASONS",

@@ -18,12 +18,13 @@ from ...geometry.parts import MAIN_PARTS, main_part
 from ...materials import MATERIALS
 from ...units import ZERO_CELSIUS
 from .spec import _Context, _opt, _part_key, _suggest, parse_band
-from .values import (ATMOSPHERE_BACKENDS, BUILTIN_SHIP_NAMES, CLEAR_SKY_MODELS, CLIMATE_DATES,
-                     CLOUD_MODELS, CLOUD_UNITS, DALIAN, DAY, DECOMPOSITIONS,
-                     DEFAULT_LONGWAVE_EMISSIVITY, DEFAULT_SOLAR_ABSORPTIVITY, DEM_NODATA,
-                     MAX_GAP_HOURS, MAX_RECORD_DAYS, MAX_REPAIR_CHANGE, MAX_VIEW_ZENITH,
-                     MESH_EXTENSIONS, MESH_WITH_PART_ARRAY, MESH_WITH_PART_NAMES, MET_UNITS,
-                     OUTPUT_FORMATS, PAPER_BAND_EMISSIVITY, PAPER_IMAGE_TIMES, PAPER_SENSOR,
+from .values import (ATMOSPHERE_BACKENDS, BAND_EMISSIVITY, BUILTIN_SHIP_NAMES, CLEAR_SKY_MODELS,
+                     CLIMATE_DATES, CLOUD_MODELS, CLOUD_UNITS, CONVECTION_MODEL_SOURCES, DALIAN,
+                     DAY, DECOMPOSITIONS, DEFAULT_CONVECTION_MODEL, DEM_NODATA,
+                     LONGWAVE_EMISSIVITY, MAX_GAP_HOURS, MAX_RECORD_DAYS, MAX_REPAIR_CHANGE,
+                     MAX_VIEW_ZENITH, MESH_EXTENSIONS, MESH_WITH_PART_ARRAY,
+                     MESH_WITH_PART_NAMES, MET_UNITS, OUTPUT_FORMATS, PAPER_IMAGE_TIMES,
+                     PAPER_SENSOR, SOLAR_ABSORPTIVITY,
                      ROI_SPLITS, SEASONS, SYNTHETIC_PIXEL_M, TEMP_UNITS, VALIDATION_TIMES,
                      VARIOGRAM_MODELS, WEATHER_FORMATS, WEATHER_SUFFIXES)
 
@@ -426,14 +427,14 @@ class ShipSettings:
                                             "summer, 22 degC winter)", unit="K", lo=200.0,
                                             hi=400.0, dynamic=_compartment_default,
                                             default_text="summer 300.15, winter 295.15 (all parts)")
-    solar_absorptivity: Mapping = _opt(DEFAULT_SOLAR_ABSORPTIVITY, "part_table",
+    solar_absorptivity: Mapping = _opt(SOLAR_ABSORPTIVITY, "part_table",
                                        "Solar absorptivity per part (ASSUMPTION: grey paint, "
                                        "darker non-skid deck)", lo=0.0, hi=1.0, lo_open=True)
-    longwave_emissivity: Mapping = _opt(DEFAULT_LONGWAVE_EMISSIVITY, "part_table",
+    longwave_emissivity: Mapping = _opt(LONGWAVE_EMISSIVITY, "part_table",
                                         "Broadband long-wave emissivity per part for the "
                                         "thermal stage (default: the 8-14 µm value)",
                                         lo=0.0, hi=1.0, lo_open=True)
-    band_emissivity: Mapping = _opt(PAPER_BAND_EMISSIVITY, "part_bands", "Emissivity per "
+    band_emissivity: Mapping = _opt(BAND_EMISSIVITY, "part_bands", "Emissivity per "
                                     "part and sensor band for the imaging stage (paper §5); "
                                     "a band inside 3-5 or 8-14 without its own value takes "
                                     "that band's", lo=0.0, hi=1.0, lo_open=True)
@@ -644,6 +645,18 @@ class SolverSettings:
             ctx.err(f"{path}.time_step", obj.time_step, "must divide 24 h (86400 s) into whole "
                     "steps (spin-up compares whole days)", "e.g. 60, 120, 300, 600, 900")
         return obj
+
+
+@dataclass(frozen=True)
+class ConvectionSettings:
+    """[convection]: the exterior convection correlation of the ship's air faces."""
+
+    model: str = _opt(DEFAULT_CONVECTION_MODEL, "choice", "Convection correlation of the "
+                      "faces in the wind: flat plate (laminar then turbulent) or tripped at "
+                      "the leading edge, each with natural convection (Churchill 1977), or "
+                      "ISO 6946's 4 + 4v (sources and validity: "
+                      "shipthermal.parameters.CONVECTION_MODEL_SOURCES)",
+                      choices=tuple(CONVECTION_MODEL_SOURCES))
 
 
 @dataclass(frozen=True)

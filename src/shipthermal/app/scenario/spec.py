@@ -18,7 +18,8 @@ from typing import Any, Callable, Mapping, Optional
 
 from ...errors import InputError
 from ...geometry.parts import MAIN_PARTS, main_part
-from .values import ATMOSPHERE_WAVELENGTH_UM, BAND_ALIASES, BANDS, MESH_EXTENSIONS
+from ...parameters import parse_band
+from .values import MESH_EXTENSIONS
 
 
 # ---------------------------------------------------------------------------------------
@@ -261,38 +262,6 @@ def _clock_list(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
         ctx.err(path, raw, allowed, f"{dup} appear more than once")
         ok = False
     return tuple(out) if ok else _BAD
-
-
-def parse_band(band: Any) -> tuple[str, tuple[float, float]]:
-    """Canonical name and limits [µm] of a band.
-
-    Accepts ``"3-5"``, ``"8-14"``, ``"mwir"``, ``"lwir"``, any ``"lo-hi"`` string in µm
-    (``"3.7-4.8"``) or a ``(lo, hi)`` pair, inside the atmosphere tables' wavelength range
-    (:data:`ATMOSPHERE_WAVELENGTH_UM`). A band equal to a named one gets its name.
-    """
-    lo_lim, hi_lim = ATMOSPHERE_WAVELENGTH_UM
-    allowed = (f"must be {', '.join(repr(b) for b in BANDS)}, 'mwir', 'lwir' or 'lo-hi' in "
-               f"µm with {lo_lim:g} <= lo < hi <= {hi_lim:g} (the atmosphere tables' range)")
-    if isinstance(band, str):
-        key = band.strip().lower().replace(" ", "").replace("µm", "um")
-        key = BAND_ALIASES.get(key, key)
-        if key in BANDS:
-            return key, BANDS[key]
-        m = re.match(r"^(\d+(?:\.\d*)?)-(\d+(?:\.\d*)?)(?:um)?$", key)
-        if not m:
-            raise InputError("band", band, allowed)
-        lo, hi = float(m.group(1)), float(m.group(2))
-    elif isinstance(band, (list, tuple)) and len(band) == 2 and all(
-            isinstance(b, (int, float)) and not isinstance(b, bool) for b in band):
-        lo, hi = float(band[0]), float(band[1])
-    else:
-        raise InputError("band", band, allowed)
-    if not (lo_lim <= lo < hi <= hi_lim):
-        raise InputError("band", band, allowed)
-    for name, lim in BANDS.items():
-        if math.isclose(lim[0], lo) and math.isclose(lim[1], hi):
-            return name, lim
-    return f"{lo:g}-{hi:g}", (lo, hi)
 
 
 def _band_list(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:

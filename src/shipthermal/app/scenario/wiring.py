@@ -13,8 +13,9 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ...errors import InputError
-from .sections import (_RECORD_HINT, BackgroundSettings, ImagingSettings, Location, OutputSettings,
-                       ShipSettings, SolverSettings, Time, WeatherSettings, _is_leap)
+from .sections import (_RECORD_HINT, BackgroundSettings, ConvectionSettings, ImagingSettings,
+                       Location, OutputSettings, ShipSettings, SolverSettings, Time,
+                       WeatherSettings, _is_leap)
 from .spec import _BAD, ScenarioError, _Context, _opt, _section, _thaw, clock_seconds
 from .values import CLIMATE_MONTHS, CLIMATE_RADIUS_DEG, DALIAN, DAY, MAX_RECORD_DAYS, SEASONS
 from .writing import _dump_toml
@@ -38,6 +39,8 @@ class Scenario:
     weather: WeatherSettings = _opt(None, "section", "Weather", cls=WeatherSettings)
     ship: ShipSettings = _opt(None, "section", "Ship", cls=ShipSettings)
     solver: SolverSettings = _opt(None, "section", "Thermal solver", cls=SolverSettings)
+    convection: ConvectionSettings = _opt(None, "section", "Convection of the air faces",
+                                          cls=ConvectionSettings)
     background: BackgroundSettings = _opt(None, "section", "Port background",
                                           cls=BackgroundSettings)
     imaging: ImagingSettings = _opt(None, "section", "Imaging", cls=ImagingSettings)
