@@ -4,10 +4,18 @@ checks import them).
 
 from __future__ import annotations
 
-from ...parameters import (ATMOSPHERE_WAVELENGTH_UM, BAND_ALIASES, BAND_EMISSIVITY, BANDS,  # noqa: F401
-                           CONVECTION_MODEL_SOURCES, DEFAULT_CONVECTION_MODEL,
-                           LONGWAVE_EMISSIVITY, SOLAR_ABSORPTIVITY)
-from ...units import DAY  # noqa: F401  (the sections import it from here)
+# surface optics, bands and convection models are the parameter module's (one source for
+# both stages), re-exported here for the sections; DAY is the units module's
+from ...parameters import (  # noqa: F401
+    ATMOSPHERE_WAVELENGTH_UM,
+    BAND_EMISSIVITY,
+    BANDS,
+    CONVECTION_MODEL_SOURCES,
+    DEFAULT_CONVECTION_MODEL,
+    LONGWAVE_EMISSIVITY,
+    SOLAR_ABSORPTIVITY,
+)
+from ...units import DAY  # noqa: F401
 
 # ---------------------------------------------------------------------------------------
 # Allowed values mirrored from slow-to-import modules (kept equal by the sync tests)
@@ -72,9 +80,6 @@ MAX_REPAIR_CHANGE = 0.01
 """= shipthermal.geometry.cad.MAX_REPAIR_CHANGE: largest accepted relative change of area or
 volume by a mesh repair."""
 OUTPUT_FORMATS = ("csv", "geotiff", "html", "json", "netcdf", "png", "vtkhdf", "vtu")
-
-# Surface optics, bands and the convection models are the parameter module's
-# (shipthermal.parameters, imported above): one source for both stages.
 
 # Typical times of the paper's Figs. 14–17 (summer 01:00, 06:00, 07:00, 13:00; winter 00:00,
 # 08:30, 12:00, 18:30) and the validation moments of §3.1 (summer 07:00 / 12:00, winter
