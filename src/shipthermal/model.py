@@ -31,6 +31,7 @@ from typing import Mapping
 
 import numpy as np
 import scipy.sparse as sp
+from numba import njit
 
 from .conditions import BoundaryCondition, FaceForcing, evaluate, fill
 from .errors import InputError, check_finite, require
@@ -80,8 +81,12 @@ class RadiativeExchange:
 
     @property
     def row_sum(self) -> np.ndarray:
-        """``Σ_j R_ij`` per exchanging face [m2]."""
-        return np.asarray(self.area_exchange.sum(axis=1)).ravel()
+        """``Σ_j R_ij`` per exchanging face [m2] (computed once: the matrix is fixed)."""
+        rs = self.__dict__.get("_row_sum")
+        if rs is None:
+            rs = np.asarray(self.area_exchange.sum(axis=1)).ravel()
+            object.__setattr__(self, "_row_sum", rs)
+        return rs
 
 
 class ThermalModel:
@@ -188,52 +193,75 @@ def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarra
     g = graph.bface_conductance
     tc = temp_cell[graph.bface_cell]
     cb = np.zeros_like(area) if correction_flow is None else correction_flow
-    gamma = g / area
-    e = forcing.emissivity.copy()
-    a = forcing.q0 + forcing.h * forcing.temp_fluid + forcing.emissivity * forcing.longwave_in
+    gain = np.zeros_like(area)      # σ Σ_j R_ij T_j⁴ (lagged) [W]
+    loss = np.zeros_like(area)      # Σ_j R_ij [m2]
     if exchange is not None:
         idx = exchange.bfaces
-        e[idx] += exchange.row_sum / area[idx]
-        tx4 = exchange_temp[idx] ** 4
-        a[idx] += SIGMA * (exchange.area_exchange @ tx4) / area[idx]
-    rhs = gamma * tc - cb / area + a          # f(T) = rhs − (γ + h) T − e σ T⁴
-    lin = gamma + forcing.h
-    es = e * SIGMA
-    radiating = es > 0
-    ts = np.where(radiating, np.maximum(temp_guess, 1.0), rhs / lin)
-    if radiating.any():
-        r_idx = np.flatnonzero(radiating)
-        t = ts[r_idx]
-        rr, ll, ee = rhs[r_idx], lin[r_idx], es[r_idx]
-        for _ in range(max_iterations):
-            t3 = t * t * t
-            f = rr - ll * t - ee * t3 * t
-            df = -ll - 4.0 * ee * t3
-            step = f / df
-            t = t - step
-            if np.max(np.abs(step)) <= tol * np.max(t):
-                break
-        else:
-            raise RuntimeError("surface energy balance did not converge "
-                               f"(max step {np.max(np.abs(step)):.3g} K)")
-        ts[r_idx] = t
-    kappa = forcing.h + 4.0 * es * ts ** 3
-    # Flow into the cell from the converged surface temperature. The face-to-face part is
-    # evaluated with the *same* temperatures on both sides (σ Σ_j R_ij (T_j⁴ − T_i⁴)), so it
-    # cancels exactly in the energy sum whatever the lag of ``exchange_temp``.
-    eps_s = forcing.emissivity * SIGMA
-    flow = area * (forcing.q0 + forcing.h * (forcing.temp_fluid - ts)
-                   + forcing.emissivity * forcing.longwave_in - eps_s * ts ** 4)
+        loss[idx] = exchange.row_sum
+        gain[idx] = SIGMA * (exchange.area_exchange @ exchange_temp[idx] ** 4)
+    ts = np.empty_like(area)
+    flow = np.empty_like(area)
+    cond = np.empty_like(area)
+    step = _balance_kernel(area, g, tc, cb, forcing.q0, forcing.h, forcing.temp_fluid,
+                           forcing.emissivity, forcing.longwave_in, forcing.fixed,
+                           forcing.temp_fixed, gain, loss, np.asarray(temp_guess, float),
+                           float(tol), int(max_iterations), ts, flow, cond)
+    if step > 0.0:
+        raise RuntimeError(f"surface energy balance did not converge (max step {step:.3g} K)")
     if exchange is not None:
+        # The face-to-face part with the *same* (converged) temperatures on both sides,
+        # σ Σ_j R_ij (T_j⁴ − T_i⁴), so that it cancels exactly in the energy sum whatever
+        # the lag of ``exchange_temp``.
         t4 = ts[idx] ** 4
         flow[idx] += SIGMA * (exchange.area_exchange @ t4 - exchange.row_sum * t4)
-    cond = area * gamma * kappa / (gamma + kappa)
-    fixed = forcing.fixed
-    if fixed.any():
-        ts = np.where(fixed, forcing.temp_fixed, ts)
-        flow = np.where(fixed, g * (forcing.temp_fixed - tc) + cb, flow)
-        cond = np.where(fixed, g, cond)
     return BoundaryState(ts, flow, cond)
+
+
+@njit(cache=True)
+def _balance_kernel(area, g, tc, cb, q0, h, tfl, eps, lw, fixed, tfix, gain, loss, guess,
+                    tol, max_iterations, ts, flow, cond):
+    """Per face: Newton on ``f(T) = rhs − (γ + h) T − e σ T⁴`` (concave, decreasing: monotone
+    convergence from any positive start), then the flow into the cell (without the
+    face-to-face part, added by the caller) and ``−∂flow/∂T_cell``. One pass over the faces
+    instead of ~30 array operations per Newton sweep; each face stops on its own step
+    ``|ΔT| ≤ tol·T``. Returns 0.0, or the largest last step of faces that did not converge."""
+    worst = 0.0
+    for i in range(area.shape[0]):
+        gamma = g[i] / area[i]
+        e = eps[i] + loss[i] / area[i]
+        es = e * SIGMA
+        lin = gamma + h[i]
+        rhs = gamma * tc[i] - cb[i] / area[i] + q0[i] + h[i] * tfl[i] + eps[i] * lw[i] \
+            + gain[i] / area[i]
+        if es > 0.0:
+            t = max(guess[i], 1.0)
+            ok = False
+            step = 0.0
+            for _ in range(max_iterations):
+                t3 = t * t * t
+                f = rhs - lin * t - es * t3 * t
+                df = -lin - 4.0 * es * t3
+                step = f / df
+                t = t - step
+                if abs(step) <= tol * t:
+                    ok = True
+                    break
+            if not ok:
+                worst = max(worst, abs(step))
+        else:
+            t = rhs / lin
+        kappa = h[i] + 4.0 * es * t * t * t
+        if fixed[i]:
+            ts[i] = tfix[i]
+            flow[i] = g[i] * (tfix[i] - tc[i]) + cb[i]
+            cond[i] = g[i]
+        else:
+            ts[i] = t
+            t2 = t * t
+            flow[i] = area[i] * (q0[i] + h[i] * (tfl[i] - t) + eps[i] * lw[i]
+                                 - eps[i] * SIGMA * t2 * t2)
+            cond[i] = area[i] * gamma * kappa / (gamma + kappa)
+    return worst
 
 
 def conduction_flows(graph: CellGraph, temp_cell: np.ndarray) -> np.ndarray:
