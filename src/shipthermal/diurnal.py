@@ -37,7 +37,7 @@ from .errors import check_positive, require
 from .results import EnergyLog, Results, atomic_path
 from .units import DAY, HOUR
 
-__all__ = ["DiurnalSettings", "DiurnalResult", "run_diurnal", "run_scenario_thermal",
+__all__ = ["DiurnalSettings", "DiurnalResult", "run_diurnal", "run_scenario_thermal", "SPINUP_LEAD_IN", "lead_in_seconds",
            "part_groups", "MAIN_SERIES"]
 
 #: Default lead-in before the first simulated midnight [s]. The start-up error of the

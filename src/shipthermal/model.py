@@ -273,10 +273,19 @@ def conduction_flows(graph: CellGraph, temp_cell: np.ndarray) -> np.ndarray:
     antisymmetric face by face, so interior flows cancel to round-off of the fluxes
     themselves.
     """
-    own, nei = graph.face_cells[:, 0], graph.face_cells[:, 1]
-    flux = graph.face_conductance * (temp_cell[nei] - temp_cell[own])   # into the owner
-    n = graph.n_cells
-    return np.bincount(own, flux, n) - np.bincount(nei, flux, n)
+    fc = graph.face_cells
+    out = np.zeros(graph.n_cells)
+    _conduction_kernel(fc[:, 0], fc[:, 1], graph.face_conductance,
+                       np.ascontiguousarray(temp_cell, dtype=np.float64), out)
+    return out
+
+
+@njit(cache=True)
+def _conduction_kernel(own, nei, conductance, temp, out):
+    for f in range(own.shape[0]):
+        flux = conductance[f] * (temp[nei[f]] - temp[own[f]])   # into the owner
+        out[own[f]] += flux
+        out[nei[f]] -= flux
 
 
 def nonorthogonal_flows(graph: CellGraph, temp_cell: np.ndarray, temp_face: np.ndarray):
