@@ -39,7 +39,7 @@ from .mesh.graph import CellGraph
 from .units import SIGMA
 
 __all__ = ["RadiativeExchange", "ThermalModel", "BoundaryState", "surface_balance",
-           "nonorthogonal_flows", "conduction_flows", "boundary_state"]
+           "nonorthogonal_flows", "conduction_flows", "boundary_state", "add_exchange_flow"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -176,7 +176,7 @@ def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarra
                     temp_guess: np.ndarray, correction_flow: np.ndarray | None = None,
                     exchange: RadiativeExchange | None = None,
                     exchange_temp: np.ndarray | None = None, tol: float = 1e-12,
-                    max_iterations: int = 60) -> BoundaryState:
+                    max_iterations: int = 60, exchange_flow: bool = True) -> BoundaryState:
     """Solve every boundary face's energy balance for its surface temperature (see module
     docstring) and return the flows into the cells and their derivatives.
 
@@ -188,6 +188,9 @@ def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarra
         [W], lagged (None: zero)
     exchange_temp : (b,) surface temperatures used for the radiation received from other
         faces (lagged within the nonlinear iteration) [K]
+    exchange_flow : bool
+        Include the face-to-face part in ``flow`` (a fixed-point loop over the faces needs
+        it only once, at the end: :func:`add_exchange_flow`).
     """
     area = graph.bface_area
     g = graph.bface_conductance
@@ -208,13 +211,19 @@ def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarra
                            float(tol), int(max_iterations), ts, flow, cond)
     if step > 0.0:
         raise RuntimeError(f"surface energy balance did not converge (max step {step:.3g} K)")
-    if exchange is not None:
-        # The face-to-face part with the *same* (converged) temperatures on both sides,
-        # σ Σ_j R_ij (T_j⁴ − T_i⁴), so that it cancels exactly in the energy sum whatever
-        # the lag of ``exchange_temp``.
-        t4 = ts[idx] ** 4
-        flow[idx] += SIGMA * (exchange.area_exchange @ t4 - exchange.row_sum * t4)
-    return BoundaryState(ts, flow, cond)
+    state = BoundaryState(ts, flow, cond)
+    if exchange is not None and exchange_flow:
+        add_exchange_flow(state, exchange)
+    return state
+
+
+def add_exchange_flow(state: "BoundaryState", exchange: RadiativeExchange) -> None:
+    """Add the face-to-face part to ``state.flow``, with the *same* (converged) temperatures
+    on both sides, σ Σ_j R_ij (T_j⁴ − T_i⁴): it cancels exactly in the energy sum whatever
+    the lag of the temperatures the balance was solved with."""
+    idx = exchange.bfaces
+    t4 = state.temp_face[idx] ** 4
+    state.flow[idx] += SIGMA * (exchange.area_exchange @ t4 - exchange.row_sum * t4)
 
 
 @njit(cache=True)
@@ -337,13 +346,15 @@ def boundary_state(model: "ThermalModel", forcing: FaceForcing, temp_cell: np.nd
         if g.correction is not None:
             grad = (bgrad @ np.concatenate([temp_cell, tf])).reshape(3, m).T
             cb = np.einsum("ij,ij->i", bkt, grad[local])
-        bs = surface_balance(g, forcing, temp_cell, tf, cb, exch, tf)
+        bs = surface_balance(g, forcing, temp_cell, tf, cb, exch, tf, exchange_flow=False)
         change = np.max(np.abs(bs.temp_face - tf)) if len(tf) else 0.0
         tf = bs.temp_face
         if change <= tol * max(1.0, float(np.max(tf))):
             break
     else:
         raise RuntimeError(f"boundary fixed point did not converge (last change {change:.3g} K)")
+    if exch is not None:
+        add_exchange_flow(bs, exch)
     corr_cell = 0.0
     if g.correction is not None:
         # Interior correction once, with the converged face temperatures; c_b of the last
