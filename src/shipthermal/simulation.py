@@ -40,7 +40,8 @@ import scipy.sparse as sp
 from numba import njit
 
 from .errors import InputError, check_finite, check_positive, require
-from .linear import Anderson, choose_backend, make_preconditioner, pcg
+from ._tridiagonal import tridiagonal_factor, tridiagonal_solve
+from .linear import Anderson, Preconditioner, choose_backend, make_preconditioner, pcg
 from .model import ThermalModel, boundary_state, conduction_flows
 from .results import EnergyLog, Results
 
@@ -93,10 +94,21 @@ class _JacobianPattern:
         # Extra entries that land on the diagonal (two exchanging faces of one cell).
         self.extra_diag = np.flatnonzero(er == ec)
         self.extra_diag_cell = er[self.extra_diag]
+        # Position of (i, i + 1) in the value array, −1 where not stored (column
+        # preconditioner: the through-thickness band, read without scipy's diagonal()).
+        pos = np.searchsorted(keys, eye[:-1] * (n + 1) + 1)
+        pos = np.minimum(pos, len(keys) - 1)
+        self.sup_pos = np.where(keys[pos] == eye[:-1] * (n + 1) + 1, pos, -1)
         self.base = m.data.copy()
         self.base_diag = self.base[self.diag_pos].copy()
         self.matrix = m
         self.n = n
+
+    def bands(self, matrix: sp.csr_matrix) -> tuple[np.ndarray, np.ndarray]:
+        """Diagonal and super-diagonal of a matrix with this pattern's structure."""
+        data = matrix.data
+        sup = np.where(self.sup_pos >= 0, data[np.maximum(self.sup_pos, 0)], 0.0)
+        return data[self.diag_pos], sup
 
     def diagonal(self, diagonal: np.ndarray, extra: np.ndarray | None = None) -> np.ndarray:
         """The diagonal of ``B + diag(diagonal)`` (+ ``extra``) without building the matrix."""
@@ -348,9 +360,13 @@ class Simulation:
 
     def _preconditioner(self, base_key, matrix):
         if self.backend == "column":
-            # O(n): rebuilt from the current Jacobian at every Newton iteration.
+            # O(n): rebuilt from the current Jacobian at every Newton iteration (its bands
+            # read from the known positions in the value array).
             t0 = time.perf_counter()
-            self._precond = make_preconditioner(matrix, "column", self._column_break)
+            diag, sup = self._pattern.bands(matrix)
+            factor = tridiagonal_factor(diag, np.where(self._column_break, 0.0, sup))
+            self._precond = Preconditioner("column", lambda r: tridiagonal_solve(factor, r),
+                                           time.perf_counter() - t0)
             self.timing.setup += time.perf_counter() - t0
             self.timing.preconditioner_builds += 1
             return self._precond
@@ -388,6 +404,7 @@ class Simulation:
         face_lag = st.temp_face.copy()
         diag_c = a * cap / dt
         pattern = self._jacobian_pattern(theta)
+        self._pattern = pattern
         key = (dt, a, theta)
         # BDF2 starts with one backward Euler step. Its Jacobian differs from all later ones
         # only by C/(2Δt) on the diagonal, so the later steps' preconditioner serves it too
