@@ -128,8 +128,8 @@ def main():
     if args.peer_edge:
         small = sc.updated({"ship.edge_length": args.peer_edge})
         sship = small.ship()
-        new, t_new = _run(small, sship)
-        old, t_old = _plain(small, sship, traced=new.forcing.traced, graph=new.graph)
+        new, _ = _run(small, sship)
+        old, _ = _plain(small, sship, traced=new.forcing.traced, graph=new.graph)
         t_new_loop, t_old_loop = new.timings["solve"], old.timings["solve"]
         d = np.max(np.abs(new.results.face_temperature - old.results.face_temperature))
         print(f"\npeer (same run, {sship.n_faces} faces at {args.peer_edge:g} m): plain "

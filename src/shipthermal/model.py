@@ -217,7 +217,7 @@ def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarra
     return state
 
 
-def add_exchange_flow(state: "BoundaryState", exchange: RadiativeExchange) -> None:
+def add_exchange_flow(state: BoundaryState, exchange: RadiativeExchange) -> None:
     """Add the face-to-face part to ``state.flow``, with the *same* (converged) temperatures
     on both sides, σ Σ_j R_ij (T_j⁴ − T_i⁴): it cancels exactly in the energy sum whatever
     the lag of the temperatures the balance was solved with."""

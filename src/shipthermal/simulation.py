@@ -39,8 +39,8 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit
 
-from .errors import InputError, check_finite, check_positive, require
 from ._tridiagonal import tridiagonal_factor, tridiagonal_solve
+from .errors import InputError, check_finite, check_positive, require
 from .linear import Anderson, Preconditioner, choose_backend, make_preconditioner, pcg
 from .model import ThermalModel, boundary_state, conduction_flows
 from .results import EnergyLog, Results
