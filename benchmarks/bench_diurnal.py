@@ -1,16 +1,27 @@
-"""A full diurnal run of the default ship: spin-up included, time by stage, rays/s vs Embree.
+"""A full diurnal run of the default ship: spin-up included, time by stage, against the stored
+answer of the plain day-by-day stepping, peak memory, rays/s vs Embree.
 
-Run: ``python benchmarks/bench_diurnal.py [--edge 0.5] [--season summer] [--max-days 10]``
+Run: ``python benchmarks/bench_diurnal.py [--edge 0.5] [--season summer] [--max-days 10]
+[--peer-edge 2.0] [--reference PATH.csv] [--save-reference PATH.csv] [--plain]``
 
 Reports, for the built-in frigate on the built-in design day (scenario defaults):
 
 * the stages: meshing (shell graph), ray tracing (view factors + sun lit fractions),
   forcing tables, and the time loop split into boundary balances, assembly and linear
   solves (from the solver's own timers), with Newton / PCG iteration counts;
-* days to a periodic state and the energy balance of the whole run;
-* the rays per second of our tracing pipeline (ray generation, tracing, bookkeeping) against
-  raw Embree (trimesh's ``intersects_first`` through embreex) on the same view-factor rays
-  in the same run.
+* the spin-up: lead-in, days and steps to a periodic day, the periodicity defect, and the
+  energy balance of the whole run;
+* the recorded day against a stored answer (per-part area means at every output time, from
+  plain day-by-day stepping of the same ship and day: ``--reference``, by default
+  ``reference/frigate_summer_0.5m_part_means.csv``, the summer day at 0.5 m edges: three
+  days of 300 s BDF2 steps from midnight, day 3 repeating day 2 to 1.1e-13 K), max |ΔT| [K];
+* peak resident memory of the process (``resource.getrusage``);
+* the peer, measured in the same run: the same solver stepping day by day from midnight
+  until a day repeats (no lead-in: the spin-up this code replaced) on the same ship at a
+  coarser edge (``--peer-edge``), against the lead-in spin-up on that ship: wall-time ratio
+  and the difference of their recorded days. (No external code computes this ship day.)
+* the rays per second of our tracing pipeline against raw Embree (trimesh's
+  ``intersects_first`` through embreex) on the same view-factor rays.
 
 Not a test. Other jobs share the 2 CPUs: timings move by ±30 % between runs.
 """
@@ -18,8 +29,40 @@ Not a test. Other jobs share the 2 CPUs: timings move by ±30 % between runs.
 from __future__ import annotations
 
 import argparse
+import resource
 import time
+from pathlib import Path
 
+import numpy as np
+import pandas as pd
+
+HERE = Path(__file__).resolve().parent
+
+
+def _peak_rss_gib() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20   # kB on Linux
+
+
+def _run(sc, ship, **kw):
+    from shipthermal.app.thermal import run_scenario_thermal
+
+    t0 = time.perf_counter()
+    res = run_scenario_thermal(sc, ship=ship, progress=False, **kw)
+    return res, time.perf_counter() - t0
+
+
+def _plain(sc, ship, traced=None, graph=None):
+    """Day-by-day stepping from midnight until a day repeats (no lead-in)."""
+    import dataclasses
+
+    from shipthermal.app import thermal
+
+    orig = thermal.settings_from_scenario
+    thermal.settings_from_scenario = lambda s: dataclasses.replace(orig(s), lead_in=0.0)
+    try:
+        return _run(sc, ship, traced=traced, graph=graph)
+    finally:
+        thermal.settings_from_scenario = orig
 
 
 def main():
@@ -28,10 +71,20 @@ def main():
                     "(default: the scenario's, i.e. the default ship at its default size)")
     ap.add_argument("--season", default="summer", choices=("summer", "winter"))
     ap.add_argument("--max-days", type=int, default=10)
+    ap.add_argument("--peer-edge", type=float, default=2.0,
+                    help="edge of the ship of the peer comparison [m] (0: skip)")
+    default_ref = HERE / "reference" / "frigate_summer_0.5m_part_means.csv"
+    ap.add_argument("--reference", type=Path, default=default_ref,
+                    help="stored part means (CSV) of plain day-by-day stepping to compare with")
+    ap.add_argument("--save-reference", type=Path, default=None,
+                    help="write this run's part means (CSV) as a reference")
+    ap.add_argument("--plain", action="store_true",
+                    help="run the main case with plain day-by-day stepping (to make a reference)")
     args = ap.parse_args()
 
     from shipthermal.app.thermal import run_scenario_thermal
     from shipthermal.app.scenario import default_scenario
+    from shipthermal.diurnal import lead_in_seconds
 
     sc = default_scenario(args.season)
     changes = {"solver.spinup_max_days": args.max_days}
@@ -42,14 +95,17 @@ def main():
     ship = sc.ship()
     t_ship = time.perf_counter() - t0
     print(f"ship: {ship.name}, {ship.n_faces} surface faces (built in {t_ship:.1f} s)")
-    res = run_scenario_thermal(sc, ship=ship, progress=True, log=print)
+    res, wall = _plain(sc, ship) if args.plain else _run(sc, ship, log=print)
+    rss = _peak_rss_gib()
     f = res.forcing
     tim = res.timings
     det = tim["solver_detail"]
     steps = len(res.energy.time)
-    print("\n== diurnal run of the default ship ==")
-    print(f"cells {res.graph.n_cells}, steps {steps} ({res.days} days, converged={res.converged}, "
-          f"last day-to-day change {res.day_changes[-1]:.2e} K)")
+    lead = 0.0 if args.plain else lead_in_seconds(res.settings)
+    print(f"\n== diurnal run of the default ship ({'plain stepping' if args.plain else 'lead-in'}) ==")
+    print(f"cells {res.graph.n_cells}, steps {steps} (lead-in {lead / 3600:g} h + {res.days} "
+          f"day(s), converged={res.converged}, defect of the last day {res.day_changes[-1]:.2e} K)")
+    print(f"wall total      {wall:8.1f} s   (ship built before: {t_ship:.1f} s)")
     print(f"mesh            {tim['mesh']:8.1f} s")
     print(f"forcing total   {tim['forcing']:8.1f} s  (ray tracing: {f.seconds})")
     print(f"time loop       {tim['solve']:8.1f} s  = {tim['solve'] / steps * 1e3:.0f} ms/step")
@@ -59,6 +115,33 @@ def main():
     print(f"   Newton iterations/step {det['newton_iterations'] / max(steps, 1):.2f}, "
           f"PCG iterations/Newton {det['linear_iterations'] / max(det['newton_iterations'], 1):.1f}")
     print(f"energy: relative imbalance {res.energy.relative_imbalance:.2e}")
+    print(f"peak RSS {rss:.2f} GiB")
+    pm = res.part_means
+    if args.save_reference:
+        pm.to_csv(args.save_reference, float_format="%.6f")
+        print(f"reference written: {args.save_reference}")
+    # the stored answer is the summer day at the default 0.5 m edges
+    same_case = args.edge in (None, 0.5) and args.season == "summer"
+    if args.reference and args.reference.exists() and (same_case or args.reference != default_ref):
+        ref = pd.read_csv(args.reference, index_col=0)
+        cols = [c for c in ref.columns if c in pm.columns]
+        d = np.abs(pm[cols].to_numpy() - ref[cols].to_numpy())
+        worst = np.unravel_index(np.argmax(d), d.shape)
+        print(f"vs stored answer {args.reference.name}: max |ΔT| of the part means "
+              f"{d.max():.2e} K ({cols[worst[1]]} at {ref.index[worst[0]]:g} h)")
+
+    if args.peer_edge:
+        small = sc.updated({"ship.edge_length": args.peer_edge})
+        sship = small.ship()
+        new, _ = _run(small, sship)
+        old, _ = _plain(small, sship, traced=new.forcing.traced, graph=new.graph)
+        t_new_loop, t_old_loop = new.timings["solve"], old.timings["solve"]
+        d = np.max(np.abs(new.results.face_temperature - old.results.face_temperature))
+        print(f"\npeer (same run, {sship.n_faces} faces at {args.peer_edge:g} m): plain "
+              f"day-by-day stepping {old.days} days, time loop {t_old_loop:.1f} s; lead-in + "
+              f"{new.days} day(s) {t_new_loop:.1f} s; ratio lead-in/plain "
+              f"{t_new_loop / t_old_loop:.2f}; recorded days differ by max |ΔT| {d:.2e} K "
+              f"(faces), defect {new.day_changes[-1]:.2e} K")
 
     # ---- rays/s: our pipeline vs raw Embree on the same rays -------------------------------
     from shipthermal.raytrace.viewfactors import view_factor_rays

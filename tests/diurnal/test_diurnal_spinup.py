@@ -1,0 +1,102 @@
+"""Spin-up with a lead-in and a periodicity check against plain day-by-day stepping, and the
+per-face surface balance kernel against the balance it solves."""
+
+import numpy as np
+import pytest
+
+from shipthermal.diurnal import DiurnalSettings, lead_in_seconds, run_diurnal
+from shipthermal.environment import Environment, climate_day
+from shipthermal.geometry import patrol_boat
+from shipthermal.units import DAY, SIGMA
+
+
+@pytest.fixture(scope="module")
+def runs():
+    ship = patrol_boat(edge_length=3.0)
+    env = Environment.from_climate_day(climate_day("summer"), ship_heading=90.0)
+    base = dict(time_step=600.0, output_interval=1800.0, rays_per_face=32, samples_per_face=8)
+    fast = run_diurnal(ship, env, DiurnalSettings(spinup_tolerance=0.01, spinup_max_days=4,
+                                                  **base), progress=False)
+    # Plain stepping: from midnight, day after day until a day repeats to 1e-8 K.
+    plain = run_diurnal(ship, env, DiurnalSettings(spinup_tolerance=1e-8, spinup_max_days=8,
+                                                   lead_in=0.0, **base),
+                        progress=False, traced=fast.forcing.traced, graph=fast.graph)
+    return fast, plain
+
+
+def test_lead_in_reaches_the_periodic_day_of_plain_stepping(runs):
+    fast, plain = runs
+    print(f"lead-in run: {fast.days} day(s), defects {fast.day_changes}; plain stepping: "
+          f"{plain.days} days, defects {plain.day_changes}")
+    assert plain.converged and plain.days >= 2 and plain.day_changes[-1] <= 1e-8
+    assert fast.converged and fast.days < plain.days
+    diff = np.max(np.abs(fast.results.face_temperature - plain.results.face_temperature))
+    diff_cells = np.max(np.abs(fast.results.cell_temperature - plain.results.cell_temperature))
+    print(f"recorded day: max |ΔT| faces {diff:.2e} K, cells {diff_cells:.2e} K, "
+          f"last defect {fast.day_changes[-1]:.2e} K")
+    # The defect of the recorded day bounds its distance to the periodic day (maximum
+    # principle; the 1e-8 K of the plain run's own defect aside).
+    assert diff_cells <= fast.day_changes[-1] + 1e-8
+    assert diff <= fast.day_changes[-1] + 1e-8
+    np.testing.assert_array_equal(fast.results.times, plain.results.times)
+
+
+def test_plain_stepping_without_lead_in_starts_at_midnight(runs):
+    _, plain = runs
+    assert lead_in_seconds(plain.settings) == 0.0
+    assert plain.energy.time[0] == 600.0 and len(plain.energy.time) == plain.days * 144
+    # a day that had not repeated was not accepted
+    assert all(c > 1e-8 for c in plain.day_changes[:-1])
+
+
+def test_lead_in_rounds_up_to_whole_output_intervals():
+    s = DiurnalSettings(time_step=300.0, output_interval=1800.0, lead_in=3700.0)
+    assert lead_in_seconds(s) == 5400.0
+    assert lead_in_seconds(DiurnalSettings(lead_in=0.0)) == 0.0
+    with pytest.raises(Exception, match="lead_in"):
+        DiurnalSettings(lead_in=DAY)
+
+
+def test_energy_closes_over_lead_in_and_days(runs):
+    for r in runs:
+        assert r.energy.relative_imbalance <= 1e-10, r.energy.summary()
+
+
+def test_surface_balance_kernel_solves_the_face_balance(runs):
+    """The converged surface temperature of every face zeroes its balance
+    g (T_P − T_s) + A q(T_s) = 0 (with the face-to-face gain at the given lagged temperatures),
+    and the reported conductance is −∂flow/∂T_P by central differences."""
+    from shipthermal.model import RadiativeExchange, ThermalModel, surface_balance
+
+    fast, _ = runs
+    g = fast.graph
+    f = fast.forcing
+    model = ThermalModel(g, f.conditions(with_exchange=True),
+                         exchange=RadiativeExchange(*f.radiative_exchange()))
+    forcing = model.forcing(13.0 * 3600.0)
+    rng = np.random.default_rng(3)
+    temp = 290.0 + 20.0 * rng.random(g.n_cells)
+    lag = 285.0 + 30.0 * rng.random(g.n_bfaces)
+    ex = model.exchange
+    bs = surface_balance(g, forcing, temp, lag, exchange=ex, exchange_temp=lag)
+    area, cond = g.bface_area, g.bface_conductance
+    tc = temp[g.bface_cell]
+    e = forcing.emissivity.copy()
+    gain = np.zeros(g.n_bfaces)
+    e[ex.bfaces] += np.asarray(ex.area_exchange.sum(axis=1)).ravel() / area[ex.bfaces]
+    gain[ex.bfaces] = SIGMA * (ex.area_exchange @ lag[ex.bfaces] ** 4)
+    ts = bs.temp_face
+    q = (forcing.q0 + forcing.h * (forcing.temp_fluid - ts) + forcing.emissivity
+         * forcing.longwave_in - e * SIGMA * ts ** 4 + gain / area)
+    resid = cond * (tc - ts) + area * q
+    scale = cond * tc + area * (forcing.q0 + SIGMA * ts ** 4)
+    assert np.max(np.abs(resid) / scale) < 1e-12
+    dt = 1e-3
+    up = surface_balance(g, forcing, temp + dt, lag, exchange=ex, exchange_temp=lag)
+    dn = surface_balance(g, forcing, temp - dt, lag, exchange=ex, exchange_temp=lag)
+    # the flow's own face-to-face term is evaluated at the converged T_s on both sides;
+    # with exchange_temp fixed the derivative of the balance flow is −cond
+    fd = -(up.flow - dn.flow) / (2 * dt)
+    own = np.ones(g.n_bfaces, bool)
+    own[ex.bfaces] = False
+    np.testing.assert_allclose(fd[own], bs.conductance[own], rtol=1e-6)
