@@ -165,8 +165,8 @@ class Simulation:
         the gross boundary heat of the step [-].
     max_iterations : int
         Newton iterations per step before :class:`SimulationError`.
-    linear_solver : {'auto', 'direct', 'amg'}
-        Preconditioner backend (:mod:`.linear`).
+    linear_solver : {'auto', 'direct', 'amg', 'column', 'cholmod'}
+        Preconditioner backend (:mod:`.linear`; ``auto`` measures).
     progress : bool
         Show a tqdm progress bar.
     """
@@ -501,7 +501,8 @@ class Simulation:
             cell_temperature=np.array(st.recorded_cell), face_temperature=np.array(st.recorded_face),
             face_flow=np.array(st.recorded_flow),
             energy=EnergyLog.from_lists(st.energy), scheme=self.scheme, time_step=self.dt,
-            timing=self.timing.as_dict(), backend=self.backend)
+            timing=self.timing.as_dict(),
+            backend=self._precond.backend if self._precond is not None else self.backend)
 
     def clear_records(self) -> None:
         """Forget recorded outputs and the energy log (e.g. after a spin-up)."""
@@ -641,4 +642,4 @@ def _steady_loop(model, g, forcing, source, temp, face, backend, prec, accel, ti
     return Results(graph=g, times=np.array([time]), cell_temperature=temp[None, :],
                    face_temperature=face[None, :], face_flow=bs.flow[None, :], energy=log,
                    scheme="steady", time_step=0.0, timing={"newton_iterations": it + 1},
-                   backend=backend)
+                   backend=prec.backend if prec is not None else backend)
