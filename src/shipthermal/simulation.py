@@ -426,7 +426,9 @@ class Simulation:
             if not hasattr(self, "_extrapolated_corr"):
                 self._extrapolated_corr = _ExtrapolatedCorrection(self.model)
             if self._extrapolated_corr.active:
+                t1 = time.perf_counter()
                 fixed_corr = self._extrapolated_corr(forcing, st, temp)
+                self.timing.boundary += time.perf_counter() - t1
         accel = Anderson(5) if g.correction is not None and fixed_corr is None else None
         for it in range(self.max_iterations):
             t1 = time.perf_counter()
