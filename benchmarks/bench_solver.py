@@ -317,6 +317,14 @@ def run_fipy(pts, tets, case, steps=STEPS):
 
 
 # ------------------------------------------------------------------ driver ----------------
+def _has_fipy() -> bool:
+    try:
+        import fipy  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
 def tets_benchmark(args):
     from threadpoolctl import threadpool_limits
 
@@ -363,7 +371,7 @@ def tets_benchmark(args):
             runs += [("scikit-fem P1 lumped, splu", lambda: run_skfem(pts, tets, case))]
             if has_cholmod():
                 runs += [("scikit-fem P1 lumped, cholmod", lambda: run_skfem(pts, tets, case, how="cholmod"))]
-            if not args.no_fipy:
+            if not args.no_fipy and _has_fipy():
                 runs += [("FiPy 4 (cells, CG 1e-8)", lambda: run_fipy(pts, tets, case))]
             for label, fn in runs:
                 r = fn()
@@ -388,6 +396,9 @@ def tets_benchmark(args):
                               ("ours cell-centred", lambda: run_ours(pts2, tets2, 1, builder="cells")),
                               ("FiPy 4 (cells, CG 1e-8)", lambda: run_fipy(pts2, tets2, 1)),
                               ("scikit-fem P1 lumped, splu", lambda: run_skfem(pts2, tets2, 1))):
+                if label.startswith("FiPy") and (args.no_fipy or not _has_fipy()):
+                    print(f"{label:28s} skipped (--no-fipy or not installed)")
+                    continue
                 r = fn()
                 l2, mx = errors(r["values"], exact_case1(r["points"]), r["weights"])
                 total = r["setup"] + r["factor"] + r["stepping"]
@@ -668,11 +679,7 @@ def box_benchmark(args):
                  for d in cell_dt]
         runs += [("ours cell-centred BE", lambda: box_ours(pts, tets, "cells",
                                                            scheme="backward_euler"))]
-    try:
-        import fipy  # noqa: F401
-        has_fipy = True
-    except ImportError:
-        has_fipy = False
+    has_fipy = _has_fipy()
     if has_fipy and not args.no_fipy:
         runs += [("FiPy 4 (cells, CG 1e-8)", lambda: box_fipy(pts, tets))]
     rows = []
