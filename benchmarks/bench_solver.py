@@ -679,6 +679,9 @@ def box_benchmark(args):
                  for d in cell_dt]
         runs += [("ours cell-centred BE", lambda: box_ours(pts, tets, "cells",
                                                            scheme="backward_euler"))]
+        if args.cell_iterated:
+            runs += [("ours cell-centred BE iterated", lambda: box_ours(
+                pts, tets, "cells", scheme="backward_euler", treatment="iterated"))]
     has_fipy = _has_fipy()
     if has_fipy and not args.no_fipy:
         runs += [("FiPy 4 (cells, CG 1e-8)", lambda: box_fipy(pts, tets))]
@@ -833,6 +836,8 @@ def main():
                    help="OpenFOAM nNonOrthogonalCorrectors, one run each")
     b.add_argument("--be", action="store_true", help="also our vertex-centred backward Euler")
     b.add_argument("--no-cells", action="store_true", help="skip the cell-centred graph")
+    b.add_argument("--cell-iterated", action="store_true",
+                   help="also the cell-centred graph with the correction iterated in every step")
     b.add_argument("--no-fipy", action="store_true")
     s = sub.add_parser("shell", help="one day of the frigate's shells")
     s.add_argument("--edge", type=float, default=None, help="surface edge length [m] (default: the ship's)")
