@@ -3,8 +3,24 @@ shell day.
 
 Run::
 
+    python benchmarks/bench_solver.py box   [--edge 0.02] [--ours-dt 10,40,100,200] [--cell-dt 10,20,40]
     python benchmarks/bench_solver.py tets  [--edge 0.0075] [--cases 1,2] [--cell-centred-edge 0.015]
-    python benchmarks/bench_solver.py shell [--edge 0.5] [--profile]
+    python benchmarks/bench_solver.py shell [--edge 0.5] [--profile] [--linear-solver cholmod]
+
+**box** — a steel box 1.0 × 0.5 × 0.2 m (k 50, ρ 7850, c 470), 293.15 K, the face x = 0
+held at 373.15 K from t = 0, the others adiabatic; one pytetwild mesh (edge 0.02 m: ~125 k
+tets, ~23 k vertices) for every solver; L2 error (weighted by each unknown's volume) against
+the exact 1-D image series at 2000 s; one thread each. The peers run their own setups at
+Δt = 10 s × 200: scikit-fem P1 (lumped mass, backward Euler, x = 0 vertices condensed, the
+one matrix factorised once by the same CHOLMOD as ours); OpenFOAM ``laplacianFoam`` (Debian
+package ``openfoam``, v1912; the tet mesh written as a polyMesh directly, Euler, ``Gauss
+linear corrected`` with least-squares gradients, PCG/DIC to 1e-10, ``nNonOrthogonalCorrectors``
+0 and 2; skipped with a note when not installed); FiPy 4 (cells, CG 1e-8; skipped when not
+installed). Ours: the vertex-centred graph (BDF2, ``auto`` linear solver, several Δt: the
+accuracy-matched comparison picks the largest Δt whose error is still at most the peer's)
+and the cell-centred graph (non-orthogonal correction extrapolated per step, BDF2 and
+backward Euler). Ratios are totals (meshing excluded, set-up and factorisation included)
+measured in the same run.
 
 **tets** — a steel cube (0.2 m side, pytetwild tetrahedra), initially uniform, cooling
 through all six faces; 200 BDF2 steps (backward Euler first step) to Fo = α t/L² = 0.5, the
@@ -18,8 +34,8 @@ same mesh and time step for every solver:
   are compared with the reference's P1 field at the cell centroids.
 
 Solvers: ours on the vertex-centred graph (P1/CVFEM: one SPD solve per step; linear backend
-``auto`` = AMG-preconditioned CG above 20 k unknowns; ``--all-backends`` adds CHOLMOD through
-kvxopt and, on small meshes, SuperLU), scikit-fem
+``auto``, chosen by measurement; ``--all-backends`` adds CHOLMOD through kvxopt and, on small
+meshes, SuperLU), scikit-fem
 P1 (consistent and lumped mass; factorisations reused: SuperLU with the ``MMD_AT_PLUS_A``
 ordering — scipy's default COLAMD is several times slower on 3-D meshes —, plus a row with
 the same CHOLMOD as ours to separate discretisation from linear algebra; case 2 with lumped
@@ -28,7 +44,7 @@ first step's Jacobian), FiPy 4 on the tet cells (cell-centred two-point fluxes, 
 non-orthogonal correction; ``LinearCGSolver(tolerance=1e-8)``; convection/radiation as
 implicit sources through the boundary faces' two-point conductances, radiation re-linearised
 by sweeps) and — on a coarser mesh — our cell-centred graph (deferred non-orthogonal
-correction). The vertex-centred unknowns are the mesh vertices (≈ tets/5.5); FiPy's and
+correction, extrapolated per step). The vertex-centred unknowns are the mesh vertices (≈ tets/5.5); FiPy's and
 the cell-centred ones are the tets.
 
 **shell** — the default frigate surface at its default size through the default layups
@@ -301,6 +317,14 @@ def run_fipy(pts, tets, case, steps=STEPS):
 
 
 # ------------------------------------------------------------------ driver ----------------
+def _has_fipy() -> bool:
+    try:
+        import fipy  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
 def tets_benchmark(args):
     from threadpoolctl import threadpool_limits
 
@@ -347,7 +371,7 @@ def tets_benchmark(args):
             runs += [("scikit-fem P1 lumped, splu", lambda: run_skfem(pts, tets, case))]
             if has_cholmod():
                 runs += [("scikit-fem P1 lumped, cholmod", lambda: run_skfem(pts, tets, case, how="cholmod"))]
-            if not args.no_fipy:
+            if not args.no_fipy and _has_fipy():
                 runs += [("FiPy 4 (cells, CG 1e-8)", lambda: run_fipy(pts, tets, case))]
             for label, fn in runs:
                 r = fn()
@@ -372,12 +396,337 @@ def tets_benchmark(args):
                               ("ours cell-centred", lambda: run_ours(pts2, tets2, 1, builder="cells")),
                               ("FiPy 4 (cells, CG 1e-8)", lambda: run_fipy(pts2, tets2, 1)),
                               ("scikit-fem P1 lumped, splu", lambda: run_skfem(pts2, tets2, 1))):
+                if label.startswith("FiPy") and (args.no_fipy or not _has_fipy()):
+                    print(f"{label:28s} skipped (--no-fipy or not installed)")
+                    continue
                 r = fn()
                 l2, mx = errors(r["values"], exact_case1(r["points"]), r["weights"])
                 total = r["setup"] + r["factor"] + r["stepping"]
                 print(f"{label:28s} unknowns {r['n']:7d}  setup {r['setup']:6.2f}  factor "
                       f"{r['factor']:6.2f}  steps {r['stepping']:7.2f}  total {total:7.2f} s  "
                       f"L2 {l2:.2e} K  max {mx:.2e} K  {r['info']}", flush=True)
+
+
+# ============================================================= box: the conduction race ====
+# A steel box, one face suddenly heated (the problem of the project's solver comparison):
+# every solver on the same pytetwild mesh, one thread each, errors against the exact series.
+BOX = (1.0, 0.5, 0.2)                      # [m]
+BOX_T0, BOX_HOT = 293.15, 373.15           # initial, face x = 0 [K]
+BOX_T_END = 2000.0                         # [s]
+BOX_DT_PEER = 10.0                         # the comparison's step for the peers [s]
+
+
+def box_material():
+    from shipthermal.materials import Material
+
+    return Material("box_steel", 7850.0, 470.0, 50.0, "round figures of a carbon steel")
+
+
+def exact_box(points: np.ndarray, t: float = BOX_T_END) -> np.ndarray:
+    """x = 0 held at T_hot from t = 0, x = L adiabatic, the rest adiabatic: the 1-D image
+    series (Carslaw & Jaeger 1959, §2.5) θ/θ₀ = Σₙ (−1)ⁿ [erfc((2nL + x)/2√(αt)) +
+    erfc((2(n+1)L − x)/2√(αt))]."""
+    from scipy.special import erfc
+
+    length = BOX[0]
+    s = 2.0 * np.sqrt(box_material().diffusivity * t)
+    x = np.clip(points[:, 0], 0.0, length)
+    theta = np.zeros(len(points))
+    for n in range(6):
+        theta += (-1) ** n * (erfc((2 * n * length + x) / s) + erfc((2 * (n + 1) * length - x) / s))
+    return BOX_T0 + (BOX_HOT - BOX_T0) * theta
+
+
+def box_mesh(edge: float):
+    import trimesh
+
+    from shipthermal.mesh import tetrahedralize_surface
+
+    box = trimesh.creation.box(extents=BOX)
+    box.apply_translation(np.asarray(BOX) / 2.0)
+    t0 = time.perf_counter()
+    pts, tets = tetrahedralize_surface(box.vertices, box.faces, edge_length=edge)
+    return pts, tets, time.perf_counter() - t0
+
+
+def _box_patches(centroid, normal):
+    return np.where((normal[:, 0] < -0.99) & (centroid[:, 0] < 1e-9 + 1e-6 * BOX[0]), "hot", "walls")
+
+
+def box_ours(pts, tets, builder="dual", scheme="bdf2", dt=BOX_DT_PEER, backend="auto",
+             treatment="extrapolated"):
+    from shipthermal.conditions import Adiabatic, FixedTemperature
+    from shipthermal.mesh import build_dual_tet_graph, build_tet_graph
+    from shipthermal.model import ThermalModel
+    from shipthermal.simulation import Simulation
+
+    t0 = time.perf_counter()
+    if builder == "dual":
+        g = build_dual_tet_graph(pts, tets, material=box_material(), patches=_box_patches)
+    else:
+        g = build_tet_graph(pts, tets, material=box_material(), patches=_box_patches,
+                            correction_treatment=treatment)
+    m = ThermalModel(g, {"hot": FixedTemperature(BOX_HOT), "walls": Adiabatic()},
+                     initial_temperature=BOX_T0)
+    steps = int(round(BOX_T_END / dt))
+    sim = Simulation(m, dt, BOX_T_END, scheme=scheme, output_times=[BOX_T_END],
+                     linear_solver=backend)
+    t1 = time.perf_counter()
+    res = sim.run()
+    t2 = time.perf_counter()
+    tim = res.timing
+    return dict(total=t2 - t0, values=res.final_temperature, points=g.cell_centroid,
+                weights=g.cell_volume, n=g.n_cells,
+                info=f"{scheme} Δt {dt:g} s; {res.backend}; set-up {t1 - t0:.1f} s, factor "
+                     f"{tim['setup']:.1f} s; Newton {tim['newton_iterations'] / steps:.2f}/step; "
+                     f"energy {res.energy.relative_imbalance:.0e}")
+
+
+def box_skfem(pts, tets, dt=BOX_DT_PEER, how="cholmod"):
+    """scikit-fem P1, lumped mass, backward Euler, x = 0 vertices condensed (Dirichlet), the
+    one matrix factorised once (CHOLMOD through kvxopt, as ours)."""
+    from skfem import Basis, ElementTetP1, MeshTet, asm
+    from skfem.models.poisson import laplace, mass
+
+    mat = box_material()
+    t0 = time.perf_counter()
+    mesh = MeshTet(np.ascontiguousarray(pts.T), np.ascontiguousarray(tets.T))
+    basis = Basis(mesh, ElementTetP1())
+    stiff = (mat.conductivity * asm(laplace, basis)).tocsr()
+    lumped = mat.volumetric_heat_capacity * np.asarray(asm(mass, basis).sum(axis=1)).ravel()
+    hot = np.flatnonzero(pts[:, 0] <= 1e-6 * BOX[0])
+    free = np.setdiff1d(np.arange(len(pts)), hot)
+    a = (stiff + sp.diags(lumped / dt)).tocsr()
+    a_ff = a[free][:, free]
+    a_fd = a[free][:, hot]
+    solve = _factor(a_ff, how)
+    temp = np.full(len(pts), BOX_T0)
+    temp[hot] = BOX_HOT
+    lift = a_fd @ temp[hot]
+    c_f = lumped[free] / dt
+    steps = int(round(BOX_T_END / dt))
+    for _ in range(steps):
+        temp[free] = solve(c_f * temp[free] - lift)
+    t1 = time.perf_counter()
+    return dict(total=t1 - t0, values=temp, points=pts, weights=lumped, n=len(pts),
+                info=f"P1 lumped mass, backward Euler Δt {dt:g} s, {how} factor reused")
+
+
+def _foam_header(cls, obj, location):
+    return ("FoamFile\n{\n    version 2.0;\n    format ascii;\n    class " + cls + ";\n"
+            f"    location \"{location}\";\n    object {obj};\n}}\n")
+
+
+def write_foam_case(case, pts, tets, dt, alpha, n_nonorth=0, grad="leastSquares", tol=1e-10):
+    """An OpenFOAM case of the tet mesh: polyMesh written directly (upper-triangular face
+    order, owner < neighbour, boundary faces grouped by patch), laplacianFoam settings."""
+    from pathlib import Path
+
+    case = Path(case)
+    poly = case / "constant" / "polyMesh"
+    poly.mkdir(parents=True, exist_ok=True)
+    (case / "system").mkdir(exist_ok=True)
+    (case / "0").mkdir(exist_ok=True)
+    local = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
+    from shipthermal.mesh.tets import _orient
+
+    tets = _orient(pts, np.asarray(tets, np.int64))
+    tri = tets[:, local].reshape(-1, 3)                 # outward from the owning tet
+    owner = np.repeat(np.arange(len(tets)), 4)
+    key = np.sort(tri, axis=1)
+    order = np.lexsort(key.T[::-1])
+    ks = key[order]
+    same = np.all(ks[1:] == ks[:-1], axis=1)
+    first = np.flatnonzero(same)
+    pair = np.zeros(len(ks), bool)
+    pair[first] = pair[first + 1] = True
+    a, b = order[first], order[first + 1]
+    own, nei = owner[a], owner[b]
+    ftri = tri[a]                                       # outward from own
+    swap = own > nei
+    own, nei = np.where(swap, nei, own), np.where(swap, own, nei)
+    ftri = np.where(swap[:, None], tri[b], ftri)
+    o = np.lexsort((nei, own))
+    own, nei, ftri = own[o], nei[o], ftri[o]
+    bidx = order[~pair]
+    btri, bown = tri[bidx], owner[bidx]
+    p0, p1, p2 = (pts[btri[:, k]] for k in range(3))
+    normal = np.cross(p1 - p0, p2 - p0)
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    label = _box_patches((p0 + p1 + p2) / 3.0, normal)
+    patches = ["hot", "walls"]
+    bo = np.lexsort((bown, np.array([patches.index(x) for x in label])))
+    btri, bown, label = btri[bo], bown[bo], label[bo]
+
+    def write(name, cls, body):
+        (poly / name).write_text(_foam_header(cls, name, "constant/polyMesh") + body)
+
+    write("points", "vectorField", f"{len(pts)}\n(\n"
+          + "\n".join(f"({x:.12g} {y:.12g} {z:.12g})" for x, y, z in pts) + "\n)\n")
+    faces = np.vstack([ftri, btri])
+    write("faces", "faceList", f"{len(faces)}\n(\n"
+          + "\n".join(f"3({i} {j} {k})" for i, j, k in faces) + "\n)\n")
+    write("owner", "labelList", f"{len(faces)}\n(\n" + "\n".join(map(str, np.concatenate([own, bown])))
+          + "\n)\n")
+    write("neighbour", "labelList", f"{len(nei)}\n(\n" + "\n".join(map(str, nei)) + "\n)\n")
+    start = len(ftri)
+    body = f"{len(patches)}\n(\n"
+    for p in patches:
+        nf = int(np.sum(label == p))
+        body += f"{p}\n{{\n    type patch;\n    nFaces {nf};\n    startFace {start};\n}}\n"
+        start += nf
+    write("boundary", "polyBoundaryMesh", body + ")\n")
+    steps = int(round(BOX_T_END / dt))
+    (case / "system" / "controlDict").write_text(_foam_header("dictionary", "controlDict", "system") + f"""
+application laplacianFoam;
+startFrom startTime;
+startTime 0;
+stopAt endTime;
+endTime {BOX_T_END:g};
+deltaT {dt:g};
+writeControl timeStep;
+writeInterval {steps};
+purgeWrite 0;
+writeFormat ascii;
+writePrecision 12;
+writeCompression off;
+timeFormat general;
+timePrecision 8;
+runTimeModifiable false;
+""")
+    (case / "system" / "fvSchemes").write_text(_foam_header("dictionary", "fvSchemes", "system") + f"""
+ddtSchemes {{ default Euler; }}
+gradSchemes {{ default {grad}; }}
+divSchemes {{ default none; }}
+laplacianSchemes {{ default Gauss linear corrected; }}
+interpolationSchemes {{ default linear; }}
+snGradSchemes {{ default corrected; }}
+""")
+    (case / "system" / "fvSolution").write_text(_foam_header("dictionary", "fvSolution", "system") + f"""
+solvers {{ T {{ solver PCG; preconditioner DIC; tolerance {tol:g}; relTol 0; }} }}
+SIMPLE {{ nNonOrthogonalCorrectors {n_nonorth}; }}
+""")
+    (case / "constant" / "transportProperties").write_text(
+        _foam_header("dictionary", "transportProperties", "constant") + f"DT {alpha:.12g};\n")
+    (case / "0" / "T").write_text(_foam_header("volScalarField", "T", "0") + f"""
+dimensions [0 0 0 1 0 0 0];
+internalField uniform {BOX_T0};
+boundaryField
+{{
+    hot {{ type fixedValue; value uniform {BOX_HOT}; }}
+    walls {{ type zeroGradient; }}
+}}
+""")
+    a_, b_, c_, d_ = (pts[tets[:, k]] for k in range(4))
+    vol = np.einsum("ij,ij->i", np.cross(b_ - a_, c_ - a_), d_ - a_) / 6.0
+    return (a_ + b_ + c_ + d_) / 4.0, vol
+
+
+DEBIAN_FOAM_DIR = "/usr/share/openfoam"    # the Debian package's project directory
+
+
+def box_openfoam(pts, tets, dt=BOX_DT_PEER, n_nonorth=0):
+    import os
+    import shutil
+    import subprocess
+    import tempfile
+
+    exe = shutil.which("laplacianFoam")
+    if exe is None:
+        return None
+    with tempfile.TemporaryDirectory(prefix="foam_box_") as case:
+        centroids, vol = write_foam_case(case, pts, tets, dt, box_material().diffusivity, n_nonorth)
+        env = dict(os.environ, OMP_NUM_THREADS="1")
+        if "WM_PROJECT_DIR" not in env and os.path.isdir(DEBIAN_FOAM_DIR):
+            env["WM_PROJECT_DIR"] = DEBIAN_FOAM_DIR     # where it finds etc/controlDict
+        t0 = time.perf_counter()
+        out = subprocess.run([exe, "-case", case], capture_output=True, text=True, env=env)
+        t1 = time.perf_counter()
+        if out.returncode != 0:
+            raise RuntimeError("laplacianFoam failed:\n" + out.stdout[-2000:] + out.stderr[-2000:])
+        txt = open(f"{case}/{BOX_T_END:g}/T").read()
+        body = txt[txt.index("internalField"):]
+        n = int(body.split("\n")[1])
+        start = body.index("(") + 1
+        vals = np.array(body[start:body.index(")", start)].split(), dtype=float)
+        assert len(vals) == n == len(tets)
+    return dict(total=t1 - t0, values=vals, points=centroids, weights=vol, n=len(tets),
+                info=f"Euler Δt {dt:g} s, Gauss linear corrected, leastSquares gradients, "
+                     "PCG/DIC 1e-10; run time of the solver process")
+
+
+def box_benchmark(args):
+    from threadpoolctl import threadpool_limits
+
+    pts, tets, t_mesh = box_mesh(args.edge)
+    mat = box_material()
+    print(f"box {BOX} m, k {mat.conductivity}, ρ {mat.density}, c {mat.specific_heat}; "
+          f"{BOX_T0} K, x = 0 held at {BOX_HOT} K from t = 0, other faces adiabatic; error vs "
+          f"the exact erfc series at {BOX_T_END:g} s (L2 weighted by each unknown's volume)")
+    print(f"mesh: edge {args.edge} m → {len(tets)} tets, {len(pts)} vertices (pytetwild "
+          f"{t_mesh:.1f} s)")
+    ours_dt = [float(x) for x in args.ours_dt.split(",")]
+    cell_dt = [float(x) for x in args.cell_dt.split(",")]
+    runs = [("scikit-fem P1 + CHOLMOD", lambda: box_skfem(pts, tets))]
+    runs += [(f"ours vertex-centred BDF2 Δt {d:g}", lambda d=d: box_ours(pts, tets, dt=d))
+             for d in ours_dt]
+    if args.be:
+        runs += [("ours vertex-centred BE", lambda: box_ours(pts, tets, scheme="backward_euler"))]
+    for nc in (int(x) for x in args.foam_correctors.split(",")):
+        runs += [(f"OpenFOAM laplacianFoam nNonOrth {nc}", lambda nc=nc: box_openfoam(pts, tets, n_nonorth=nc))]
+    if not args.no_cells:
+        runs += [(f"ours cell-centred BDF2 Δt {d:g}", lambda d=d: box_ours(pts, tets, "cells", dt=d))
+                 for d in cell_dt]
+        runs += [("ours cell-centred BE", lambda: box_ours(pts, tets, "cells",
+                                                           scheme="backward_euler"))]
+        if args.cell_iterated:
+            runs += [("ours cell-centred BE iterated", lambda: box_ours(
+                pts, tets, "cells", scheme="backward_euler", treatment="iterated"))]
+    has_fipy = _has_fipy()
+    if has_fipy and not args.no_fipy:
+        runs += [("FiPy 4 (cells, CG 1e-8)", lambda: box_fipy(pts, tets))]
+    rows = []
+    with threadpool_limits(limits=1, user_api="blas"):
+        for label, fn in runs:
+            r = fn()
+            if r is None:
+                print(f"  {label}: not installed (Debian package 'openfoam'), skipped", flush=True)
+                continue
+            l2, mx = errors(r["values"], exact_box(r["points"]), r["weights"])
+            rows.append((label, r, l2, mx))
+            print(f"  done: {label:36s} {r['total']:7.1f} s  L2 {l2:.4f} K", flush=True)
+    if not has_fipy:
+        print("  FiPy: not installed, skipped")
+    peers = {lab: r for lab, r, *_ in rows if not lab.startswith("ours")}
+
+    def short(label):
+        return {"scikit-fem": "skfem", "OpenFOAM": "OF" + label.split()[-1], "FiPy": "FiPy"}[label.split()[0]]
+    print(f"\n{'solver':36s} {'unknowns':>9s} {'total s':>8s} {'L2 K':>8s} {'max K':>7s} "
+          + " ".join(f"{'/' + short(p):>8s}" for p in peers) + "  notes")
+    for label, r, l2, mx in rows:
+        ratios = " ".join(f"{r['total'] / pr['total']:8.2f}" for pr in peers.values())
+        print(f"{label:36s} {r['n']:9d} {r['total']:8.1f} {l2:8.4f} {mx:7.3f} {ratios}  {r['info']}")
+    print("(ratio columns: this total / the peer's total, all measured in this run)")
+
+
+def box_fipy(pts, tets, dt=BOX_DT_PEER):
+    import fipy
+
+    mat = box_material()
+    t0 = time.perf_counter()
+    mesh = fipy_mesh(pts, tets)
+    temp = fipy.CellVariable(mesh=mesh, value=BOX_T0)
+    fc = np.asarray(mesh.faceCenters).T
+    hot = mesh.exteriorFaces & (fc[:, 0] <= 1e-6 * BOX[0])
+    temp.constrain(BOX_HOT, where=hot)
+    eq = fipy.TransientTerm(coeff=mat.volumetric_heat_capacity) == fipy.DiffusionTerm(coeff=mat.conductivity)
+    solver = fipy.LinearCGSolver(tolerance=1e-8)
+    for _ in range(int(round(BOX_T_END / dt))):
+        eq.solve(var=temp, dt=dt, solver=solver)
+    t1 = time.perf_counter()
+    return dict(total=t1 - t0, values=np.asarray(temp.value).copy(),
+                points=np.asarray(mesh.cellCenters).T, weights=np.asarray(mesh.cellVolumes),
+                n=mesh.numberOfCells, info=f"backward Euler Δt {dt:g} s, CG 1e-8")
 
 
 # ------------------------------------------------------------------- shell day -------------
@@ -425,29 +774,38 @@ def shell_benchmark(args):
             h=12.0, temp_air=lambda t: 292.0 + 4.0 * np.sin(omega * (t - 9 * HOUR)))
     model = ThermalModel(graph, conds, initial_temperature=293.0)
     dt = args.dt
-    sim = Simulation(model, dt, DAY, scheme="bdf2", output_interval=HOUR)
-    steps = int(round(DAY / dt))
-    t1 = time.perf_counter()
-    if args.profile:
-        import cProfile
-        import pstats
+    span = args.hours * HOUR
+    steps = int(round(span / dt))
+    first = None
+    for backend in args.linear_solver.split(","):
+        sim = Simulation(model, dt, span, scheme="bdf2", output_interval=HOUR,
+                         linear_solver=backend)
+        t1 = time.perf_counter()
+        if args.profile:
+            import cProfile
+            import pstats
 
-        prof = cProfile.Profile()
-        prof.enable()
-        res = sim.run(progress=False)
-        prof.disable()
-    else:
-        res = sim.run(progress=False)
-    t2 = time.perf_counter()
-    tim = res.timing
-    print(f"\n== one day of the frigate: {graph.n_cells} cells, Δt {dt:.0f} s, {steps} BDF2 "
-          f"steps, backend {res.backend} ==")
-    print(f"time loop        {t2 - t1:8.1f} s  = {(t2 - t1) / steps * 1e3:.0f} ms/step")
-    print(f"   forcing f(t) {tim['forcing']:6.1f} s, boundary balances {tim['boundary']:6.1f} s, "
-          f"assembly {tim['assembly']:6.1f} s, linear solves {tim['solve']:6.1f} s, "
-          f"preconditioner set-up {tim['setup']:6.2f} s ({tim['preconditioner_builds']} builds)")
-    print(f"   Newton iterations/step {tim['newton_iterations'] / steps:.2f}, "
-          f"PCG iterations/Newton {tim['linear_iterations'] / max(tim['newton_iterations'], 1):.2f}")
+            prof = cProfile.Profile()
+            prof.enable()
+            res = sim.run(progress=False)
+            prof.disable()
+        else:
+            res = sim.run(progress=False)
+        t2 = time.perf_counter()
+        tim = res.timing
+        print(f"\n== {args.hours:g} h of the frigate: {graph.n_cells} cells, Δt {dt:.0f} s, {steps} "
+              f"BDF2 steps, linear solver {backend} → {res.backend} ==")
+        print(f"time loop        {t2 - t1:8.1f} s  = {(t2 - t1) / steps * 1e3:.0f} ms/step")
+        print(f"   forcing f(t) {tim['forcing']:6.1f} s, boundary balances {tim['boundary']:6.1f} s, "
+              f"assembly {tim['assembly']:6.1f} s, linear solves {tim['solve']:6.1f} s, "
+              f"preconditioner set-up {tim['setup']:6.2f} s ({tim['preconditioner_builds']} builds)")
+        print(f"   Newton iterations/step {tim['newton_iterations'] / steps:.2f}, "
+              f"PCG iterations/Newton {tim['linear_iterations'] / max(tim['newton_iterations'], 1):.2f}")
+        if first is None:
+            first = (backend, t2 - t1, res.final_temperature)
+        else:
+            print(f"   vs {first[0]}: time ratio {(t2 - t1) / first[1]:.2f}, final temperatures "
+                  f"differ by at most {np.max(np.abs(res.final_temperature - first[2])):.1e} K")
     e = res.energy
     print(f"energy: relative imbalance {e.relative_imbalance:.2e} (max step "
           f"{e.max_step_imbalance:.2e}); heat moved {e.gross.sum():.3e} J")
@@ -470,13 +828,29 @@ def main():
                    help="also our CHOLMOD (and, below 40 k vertices, SuperLU) rows")
     t.add_argument("--cell-centred-edge", type=float, default=None,
                    help="also compare the cell-centred graph on a mesh of this edge [m]")
+    b = sub.add_parser("box", help="a suddenly heated steel box vs scikit-fem, OpenFOAM, FiPy")
+    b.add_argument("--edge", type=float, default=0.02, help="pytetwild edge length [m]")
+    b.add_argument("--ours-dt", default="10,40,100,200", help="our vertex-centred BDF2 steps [s]")
+    b.add_argument("--cell-dt", default="10,20,40", help="our cell-centred BDF2 steps [s]")
+    b.add_argument("--foam-correctors", default="0,2",
+                   help="OpenFOAM nNonOrthogonalCorrectors, one run each")
+    b.add_argument("--be", action="store_true", help="also our vertex-centred backward Euler")
+    b.add_argument("--no-cells", action="store_true", help="skip the cell-centred graph")
+    b.add_argument("--cell-iterated", action="store_true",
+                   help="also the cell-centred graph with the correction iterated in every step")
+    b.add_argument("--no-fipy", action="store_true")
     s = sub.add_parser("shell", help="one day of the frigate's shells")
     s.add_argument("--edge", type=float, default=None, help="surface edge length [m] (default: the ship's)")
     s.add_argument("--dt", type=float, default=300.0)
+    s.add_argument("--hours", type=float, default=24.0, help="simulated span [h]")
+    s.add_argument("--linear-solver", default="auto",
+                   help="comma-separated backends, each run in turn (e.g. auto,cholmod)")
     s.add_argument("--profile", action="store_true")
     args = ap.parse_args()
     if args.what == "tets":
         tets_benchmark(args)
+    elif args.what == "box":
+        box_benchmark(args)
     else:
         shell_benchmark(args)
 

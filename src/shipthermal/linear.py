@@ -13,7 +13,7 @@ Backends
 ``"direct"``
     SuperLU (scipy) with the ``MMD_AT_PLUS_A`` ordering. Shell meshes fill in like 2-D
     problems and factor in seconds; 3-D tetrahedral meshes do not (372 s with COLAMD at
-    205 k unknowns, measured on a 2-core machine), so they default to AMG.
+    205 k unknowns, measured on a 2-core machine), so ``auto`` tries it only on small ones.
 ``"amg"``
     pyamg smoothed aggregation (Olson & Schroder 2018), one V-cycle per preconditioner
     application.
@@ -25,22 +25,41 @@ Backends
     diagonal (thin layers, large C/Δt), so PCG converges to 1e-13 in a handful of O(n)
     iterations; the matrix is diagonally dominant, so the banded part is positive definite.
 ``"cholmod"``
-    Sparse Cholesky (SuiteSparse CHOLMOD, supernodal) through the pip-only ``kvxopt`` wheel,
-    which bundles SuiteSparse (no system packages); opt-in. Measured here (2 shared cores) on
-    the vertex-centred graph of a pytetwild cube, 96 k vertices (~15 nonzeros per row):
-    factor 10.6–11.4 s, solve 0.105–0.12 s; SuperLU (MMD_AT_PLUS_A) 590 s and 3.0 s (190 M
-    fill); pyamg setup 0.3–0.5 s, 0.34 s per PCG solve to 1e-13 in isolation. End to end
-    (200 BDF2 steps of a convecting steel cube, α Δt/h² ≈ 1) CHOLMOD 48 s vs AMG 47 s; 20
-    steps (α Δt/h² ≈ 10) 16.8 s vs 9.7 s; at 57 k vertices with radiation (stale factor as
-    preconditioner, 4.2 PCG iterations per step) 80 s vs 24 s. So AMG stays the default;
-    CHOLMOD pays off only for long runs of stiff (large α Δt/h²) linear problems.
+    Sparse Cholesky (SuiteSparse CHOLMOD, supernodal) through the ``kvxopt`` wheel, which
+    bundles SuiteSparse (a main dependency; no system packages). Measured here (2 shared
+    cores) on the vertex-centred graph of a pytetwild cube, 96 k vertices (~15 nonzeros per
+    row): factor 10.6–11.4 s, solve 0.105–0.12 s; SuperLU (MMD_AT_PLUS_A) 590 s and 3.0 s
+    (190 M fill); pyamg setup 0.3–0.5 s, 0.34 s per PCG solve to 1e-13 in isolation.
 ``"auto"``
-    ``"column"`` for shell graphs, ``"direct"`` below 20 000 cells, else ``"amg"`` (cell-
-    and vertex-centred tetrahedral graphs alike, on the measurements above).
+    ``"column"`` for shell graphs. Otherwise chosen by measurement on the first matrix of a
+    given size (:func:`measure_backends`): every candidate builds its preconditioner and
+    does one PCG solve of a fixed right-hand side to ``rtol = 1e-10``; the predicted cost of
+    ``n`` solves is ``setup + n × solve`` with ``n`` = :data:`AUTO_SOLVES` (a preconditioner
+    is reused over many steps), and the cheapest wins (AMG only by a margin,
+    :data:`AUTO_AMG_MARGIN`, over an exact factor). The loser's set-up is the price of
+    the measurement; the winner's preconditioner is the one returned. The choice is logged
+    (logger ``shipthermal.linear``), kept per matrix size and pattern for later rebuilds
+    (a new Δt), and changes results only within the solver tolerance: every backend solves
+    the same system by PCG to the same residual.
+
+    Candidates: CHOLMOD (when ``kvxopt`` imports), AMG, and SuperLU where its fill cannot
+    blow up the measurement — without CHOLMOD, and up to :data:`SUPERLU_MEASURE_LIMIT`
+    unknowns (2.8 s at 23 k vertices, 590 s at 96 k: its fill on 3-D graphs grows far faster
+    than CHOLMOD's). Without ``kvxopt`` this is the fallback: SuperLU or AMG, measured.
+
+    Measured here on the steel box of ``benchmarks/bench_solver.py box`` (one pytetwild
+    mesh, BDF2 Jacobian at Δt = 10 s; set-up + one solve): vertex-centred, 24 k unknowns,
+    CHOLMOD 0.82 + 0.025 s, AMG 0.33 + 0.089 s (6 PCG iterations), SuperLU 4.3 + 0.052 s;
+    cell-centred, 128 k unknowns, CHOLMOD 2.7 + 0.084 s, AMG 0.47 + 0.38 s (9 iterations).
+    On the 257 k-cell frigate shells the ``column`` preconditioner stays: 6 h of the day in
+    34 s against 72 s with a CHOLMOD factor reused as preconditioner (1.6 PCG iterations
+    per Newton pass at 0.16 s a solve), same answer to 5e-11 K.
 """
 
 from __future__ import annotations
 
+import logging
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -50,14 +69,34 @@ import scipy.sparse.linalg as spla
 from .errors import require
 
 __all__ = ["LINEAR_SOLVERS", "Preconditioner", "make_preconditioner", "pcg", "choose_backend",
-           "Anderson"]
+           "measure_backends", "has_cholmod", "Anderson", "AUTO_SOLVES", "AUTO_AMG_MARGIN",
+           "SUPERLU_MEASURE_LIMIT"]
 
 LINEAR_SOLVERS = ("auto", "direct", "amg", "column", "cholmod")
-_DIRECT_LIMIT = 20_000
+#: Number of solves one preconditioner is expected to serve, for ``auto``'s cost prediction
+#: ``setup + AUTO_SOLVES × solve``: a run reuses it over its steps (one or two Newton
+#: solves each), and a new Δt or scheme rebuilds it; 100 ≈ a few dozen to a few hundred steps.
+AUTO_SOLVES = 100
+#: AMG replaces an exact factor only when predicted at least this much cheaper (× the
+#: factor's cost): timings on a shared machine vary by ±30 %, and an exact factor keeps a
+#: linear step at one PCG iteration, i.e. its Newton passes independent of conditioning.
+AUTO_AMG_MARGIN = 0.5
+#: Largest system on which ``auto`` measures SuperLU (3-D fill: 2.8 s at 23 k unknowns,
+#: 590 s at 96 k, measured on the benchmark cubes of ``benchmarks/bench_solver.py``).
+SUPERLU_MEASURE_LIMIT = 40_000
+
+_log = logging.getLogger(__name__)
+# ``auto``'s choice per matrix pattern (size, nonzeros, a fingerprint of the column indices)
+# and set of candidates, so that rebuilding the preconditioner (a new Δt, a drifted Jacobian) does not measure again.
+_AUTO_CHOICES: dict[tuple, str] = {}
 
 
 def choose_backend(backend: str, n_cells: int, kind: str) -> str:
-    """Resolve ``"auto"`` (see module docstring)."""
+    """Validate ``backend`` and resolve what can be resolved without a matrix.
+
+    ``"auto"`` becomes ``"column"`` on shell graphs and stays ``"auto"`` otherwise (chosen
+    by measurement when the first preconditioner is built, see the module docstring).
+    """
     require(backend in LINEAR_SOLVERS, "linear_solver", backend, f"must be one of {LINEAR_SOLVERS}")
     if backend == "column":
         require(kind == "shell", "linear_solver", backend,
@@ -65,20 +104,18 @@ def choose_backend(backend: str, n_cells: int, kind: str) -> str:
     if backend == "cholmod":
         require(has_cholmod(), "linear_solver", backend,
                 "'cholmod' needs the kvxopt package", "pip install kvxopt")
-    if backend != "auto":
-        return backend
-    if kind == "shell":
+    if backend == "auto" and kind == "shell":
         return "column"
-    if n_cells < _DIRECT_LIMIT:
-        return "direct"
-    return "amg"
+    return backend
 
 
 def has_cholmod() -> bool:
-    """True when the optional ``kvxopt`` (CHOLMOD) is importable."""
-    import importlib.util
-
-    return importlib.util.find_spec("kvxopt") is not None
+    """True when ``kvxopt`` (CHOLMOD) imports."""
+    try:
+        import kvxopt.cholmod  # noqa: F401
+    except ImportError:
+        return False
+    return True
 
 
 def _cholmod_factor(matrix: sp.spmatrix):
@@ -101,6 +138,70 @@ def _cholmod_factor(matrix: sp.spmatrix):
     return solve
 
 
+def _candidates(n: int) -> tuple[str, ...]:
+    if has_cholmod():
+        return ("cholmod", "amg")
+    return ("direct", "amg") if n <= SUPERLU_MEASURE_LIMIT else ("amg",)
+
+
+def _pattern_key(matrix: sp.csr_matrix) -> tuple:
+    idx = matrix.indices
+    step = max(1, len(idx) // 1000)
+    return (matrix.shape[0], matrix.nnz, hash(idx[::step].tobytes()))
+
+
+def measure_backends(matrix: sp.spmatrix, candidates=None, solves: int = AUTO_SOLVES):
+    """Time each candidate backend on ``matrix``: preconditioner set-up and one PCG solve of a
+    fixed right-hand side to ``rtol = 1e-10``.
+
+    Returns ``(best, table, preconditioners)``: the backend with the least predicted cost
+    ``setup + solves × solve`` (AMG by :data:`AUTO_AMG_MARGIN` over an exact factor), ``{backend: (setup s, solve s, PCG iterations, predicted
+    s)}`` and the built preconditioners (so the winner's need not be built again).
+    """
+    m = sp.csr_matrix(matrix)
+    n = m.shape[0]
+    candidates = _candidates(n) if candidates is None else tuple(candidates)
+    # A smooth, deterministic solution: the right-hand side is the same on every call.
+    x = np.sin(np.linspace(0.0, 7.0, n)) + 1.0
+    rhs = m @ x
+    table, precs = {}, {}
+    # One BLAS thread, as in the solver's loop (a spinning OpenBLAS pool under load made
+    # AMG's PCG solve 40× slower in a measurement here and would bias the choice).
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        for b in candidates:
+            prec = make_preconditioner(m, b)
+            t_solve = np.inf
+            for _ in range(2):      # the faster of two: a descheduled solve is not its cost
+                t0 = time.perf_counter()
+                _, it, _ = pcg(m, rhs, prec.apply, rtol=1e-10, max_iterations=500)
+                t_solve = min(t_solve, time.perf_counter() - t0)
+            table[b] = (prec.seconds_setup, t_solve, it, prec.seconds_setup + solves * t_solve)
+            precs[b] = prec
+    best = min(table, key=lambda b: table[b][3])
+    exact = [b for b in table if b in ("cholmod", "direct")]
+    if best == "amg" and exact and table["amg"][3] > AUTO_AMG_MARGIN * table[exact[0]][3]:
+        best = exact[0]
+    return best, table, precs
+
+
+def _auto_preconditioner(matrix: sp.spmatrix) -> "Preconditioner":
+    m = sp.csr_matrix(matrix)
+    key = (*_pattern_key(m), _candidates(m.shape[0]))
+    if key in _AUTO_CHOICES:
+        return make_preconditioner(m, _AUTO_CHOICES[key])
+    t0 = time.perf_counter()
+    best, table, precs = measure_backends(m)
+    _AUTO_CHOICES[key] = best
+    why = "; ".join(f"{b}: set-up {s:.3g} s + {AUTO_SOLVES} × {t:.3g} s ({it} PCG it.) = {c:.3g} s"
+                    for b, (s, t, it, c) in table.items())
+    note = f"auto → {best} ({m.shape[0]} unknowns; {why})"
+    _log.info("linear solver %s", note)
+    prec = precs[best]
+    return Preconditioner(best, prec.apply, time.perf_counter() - t0, note=note)
+
+
 @dataclass
 class Preconditioner:
     """An approximate inverse of a fixed SPD matrix: ``apply(r) ≈ A⁻¹ r``."""
@@ -109,15 +210,16 @@ class Preconditioner:
     apply: object
     seconds_setup: float
     n_builds: int = 1
+    note: str = ""
 
 
 def make_preconditioner(matrix: sp.spmatrix, backend: str,
                         column_break: np.ndarray | None = None) -> Preconditioner:
     """Factorise (``direct``), build an AMG hierarchy (``amg``) or the banded through-thickness
     part (``column``; ``column_break[i]`` True where cells i and i+1 are not one plate
-    column) of ``matrix``."""
-    import time
-
+    column) of ``matrix``; ``auto``: the fastest of these by measurement (module docstring)."""
+    if backend == "auto":
+        return _auto_preconditioner(matrix)
     t0 = time.perf_counter()
     if backend == "column":
         from ._tridiagonal import tridiagonal_factor, tridiagonal_solve

@@ -290,12 +290,12 @@ def test_vtu_and_vtkhdf_hold_vertex_temperatures_as_point_data(tmp_path):
     assert not list(tmp_path.rglob("*.tmp*"))
 
 
-def test_auto_backend_for_vertex_centred_graphs():
-    # Same policy as the cell-centred tets: end to end AMG matched or beat CHOLMOD on the
-    # benchmark cubes (figures in shipthermal.linear); CHOLMOD is opt-in.
-    assert choose_backend("auto", 5_000, "dual-tetrahedral") == "direct"
-    assert choose_backend("auto", 150_000, "dual-tetrahedral") == "amg"
-    assert choose_backend("auto", 150_000, "tetrahedral") == "amg"
+def test_auto_backend_is_resolved_by_measurement_except_on_shells():
+    # Without a matrix only shells resolve (to the column preconditioner); tetrahedral
+    # graphs keep "auto" until the first Jacobian is measured (tests/solver/test_solver_linear).
+    assert choose_backend("auto", 5_000, "dual-tetrahedral") == "auto"
+    assert choose_backend("auto", 150_000, "tetrahedral") == "auto"
+    assert choose_backend("auto", 150_000, "shell") == "column"
 
 
 @pytest.mark.skipif(not has_cholmod(), reason="kvxopt (CHOLMOD) not installed")
@@ -306,9 +306,10 @@ def test_backends_agree_on_a_radiating_block():
                          temp_air=295.0)
     m = ThermalModel(g, {"zmax": top, "zmin": Convection(30.0, 285.0)}, initial_temperature=290.0)
     runs = {b: Simulation(m, 120.0, 3600.0, linear_solver=b, output_interval=3600.0).run()
-            for b in ("cholmod", "direct", "amg")}
+            for b in ("cholmod", "direct", "amg", "auto")}
     ref = runs["direct"].final_temperature
     for b, r in runs.items():
-        # Each converges to a 1e-9 K correction estimate; measured differences ~1e-12 K.
+        # Each converges to a 1e-9 K correction estimate; measured differences ~1e-12 K. So
+        # whatever "auto" measures and picks, the answer is the same to that tolerance.
         assert np.max(np.abs(r.final_temperature - ref)) < 1e-8, b
-        assert r.backend == b
+        assert r.backend == b if b != "auto" else r.backend in ("cholmod", "amg")

@@ -1,4 +1,6 @@
-"""Linear-algebra kernels of the solver against scipy/LAPACK."""
+"""Linear-algebra kernels of the solver against scipy/LAPACK, and the choice of backend."""
+
+import sys
 
 import numpy as np
 import pytest
@@ -6,7 +8,9 @@ import scipy.sparse as sp
 from scipy.linalg import cho_solve_banded, cholesky_banded
 
 from shipthermal._tridiagonal import tridiagonal_factor, tridiagonal_solve
-from shipthermal.linear import has_cholmod, make_preconditioner
+from shipthermal import linear
+from shipthermal.errors import InputError
+from shipthermal.linear import choose_backend, has_cholmod, make_preconditioner, measure_backends
 
 
 def _columns(n, seed=0):
@@ -59,3 +63,75 @@ def test_cholmod_backend_solves_spd_system():
     rhs = np.random.default_rng(6).normal(size=400)
     x = make_preconditioner(a, "cholmod").apply(rhs)
     assert np.max(np.abs(a @ x - rhs)) < 1e-12 * np.abs(rhs).max()
+
+
+def _laplacian_3d(m):
+    """7-point Laplacian of an m³ grid plus a heat-capacity diagonal: SPD, 3-D fill."""
+    one = sp.diags([-np.ones(m - 1), 2 * np.ones(m), -np.ones(m - 1)], [-1, 0, 1])
+    eye = sp.eye(m)
+    lap = (sp.kron(sp.kron(one, eye), eye) + sp.kron(sp.kron(eye, one), eye)
+           + sp.kron(sp.kron(eye, eye), one))
+    return (lap + 0.5 * sp.eye(m**3)).tocsr()
+
+
+def test_auto_picks_the_least_predicted_cost_and_its_preconditioner_solves():
+    a = _laplacian_3d(14)
+    best, table, precs = measure_backends(a, ("direct", "amg"))
+    assert set(table) == {"direct", "amg"}
+    for b, (setup, solve, iterations, cost) in table.items():
+        assert cost == pytest.approx(setup + linear.AUTO_SOLVES * solve)
+        assert iterations >= 1
+    cheapest = min(table, key=lambda b: table[b][3])
+    if cheapest == "amg" and table["amg"][3] > linear.AUTO_AMG_MARGIN * table["direct"][3]:
+        cheapest = "direct"
+    assert best == cheapest
+    assert table["direct"][2] == 1          # an exact factor: one PCG iteration
+    prec = make_preconditioner(a, "auto")
+    assert prec.backend in linear._candidates(a.shape[0]) and "auto →" in prec.note
+    rhs = np.random.default_rng(7).normal(size=a.shape[0])
+    x, _, rel = linear.pcg(a, rhs, prec.apply, rtol=1e-12)
+    assert rel <= 1e-12 and np.max(np.abs(a @ x - rhs)) < 1e-10 * np.abs(rhs).max()
+    # The choice is kept for the same pattern: a rebuild (new values) does not measure again.
+    again = make_preconditioner((a + sp.eye(a.shape[0])).tocsr(), "auto")
+    assert again.backend == prec.backend and again.note == ""
+
+
+@pytest.fixture
+def no_kvxopt(monkeypatch):
+    """kvxopt made unimportable, as on an install without the wheel."""
+    monkeypatch.setitem(sys.modules, "kvxopt", None)
+    monkeypatch.setitem(sys.modules, "kvxopt.cholmod", None)
+
+
+def test_without_kvxopt_auto_falls_back_to_superlu_or_amg(no_kvxopt):
+    assert not has_cholmod()
+    with pytest.raises(InputError, match="kvxopt"):
+        choose_backend("cholmod", 1000, "tetrahedral")
+    a = _laplacian_3d(10)
+    assert linear._candidates(a.shape[0]) == ("direct", "amg")
+    assert linear._candidates(linear.SUPERLU_MEASURE_LIMIT + 1) == ("amg",)
+    prec = make_preconditioner(a, "auto")
+    assert prec.backend in ("direct", "amg")
+    rhs = np.ones(a.shape[0])
+    x, _, rel = linear.pcg(a, rhs, prec.apply, rtol=1e-12)
+    assert rel <= 1e-12
+
+
+@pytest.mark.skipif(not has_cholmod(), reason="kvxopt (CHOLMOD) not installed")
+def test_without_kvxopt_a_simulation_gives_the_cholmod_answer(monkeypatch):
+    from shipthermal.conditions import Convection
+    from shipthermal.mesh import build_dual_tet_graph
+    from shipthermal.model import ThermalModel
+    from shipthermal.simulation import Simulation
+    from solver_meshes import box_tets
+
+    g = box_tets((0.1, 0.1, 0.05), 0.01, builder=build_dual_tet_graph)
+    m = ThermalModel(g, {"zmax": Convection(50.0, 280.0)}, initial_temperature=300.0)
+    chol = Simulation(m, 60.0, 1200.0, linear_solver="cholmod").run()
+    with monkeypatch.context() as mp:
+        mp.setitem(sys.modules, "kvxopt", None)
+        mp.setitem(sys.modules, "kvxopt.cholmod", None)
+        fallback = Simulation(m, 60.0, 1200.0, linear_solver="auto").run()
+    assert fallback.backend in ("direct", "amg")
+    # Both converge each step to a 1e-9 K correction estimate.
+    assert np.max(np.abs(fallback.cell_temperature - chol.cell_temperature)) < 1e-8

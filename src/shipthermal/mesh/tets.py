@@ -8,7 +8,8 @@ import numpy as np
 
 from ..errors import InputError, check_finite, check_positive, require
 from ..materials import Material, get_material
-from .graph import VTK_TETRA, CellGraph, NonOrthogonalCorrection, least_squares_gradient
+from .graph import (CORRECTION_TREATMENTS, VTK_TETRA, CellGraph, NonOrthogonalCorrection,
+                    least_squares_gradient)
 
 __all__ = ["check_closed_surface", "find_self_intersections", "tetrahedralize_surface",
            "build_tet_graph", "tetwild"]
@@ -189,7 +190,8 @@ PatchRule = Callable[[np.ndarray, np.ndarray], Sequence[str] | np.ndarray]
 def build_tet_graph(points, tets, material: str | Material | Sequence = "mild_steel",
                     cell_material: np.ndarray | None = None,
                     patches: str | PatchRule = "boundary", part_name: str = "solid",
-                    correct_nonorthogonality: bool = True) -> CellGraph:
+                    correct_nonorthogonality: bool = True,
+                    correction_treatment: str = "extrapolated") -> CellGraph:
     """Finite-volume cell graph of a tetrahedral mesh (cell-centred).
 
     Parameters
@@ -208,7 +210,13 @@ def build_tet_graph(points, tets, material: str | Material | Sequence = "mild_st
     correct_nonorthogonality : bool
         Attach the least-squares gradient and the explicit non-orthogonal correction
         (needed for consistency on tetrahedra; off only to measure its effect).
+    correction_treatment : {'extrapolated', 'iterated'}
+        How a time step treats the correction (:mod:`.graph`): once per step from the
+        extrapolated field (default; one Newton solve per step on a linear problem), or
+        iterated to convergence inside every step.
     """
+    require(correction_treatment in CORRECTION_TREATMENTS, "correction_treatment",
+            correction_treatment, f"must be one of {CORRECTION_TREATMENTS}")
     points = np.asarray(points, dtype=float)
     mats, cell_material, tets, volume = _tet_materials(points, tets, material, cell_material)
     a, b, c, d = (points[tets[:, k]] for k in range(4))
@@ -287,7 +295,7 @@ def build_tet_graph(points, tets, material: str | Material | Sequence = "mild_st
         bface_kt = k_cell[b_cell][:, None] * (s_b - (area_b / cos_b)[:, None] * eb)
         # Gradient at the face by linear interpolation along the centroid join.
         w = dn / (dp + dn)
-        correction = NonOrthogonalCorrection(grad, w, face_kt, bface_kt)
+        correction = NonOrthogonalCorrection(grad, w, face_kt, bface_kt, correction_treatment)
 
     conn = np.hstack([np.full((len(tets), 1), 4), tets]).ravel()
     return CellGraph(
