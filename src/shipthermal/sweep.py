@@ -28,15 +28,20 @@ defaults follow (``time.season = "winter"`` on the built-in base also moves the 
 map and image times and the compartment temperatures to the winter defaults). Every case
 is validated before anything runs: a bad value is a user error listing all problems.
 
-Each case is one task (``run_case``) on a LocalCluster (``n_workers`` = cores,
-``threads_per_worker=1``, no dashboard) or on an existing scheduler (``scheduler=ADDRESS``).
-Results come back to the client, which writes ``cases/<id>.json`` at once (so a remote
-cluster needs no shared disk for results; input files named in scenarios must exist on the
-workers). A case's id is a hash of its full scenario and stages, so re-running skips the
+Each case runs pinned to one thread (numba, BLAS, OpenMP: :data:`CASE_THREADS`), as two
+dask tasks (its thermal stage, then its imaging stage, which also waits for the port
+background: one task per distinct port) on a LocalCluster (one single-threaded worker
+process per usable core, at most one per case; no dashboard) or on an existing scheduler
+(``scheduler=ADDRESS``, see ``docs/CLUSTER.md``). With one usable core the cases run one
+by one in this process. Results come back to the client, which writes ``cases/<id>.json``
+at once (so a remote cluster needs no shared disk for results; input files named in
+scenarios must exist on the workers at the same paths). A worker lost in the middle of a
+case is named in the log with the cases dask runs again; the row counts the retries. A case's id is a hash of its full scenario and stages, so re-running skips the
 cases that finished (status ``ok``); failed cases keep their error and traceback and are
 retried. The table (``table.csv``, ``table.png``) has one row per case: the axis values,
 status, error, spin-up days and convergence, deck / hull / superstructure means at 12:00,
-and per band the crossover times, their count and the min / max SCR.
+and per band the crossover times, their count and the min / max SCR; and per case its wall
+and CPU seconds, retries and worker.
 """
 
 from __future__ import annotations
@@ -60,7 +65,7 @@ from .errors import InputError
 from .units import HOUR
 
 __all__ = ["SweepSpec", "SweepCase", "load_sweep", "run_case", "run_sweep", "SweepResult",
-           "plot_table"]
+           "plot_table", "default_workers", "CASE_THREADS"]
 
 STAGES = ("thermal", "imaging")
 _TOP_KEYS = ("name", "description", "base", "stages", "set", "axes")

@@ -194,8 +194,8 @@ class _Cluster:
                         for _ in range(n)]
 
     def _start(self, cmd):
-        log = open(self.folder / f"proc{len(self.procs)}.log", "w")
-        p = subprocess.Popen(cmd, env=self.env, stdout=log, stderr=subprocess.STDOUT)
+        with open(self.folder / f"proc{len(self.procs)}.log", "w") as log:
+            p = subprocess.Popen(cmd, env=self.env, stdout=log, stderr=subprocess.STDOUT)
         self.procs.append(p)
         return p
 
