@@ -347,3 +347,28 @@ def test_cases_are_pinned():
         assert numba.get_num_threads() == 1
         assert all(p["num_threads"] == 1 for p in threadpool_info())
     assert (numba.get_num_threads(), [p["num_threads"] for p in threadpool_info()]) == before
+
+
+def _worker_environment():
+    import dask
+
+    return ({k: os.environ.get(k) for k in ("MALLOC_TRIM_THRESHOLD_", "NUMBA_NUM_THREADS",
+                                            "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS")},
+            dask.config.get("distributed.worker.profile.enabled"))
+
+
+def test_local_cluster_workers_start_pinned_with_adaptive_malloc():
+    """A sweep's LocalCluster workers start with one-thread pools and without the malloc
+    trim threshold dask's nanny sets by default (it turned every large temporary array
+    into page faults), and without the profiler."""
+    from dask.distributed import Client
+
+    from shipthermal.sweep import local_cluster
+
+    with local_cluster(2, threads=1) as cluster, Client(cluster) as c:
+        found = list(c.run(_worker_environment).values())
+    assert len(found) == 2
+    for env, profile in found:
+        assert env == {"MALLOC_TRIM_THRESHOLD_": None, "NUMBA_NUM_THREADS": "1",
+                       "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
+        assert profile is False
