@@ -36,9 +36,9 @@ process per usable core, at most one per case; no dashboard) or on an existing s
 by one in this process. Results come back to the client, which writes ``cases/<id>.json``
 at once (so a remote cluster needs no shared disk for results; input files named in
 scenarios must exist on the workers at the same paths). A worker lost in the middle of a
-case is named in the log with the cases dask runs again; the row counts the retries. A case's id is a hash of its full scenario and stages, so re-running skips the
-cases that finished (status ``ok``); failed cases keep their error and traceback and are
-retried. The table (``table.csv``, ``table.png``) has one row per case: the axis values,
+case is named in the log with the cases dask runs again; the row counts the retries. A
+case's id is a hash of its full scenario and stages, so re-running skips the cases that
+finished (status ``ok``); failed cases keep their error and traceback and are retried. The table (``table.csv``, ``table.png``) has one row per case: the axis values,
 status, error, spin-up days and convergence, deck / hull / superstructure means at 12:00,
 and per band the crossover times, their count and the min / max SCR; and per case its wall
 and CPU seconds, retries and worker.
@@ -292,10 +292,10 @@ def _hhmm(seconds: float) -> str:
 
 
 CASE_THREADS = 1
-"""Threads one case may use (numba ``prange`` kernels, BLAS, OpenMP). One: a case runs on
-about one core anyway (user + system CPU / wall = 0.95 for the default patrol boat), and
-two single-threaded cases side by side on two cores beat two two-threaded cases that
-fight over them (spinning BLAS/OpenMP pools). Serial runs are pinned the same way, so the
+"""Threads one case may use (numba ``prange`` kernels, BLAS, OpenMP). One: a case keeps
+about one core busy anyway (CPU / wall time 0.83 to 0.95 for the patrol boat at 2 m edges,
+measured alone), so threads inside a case gain little, while cases side by side with
+several threads each oversubscribe the cores. Serial runs are pinned the same way, so the
 two are compared fairly."""
 
 _PIN_ENV = ("NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
