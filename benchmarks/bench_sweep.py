@@ -1,53 +1,59 @@
 """Benchmark of a sweep on dask.distributed against the same cases run one by one.
 
-    python benchmarks/bench_sweep.py [--cases 8] [--edge 2.0] [--workers 2] [--thermal-only]
+    python benchmarks/bench_sweep.py [--cases 8] [--edge 3.0] [--workers N] [--thermal-only]
 
 The sweep: the built-in patrol boat (56 m) at ``--edge`` m surface edges, summer design
 day, default solver settings (300 s steps, BDF2, spin-up to 0.01 K, 256 rays per face),
-axes heading x wind offset (``--cases`` cases), thermal + imaging (3-5 and 8-14 um every
-10 min on the 10 km synthetic port) unless ``--thermal-only``.
+axes heading x wind offset (``--cases`` cases, even), thermal + imaging (3-5 and 8-14 um
+every 10 min on the 10 km synthetic port) unless ``--thermal-only``. The defaults take
+about 3 minutes on two free cores.
 
 1. serial: ``run_sweep(serial=True)`` — every case in this process, one after the other
-   (the peer);
+   (the peer), each case pinned to one thread like a worker's;
 2. dask: ``run_sweep`` on a LocalCluster of ``--workers`` single-threaded worker processes
-   (start-up included in the wall time).
+   (default: the usable cores; start-up included in the wall time).
 
-Prints both wall times, the speed-up, the cluster start-up, and checks that the two tables
-agree (same values: the cases are deterministic). With 2 workers on 2 cores the ideal is 2x;
-imports and the port background are paid once per worker process. Because other jobs share
-the machine, it first measures the ceiling: how much faster two concurrent single-threaded
-numpy matmul processes get through their work than one. Timings are wall clock on a shared
-2-core machine (other agents run too): expect +-30 %.
+Prints both wall times and the speed-up; per case the mean wall and CPU time (user +
+system; CPU well below wall means the case waited for a core that other processes held);
+the threads of each worker process; the load average around each phase; and whether the
+two tables agree (same values: the cases are deterministic). With 2 workers on 2 free
+cores the ideal is 2x, less the cluster start-up, each worker's first-case set-up (imports,
+cached numba kernels) and the port background, which one worker builds while the other
+starts on thermal stages. Because other jobs may share the machine, it first measures the
+ceiling: how much faster ``--workers`` concurrent single-threaded numpy matmul processes
+get through their work than one (2.0 on two free cores). Timings are wall clock: compare
+the speed-up with that ceiling.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import sys
 import tempfile
 import time
+from pathlib import Path
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "src"))
 
 import pandas as pd  # noqa: E402
 
-from shipthermal.app.sweep import load_sweep, run_sweep  # noqa: E402
+from shipthermal.app.sweep import default_workers, load_sweep, run_sweep  # noqa: E402
 
-HEADINGS = (0, 45, 90, 135, 180, 225, 270, 315)
+HEADINGS = (0, 45, 90, 135, 180, 225, 270, 315, 30, 60, 120, 150, 210, 240, 300, 330)
 WINDS = (-1.0, 1.0)
 
 
 def sweep_text(n_cases: int, edge: float, thermal_only: bool) -> str:
     """Headings x two wind offsets: ``2 * (n_cases // 2)`` cases (at least 2)."""
     headings = HEADINGS[: max(1, min(len(HEADINGS), n_cases // 2))]
-    winds = WINDS
     stages = '["thermal"]' if thermal_only else '["thermal", "imaging"]'
     return (f'name = "bench"\nbase = "summer"\nstages = {stages}\n[set]\n'
             f'"ship.builtin" = "patrol_boat"\n"ship.edge_length" = {edge}\n'
             f'"ship.mooring_position" = [300.0, 100.0]\n'
             f'[axes]\n"ship.heading" = {list(headings)}\n'
-            f'"weather.wind_speed_offset" = {list(winds)}\n')
+            f'"weather.wind_speed_offset" = {list(WINDS)}\n')
 
 
 _MATMUL = ("import os, time; os.environ['OPENBLAS_NUM_THREADS'] = '1'; import numpy as np; "
@@ -70,11 +76,36 @@ def machine_ceiling(n: int) -> float:
     return n * alone / together
 
 
+def load() -> str:
+    return "load " + "/".join(f"{x:.1f}" for x in os.getloadavg()) + f" on {os.cpu_count()} cores"
+
+
+def case_files(folder) -> list:
+    return [json.loads(p.read_text()) for p in sorted(Path(folder, "cases").glob("*.json"))]
+
+
+def describe(name: str, folder, table: pd.DataFrame, wall: float) -> None:
+    cases = case_files(folder)
+    cpu = pd.to_numeric(table["cpu_s"]).to_numpy()
+    sec = pd.to_numeric(table["seconds"]).to_numpy()
+    threads = {}
+    for c in cases:
+        for w in str(c.get("worker", "")).split(" + "):
+            threads[w] = max(threads.get(w, 0), int(c.get("threads", 0)))
+    parts = [f"{c}: {pd.to_numeric(table[c]).mean():.1f} s" for c in ("thermal_s", "imaging_s")
+             if c in table]
+    print(f"  {name}: {wall:.1f} s wall; per case {sec.mean():.1f} s wall, {cpu.mean():.1f} s "
+          f"CPU (first {cpu[0]:.1f} s, then mean {cpu[1:].mean() if len(cpu) > 1 else 0:.1f} s; "
+          f"{', '.join(parts)}); threads per process {sorted(set(threads.values()))} "
+          f"in {len(threads)} process(es); retries {int(table['retries'].sum())}", flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--cases", type=int, default=8)
-    ap.add_argument("--edge", type=float, default=2.0, help="ship surface edge [m]")
-    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--cases", type=int, default=8, help="number of cases (even, >= 2)")
+    ap.add_argument("--edge", type=float, default=3.0, help="ship surface edge [m]")
+    ap.add_argument("--workers", type=int, default=None,
+                    help="LocalCluster workers (default: the usable cores, as a sweep does)")
     ap.add_argument("--thermal-only", action="store_true")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory(prefix="bench_sweep_") as tmp:
@@ -82,40 +113,30 @@ def main() -> None:
         with open(path, "w") as fh:
             fh.write(sweep_text(args.cases, args.edge, args.thermal_only))
         spec = load_sweep(path)
+        workers = args.workers or default_workers(len(spec.cases))
         print(f"sweep: {len(spec.cases)} cases (patrol boat, edge {args.edge} m, "
-              f"{'thermal' if args.thermal_only else 'thermal + imaging'}), axes "
-              f"{ {k: len(v) for k, v in spec.axes.items()} }", flush=True)
-
-        ceiling = machine_ceiling(args.workers)
-        print(f"machine: {args.workers} concurrent single-threaded matmul processes give "
+              f"{'thermal' if args.thermal_only else 'thermal + imaging'}), "
+              f"{workers} workers; {load()}", flush=True)
+        ceiling = machine_ceiling(workers)
+        print(f"machine: {workers} concurrent single-threaded matmul processes give "
               f"{ceiling:.2f}x the throughput of one (the ceiling of any speed-up now)",
               flush=True)
 
-        from dask.distributed import Client, LocalCluster
-
+        print(f"serial (one by one in this process), {load()}", flush=True)
         t0 = time.perf_counter()
-        with LocalCluster(n_workers=args.workers, threads_per_worker=1,
-                          dashboard_address=None, silence_logs=40) as cluster, Client(cluster):
-            startup = time.perf_counter() - t0
-        print(f"LocalCluster({args.workers} workers) start + stop alone: {startup:.1f} s",
-              flush=True)
-
-        print(f"load average before: {os.getloadavg()[0]:.2f} (other processes on "
-              f"{os.cpu_count()} cores)", flush=True)
-        t0 = time.perf_counter()
-        par = run_sweep(spec, os.path.join(tmp, "dask"), n_workers=args.workers,
-                        progress=False)
-        t_par = time.perf_counter() - t0
-        print(f"dask ({par.workers} workers): {t_par:.1f} s wall, {par.failed} failed",
-              flush=True)
-
-        t0, c0 = time.perf_counter(), time.process_time()
         ser = run_sweep(spec, os.path.join(tmp, "serial"), serial=True, progress=False)
-        t_ser, c_ser = time.perf_counter() - t0, time.process_time() - c0
-        print(f"serial (one by one, this process): {t_ser:.1f} s wall, {c_ser:.1f} s CPU "
-              f"({c_ser / t_ser:.2f} cores busy on average), {ser.failed} failed", flush=True)
+        t_ser = time.perf_counter() - t0
+        describe("serial", os.path.join(tmp, "serial"), ser.table, t_ser)
 
-        drop = ["seconds", "thermal_s", "imaging_s", "worker"]
+        print(f"dask, {load()}", flush=True)
+        t0 = time.perf_counter()
+        par = run_sweep(spec, os.path.join(tmp, "dask"), n_workers=workers, progress=False,
+                        log=lambda m: print("  " + m, flush=True))
+        t_par = time.perf_counter() - t0
+        describe(f"dask ({par.workers} workers)", os.path.join(tmp, "dask"), par.table, t_par)
+        print(f"after: {load()}", flush=True)
+
+        drop = ["seconds", "cpu_s", "thermal_s", "imaging_s", "worker"]
         a = par.table.drop(columns=[c for c in drop if c in par.table])
         b = ser.table.drop(columns=[c for c in drop if c in ser.table])
         try:
@@ -123,15 +144,12 @@ def main() -> None:
             same = "identical"
         except AssertionError as exc:
             same = f"DIFFERENT: {str(exc).splitlines()[0]}"
-        per_case = ser.table["seconds"].mean()
-        cols = [c for c in ("seconds", "thermal_s", "imaging_s") if c in par.table]
-        print(f"mean case {per_case:.1f} s (serial), "
-              + ", ".join(f"{c} dask {par.table[c].mean():.1f} / serial {ser.table[c].mean():.1f}"
-                          for c in cols) + f"; tables {same}")
-        print(f"load average after: {os.getloadavg()[0]:.2f}")
-        print(f"speed-up dask / serial: {t_ser / t_par:.2f}x on {args.workers} workers "
-              f"(ideal {min(args.workers, os.cpu_count() or 1)}x when the cores are free; "
-              f"measured machine ceiling {ceiling:.2f}x; shared machine, +-30 %)")
+        failed = f"{ser.failed} / {par.failed} failed"
+        print(f"tables {same} ({failed})")
+        print(f"speed-up dask / serial: {t_ser / t_par:.2f}x on {par.workers} workers "
+              f"(serial {t_ser:.1f} s, dask {t_par:.1f} s; ideal "
+              f"{min(par.workers, os.cpu_count() or 1)}x on free cores; measured machine "
+              f"ceiling now {ceiling:.2f}x)")
 
 
 if __name__ == "__main__":

@@ -1,19 +1,29 @@
 """Sweeps on dask.distributed: an 8-case sweep on a 2-worker LocalCluster gives the same
-table as the cases run one by one; re-running skips finished cases; a failing case is
-reported with its error and the others still finish."""
+table as the cases run one by one; so does a sweep sent to an external scheduler and two
+worker processes; a worker killed in the middle of a case is named in the log and the case
+is run again; re-running skips finished cases; a failing case is reported with its error
+and the others still finish."""
 
 import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 from cli_helpers import write_tiny
+from distributed.diagnostics.plugin import WorkerPlugin
 
 from shipthermal.app.cli import main
 from shipthermal.app.sweep import load_sweep, run_case, run_sweep
 
 # columns that legitimately differ between runs (wall times, which process ran the case)
-VOLATILE = ("seconds", "thermal_s", "imaging_s", "worker")
+VOLATILE = ("seconds", "cpu_s", "thermal_s", "imaging_s", "worker")
 
 SWEEP = """\
 name = "eight"
@@ -154,22 +164,211 @@ def test_sweep_with_imaging_columns(tmp_path):
     assert (t["n_crossovers_8-14"] == 2).all()
 
 
-def test_existing_scheduler_by_address(sweep_file, serial, tmp_path, capsys):
-    """`sweep --scheduler ADDRESS` sends the cases to a running cluster (here a LocalCluster
-    started by the test) instead of starting one; results equal the serial ones."""
-    from dask.distributed import LocalCluster
+# ---------------------------------------------------------------------------------------
+# An external cluster: `dask scheduler` and two `dask worker` processes on 127.0.0.1
+# ---------------------------------------------------------------------------------------
+TWO = SWEEP.replace('name = "eight"', 'name = "two"').replace(
+    '"ship.heading" = [0, 90, 180, 270]', '"ship.heading" = [90]')
 
-    text = SWEEP.replace('"ship.heading" = [0, 90, 180, 270]', '"ship.heading" = [90]')
-    (sweep_file.parent / "two.toml").write_text(text.replace('name = "eight"', 'name = "two"'))
-    with LocalCluster(n_workers=1, threads_per_worker=1, dashboard_address=None,
-                      silence_logs=40) as cluster:
-        code = main(["sweep", str(sweep_file.parent / "two.toml"), "--scheduler",
-                     cluster.scheduler_address, "--out", str(tmp_path / "o")])
+
+class _Cluster:
+    """A scheduler and ``n`` single-threaded workers, each its own process (no nanny, so
+    a killed worker stays dead and its process id is the one started here)."""
+
+    def __init__(self, folder: Path, n: int = 2):
+        self.folder = folder
+        self.procs = []
+        src = Path(__file__).resolve().parents[2] / "src"
+        # the workers import the package and this module (for the plugin below)
+        path = [str(src), str(Path(__file__).resolve().parent), os.environ.get("PYTHONPATH")]
+        self.env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in path if p))
+        self.file = folder / "scheduler.json"
+        dask = [sys.executable, "-m", "dask"]
+        self._start(dask + ["scheduler", "--host", "127.0.0.1", "--port", "0",
+                            "--no-dashboard", "--scheduler-file", str(self.file),
+                            "--idle-timeout", "600"])
+        self.workers = [self._start(dask + ["worker", "--scheduler-file", str(self.file),
+                                            "--nthreads", "1", "--no-nanny",
+                                            "--host", "127.0.0.1", "--no-dashboard",
+                                            "--death-timeout", "120"])
+                        for _ in range(n)]
+
+    def _start(self, cmd):
+        with open(self.folder / f"proc{len(self.procs)}.log", "w") as log:
+            p = subprocess.Popen(cmd, env=self.env, stdout=log, stderr=subprocess.STDOUT)
+        self.procs.append(p)
+        return p
+
+    def client(self):
+        """A client once every worker has joined (the client waits for the scheduler's
+        file, then for the workers, each with a time limit)."""
+        from dask.distributed import Client
+
+        c = Client(scheduler_file=str(self.file), timeout="60s")
+        c.wait_for_workers(len(self.workers), timeout=120)
+        return c
+
+    def close(self):
+        for p in self.procs[::-1]:
+            if p.poll() is None:
+                p.terminate()
+        for p in self.procs:
+            try:
+                p.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                p.kill()
+                p.wait()
+
+
+def _csv_rows(path, **axes):
+    t = pd.read_csv(path)
+    for k, v in axes.items():
+        t = t[t[k] == v]
+    return t.drop(columns=[c for c in VOLATILE + ("case", "index") if c in t]
+                  ).reset_index(drop=True)
+
+
+def test_external_scheduler_and_worker_processes(sweep_file, serial, tmp_path, capsys):
+    """`sweep --scheduler ADDRESS` sends the cases to a running cluster (a `dask scheduler`
+    and two `dask worker` processes started here) instead of starting one; the table equals
+    the serial one, and both worker processes ran cases."""
+    (sweep_file.parent / "two.toml").write_text(TWO)
+    cluster = _Cluster(tmp_path)
+    try:
+        with cluster.client() as c:
+            address = c.scheduler.address
+            pids = set(c.run(os.getpid).values())
+        assert pids == {p.pid for p in cluster.workers}
+        code = main(["sweep", str(sweep_file.parent / "two.toml"), "--scheduler", address,
+                     "--out", str(tmp_path / "o")])
         assert code == 0
-        assert f"dask: 1 workers at {cluster.scheduler_address}" in capsys.readouterr().err
-    t = pd.read_csv(tmp_path / "o" / "table.csv")
-    ref = serial[0].table
-    ref = ref[ref["ship.heading"] == 90].reset_index(drop=True)
-    np.testing.assert_array_equal(t["deck_12h_K"].round(6), ref["deck_12h_K"].round(6))
+        assert f"dask: 2 workers at {address}" in capsys.readouterr().err
+    finally:
+        cluster.close()
+    t = _csv_rows(tmp_path / "o" / "table.csv")
+    ref = _csv_rows(serial[1] / "table.csv", **{"ship.heading": 90})
+    assert len(t) == 2 and (t["retries"] == 0).all()
+    pd.testing.assert_frame_equal(t, ref, check_exact=True)
+    ran_on = {int(w.rsplit(":", 1)[1]) for w in pd.read_csv(tmp_path / "o" / "table.csv")["worker"]}
+    assert ran_on == pids
     manifest = json.loads((tmp_path / "o" / "manifest.json").read_text())
-    assert manifest["settings"]["scheduler"] == cluster.scheduler_address
+    assert manifest["settings"]["scheduler"] == address
+
+
+class StallFirstStart(WorkerPlugin):
+    """A worker plugin: the first worker to start the thermal stage of case ``key`` writes
+    its process id to ``flag`` and stalls there (until it is killed); any later attempt
+    finds the flag and runs normally."""
+
+    name = "stall-first-start"
+
+    def __init__(self, key: str, flag: str):
+        self.key, self.flag = key, flag
+
+    def transition(self, key, start, finish, **kwargs):
+        if key != self.key or finish != "executing" or os.path.exists(self.flag):
+            return
+        tmp = self.flag + ".tmp"
+        with open(tmp, "w") as fh:
+            fh.write(str(os.getpid()))
+        os.replace(tmp, self.flag)
+        threading.Event().wait(600)       # the test kills this process meanwhile
+
+
+def test_lost_worker_is_logged_and_its_case_retried(sweep_file, serial, tmp_path, capsys):
+    """A worker process dies in the middle of a case (killed once the case has signalled
+    that it started): the log names the worker and the case, dask runs the case again on
+    the other worker, the row counts one retry, and the table still equals the serial one."""
+    (sweep_file.parent / "two.toml").write_text(TWO)
+    spec = load_sweep(sweep_file.parent / "two.toml")
+    target = spec.cases[0]
+    flag = tmp_path / "started"
+    cluster = _Cluster(tmp_path)
+    killed = {}
+
+    def kill_when_started():
+        deadline = time.monotonic() + 300
+        while not flag.exists() and time.monotonic() < deadline:
+            time.sleep(0.02)                 # waits on the file, not for a fixed time
+        if flag.exists():
+            killed["pid"] = int(flag.read_text())
+            os.kill(killed["pid"], signal.SIGKILL)
+
+    try:
+        with cluster.client() as c:
+            address = c.scheduler.address
+            c.register_plugin(StallFirstStart(f"thermal-{target.id}", str(flag)))
+        watcher = threading.Thread(target=kill_when_started, daemon=True)
+        watcher.start()
+        code = main(["sweep", str(sweep_file.parent / "two.toml"), "--scheduler", address,
+                     "--out", str(tmp_path / "o")])
+        watcher.join(timeout=60)
+        assert code == 0
+        err = capsys.readouterr().err
+    finally:
+        cluster.close()
+    assert killed["pid"] in {p.pid for p in cluster.workers}
+    lost = [line for line in err.splitlines() if "was lost while running case" in line]
+    assert any(f"case {target.id}" in line and "retry 1" in line for line in lost), err
+    raw = pd.read_csv(tmp_path / "o" / "table.csv").set_index("case")
+    assert raw.loc[target.id, "retries"] == 1
+    # the case finished on the surviving worker, not on the killed one
+    assert not raw.loc[target.id, "worker"].endswith(f":{killed['pid']}")
+    # a case queued on the killed worker is retried too; every retry is in the log
+    assert raw["retries"].sum() == len(lost)
+    case_file = json.loads(next((tmp_path / "o" / "cases").glob(f"{target.id}.json"))
+                           .read_text())
+    assert case_file["retries"] == 1 and case_file["status"] == "ok"
+    pd.testing.assert_frame_equal(_csv_rows(tmp_path / "o" / "table.csv").drop(
+        columns="retries"), _csv_rows(serial[1] / "table.csv", **{"ship.heading": 90}).drop(
+        columns="retries"), check_exact=True)
+
+
+def test_default_workers_follow_the_usable_cores():
+    """At most one worker per usable core (CPU affinity) and per case."""
+    from shipthermal.app.sweep import default_workers
+
+    cores = len(os.sched_getaffinity(0))
+    assert default_workers(1) == 1
+    assert default_workers(100) == cores
+    assert default_workers(2) == min(2, cores)
+
+
+def test_cases_are_pinned():
+    """Inside a case numba, BLAS and OpenMP use the threads given (one by default); after
+    it, the process's own settings come back."""
+    import numba
+    from threadpoolctl import threadpool_info
+
+    from shipthermal.app.sweep import _pinned
+
+    before = numba.get_num_threads(), [p["num_threads"] for p in threadpool_info()]
+    with _pinned(1):
+        assert numba.get_num_threads() == 1
+        assert all(p["num_threads"] == 1 for p in threadpool_info())
+    assert (numba.get_num_threads(), [p["num_threads"] for p in threadpool_info()]) == before
+
+
+def _worker_environment():
+    import dask
+
+    return ({k: os.environ.get(k) for k in ("MALLOC_TRIM_THRESHOLD_", "NUMBA_NUM_THREADS",
+                                            "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS")},
+            dask.config.get("distributed.worker.profile.enabled"))
+
+
+def test_local_cluster_workers_start_pinned_with_adaptive_malloc():
+    """A sweep's LocalCluster workers start with one-thread pools and without the malloc
+    trim threshold dask's nanny sets by default (it turned every large temporary array
+    into page faults), and without the profiler."""
+    from dask.distributed import Client
+
+    from shipthermal.app.sweep import local_cluster
+
+    with local_cluster(2, threads=1) as cluster, Client(cluster) as c:
+        found = list(c.run(_worker_environment).values())
+    assert len(found) == 2
+    for env, profile in found:
+        assert env == {"MALLOC_TRIM_THRESHOLD_": None, "NUMBA_NUM_THREADS": "1",
+                       "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
+        assert profile is False

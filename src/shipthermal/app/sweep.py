@@ -28,15 +28,20 @@ defaults follow (``time.season = "winter"`` on the built-in base also moves the 
 map and image times and the compartment temperatures to the winter defaults). Every case
 is validated before anything runs: a bad value is a user error listing all problems.
 
-Each case is one task (``run_case``) on a LocalCluster (``n_workers`` = cores,
-``threads_per_worker=1``, no dashboard) or on an existing scheduler (``scheduler=ADDRESS``).
-Results come back to the client, which writes ``cases/<id>.json`` at once (so a remote
-cluster needs no shared disk for results; input files named in scenarios must exist on the
-workers). A case's id is a hash of its full scenario and stages, so re-running skips the
-cases that finished (status ``ok``); failed cases keep their error and traceback and are
-retried. The table (``table.csv``, ``table.png``) has one row per case: the axis values,
+Each case runs pinned to one thread (numba, BLAS, OpenMP: :data:`CASE_THREADS`), as two
+dask tasks (its thermal stage, then its imaging stage, which also waits for the port
+background: one task per distinct port) on a LocalCluster (one single-threaded worker
+process per usable core, at most one per case; no dashboard) or on an existing scheduler
+(``scheduler=ADDRESS``, see ``docs/CLUSTER.md``). With one usable core the cases run one
+by one in this process. Results come back to the client, which writes ``cases/<id>.json``
+at once (so a remote cluster needs no shared disk for results; input files named in
+scenarios must exist on the workers at the same paths). A worker lost in the middle of a
+case is named in the log with the cases dask runs again; the row counts the retries. A
+case's id is a hash of its full scenario and stages, so re-running skips the cases that
+finished (status ``ok``); failed cases keep their error and traceback and are retried. The table (``table.csv``, ``table.png``) has one row per case: the axis values,
 status, error, spin-up days and convergence, deck / hull / superstructure means at 12:00,
-and per band the crossover times, their count and the min / max SCR.
+and per band the crossover times, their count and the min / max SCR; and per case its wall
+and CPU seconds, retries and worker.
 """
 
 from __future__ import annotations
@@ -60,7 +65,7 @@ from ..errors import InputError
 from ..units import HOUR
 
 __all__ = ["SweepSpec", "SweepCase", "load_sweep", "run_case", "run_sweep", "SweepResult",
-           "plot_table"]
+           "plot_table", "default_workers", "CASE_THREADS"]
 
 STAGES = ("thermal", "imaging")
 _TOP_KEYS = ("name", "description", "base", "stages", "set", "axes")
@@ -286,46 +291,120 @@ def _hhmm(seconds: float) -> str:
     return f"{(m // 60) % 24:02d}:{m % 60:02d}"
 
 
-def run_case(spec: dict, backgrounds: dict | None = None) -> dict:
-    """Run one case; never raises for a failure of the case itself (it is returned as
-    ``status = 'failed'`` with the error and traceback).
+CASE_THREADS = 1
+"""Threads one case may use (numba ``prange`` kernels, BLAS, OpenMP). One: a case keeps
+about one core busy anyway (CPU / wall time 0.83 to 0.95 for the patrol boat at 2 m edges,
+measured alone), so threads inside a case gain little, while cases side by side with
+several threads each oversubscribe the cores. Serial runs are pinned the same way, so the
+two are compared fairly."""
 
-    ``backgrounds``: port backgrounds built once by the client and broadcast to the workers
-    (key → background), so that each worker does not rebuild the same port.
-    """
-    from .scenario import loads_scenario
-    from .thermal import run_scenario_thermal
+_PIN_ENV = ("NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+"""Environment variables that size the thread pools of a fresh worker process (read once,
+when numba / BLAS load)."""
 
-    for key, bg in (backgrounds or {}).items():
-        _BACKGROUNDS.setdefault(key, bg)
 
-    t0 = _time.perf_counter()
-    out = {"id": spec["id"], "index": spec["index"], "changes": spec["changes"],
-           "labels": spec["labels"], "worker": f"{socket.gethostname()}:{os.getpid()}",
-           "status": "failed", "error": "", "traceback": "", "values": {}}
+class _pinned:
+    """numba, BLAS and OpenMP limited to ``threads`` inside the block (restored after)."""
+
+    def __init__(self, threads: int):
+        self.threads = int(threads)
+
+    def __enter__(self):
+        import numba
+        from threadpoolctl import threadpool_limits
+
+        self._numba = numba.get_num_threads()
+        numba.set_num_threads(max(1, min(self.threads, numba.config.NUMBA_NUM_THREADS)))
+        self._pools = threadpool_limits(limits=self.threads)
+        return self
+
+    def __exit__(self, *exc):
+        import numba
+
+        self._pools.restore_original_limits()
+        numba.set_num_threads(self._numba)
+        return False
+
+
+def _threads_now() -> int:
+    """Threads of this process (Linux ``/proc``; 0 where unavailable)."""
     try:
-        sc = loads_scenario(spec["toml"])
-        res = run_scenario_thermal(sc, progress=False)
-        v = out["values"]
-        v["days"] = int(res.days)
-        v["converged"] = bool(res.converged)
-        v["surface_faces"] = int(res.ship.n_faces)
-        for part in ("deck", "hull", "superstructure"):
-            if part in res.part_means.columns:
-                v[f"{part}_12h_K"] = res.part_mean_at(part, 12.0)
-        v["energy_relative_imbalance"] = float(res.energy.relative_imbalance)
-        v["thermal_s"] = _time.perf_counter() - t0
-        if "imaging" in spec["stages"]:
-            from imaging.experiment import render_series
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("Threads:"):
+                    return int(line.split()[1])
+    except OSError:
+        pass
+    return 0
 
-            from .pipeline import frame_times, imaging_scenario
-            from .thermal import ship_thermal_history
 
-            t1 = _time.perf_counter()
-            hist = ship_thermal_history(res)
-            scen = imaging_scenario(sc, _background(sc), hist)
-            series = render_series(hist, scen, sc.bands, frame_times(sc),
-                                   progress=False)
+def _new_result(spec: dict) -> dict:
+    return {"id": spec["id"], "index": spec["index"], "changes": spec["changes"],
+            "labels": spec["labels"], "worker": f"{socket.gethostname()}:{os.getpid()}",
+            "status": "failed", "error": "", "traceback": "", "values": {},
+            "seconds": 0.0, "cpu_s": 0.0, "retries": 0}
+
+
+def _fail(out: dict, exc: BaseException) -> None:
+    out["error"] = f"{type(exc).__name__}: {exc}"
+    out["traceback"] = "".join(traceback.format_exception(exc))
+
+
+def _thermal_part(spec: dict, threads: int = CASE_THREADS):
+    """The thermal stage of a case: ``(result, history)``; ``history`` (the imaging
+    stage's input) is ``None`` when the case failed or has no imaging stage."""
+    from .scenario import loads_scenario
+    from .thermal import run_scenario_thermal, ship_thermal_history
+
+    t0, c0 = _time.perf_counter(), _time.process_time()
+    out = _new_result(spec)
+    history = None
+    try:
+        with _pinned(threads):
+            sc = loads_scenario(spec["toml"])
+            res = run_scenario_thermal(sc, progress=False)
+            v = out["values"]
+            v["days"] = int(res.days)
+            v["converged"] = bool(res.converged)
+            v["surface_faces"] = int(res.ship.n_faces)
+            for part in ("deck", "hull", "superstructure"):
+                if part in res.part_means.columns:
+                    v[f"{part}_12h_K"] = res.part_mean_at(part, 12.0)
+            v["energy_relative_imbalance"] = float(res.energy.relative_imbalance)
+            v["thermal_s"] = _time.perf_counter() - t0
+            if "imaging" in spec["stages"]:
+                history = ship_thermal_history(res)
+            else:
+                out["status"] = "ok"
+    except Exception as exc:                       # reported with the case, not lost
+        _fail(out, exc)
+    out["seconds"] = _time.perf_counter() - t0
+    out["cpu_s"] = _time.process_time() - c0
+    out["threads"] = _threads_now()
+    return out, history
+
+
+def _imaging_part(part, background, spec: dict, threads: int = CASE_THREADS) -> dict:
+    """Finish a case after :func:`_thermal_part`: the imaging stage on ``background`` (a
+    built port, an exception raised while building it, or ``None``: build it here)."""
+    out, history = part
+    if history is None:            # thermal only, or the thermal stage failed
+        return out
+    from imaging.experiment import render_series
+
+    from .pipeline import frame_times, imaging_scenario
+    from .scenario import loads_scenario
+
+    t1, c1 = _time.perf_counter(), _time.process_time()
+    try:
+        with _pinned(threads):
+            if isinstance(background, BaseException):
+                raise background
+            sc = loads_scenario(spec["toml"])
+            bg = _background(sc) if background is None else background
+            scen = imaging_scenario(sc, bg, history)
+            series = render_series(history, scen, sc.bands, frame_times(sc), progress=False)
+            v = out["values"]
             curves = out["curves"] = {}
             for band, sr in series.items():
                 scr = sr.metrics["scr"].to_numpy(float)
@@ -343,11 +422,41 @@ def run_case(spec: dict, backgrounds: dict | None = None) -> dict:
                 v[f"scr_max_{band}"] = float(np.nanmax(scr))
             v["imaging_s"] = _time.perf_counter() - t1
         out["status"] = "ok"
-    except Exception as exc:                       # reported with the case, not lost
-        out["error"] = f"{type(exc).__name__}: {exc}"
-        out["traceback"] = traceback.format_exc()
-    out["seconds"] = _time.perf_counter() - t0
+    except Exception as exc:
+        _fail(out, exc)
+    out = dict(out)
+    here = f"{socket.gethostname()}:{os.getpid()}"
+    if here != out["worker"]:
+        out["worker"] = f"{out['worker']} + {here}"
+    out["seconds"] += _time.perf_counter() - t1
+    out["cpu_s"] += _time.process_time() - c1
+    out["threads"] = max(out.get("threads", 0), _threads_now())
     return out
+
+
+def _build_background(toml: str, threads: int = CASE_THREADS):
+    """A port background for the imaging tasks of a sweep (one task per distinct port);
+    an error is returned, not raised, so that each case records it as a serial run would."""
+    from .scenario import loads_scenario
+
+    try:
+        with _pinned(threads):
+            return _background(loads_scenario(toml))
+    except Exception as exc:
+        return exc
+
+
+def run_case(spec: dict, backgrounds: dict | None = None,
+             threads: int = CASE_THREADS) -> dict:
+    """Run one case; never raises for a failure of the case itself (it is returned as
+    ``status = 'failed'`` with the error and traceback).
+
+    ``backgrounds``: port backgrounds built before (key → background), so that the same
+    port is not rebuilt. ``threads``: the threads the case may use (:data:`CASE_THREADS`).
+    """
+    for key, bg in (backgrounds or {}).items():
+        _BACKGROUNDS.setdefault(key, bg)
+    return _imaging_part(_thermal_part(spec, threads), None, spec, threads)
 
 
 # ---------------------------------------------------------------------------------------
@@ -378,6 +487,8 @@ def _table(spec: SweepSpec, results: dict) -> pd.DataFrame:
             row.update(status=r["status"], error=r.get("error", ""))
             row.update(r.get("values", {}))
             row["seconds"] = r.get("seconds")
+            row["cpu_s"] = r.get("cpu_s")
+            row["retries"] = r.get("retries", 0)
             row["worker"] = r.get("worker")
         rows.append(row)
     df = pd.DataFrame(rows)
@@ -466,9 +577,77 @@ def _read_cases(cases_dir: Path, spec: SweepSpec) -> dict:
     return done
 
 
+def default_workers(n_cases: int) -> int:
+    """LocalCluster workers when none are asked for: the cores this process may run on
+    (its CPU affinity, not the machine's count), at most one per case."""
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except AttributeError:                      # not on Linux
+        cores = os.cpu_count() or 1
+    return max(1, min(cores, n_cases))
+
+
+def local_cluster(n_workers: int, threads: int = CASE_THREADS):
+    """A dask LocalCluster for sweep cases: ``n_workers`` processes of one thread each.
+
+    Worker processes start with the thread pools of numba, BLAS and OpenMP sized to
+    ``threads``, without the statistical profiler (it feeds a dashboard the sweep does
+    not start), and without the ``MALLOC_TRIM_THRESHOLD_``
+    that dask's nanny sets by default: setting it switches off glibc's adaptive mmap
+    threshold, so every large temporary array became a fresh mmap, zeroed page by page.
+    That doubled the CPU time of a case's imaging stage (9.4 s instead of 4.0 s, 5.5 s of
+    it in the kernel, 2.3 million page faults instead of a hundred: measured on the
+    patrol boat at 3 m edges).
+    """
+    import dask
+    from dask.distributed import LocalCluster
+
+    environ = {"MALLOC_TRIM_THRESHOLD_": None}
+    environ.update({k: str(threads) for k in _PIN_ENV})
+    with dask.config.set({"distributed.worker.profile.enabled": False,
+                          **{f"distributed.nanny.pre-spawn-environ.{k}": v
+                             for k, v in environ.items()}}):
+        return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
+                            dashboard_address=None, silence_logs=40)
+
+
+class _RetryLog:
+    """Follows the scheduler's ``remove-worker`` events: which worker was lost, which
+    cases it was running (or held results of) and must run again; counts the retries of
+    each case. Events arrive on the client's event loop before the retried case's result."""
+
+    _PREFIXES = ("thermal-", "case-")
+
+    def __init__(self, cases: dict, say):
+        self.cases = cases
+        self.say = say
+        self.retries: dict = {}
+        self.events: list = []
+
+    def __call__(self, event) -> None:
+        _, msg = event
+        if not isinstance(msg, dict) or msg.get("action") != "remove-worker":
+            return
+        keys = set(msg.get("processing-tasks", ())) | set(msg.get("lost-computed-tasks", ()))
+        ids = sorted({str(k).split("-", 1)[1] for k in keys
+                      if str(k).startswith(self._PREFIXES)} & set(self.cases))
+        if not ids:
+            return
+        worker = msg.get("worker", "?")
+        how = "left" if msg.get("expected") else "was lost"
+        self.events.append({"worker": worker, "cases": ids, "expected": msg.get("expected")})
+        for cid in ids:
+            self.retries[cid] = self.retries.get(cid, 0) + 1
+            c = self.cases[cid]
+            where = ", ".join(f"{a}={v}" for a, v in c.labels.items())
+            self.say(f"dask: worker {worker} {how} while running case {cid} ({where}): "
+                     f"the case runs again on another worker (retry {self.retries[cid]})")
+
+
 def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
               n_workers: int | None = None, serial: bool = False, retry_failed: bool = True,
-              progress: bool = True, log=None, run=None) -> SweepResult:
+              progress: bool = True, log=None, run=None,
+              threads: int = CASE_THREADS) -> SweepResult:
     """Run every unfinished case of ``spec`` and write the table.
 
     Parameters
@@ -479,13 +658,23 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
     scheduler : str, optional
         Address of an existing dask scheduler (``tcp://host:8786``); default a LocalCluster.
     n_workers : int, optional
-        LocalCluster workers (default: the machine's cores), one thread each.
+        LocalCluster workers, one thread each (default :func:`default_workers`: the usable
+        cores, at most one per case; when that is one, the cases run one by one in this
+        process, which a one-worker cluster could only slow down).
     serial : bool
         Run the cases one by one in this process (no dask): the reference of the tests.
     retry_failed : bool
         Re-run cases that failed before (finished ``ok`` cases are always skipped).
     run : RunDir, optional
         Record timings and settings in its manifest.
+    threads : int
+        Threads each case may use (numba, BLAS, OpenMP); :data:`CASE_THREADS`.
+
+    On dask each case is two tasks: its thermal stage, then its imaging stage, which also
+    waits for the port background (one task per distinct port, run on a worker while the
+    other workers start on thermal stages). A worker lost in the middle of a case is named
+    in the log with the case, which dask runs again elsewhere; the case's row counts the
+    retries (``retries``).
     """
     say = log or (lambda m: None)
     out = Path(out_dir)
@@ -498,6 +687,10 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
     skipped = len(spec.cases) - len(todo)
     if skipped:
         say(f"{skipped} of {len(spec.cases)} cases already finished: skipped")
+    if todo and not serial and not scheduler and n_workers is None \
+            and default_workers(len(todo)) == 1:
+        say("one usable core (or one case): the cases run one by one in this process")
+        serial = True
     from tqdm.auto import tqdm
 
     bar = tqdm(total=len(todo), unit="case", desc="sweep", disable=not progress)
@@ -506,12 +699,12 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
         if todo and serial:
             workers = 1
             for c in todo:
-                r = run_case(c.spec())
+                r = run_case(c.spec(), threads=threads)
                 results[c.id] = r
                 _write_case(cases_dir, r)
                 bar.update(1)
         elif todo:
-            from dask.distributed import Client, LocalCluster, as_completed
+            from dask.distributed import Client, as_completed
 
             cluster = None
             if scheduler:
@@ -523,43 +716,50 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
                                      "e.g. tcp://host:8786 (start one with `dask scheduler`)"
                                      ) from None
             else:
-                n = int(n_workers or os.cpu_count() or 1)
-                cluster = LocalCluster(n_workers=n, threads_per_worker=1,
-                                       dashboard_address=None, processes=True,
-                                       silence_logs=40)
+                cluster = local_cluster(int(n_workers or default_workers(len(todo))), threads)
                 client = Client(cluster)
             try:
                 workers = len(client.scheduler_info().get("workers", {}))
                 say(f"dask: {workers} workers at {client.scheduler.address}")
-                backgrounds = None
+                retry_log = _RetryLog({c.id: c for c in todo}, say)
+                client.subscribe_topic("all", retry_log)
+                # one background task per distinct port, submitted first: a worker builds
+                # it while the others start on thermal stages
+                backgrounds, port = {}, {}
                 if "imaging" in spec.stages:
-                    # Build each distinct port once here and broadcast it: a worker would
-                    # otherwise spend seconds rebuilding the same background.
                     from .scenario import loads_scenario
 
-                    built = {}
                     for c in todo:
-                        sc = loads_scenario(c.spec()["toml"])
-                        k = _background_key(sc)
-                        if k not in built:
-                            built[k] = _background(sc)
-                    backgrounds = client.scatter(built, broadcast=True, hash=False)
-                futures = {client.submit(run_case, c.spec(), backgrounds, key=f"case-{c.id}",
-                                         pure=False): c
-                           for c in todo}
+                        k = port[c.id] = _background_key(loads_scenario(c.toml))
+                        if k not in backgrounds:
+                            backgrounds[k] = client.submit(
+                                _build_background, c.toml, threads,
+                                key=f"background-{_digest(k)}", pure=False)
+                futures = {}
+                for c in todo:
+                    part = client.submit(_thermal_part, c.spec(), threads,
+                                         key=f"thermal-{c.id}", pure=False)
+                    bg = backgrounds.get(port.get(c.id))
+                    futures[client.submit(_imaging_part, part, bg, c.spec(), threads,
+                                          key=f"case-{c.id}", pure=False)] = c
+                    del part
                 for fut in as_completed(futures):
                     c = futures[fut]
                     try:
                         r = fut.result()
-                    except Exception as exc:   # the worker died (e.g. out of memory)
+                    except Exception as exc:   # dask gave up (the case killed its workers)
                         r = {"id": c.id, "index": c.index, "changes": c.changes,
                              "labels": c.labels, "status": "failed",
                              "error": f"{type(exc).__name__}: {exc}",
                              "traceback": traceback.format_exc(), "values": {}}
+                    r["retries"] = retry_log.retries.get(c.id, 0)
+                    fut.release()
                     results[c.id] = r
                     _write_case(cases_dir, r)
                     bar.update(1)
+                backgrounds.clear()
             finally:
+                client.unsubscribe_topic("all")
                 client.close()
                 if cluster is not None:
                     cluster.close()
@@ -579,6 +779,8 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
         run.manifest["settings"].update({"cases": len(spec.cases), "ran": len(todo),
                                          "skipped": skipped, "failed": failed,
                                          "workers": workers, "serial": serial,
-                                         "scheduler": scheduler or "LocalCluster"})
+                                         "threads_per_case": threads,
+                                         "scheduler": scheduler or ("none (serial)" if serial
+                                                                    else "LocalCluster")})
         run.record("sweep", seconds)
     return SweepResult(table, len(todo), skipped, failed, seconds, files, workers)
