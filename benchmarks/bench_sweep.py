@@ -10,14 +10,17 @@ about 3 minutes on two free cores.
 
 1. serial: ``run_sweep(serial=True)`` — every case in this process, one after the other
    (the peer), each case pinned to one thread like a worker's;
-2. dask: ``run_sweep`` on a LocalCluster of ``--workers`` single-threaded worker processes
-   (default: the usable cores; start-up included in the wall time).
+2. dask: ``run_sweep`` on the sweep's LocalCluster (``shipthermal.app.sweep.local_cluster``)
+   of ``--workers`` single-threaded worker processes (default: the usable cores; start-up
+   included in the wall time).
 
 Prints both wall times and the speed-up; per case the mean wall and CPU time (user +
 system; CPU well below wall means the case waited for a core that other processes held);
-the threads of each worker process; the load average around each phase; and whether the
-two tables agree (same values: the cases are deterministic). With 2 workers on 2 free
-cores the ideal is 2x, less the cluster start-up, each worker's first-case set-up (imports,
+the threads of each worker process; each worker process's whole CPU time; the load average
+around each phase; and whether the two tables agree (same values: the cases are
+deterministic). Last, a projection that other jobs on the machine cannot spoil: the serial
+run's CPU time over the busiest worker's CPU time plus the cluster start-up, i.e. the
+speed-up with a free core per worker. With 2 workers on 2 free cores the ideal is 2x, less the cluster start-up, each worker's first-case set-up (imports,
 cached numba kernels) and the port background, which one worker builds while the other
 starts on thermal stages. Because other jobs may share the machine, it first measures the
 ceiling: how much faster ``--workers`` concurrent single-threaded numpy matmul processes
@@ -39,7 +42,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "src"))
 
 import pandas as pd  # noqa: E402
 
-from shipthermal.app.sweep import default_workers, load_sweep, run_sweep  # noqa: E402
+from shipthermal.app.sweep import (default_workers, load_sweep, local_cluster,  # noqa: E402
+                               run_sweep)
 
 HEADINGS = (0, 45, 90, 135, 180, 225, 270, 315, 30, 60, 120, 150, 210, 240, 300, 330)
 WINDS = (-1.0, 1.0)
@@ -74,6 +78,14 @@ def machine_ceiling(n: int) -> float:
     alone = min(run(1)[0] for _ in range(2))
     together = max(run(n))
     return n * alone / together
+
+
+def process_cpu() -> float:
+    """User + system CPU time of this process so far [s]."""
+    import resource
+
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
 
 
 def load() -> str:
@@ -123,17 +135,28 @@ def main() -> None:
               flush=True)
 
         print(f"serial (one by one in this process), {load()}", flush=True)
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), process_cpu()
         ser = run_sweep(spec, os.path.join(tmp, "serial"), serial=True, progress=False)
-        t_ser = time.perf_counter() - t0
+        t_ser, c_ser = time.perf_counter() - t0, process_cpu() - c0
         describe("serial", os.path.join(tmp, "serial"), ser.table, t_ser)
 
         print(f"dask, {load()}", flush=True)
-        t0 = time.perf_counter()
-        par = run_sweep(spec, os.path.join(tmp, "dask"), n_workers=workers, progress=False,
-                        log=lambda m: print("  " + m, flush=True))
-        t_par = time.perf_counter() - t0
+        from dask.distributed import Client
+
+        t0, c0 = time.perf_counter(), process_cpu()
+        # the sweep's own LocalCluster, started here so that the workers' whole CPU time
+        # (imports, the port background, the cases, dask itself) can be read before it stops
+        with local_cluster(workers) as cluster, Client(cluster) as client:
+            startup = time.perf_counter() - t0
+            par = run_sweep(spec, os.path.join(tmp, "dask"),
+                            scheduler=cluster.scheduler_address, progress=False,
+                            log=lambda m: print("  " + m, flush=True))
+            t_par, c_par = time.perf_counter() - t0, process_cpu() - c0
+            busy = client.run(process_cpu)
         describe(f"dask ({par.workers} workers)", os.path.join(tmp, "dask"), par.table, t_par)
+        print(f"  cluster start {startup:.1f} s; whole CPU time of each worker process: "
+              + ", ".join(f"{v:.1f} s" for v in busy.values())
+              + f"; of this process meanwhile: {c_par:.1f} s", flush=True)
         print(f"after: {load()}", flush=True)
 
         drop = ["seconds", "cpu_s", "thermal_s", "imaging_s", "worker"]
@@ -150,6 +173,12 @@ def main() -> None:
               f"(serial {t_ser:.1f} s, dask {t_par:.1f} s; ideal "
               f"{min(par.workers, os.cpu_count() or 1)}x on free cores; measured machine "
               f"ceiling now {ceiling:.2f}x)")
+        # the wall times with a free core per process: their CPU time, plus the cluster
+        # start-up, plus (pessimistically, as if it never overlapped) this process's share
+        projected = c_ser / (startup + max(busy.values()) + c_par)
+        print(f"CPU-bound projection (a free core per worker): serial {c_ser:.1f} s CPU / "
+              f"(start {startup:.1f} s + busiest worker {max(busy.values()):.1f} s CPU + "
+              f"this process {c_par:.1f} s CPU) = {projected:.2f}x")
 
 
 if __name__ == "__main__":
