@@ -19,7 +19,7 @@ irradiance; or a fixed surface temperature.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Callable, Union
 
 import numpy as np
@@ -185,8 +185,3 @@ def _check_emissivity(field: str, eps: np.ndarray, allow_zero: bool = False) -> 
     if not (lo_ok and np.all(eps <= 1)):
         bad = eps[(eps > 1) | ((eps < 0) if allow_zero else (eps <= 0))]
         raise InputError(field, float(bad[0]), f"must lie in {'[' if allow_zero else '('}0, 1]")
-
-
-def condition_fields(bc: BoundaryCondition) -> list[str]:
-    """Names of the value fields of a condition (for messages)."""
-    return [f.name for f in fields(bc)]
