@@ -156,10 +156,6 @@ class PortBackground:
     overpass: "OverpassProducts | None" = field(default=None, repr=False)
     input_notes: tuple = ()
 
-    @property
-    def class_names(self) -> dict:
-        return dict(CLASS_NAMES)
-
     def temperature_at(self, hour_local: float) -> np.ndarray:
         """Background temperature at a local clock time [K], float32 (rows, cols).
 
