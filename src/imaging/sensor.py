@@ -23,7 +23,7 @@ from shipthermal.errors import InputError, check_finite, check_positive, check_r
 
 __all__ = [
     "SensorSpec", "PAPER_SENSOR", "ground_sample_distance", "slant_range",
-    "view_direction", "at_aperture_radiance", "focal_plane_irradiance", "mix_subpixel",
+    "at_aperture_radiance", "focal_plane_irradiance", "mix_subpixel",
     "pixel_average", "optical_transfer_function", "apply_psf", "psf_kernel",
     "add_netd_noise", "quantise", "dequantise",
 ]
@@ -120,19 +120,6 @@ def ground_sample_distance(spec: SensorSpec = PAPER_SENSOR, view_zenith=0.0,
     r = slant_range(view_zenith, spec.altitude_m, earth_radius_m)
     across = r * spec.pixel_pitch_m / spec.focal_length_m
     return across / np.cos(np.radians(np.asarray(view_zenith, dtype=float))), across
-
-
-def view_direction(view_zenith, view_azimuth):
-    """Unit vector from the ground to the sensor, east-north-up [-], shape (..., 3).
-
-    ``view_zenith`` [deg] at the ground; ``view_azimuth`` [deg] of the sensor as seen from
-    the ground, clockwise from north (the same convention as pvlib's solar azimuth, so sun
-    and sensor directions are built the same way).
-    """
-    th = np.radians(np.asarray(view_zenith, dtype=float))
-    az = np.radians(np.asarray(view_azimuth, dtype=float))
-    st = np.sin(th)
-    return np.stack(np.broadcast_arrays(st * np.sin(az), st * np.cos(az), np.cos(th)), axis=-1)
 
 
 def at_aperture_radiance(leaving_radiance, transmittance, path_radiance):

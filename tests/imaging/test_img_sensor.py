@@ -7,6 +7,7 @@ import pytest
 
 from imaging import sensor as S
 from imaging.radiometry import band_radiance, band_radiance_dt, standard_band
+from imaging.scene import enu_direction
 from shipthermal.errors import InputError
 
 
@@ -47,9 +48,9 @@ def test_off_nadir_gsd_sphere_against_finite_difference_of_ground_arc():
     assert across == pytest.approx(rng * ifov, rel=1e-12)
 
 
-def test_view_direction_convention_matches_sun_azimuth():
+def test_enu_direction_convention_matches_sun_azimuth():
     # azimuth clockwise from north: 90 deg = east
-    v = S.view_direction(30.0, 90.0)
+    v = enu_direction(30.0, 90.0)
     assert np.allclose(v, [0.5, 0.0, math.cos(math.radians(30.0))], atol=1e-15)
 
 
@@ -188,7 +189,7 @@ def test_degree_interface_equals_the_radian_formulas():
                                rtol=1e-14)
     np.testing.assert_allclose(S.slant_range(deg, h, None), h / np.cos(th), rtol=1e-14)
     az = np.radians(120.0)
-    np.testing.assert_allclose(S.view_direction(deg, 120.0),
+    np.testing.assert_allclose(enu_direction(deg, 120.0),
                                np.stack([np.sin(th) * np.sin(az), np.sin(th) * np.cos(az),
                                          np.cos(th)], axis=-1), atol=1e-15)
     with pytest.raises(InputError):
