@@ -365,8 +365,12 @@ def test_local_cluster_workers_start_pinned_with_adaptive_malloc():
 
     from shipthermal.app.sweep import local_cluster
 
+    here = {k: os.environ.get(k) for k in ("NUMBA_NUM_THREADS", "OMP_NUM_THREADS")}
     with local_cluster(2, threads=1) as cluster, Client(cluster) as c:
         found = list(c.run(_worker_environment).values())
+    # ... while this process keeps its own (numba refuses to compile once its thread count
+    # and NUMBA_NUM_THREADS disagree)
+    assert {k: os.environ.get(k) for k in here} == here
     assert len(found) == 2
     for env, profile in found:
         assert env == {"MALLOC_TRIM_THRESHOLD_": None, "NUMBA_NUM_THREADS": "1",

@@ -602,13 +602,15 @@ def local_cluster(n_workers: int, threads: int = CASE_THREADS):
     import dask
     from dask.distributed import LocalCluster
 
-    environ = {"MALLOC_TRIM_THRESHOLD_": None}
-    environ.update({k: str(threads) for k in _PIN_ENV})
+    # Pre-spawn variables are set in this process too (dask's nanny docs: "poisoning the
+    # process running the Nanny"); only the malloc setting needs that. The thread pools are
+    # sized through the worker's own environment, set before it imports numba: a
+    # NUMBA_NUM_THREADS left in this process would make numba refuse to compile here later.
     with dask.config.set({"distributed.worker.profile.enabled": False,
-                          **{f"distributed.nanny.pre-spawn-environ.{k}": v
-                             for k, v in environ.items()}}):
+                          "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
         return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                            dashboard_address=None, silence_logs=40)
+                            dashboard_address=None, silence_logs=40,
+                            env={k: str(threads) for k in _PIN_ENV})
 
 
 class _RetryLog:
