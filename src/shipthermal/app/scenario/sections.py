@@ -624,8 +624,8 @@ class SolverSettings:
                             hi=3600.0, lo_open=True)
     scheme: str = _opt("bdf2", "choice", "Time integration scheme",
                        choices=("backward_euler", "crank_nicolson", "bdf2"))
-    spinup_tolerance: float = _opt(0.01, "float", "Spin-up stops when no part mean changes "
-                                   "more than this from one day to the next", unit="K",
+    spinup_tolerance: float = _opt(0.01, "float", "Spin-up stops when no cell temperature "
+                                   "changes more than this over a day (end vs start)", unit="K",
                                    lo=0.0, hi=10.0, lo_open=True)
     spinup_max_days: int = _opt(10, "int", "Most days of spin-up before giving up (reported)",
                                 lo=1, hi=100)
