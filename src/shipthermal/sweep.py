@@ -602,13 +602,14 @@ def local_cluster(n_workers: int, threads: int = CASE_THREADS):
     import dask
     from dask.distributed import LocalCluster
 
-    environ = {"MALLOC_TRIM_THRESHOLD_": None}
-    environ.update({k: str(threads) for k in _PIN_ENV})
+    # The nanny writes its "pre-spawn" variables into this process's own environment
+    # too, so the thread counts go through ``env`` (set in the worker process only; numba
+    # here would refuse a changed NUMBA_NUM_THREADS once its threads run).
     with dask.config.set({"distributed.worker.profile.enabled": False,
-                          **{f"distributed.nanny.pre-spawn-environ.{k}": v
-                             for k, v in environ.items()}}):
+                          "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
         return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                            dashboard_address=None, silence_logs=40)
+                            dashboard_address=None, silence_logs=40,
+                            env={k: str(threads) for k in _PIN_ENV})
 
 
 class _RetryLog:

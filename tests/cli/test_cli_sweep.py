@@ -365,8 +365,11 @@ def test_local_cluster_workers_start_pinned_with_adaptive_malloc():
 
     from shipthermal.sweep import local_cluster
 
+    before = os.environ.get("NUMBA_NUM_THREADS")
     with local_cluster(2, threads=1) as cluster, Client(cluster) as c:
         found = list(c.run(_worker_environment).values())
+    # this process keeps its own setting (numba refuses a change once its threads run)
+    assert os.environ.get("NUMBA_NUM_THREADS") == before
     assert len(found) == 2
     for env, profile in found:
         assert env == {"MALLOC_TRIM_THRESHOLD_": None, "NUMBA_NUM_THREADS": "1",
