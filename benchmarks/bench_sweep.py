@@ -25,7 +25,14 @@ cached numba kernels) and the port background, which one worker builds while the
 starts on thermal stages. Because other jobs may share the machine, it first measures the
 ceiling: how much faster ``--workers`` concurrent single-threaded numpy matmul processes
 get through their work than one (2.0 on two free cores). Timings are wall clock: compare
-the speed-up with that ceiling.
+the speed-up with that ceiling. Matmul is compute-bound; the sweep's sparse solves and ray
+tracing also share the memory bus and the last-level cache, so a third run measures the
+ceiling of this very workload without any scheduler:
+
+3. split: ``--workers`` plain processes started at once, each running its share of the
+   cases serially (``run_sweep(serial=True)`` on cases k, k + n, ...; start-up, imports and
+   cached numba kernels included, as a worker pays them). serial wall / slowest process
+   wall is the best any scheduler could do for these cases on this machine now.
 """
 
 from __future__ import annotations
@@ -80,6 +87,28 @@ def machine_ceiling(n: int) -> float:
     return n * alone / together
 
 
+def run_part(path: str, out: str, part: int, parts: int) -> None:
+    """Run cases ``part, part + parts, ...`` of the sweep at ``path`` serially into ``out``
+    and print the wall time [s] (the ``split`` run; a process of its own)."""
+    import dataclasses
+
+    t0 = time.perf_counter()
+    spec = load_sweep(path)
+    spec = dataclasses.replace(spec, cases=spec.cases[part::parts])
+    run_sweep(spec, out, serial=True, progress=False)
+    print(time.perf_counter() - t0)
+
+
+def split_walls(path: str, tmp: str, parts: int) -> list:
+    """Wall times of ``parts`` concurrent plain processes sharing the cases (see run_part)."""
+    import subprocess
+
+    procs = [subprocess.Popen([sys.executable, __file__, "--part", f"{k}/{parts}", path,
+                               os.path.join(tmp, f"split{k}")], stdout=subprocess.PIPE,
+                              text=True) for k in range(parts)]
+    return [float(p.communicate()[0].split()[-1]) for p in procs]
+
+
 def process_cpu() -> float:
     """User + system CPU time of this process so far [s]."""
     import resource
@@ -119,7 +148,12 @@ def main() -> None:
     ap.add_argument("--workers", type=int, default=None,
                     help="LocalCluster workers (default: the usable cores, as a sweep does)")
     ap.add_argument("--thermal-only", action="store_true")
+    ap.add_argument("--part", nargs=3, metavar=("K/N", "SWEEP", "OUT"), help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.part:
+        k, n = (int(v) for v in args.part[0].split("/"))
+        run_part(args.part[1], args.part[2], k, n)
+        return
     with tempfile.TemporaryDirectory(prefix="bench_sweep_") as tmp:
         path = os.path.join(tmp, "sweep.toml")
         with open(path, "w") as fh:
@@ -159,6 +193,11 @@ def main() -> None:
               + f"; of this process meanwhile: {c_par:.1f} s", flush=True)
         print(f"after: {load()}", flush=True)
 
+        print(f"split ({workers} plain processes, no scheduler), {load()}", flush=True)
+        walls = split_walls(path, tmp, workers)
+        print(f"  split: process walls " + ", ".join(f"{w:.1f} s" for w in walls)
+              + f"; workload ceiling serial / slowest = {t_ser / max(walls):.2f}x", flush=True)
+
         drop = ["seconds", "cpu_s", "thermal_s", "imaging_s", "worker"]
         a = par.table.drop(columns=[c for c in drop if c in par.table])
         b = ser.table.drop(columns=[c for c in drop if c in ser.table])
@@ -172,7 +211,8 @@ def main() -> None:
         print(f"speed-up dask / serial: {t_ser / t_par:.2f}x on {par.workers} workers "
               f"(serial {t_ser:.1f} s, dask {t_par:.1f} s; ideal "
               f"{min(par.workers, os.cpu_count() or 1)}x on free cores; measured machine "
-              f"ceiling now {ceiling:.2f}x)")
+              f"ceiling now {ceiling:.2f}x, this workload's {t_ser / max(walls):.2f}x; "
+              f"dask / split {max(walls) / t_par:.2f})")
         # the wall times with a free core per process: their CPU time, plus the cluster
         # start-up, plus (pessimistically, as if it never overlapped) this process's share
         projected = c_ser / (startup + max(busy.values()) + c_par)
