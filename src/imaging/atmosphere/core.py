@@ -13,6 +13,8 @@ import numpy as np
 
 from shipthermal.errors import InputError, check_finite, check_range
 
+from ..parameters import MAX_VIEW_ZENITH
+
 from . import scattered as sc
 from . import tables as tb
 from .bands import band_integrate, parse_band
@@ -24,7 +26,6 @@ __all__ = ["SEASONS", "AtmosphereResult", "atmosphere", "sky_radiance", "season_
 SEASONS = {"summer": 2, "winter": 3}
 _SEASON_ALIASES = {"mid-latitude summer": "summer", "mls": "summer", "2": "summer",
                    "mid-latitude winter": "winter", "mlw": "winter", "3": "winter"}
-MAX_VIEW_ZENITH = {"table": 80.0, "lowtran": 85.0}
 
 
 def season_model(season) -> tuple[str, int]:

@@ -30,6 +30,7 @@ import numpy as np
 import pandas as pd
 
 from shipthermal.errors import InputError, check_range, require
+from shipthermal.parameters import DECOMPOSITIONS, LATITUDE_MAX, SHIP_SPEED_MAX
 from shipthermal.units import DAY as DAY_SECONDS
 from shipthermal.units import ZERO_CELSIUS
 
@@ -187,10 +188,10 @@ class Environment:
                  cloud_model: str = "unsworth_monteith", decomposition: str = "erbs",
                  linke_turbidity: Optional[float] = None,
                  sea_emissivity: Optional[float] = None):
-        check_range("environment.latitude", latitude, -66.0, 66.0, "deg")
+        check_range("environment.latitude", latitude, -LATITUDE_MAX, LATITUDE_MAX, "deg")
         check_range("environment.longitude", longitude, -180.0, 360.0, "deg")
         check_range("environment.ship_heading", ship_heading, -360.0, 720.0, "deg")
-        check_range("environment.ship_speed", ship_speed, 0.0, 30.0, "m/s")
+        check_range("environment.ship_speed", ship_speed, 0.0, SHIP_SPEED_MAX, "m/s")
         if sea_emissivity is not None:
             check_range("environment.sea_emissivity", sea_emissivity, 0.5, 1.0)
         require(isinstance(weather, Weather), "environment.weather", type(weather).__name__,
@@ -199,8 +200,8 @@ class Environment:
                 clear_sky_model, f"must be one of {sorted(sky.CLEAR_SKY_MODELS)}")
         require(cloud_model in sky.CLOUD_MODELS, "environment.cloud_model", cloud_model,
                 f"must be one of {sorted(sky.CLOUD_MODELS)}")
-        require(decomposition in ("erbs", "dirint"), "environment.decomposition",
-                decomposition, "must be 'erbs' or 'dirint'")
+        require(decomposition in DECOMPOSITIONS, "environment.decomposition", decomposition,
+                "must be " + " or ".join(repr(d) for d in DECOMPOSITIONS))
         self.latitude = float(latitude)
         self.longitude = float(longitude)
         self.altitude = float(altitude)
