@@ -30,7 +30,7 @@ __all__ = [
     "WIND_SPEED_MAX", "check_wind_speed", "part_default", "DEFAULT_CONVECTION_MODEL",
     "CONVECTION_MODEL_SOURCES", "CLEAR_SKY_MODEL_NAMES", "CLOUD_MODEL_NAMES", "DECOMPOSITIONS",
     "STATION_FORMATS", "STATION_SUFFIXES", "MAX_GAP_HOURS", "TEMP_UNITS", "CLOUD_COVER_SCALE",
-    "DALIAN", "DESIGN_DAY_DATES", "LATITUDE_MAX", "SHIP_SPEED_MAX",
+    "SEASONS", "DALIAN", "DESIGN_DAY_DATES", "LATITUDE_MAX", "SHIP_SPEED_MAX",
 ]
 
 # ---------------------------------------------------------------------------------------
@@ -192,6 +192,10 @@ CLOUD_COVER_SCALE = {"fraction": 1.0, "percent": 100.0, "tenths": 10.0, "oktas":
 # ---------------------------------------------------------------------------------------
 # Built-in climatology
 # ---------------------------------------------------------------------------------------
+SEASONS = ("summer", "winter")
+"""Seasons of the built-in design days, the atmosphere (mid-latitude summer and winter) and
+the synthetic port."""
+
 DALIAN = dict(name="Dalian", latitude=38.91, longitude=121.63, altitude=92.0,
               tz="Etc/GMT-8")
 """Dalian station 54662 (38°54' N, 121°38' E, 92 m; UTC+8), the site of the built-in

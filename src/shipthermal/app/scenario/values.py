@@ -35,6 +35,7 @@ from ...parameters import (  # noqa: F401
     LONGWAVE_EMISSIVITY,
     MAX_GAP_HOURS,
     SHIP_SPEED_MAX,
+    SEASONS,
     SOLAR_ABSORPTIVITY,
     STATION_FORMATS,
     STATION_SUFFIXES as WEATHER_SUFFIXES,
@@ -46,9 +47,6 @@ from ...units import DAY  # noqa: F401
 # ---------------------------------------------------------------------------------------
 # The physics' allowed values as the scenario lists them
 # ---------------------------------------------------------------------------------------
-SEASONS = ("summer", "winter")
-"""Seasons of the built-in climatology, atmosphere and synthetic port."""
-
 CLEAR_SKY_MODELS = tuple(sorted(CLEAR_SKY_MODEL_NAMES))
 CLOUD_MODELS = tuple(sorted(CLOUD_MODEL_NAMES))
 DECOMPOSITIONS = tuple(sorted(_DECOMPOSITIONS))
