@@ -27,6 +27,7 @@ import numpy as np
 import pandas as pd
 
 from shipthermal.errors import InputError, check_range, require
+from shipthermal.parameters import check_wind_speed
 from shipthermal.units import DAY, HOUR
 
 from .metrics import crossover_times, local_scr
@@ -119,7 +120,7 @@ class ImagingScenario:
         object.__setattr__(self, "season", season_model(self.season)[0])
         check_range("scenario.latitude", self.latitude, -90.0, 90.0, "deg")
         check_range("scenario.longitude", self.longitude, -180.0, 360.0, "deg")
-        check_range("scenario.wind_speed", self.wind_speed, 0.0, 40.0, "m/s")
+        check_wind_speed("scenario.wind_speed", self.wind_speed)
 
     @classmethod
     def default(cls, season: str, background=None, **overrides) -> "ImagingScenario":

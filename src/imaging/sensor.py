@@ -21,6 +21,8 @@ from scipy.special import j1
 
 from shipthermal.errors import InputError, check_finite, check_positive, check_range, require
 
+from .parameters import PAPER_SENSOR_PARAMETERS
+
 __all__ = [
     "SensorSpec", "PAPER_SENSOR", "ground_sample_distance", "slant_range",
     "at_aperture_radiance", "focal_plane_irradiance", "mix_subpixel",
@@ -34,7 +36,8 @@ EARTH_RADIUS_M = 6371.0e3
 
 @dataclass(frozen=True)
 class SensorSpec:
-    """Sensor and orbit parameters (defaults: paper §5).
+    """Sensor and orbit parameters (defaults: paper §5,
+    :data:`imaging.parameters.PAPER_SENSOR_PARAMETERS`).
 
     Attributes
     ----------
@@ -50,11 +53,11 @@ class SensorSpec:
         Optics transmittance tau_o [-].
     """
 
-    altitude_m: float = 795.0e3
-    focal_length_m: float = 1.06
-    aperture_m: float = 0.53
-    pixel_pitch_m: float = 40.0e-6
-    optics_transmittance: float = 0.7
+    altitude_m: float = PAPER_SENSOR_PARAMETERS["altitude_m"]
+    focal_length_m: float = PAPER_SENSOR_PARAMETERS["focal_length_m"]
+    aperture_m: float = PAPER_SENSOR_PARAMETERS["aperture_m"]
+    pixel_pitch_m: float = PAPER_SENSOR_PARAMETERS["pixel_pitch_m"]
+    optics_transmittance: float = PAPER_SENSOR_PARAMETERS["optics_transmittance"]
 
     def __post_init__(self):
         for name in ("altitude_m", "focal_length_m", "aperture_m", "pixel_pitch_m"):

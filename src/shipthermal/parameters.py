@@ -28,7 +28,9 @@ __all__ = [
     "BAND_EMISSIVITY", "LONGWAVE_EMISSIVITY", "SOLAR_ABSORPTIVITY", "SEA_EMISSIVITY",
     "BANDS", "BAND_ALIASES", "ATMOSPHERE_WAVELENGTH_UM", "parse_band",
     "WIND_SPEED_MAX", "check_wind_speed", "part_default", "DEFAULT_CONVECTION_MODEL",
-    "CONVECTION_MODEL_SOURCES",
+    "CONVECTION_MODEL_SOURCES", "CLEAR_SKY_MODEL_NAMES", "CLOUD_MODEL_NAMES", "DECOMPOSITIONS",
+    "STATION_FORMATS", "STATION_SUFFIXES", "MAX_GAP_HOURS", "TEMP_UNITS", "CLOUD_COVER_SCALE",
+    "SEASONS", "DALIAN", "DESIGN_DAY_DATES", "LATITUDE_MAX", "SHIP_SPEED_MAX",
 ]
 
 # ---------------------------------------------------------------------------------------
@@ -153,9 +155,67 @@ DEFAULT_CONVECTION_MODEL = "flat_plate_mixed"
 """Exterior convection model of the air faces when none is chosen (forced flat plate,
 laminar then turbulent, combined with natural convection by Churchill 1977)."""
 
+CLEAR_SKY_MODEL_NAMES = ("brutsaert", "prata", "swinbank")
+"""Clear-sky emissivity models by name; the functions (with their sources) are
+:data:`shipthermal.environment.sky.CLEAR_SKY_MODELS`."""
+
+CLOUD_MODEL_NAMES = ("unsworth_monteith", "crawford_duchon")
+"""Cloud corrections of the sky emissivity by name; the functions (with their sources) are
+:data:`shipthermal.environment.sky.CLOUD_MODELS`."""
+
+DECOMPOSITIONS = ("erbs", "dirint")
+"""Splits of global horizontal irradiance into direct and diffuse that
+:class:`shipthermal.environment.Environment` accepts (pvlib's ``erbs`` and ``dirint``)."""
+
+# ---------------------------------------------------------------------------------------
+# Weather input
+# ---------------------------------------------------------------------------------------
+STATION_FORMATS = ("csv", "epw", "tmy2", "tmy3", "ndbc")
+"""Weather file formats :func:`shipthermal.environment.station.read_station` reads."""
+
+STATION_SUFFIXES = {".csv": "csv", ".epw": "epw", ".tm2": "tmy2", ".txt": "ndbc"}
+"""Weather format by file name ending (lower case). TMY3 files end in .csv too: their format
+must be named."""
+
+MAX_GAP_HOURS = 6.0
+"""Default longest time between two valid observations that is bridged by linear
+interpolation [h]. A quarter of the diurnal cycle: linear interpolation of a daily
+sinusoid across 6 h misses at most 1 − cos(π/4) ≈ 29 % of its amplitude at the gap's
+centre (1.7 % across 1 h); longer gaps would invent a day's weather."""
+
+TEMP_UNITS = ("C", "K")
+"""Temperature units of a weather CSV (degrees Celsius or kelvin)."""
+
+CLOUD_COVER_SCALE = {"fraction": 1.0, "percent": 100.0, "tenths": 10.0, "oktas": 8.0}
+"""Cloud cover units of a weather CSV, each with the value that means overcast."""
+
+# ---------------------------------------------------------------------------------------
+# Built-in climatology
+# ---------------------------------------------------------------------------------------
+SEASONS = ("summer", "winter")
+"""Seasons of the built-in design days, the atmosphere (mid-latitude summer and winter) and
+the synthetic port."""
+
+DALIAN = dict(name="Dalian", latitude=38.91, longitude=121.63, altitude=92.0,
+              tz="Etc/GMT-8")
+"""Dalian station 54662 (38°54' N, 121°38' E, 92 m; UTC+8), the site of the built-in
+design days (:mod:`shipthermal.environment.climatology`). The ship floats at sea level:
+altitude is used only for the clear-sky air mass (negligible effect)."""
+
+DESIGN_DAY_DATES = {"summer": "2023-07-15", "winter": "2023-01-15"}
+"""Dates of the built-in design days at :data:`DALIAN`: mid-July and mid-January, the
+months of the climate normals they are built from."""
+
 # ---------------------------------------------------------------------------------------
 # Ranges accepted at the interfaces
 # ---------------------------------------------------------------------------------------
+LATITUDE_MAX = 66.0
+"""Largest site latitude accepted, north or south [deg]: inside the polar circles
+(66.56°), whose polar day and night the daily cycle of the forcing does not support."""
+
+SHIP_SPEED_MAX = 30.0
+"""Largest ship speed over ground accepted [m s-1] (58 kn, beyond fast naval craft)."""
+
 WIND_SPEED_MAX = 40.0
 """Largest wind speed accepted [m s-1]: above hurricane force (Beaufort 12 starts at 32.7
 m/s, WMO-No. 8); the sea-surface fits (Cox & Munk 1954: 1–14 m/s) are extrapolated well

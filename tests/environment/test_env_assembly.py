@@ -1,4 +1,4 @@
-"""Environment assembly: sun vector, irradiance, sky, sea and relative wind together."""
+"""Environment assembly: sun vector, irradiance, sky, sea and wind together."""
 
 import numpy as np
 import pandas as pd
@@ -47,12 +47,14 @@ def test_periodic_days_repeat_exactly(summer):
     np.testing.assert_allclose(a.sun_vector, b.sun_vector, atol=1e-12)
 
 
-def test_relative_wind_in_state(summer):
+def test_state_carries_true_wind_and_ship_motion(summer):
+    # the state holds the design day's true wind at 10 m (south, 4 m/s) and the ship's
+    # motion; the apparent wind is the forcing's (at face height, tests/forcing)
     st = summer.at([43200.0])
-    # south wind 4 m/s, ship heading east at 5 m/s: apparent wind sqrt(41) from 128.66 deg
-    assert st.wind_speed_relative[0] == pytest.approx(np.sqrt(41.0), rel=1e-9)
-    assert st.wind_direction_relative[0] == pytest.approx(np.degrees(np.arctan2(5, -4)), abs=1e-9)
-    assert st.wind_angle_off_bow[0] == pytest.approx(st.wind_direction_relative[0] - 90, abs=1e-9)
+    day = climate_day("summer")
+    assert st.wind_speed[0] == pytest.approx(day.wind_speed, rel=1e-12)
+    assert st.wind_direction[0] == pytest.approx(day.wind_direction, abs=1e-9)
+    assert (st.ship_speed, st.ship_heading) == (5.0, 90.0)
 
 
 def test_datetime_and_seconds_agree(summer):

@@ -52,3 +52,21 @@ def test_part_defaults_cover_every_main_part():
             assert 0.0 < P.part_default(table, part) <= 1.0
     # the thermal stage's broadband emissivity is the imaging stage's 8-14 µm one
     assert all(P.LONGWAVE_EMISSIVITY[p] == P.BAND_EMISSIVITY[p]["8-14"] for p in P.BAND_EMISSIVITY)
+
+
+def test_band_limits_are_the_atmosphere_tables_range():
+    # the limits the parser accepts are those the embedded tables reach, to within one 5 cm-1
+    # grid step (at 14.5 µm that is 14.5**2 * 5e-4 = 0.105 µm; at 2.9 µm 0.004 µm)
+    from imaging.atmosphere import load_table
+
+    lo, hi = P.ATMOSPHERE_WAVELENGTH_UM
+    wl = load_table().wavelength_um
+    assert abs(wl.min() - lo) <= lo ** 2 * 5e-4 and abs(wl.max() - hi) <= hi ** 2 * 5e-4
+
+
+def test_table_view_zenith_limit_is_the_tables_last_node():
+    # beyond the last view-zenith node the table backend would extrapolate
+    from imaging.atmosphere import load_table
+    from imaging.parameters import MAX_VIEW_ZENITH
+
+    assert MAX_VIEW_ZENITH["table"] == load_table().nodes("view").max()

@@ -12,6 +12,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from shipthermal.errors import InputError, check_finite, check_range
+from shipthermal.parameters import SEASONS as _SEASON_NAMES
+
+from ..parameters import MAX_VIEW_ZENITH
 
 from . import scattered as sc
 from . import tables as tb
@@ -20,11 +23,13 @@ from .bands import band_integrate, parse_band
 __all__ = ["SEASONS", "AtmosphereResult", "atmosphere", "sky_radiance", "season_model",
            "planck_weighted_transmittance"]
 
-#: Season name → LOWTRAN model atmosphere (paper §4: MODTRAN mid-latitude summer/winter)
-SEASONS = {"summer": 2, "winter": 3}
+_LOWTRAN_MODELS = {"summer": 2, "winter": 3}
+
+#: Season name (:data:`shipthermal.parameters.SEASONS`) → LOWTRAN model atmosphere (paper
+#: §4: MODTRAN mid-latitude summer/winter)
+SEASONS = {name: _LOWTRAN_MODELS[name] for name in _SEASON_NAMES}
 _SEASON_ALIASES = {"mid-latitude summer": "summer", "mls": "summer", "2": "summer",
                    "mid-latitude winter": "winter", "mlw": "winter", "3": "winter"}
-MAX_VIEW_ZENITH = {"table": 80.0, "lowtran": 85.0}
 
 
 def season_model(season) -> tuple[str, int]:

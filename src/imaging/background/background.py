@@ -45,7 +45,8 @@ from scipy.ndimage import binary_erosion
 
 from shipthermal.errors import InputError, check_range, require
 
-from .classify import CLASS_NAMES, N_SPLITS, ClassificationResult, classify_scene, read_roi, water_index_check
+from ..parameters import DEM_NODATA, N_SPLITS
+from .classify import CLASS_NAMES, ClassificationResult, classify_scene, read_roi, water_index_check
 from .kriging import krige_hourly
 from .landsat import (LST_ACCURACY_ST_B10_K, MASK_BITS, NIR_BAND, QA_MASK_FLAGS, RED_BAND, REFLECTIVE_BANDS, LandsatScene,
                       SceneGrid, read_landsat_scene)
@@ -577,8 +578,8 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     -------
     PortBackground
     """
-    require(dem_nodata in ("error", "mask", "fill"), "dem_nodata", dem_nodata,
-            "must be 'error', 'mask' or 'fill'")
+    require(dem_nodata in DEM_NODATA, "dem_nodata", dem_nodata,
+            "must be " + ", ".join(repr(d) for d in DEM_NODATA[:-1]) + f" or {DEM_NODATA[-1]!r}")
     require(residual_scaling in ("constant", "solar"), "residual_scaling", residual_scaling,
             "must be 'constant' or 'solar'")
     require(lst_method in ("planck", "taylor"), "lst_method", lst_method, "must be 'planck' or 'taylor'")

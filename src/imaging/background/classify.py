@@ -20,6 +20,8 @@ from sklearn.metrics import cohen_kappa_score, confusion_matrix
 
 from shipthermal.errors import InputError, require
 
+from ..parameters import N_SPLITS
+
 __all__ = [
     "CLASS_CODES",
     "CLASS_NAMES",
@@ -443,10 +445,6 @@ class ClassificationResult:
                         "min": float(v.min()), "max": float(v.max())}
         out["n_splits"] = int(len(self.splits))
         return out
-
-
-N_SPLITS = 10
-"""Held-out ROI splits the accuracy is averaged over (one split swings with its seed)."""
 
 
 def _check_training(labels_train, n_features: int, min_samples: int | None, what: str = "training"):

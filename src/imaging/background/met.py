@@ -34,13 +34,12 @@ import xarray as xr
 
 from shipthermal.errors import InputError, require
 
+from ..parameters import MET_UNITS
+
 __all__ = ["MetGrid", "read_met_grid", "met_for_scene", "STANDARD_WATER_VAPOUR", "MET_UNITS"]
 
 _TEMP_RANGE = (180.0, 350.0)
 """Plausible near-surface temperatures [K] (world records -89 / +57 degC, with margin)."""
-
-MET_UNITS = ("auto", "K", "degC", "degF")
-"""Accepted temperature unit overrides (``auto`` = the file's ``units`` attribute)."""
 
 TEMPERATURE_NAMES = ("temperature", "t2m", "2t", "tas", "air_temperature", "TAIR", "T2", "TMP_2maboveground",
                      "skt", "lst", "LST")

@@ -55,6 +55,7 @@ from scipy.ndimage import binary_erosion, gaussian_filter
 
 from shipthermal.errors import InputError
 
+from ..parameters import SYNTHETIC_PIXEL_M
 from .landsat import REFLECTIVE_BANDS, THERMAL_BAND, SceneGrid, north_up_transform
 from .lst import at_sensor_radiance, atmospheric_functions, emissivity_ndvi_threshold, ndvi
 from .terrain import slope_aspect, southness
@@ -238,8 +239,8 @@ def _mtl_groups(season: SeasonSpec, sun_elevation, sun_azimuth, names, shape, gr
             "MAP_PROJECTION": "UTM",
             "DATUM": "WGS84",
             "UTM_ZONE": str(grid.crs.to_epsg() - 32600),
-            "GRID_CELL_SIZE_THERMAL": "30.00",
-            "GRID_CELL_SIZE_REFLECTIVE": "30.00",
+            "GRID_CELL_SIZE_THERMAL": f"{SYNTHETIC_PIXEL_M:.2f}",
+            "GRID_CELL_SIZE_REFLECTIVE": f"{SYNTHETIC_PIXEL_M:.2f}",
             "REFLECTIVE_LINES": str(shape[0]),
             "REFLECTIVE_SAMPLES": str(shape[1]),
         },
@@ -298,7 +299,7 @@ def write_synthetic_port(directory: str | os.PathLike, season: str = "summer", s
     os.makedirs(directory, exist_ok=True)
     rng = np.random.default_rng([seed, 0 if season == "summer" else 1])
     n = int(size_px)
-    res = 30.0
+    res = SYNTHETIC_PIXEL_M
     epsg = (32600 if lat >= 0 else 32700) + int((lon + 180) // 6) + 1
     crs = CRS.from_epsg(epsg)
     (xc,), (yc,) = warp_transform("EPSG:4326", crs, [lon], [lat])

@@ -30,12 +30,12 @@ import numpy as np
 import pandas as pd
 
 from shipthermal.errors import InputError, check_range, require
+from shipthermal.parameters import DECOMPOSITIONS, LATITUDE_MAX, SHIP_SPEED_MAX
 from shipthermal.units import DAY as DAY_SECONDS
 from shipthermal.units import ZERO_CELSIUS
 
 from . import climatology, convection, sea, sky, sun, weather
 from .climatology import ClimateDay, climate_day, dalian_summer, dalian_winter
-from .convection import relative_wind
 from .weather import Weather, read_weather_csv, read_weather_epw, read_weather_tmy3
 
 __all__ = [
@@ -95,11 +95,9 @@ class EnvironmentState:
     sea_shortwave_up : numpy.ndarray
         Short-wave reflected by the sea (albedo direct + diffuse) [W m-2].
     wind_speed, wind_direction : numpy.ndarray
-        True wind [m s-1], [deg from N, blowing from].
-    wind_speed_relative, wind_direction_relative : numpy.ndarray
-        Apparent wind on the ship [m s-1], [deg from N, blowing from].
-    wind_angle_off_bow : numpy.ndarray
-        Apparent wind direction relative to the bow, clockwise [deg].
+        True wind at 10 m [m s-1], [deg from N, blowing from] (the forcing brings it to
+        each face's height and subtracts the ship's velocity:
+        :func:`~shipthermal.environment.convection.relative_wind`).
     ship_speed : float
         [m s-1].
     ship_heading : float
@@ -125,9 +123,6 @@ class EnvironmentState:
     sea_shortwave_up: np.ndarray
     wind_speed: np.ndarray
     wind_direction: np.ndarray
-    wind_speed_relative: np.ndarray
-    wind_direction_relative: np.ndarray
-    wind_angle_off_bow: np.ndarray
     ship_speed: float
     ship_heading: float
 
@@ -187,10 +182,10 @@ class Environment:
                  cloud_model: str = "unsworth_monteith", decomposition: str = "erbs",
                  linke_turbidity: Optional[float] = None,
                  sea_emissivity: Optional[float] = None):
-        check_range("environment.latitude", latitude, -66.0, 66.0, "deg")
+        check_range("environment.latitude", latitude, -LATITUDE_MAX, LATITUDE_MAX, "deg")
         check_range("environment.longitude", longitude, -180.0, 360.0, "deg")
         check_range("environment.ship_heading", ship_heading, -360.0, 720.0, "deg")
-        check_range("environment.ship_speed", ship_speed, 0.0, 30.0, "m/s")
+        check_range("environment.ship_speed", ship_speed, 0.0, SHIP_SPEED_MAX, "m/s")
         if sea_emissivity is not None:
             check_range("environment.sea_emissivity", sea_emissivity, 0.5, 1.0)
         require(isinstance(weather, Weather), "environment.weather", type(weather).__name__,
@@ -199,8 +194,8 @@ class Environment:
                 clear_sky_model, f"must be one of {sorted(sky.CLEAR_SKY_MODELS)}")
         require(cloud_model in sky.CLOUD_MODELS, "environment.cloud_model", cloud_model,
                 f"must be one of {sorted(sky.CLOUD_MODELS)}")
-        require(decomposition in ("erbs", "dirint"), "environment.decomposition",
-                decomposition, "must be 'erbs' or 'dirint'")
+        require(decomposition in DECOMPOSITIONS, "environment.decomposition", decomposition,
+                "must be " + " or ".join(repr(d) for d in DECOMPOSITIONS))
         self.latitude = float(latitude)
         self.longitude = float(longitude)
         self.altitude = float(altitude)
@@ -321,8 +316,6 @@ class Environment:
                                cloud_model=self.cloud_model)
         eps_sea = (sea.sea_emissivity_rough(ws.wind_speed) if self.sea_emissivity is None
                    else self.sea_emissivity)
-        rel_speed, rel_dir, off_bow = relative_wind(ws.wind_speed, ws.wind_direction,
-                                                    self.ship_speed, self.ship_heading)
         return EnvironmentState(
             times=instants, seconds=s, sun_vector=sun.sun_vector(zen, azi), zenith=zen,
             azimuth=azi, dni=dni, dhi=dhi, ghi=ghi, temp_air=ws.temp_air,
@@ -332,9 +325,7 @@ class Environment:
             sea_longwave_up=sea.sea_longwave_up(ws.temp_sea, lw, eps_sea),
             sea_shortwave_up=sea.sea_reflected_shortwave(dni, dhi, zen),
             wind_speed=ws.wind_speed, wind_direction=ws.wind_direction,
-            wind_speed_relative=rel_speed, wind_direction_relative=rel_dir,
-            wind_angle_off_bow=off_bow, ship_speed=self.ship_speed,
-            ship_heading=self.ship_heading)
+            ship_speed=self.ship_speed, ship_heading=self.ship_heading)
 
 
 def to_ship_frame(vectors_enu, ship_heading):

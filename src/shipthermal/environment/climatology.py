@@ -50,6 +50,7 @@ import pandas as pd
 from scipy.optimize import brentq
 
 from shipthermal.errors import InputError
+from shipthermal.parameters import DALIAN, DESIGN_DAY_DATES
 from shipthermal.units import ZERO_CELSIUS
 
 from .sea import sst_diurnal
@@ -59,11 +60,6 @@ from .weather import Weather
 
 __all__ = ["ClimateDay", "DALIAN", "dalian_summer", "dalian_winter", "climate_day",
            "parton_logan", "annual_harmonic_sst"]
-
-DALIAN = dict(name="Dalian", latitude=38.91, longitude=121.63, altitude=92.0,
-              tz="Etc/GMT-8")
-"""Dalian station 54662 (38°54' N, 121°38' E, 92 m; UTC+8). The ship floats at sea
-level: altitude is used only for the clear-sky air mass (negligible effect)."""
 
 # Parton & Logan (1981) Table 1, air temperature at 150 cm [E]
 PL_A, PL_B, PL_C = 1.86, 2.20, -0.17
@@ -270,7 +266,7 @@ _SST_MAX = 23.6 + ZERO_CELSIUS     # [B] SOURCED August peak
 def dalian_summer() -> ClimateDay:
     """Mid-July design day at Dalian (15 July)."""
     return ClimateDay(
-        name="dalian_summer", date="2023-07-15", **{k: DALIAN[k] for k in
+        name="dalian_summer", date=DESIGN_DAY_DATES["summer"], **{k: DALIAN[k] for k in
                                                      ("latitude", "longitude", "altitude", "tz")},
         temp_max=26.0 + ZERO_CELSIUS, temp_min=20.7 + ZERO_CELSIUS,
         temp_mean_source=23.0 + ZERO_CELSIUS,
@@ -297,7 +293,7 @@ def dalian_summer() -> ClimateDay:
 def dalian_winter() -> ClimateDay:
     """Mid-January design day at Dalian (15 January)."""
     return ClimateDay(
-        name="dalian_winter", date="2023-01-15", **{k: DALIAN[k] for k in
+        name="dalian_winter", date=DESIGN_DAY_DATES["winter"], **{k: DALIAN[k] for k in
                                                      ("latitude", "longitude", "altitude", "tz")},
         temp_max=-1.2 + ZERO_CELSIUS, temp_min=-8.2 + ZERO_CELSIUS,
         temp_mean_source=-4.9 + ZERO_CELSIUS,

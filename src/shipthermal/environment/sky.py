@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from shipthermal.errors import InputError
+from shipthermal.parameters import CLEAR_SKY_MODEL_NAMES, CLOUD_MODEL_NAMES
 from shipthermal.units import SIGMA, ZERO_CELSIUS
 
 __all__ = [
@@ -159,12 +160,12 @@ def emissivity_swinbank(temp_air, vapour_pressure_pa=None):
     return 5.31e-13 * t ** 2 / SIGMA
 
 
-CLEAR_SKY_MODELS = {
-    "brutsaert": emissivity_brutsaert,
-    "prata": emissivity_prata,
-    "swinbank": emissivity_swinbank,
-}
-"""Clear-sky emissivity models by name: f(temp_air [K], vapour_pressure [Pa]) -> [-]."""
+_CLEAR_SKY_FUNCTIONS = {"brutsaert": emissivity_brutsaert, "prata": emissivity_prata,
+                        "swinbank": emissivity_swinbank}
+
+CLEAR_SKY_MODELS = {name: _CLEAR_SKY_FUNCTIONS[name] for name in CLEAR_SKY_MODEL_NAMES}
+"""Clear-sky emissivity models by name: f(temp_air [K], vapour_pressure [Pa]) -> [-]; names
+from :data:`shipthermal.parameters.CLEAR_SKY_MODEL_NAMES`."""
 
 
 def _unsworth_monteith(eps_clear, cloud_cover):
@@ -177,11 +178,12 @@ def _crawford_duchon(eps_clear, cloud_cover):
     return c + (1.0 - c) * eps_clear
 
 
-CLOUD_MODELS = {
-    "unsworth_monteith": _unsworth_monteith,
-    "crawford_duchon": _crawford_duchon,
-}
-"""Cloud corrections by name: f(eps_clear [-], cloud_cover [0-1]) -> eps [-]."""
+_CLOUD_FUNCTIONS = {"unsworth_monteith": _unsworth_monteith,
+                    "crawford_duchon": _crawford_duchon}
+
+CLOUD_MODELS = {name: _CLOUD_FUNCTIONS[name] for name in CLOUD_MODEL_NAMES}
+"""Cloud corrections by name: f(eps_clear [-], cloud_cover [0-1]) -> eps [-]; names from
+:data:`shipthermal.parameters.CLOUD_MODEL_NAMES`."""
 
 
 def cloud_correction(eps_clear, cloud_cover, model: str = "unsworth_monteith"):

@@ -33,6 +33,7 @@ import numpy as np
 import pandas as pd
 
 from shipthermal.errors import InputError, require
+from shipthermal.parameters import MAX_GAP_HOURS, STATION_FORMATS, STATION_SUFFIXES
 from shipthermal.units import ZERO_CELSIUS
 
 from .convection import SEA_ROUGHNESS_LENGTH
@@ -43,9 +44,6 @@ __all__ = ["STATION_FORMATS", "FIELDS", "REQUIRED_FIELDS", "MAX_GAP_HOURS", "EDG
            "NDBC_MISSING", "StationRecord", "WeatherReport", "read_station", "read_ndbc",
            "to_weather", "check_weather", "wind_speed_at_10m", "guess_format"]
 
-STATION_FORMATS = ("csv", "epw", "tmy2", "tmy3", "ndbc")
-"""File formats :func:`read_station` reads."""
-
 FIELDS = ("temp_air", "relative_humidity", "wind_speed", "wind_direction", "cloud_cover",
           "temp_sea", "ghi", "longwave_down")
 """Quantities of a :class:`Weather` (SI units, kelvin)."""
@@ -53,12 +51,6 @@ FIELDS = ("temp_air", "relative_humidity", "wind_speed", "wind_direction", "clou
 REQUIRED_FIELDS = FIELDS[:6]
 """Quantities a run needs (from the file or a constant); ``ghi`` and ``longwave_down``
 are optional (the sky models replace them)."""
-
-MAX_GAP_HOURS = 6.0
-"""Default longest time between two valid observations that is bridged by linear
-interpolation [h]. A quarter of the diurnal cycle: linear interpolation of a daily
-sinusoid across 6 h misses at most 1 − cos(π/4) ≈ 29 % of its amplitude at the gap's
-centre (1.7 % across 1 h); longer gaps would invent a day's weather."""
 
 EDGE_HOLD_S = 3600.0
 """How far beyond the first or last valid observation a value is held constant [s]
@@ -192,10 +184,10 @@ class WeatherReport:
 # Readers
 # ---------------------------------------------------------------------------------------
 def guess_format(path) -> Optional[str]:
-    """Format from the file name (.csv → csv, .epw → epw, .txt → ndbc); None if unknown.
-    TMY3 files end in .csv too: name the format."""
-    return {".csv": "csv", ".epw": "epw", ".tm2": "tmy2", ".txt": "ndbc"}.get(
-        os.path.splitext(str(path))[1].lower())
+    """Format from the file name (:data:`~shipthermal.parameters.STATION_SUFFIXES`: .csv →
+    csv, .epw → epw, .tm2 → tmy2, .txt → ndbc); None if unknown. TMY3 files end in .csv too:
+    name the format."""
+    return STATION_SUFFIXES.get(os.path.splitext(str(path))[1].lower())
 
 
 def read_station(path, format: str, *, tz: Optional[str] = None, temp_unit: str = "C",

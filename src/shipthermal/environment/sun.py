@@ -17,6 +17,7 @@ import pandas as pd
 import pvlib
 
 from shipthermal.errors import InputError, check_range, require
+from shipthermal.parameters import DECOMPOSITIONS
 
 __all__ = [
     "solar_position",
@@ -253,7 +254,8 @@ def decompose_ghi(ghi, times, apparent_zenith, model: str = "erbs", pressure=101
                                                  pressure=pressure, temp_dew=temp_dew),
                          dtype=float)
     else:
-        raise InputError("decomposition", model, "must be 'erbs' or 'dirint'")
+        raise InputError("decomposition", model,
+                         "must be " + " or ".join(repr(d) for d in DECOMPOSITIONS))
     dni = np.nan_to_num(np.clip(dni, 0.0, None))
     # the beam cannot carry more than the measured global: keep closure and positivity
     dni = np.where(cosz > 0, np.minimum(dni, ghi / np.maximum(cosz, 1e-9)), 0.0)

@@ -56,6 +56,7 @@ import numpy as np
 import pandas as pd
 
 from shipthermal.errors import InputError, check_finite, require
+from shipthermal.parameters import CLOUD_COVER_SCALE, TEMP_UNITS
 from shipthermal.units import ZERO_CELSIUS
 
 from .sky import dew_point, relative_humidity_from_dew_point
@@ -314,22 +315,21 @@ def _first_bad(time, mask):
     return f"{time[i]} -> {time[i + 1]}"
 
 
+_TEMP_UNIT_ALIASES = {"degC": "C", "celsius": "C", "kelvin": "K"}
+
+
 def _temperature(values, unit: str, field: str):
-    if unit in ("C", "degC", "celsius"):
-        return values + ZERO_CELSIUS
-    if unit in ("K", "kelvin"):
-        return values
-    raise InputError(field, unit, "must be 'C' or 'K'")
-
-
-_CLOUD_SCALE = {"fraction": 1.0, "percent": 100.0, "tenths": 10.0, "oktas": 8.0}
+    unit = _TEMP_UNIT_ALIASES.get(unit, unit)
+    if unit not in TEMP_UNITS:
+        raise InputError(field, unit, "must be " + " or ".join(repr(u) for u in TEMP_UNITS))
+    return values + ZERO_CELSIUS if unit == "C" else values
 
 
 def _cloud(values, unit: str):
     try:
-        return values / _CLOUD_SCALE[unit]
+        return values / CLOUD_COVER_SCALE[unit]
     except KeyError:
-        raise InputError("cloud_unit", unit, f"must be one of {sorted(_CLOUD_SCALE)}")
+        raise InputError("cloud_unit", unit, f"must be one of {sorted(CLOUD_COVER_SCALE)}")
 
 
 def read_weather_csv(path, tz: Optional[str] = None, temp_unit: str = "C",

@@ -41,14 +41,19 @@ from .parts import (MAIN_PARTS, boundary_edges, face_areas, main_part, signed_vo
 from .ship import ShipGeometry
 from .surface_ops import fix_winding
 
-__all__ = ["UNITS", "SHIP_LENGTH_RANGE", "load_surface", "read_part_map", "check_surface",
+__all__ = ["UNITS", "SHIP_LENGTH_RANGE", "TRIMESH_EXTENSIONS", "PYVISTA_EXTENSIONS",
+           "MESH_EXTENSIONS", "load_surface", "read_part_map", "check_surface",
            "read_ship", "write_ship"]
 
 UNITS = {"m": 1.0, "mm": 1e-3}
 """Accepted length units and their factor to metres."""
 
-_TRIMESH_EXT = {".stl", ".obj", ".ply", ".off", ".glb", ".gltf"}
-_PYVISTA_EXT = {".vtk", ".vtp", ".vtu"}
+TRIMESH_EXTENSIONS = frozenset({".stl", ".obj", ".ply", ".off", ".glb", ".gltf"})
+"""Surface formats read with trimesh."""
+PYVISTA_EXTENSIONS = frozenset({".vtk", ".vtp", ".vtu"})
+"""Surface formats read with pyvista; they may carry a per-cell ``part`` array."""
+MESH_EXTENSIONS = tuple(sorted(TRIMESH_EXTENSIONS | PYVISTA_EXTENSIONS))
+"""Every surface format :func:`load_surface` reads (sorted)."""
 
 
 # ---------------------------------------------------------------------------------------
@@ -71,13 +76,13 @@ def load_surface(path, units: str):
     require(path.exists(), "path", str(path), "file not found")
     ext = path.suffix.lower()
     cell_part = part_names = None
-    if ext in _TRIMESH_EXT:
+    if ext in TRIMESH_EXTENSIONS:
         import trimesh
 
         mesh = trimesh.load(path, force="mesh", process=False)
         v = np.asarray(mesh.vertices, float)
         f = np.asarray(mesh.faces, np.int64)
-    elif ext in _PYVISTA_EXT:
+    elif ext in PYVISTA_EXTENSIONS:
         import pyvista as pv
 
         data = pv.read(path)
@@ -93,7 +98,7 @@ def load_surface(path, units: str):
             part_names = tuple(str(x) for x in tri.field_data["part_names"])
     else:
         raise InputError("path", str(path), "unsupported file type",
-                         f"Use one of {', '.join(sorted(_TRIMESH_EXT | _PYVISTA_EXT))}")
+                         f"Use one of {', '.join(MESH_EXTENSIONS)}")
     require(len(f) > 0, "file", str(path), "holds no triangles")
     check_finite(f"{path.name}.vertices", v)
     v = v * UNITS[units]

@@ -45,9 +45,9 @@ Conventions
 * Some defaults depend on ``time.season`` (date, output times, compartment air); they are
   resolved at load and stored, so a written copy is explicit.
 
-Allowed values that live in modules which are slow to import (pandas, pvlib, scipy) are
-mirrored in :mod:`.values`; ``tests/scenario/test_scenario_sync.py`` keeps them equal to
-their sources.
+Allowed values and defaults the physics also uses are imported, never copied: from
+:mod:`shipthermal.parameters` and :mod:`imaging.parameters` (which import nothing heavy), so
+loading stays free of pandas, pvlib and scipy.
 
 The user-facing schema table is generated from the dataclasses by :func:`schema_markdown`
 (``docs/SCENARIO.md`` holds a copy that the tests keep in sync; ``shipthermal schema``

@@ -20,12 +20,12 @@ from ...units import ZERO_CELSIUS
 from .spec import _Context, _opt, _part_key, _suggest, parse_band
 from .values import (ATMOSPHERE_BACKENDS, BAND_EMISSIVITY, BUILTIN_SHIP_NAMES, CLEAR_SKY_MODELS,
                      CLIMATE_DATES, CLOUD_MODELS, CLOUD_UNITS, CONVECTION_MODEL_SOURCES, DALIAN,
-                     DAY, DECOMPOSITIONS, DEFAULT_CONVECTION_MODEL, DEM_NODATA,
+                     DAY, DECOMPOSITIONS, DEFAULT_CONVECTION_MODEL, DEM_NODATA, LATITUDE_MAX,
                      LONGWAVE_EMISSIVITY, MAX_GAP_HOURS, MAX_RECORD_DAYS, MAX_REPAIR_CHANGE,
                      MAX_VIEW_ZENITH, MESH_EXTENSIONS, MESH_WITH_PART_ARRAY,
                      MESH_WITH_PART_NAMES, MET_UNITS, OUTPUT_FORMATS, PAPER_IMAGE_TIMES,
-                     PAPER_SENSOR, SOLAR_ABSORPTIVITY,
-                     ROI_SPLITS, SEASONS, SYNTHETIC_PIXEL_M, TEMP_UNITS, VALIDATION_TIMES,
+                     PAPER_SENSOR, ROI_SPLITS, SEASONS, SHIP_LENGTH_RANGE, SHIP_SPEED_MAX,
+                     SOLAR_ABSORPTIVITY, SYNTHETIC_PIXEL_M, TEMP_UNITS, UNITS, VALIDATION_TIMES,
                      VARIOGRAM_MODELS, WEATHER_FORMATS, WEATHER_SUFFIXES)
 
 
@@ -37,7 +37,8 @@ class Location:
     """[location]: where the ship is (drives the sun, the climatology and the port scene)."""
 
     latitude: float = _opt(DALIAN["latitude"], "float", "Site latitude, north positive "
-                           "(polar day/night not supported)", unit="deg", lo=-66.0, hi=66.0)
+                           "(polar day/night not supported)", unit="deg", lo=-LATITUDE_MAX,
+                           hi=LATITUDE_MAX)
     longitude: float = _opt(DALIAN["longitude"], "float", "Site longitude, east positive",
                             unit="deg", lo=-180.0, hi=180.0)
     time_zone: str = _opt(DALIAN["time_zone"], "time_zone", "Time zone of all dates and clock "
@@ -252,7 +253,7 @@ class ShipParticulars:
     """[ship.parameters]: main dimensions of a built-in ship (others scale with them)."""
 
     length: Optional[float] = _opt(None, "float", "Length overall (frigate 132, patrol_boat "
-                                   "56, cargo_ship 180)", unit="m", lo=5.0, hi=500.0,
+                                   "56, cargo_ship 180)", unit="m", lo=SHIP_LENGTH_RANGE[0], hi=SHIP_LENGTH_RANGE[1],
                                    optional=True)
     beam: Optional[float] = _opt(None, "float", "Maximum beam (15 / 9.5 / 30)", unit="m",
                                  lo=0.0, hi=100.0, lo_open=True, optional=True)
@@ -273,7 +274,7 @@ class ShipFiles:
     """[ship.files]: a user ship — one mesh + part map, or one file per part."""
 
     units: str = _opt(None, "choice", "Unit of the file coordinates (required)",
-                      choices=("m", "mm"))
+                      choices=tuple(UNITS))
     mesh: Optional[str] = _opt(None, "mesh_file", "One surface mesh (STL/OBJ/PLY/OFF/GLB, "
                                "or VTK/VTP/VTU with a per-cell 'part' array)", optional=True,
                                allowed_text="existing " + "/".join(MESH_EXTENSIONS) + " file")
@@ -412,7 +413,7 @@ class ShipSettings:
                           "along the synthetic port's N-S pier, bow to the harbour entrance)",
                           unit="deg", lo=0.0, hi=360.0, hi_open=True)
     speed: float = _opt(0.0, "float", "Speed over ground (0 moored)", unit="m/s", lo=0.0,
-                        hi=30.0)
+                        hi=SHIP_SPEED_MAX)
     mooring_position: tuple = _opt((38.5, 100.0), "vec2", "Ship centre in the port scene, "
                                    "[east, north] of the scene centre (default: alongside "
                                    "the east face of the synthetic port's first N-S pier, "

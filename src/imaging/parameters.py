@@ -1,0 +1,58 @@
+"""Named parameters of the imaging stage, each written once with its source.
+
+The sensor, the atmosphere and the port background read them from here, and so does the
+scenario, which validates a file against them without importing the heavy modules (scipy,
+rasterio, the atmosphere tables). The module imports nothing.
+
+The band list, the surface optics and the other values both stages share live in
+:mod:`shipthermal.parameters`.
+"""
+
+from __future__ import annotations
+
+__all__ = ["PAPER_SENSOR_PARAMETERS", "MAX_VIEW_ZENITH", "VARIOGRAM_MODELS", "MET_UNITS",
+           "N_SPLITS", "DEM_NODATA", "SYNTHETIC_PIXEL_M"]
+
+# ---------------------------------------------------------------------------------------
+# Sensor
+# ---------------------------------------------------------------------------------------
+PAPER_SENSOR_PARAMETERS: dict[str, float] = {
+    "altitude_m": 795.0e3,
+    "focal_length_m": 1.06,
+    "aperture_m": 0.53,
+    "pixel_pitch_m": 40.0e-6,
+    "optics_transmittance": 0.7,
+}
+"""The paper's sensor (§5): 795 km orbit [m], focal length 1.06 m, aperture 0.53 m
+(f-number 2.0), 40 µm pixels [m], optics transmittance 0.7 [-]; nadir ground sample
+distance ``795e3 * 40e-6 / 1.06 = 30.0 m``. The defaults of
+:class:`imaging.sensor.SensorSpec`."""
+
+# ---------------------------------------------------------------------------------------
+# Atmosphere
+# ---------------------------------------------------------------------------------------
+MAX_VIEW_ZENITH: dict[str, float] = {"table": 80.0, "lowtran": 85.0}
+"""Largest view zenith angle at the ground per atmosphere backend [deg]: the embedded
+tables' view-zenith axis ends at 80°; live LOWTRAN is accepted to 85°."""
+
+# ---------------------------------------------------------------------------------------
+# Port background
+# ---------------------------------------------------------------------------------------
+VARIOGRAM_MODELS = ("spherical", "exponential", "gaussian", "linear", "power")
+"""Variogram models of the ordinary kriging of the met grid (pykrige's names)."""
+
+MET_UNITS = ("auto", "K", "degC", "degF")
+"""Accepted temperature unit overrides of a met grid (``auto`` = the file's ``units``
+attribute)."""
+
+N_SPLITS = 10
+"""Held-out ROI splits the classification accuracy is averaged over (one split swings with
+its seed)."""
+
+DEM_NODATA = ("error", "mask", "fill")
+"""What the background may do with DEM voids over land: refuse, mask the pixels, or fill
+them by interpolation."""
+
+SYNTHETIC_PIXEL_M = 30.0
+"""Pixel size of the built-in synthetic port [m]: the Landsat 8/9 surface-temperature and
+reflectance grid."""
