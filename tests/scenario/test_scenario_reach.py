@@ -397,7 +397,7 @@ def _safe(f):
         return ("refused", str(exc))
 
 
-def stage_inputs(sc, background, reference_ship) -> dict:
+def stage_inputs(sc, background, ship) -> dict:
     def thermal():
         given = thermal_inputs(sc, _build_ship(sc))
         return {"ship": _ship(given.pop("ship")), "environment": _environment(
@@ -405,7 +405,7 @@ def stage_inputs(sc, background, reference_ship) -> dict:
 
     def imaging():
         check_imaging_bands(sc)
-        img = imaging_scenario(sc, background, reference_ship)
+        img = imaging_scenario(sc, background, ship)
         fields = {f.name: getattr(img, f.name) for f in dataclasses.fields(img)
                   if f.name != "background"}
         return _plain({**fields, "experiment": experiment_inputs(sc)})
@@ -415,27 +415,8 @@ def stage_inputs(sc, background, reference_ship) -> dict:
 
 
 @pytest.fixture(scope="module")
-def background():
-    from imaging.scene import GriddedBackground
-
-    n = 100
-    cm = np.full((n, n), 3, dtype=np.uint8)
-    cm[:, : n // 2] = 1
-    return GriddedBackground(cm, np.array([0.0]), np.full((1, n, n), 290.0), 30.0)
-
-
-@pytest.fixture(scope="module")
-def reference_ship():
-    # the imaging stage renders the thermal stage's ship (its history): the same ship here
-    # for every case, so what is compared is what the scenario hands the imaging itself
-    from shipthermal.geometry import patrol_boat
-
-    return patrol_boat(edge_length=5.6)
-
-
-@pytest.fixture(scope="module")
-def baselines(files, background, reference_ship):
-    return {name: stage_inputs(load_scenario(data, base_dir=files), background, reference_ship)
+def baselines(files, background, ship):
+    return {name: stage_inputs(load_scenario(data, base_dir=files), background, ship)
             for name, data in bases(files).items()}
 
 
@@ -458,11 +439,11 @@ def test_the_bases_build(baselines):
 
 
 @pytest.mark.parametrize("key", sorted(CASES))
-def test_key_reaches_its_stages(key, files, background, reference_ship, baselines):
+def test_key_reaches_its_stages(key, files, background, ship, baselines):
     base_name, value, expected = CASES[key]
     data = _change(key, bases(files)[base_name], value, files)
     sc = load_scenario(data, base_dir=files)
-    now = stage_inputs(sc, background, reference_ship)
+    now = stage_inputs(sc, background, ship)
     before = baselines[base_name]
     reached = {s for s in now if now[s] != before[s]}
     assert reached == expected, (f"{key} = {value!r} reaches {sorted(reached)}, "

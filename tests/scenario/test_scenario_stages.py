@@ -37,23 +37,6 @@ def _csv_scenario(folder, **weather):
                           "weather": {"source": "w.csv", **weather}}, base_dir=folder)
 
 
-@pytest.fixture(scope="module")
-def background():
-    from imaging.scene import GriddedBackground
-
-    n = 100
-    cm = np.full((n, n), 3, dtype=np.uint8)
-    cm[:, : n // 2] = 1
-    return GriddedBackground(cm, np.array([0.0]), np.full((1, n, n), 290.0), 30.0)
-
-
-@pytest.fixture(scope="module")
-def ship():
-    from shipthermal.geometry import patrol_boat
-
-    return patrol_boat(edge_length=5.6)
-
-
 def test_one_environment_object_for_every_stage(tmp_path, background, ship):
     _write_csv(tmp_path / "w.csv")
     sc = _csv_scenario(tmp_path)
