@@ -454,12 +454,9 @@ def box_mesh(edge: float):
 
 def _box_hot_vertices(pts, tets):
     """Vertices of the boundary triangles of the heated face (as :func:`_box_patches`)."""
-    local = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
-    from shipthermal.mesh.tets import _orient
+    from shipthermal.mesh.tets import orient_tets, tet_faces
 
-    tri = _orient(pts, np.asarray(tets, np.int64))[:, local].reshape(-1, 3)
-    _, first, count = np.unique(np.sort(tri, axis=1), axis=0, return_index=True, return_counts=True)
-    btri = tri[first[count == 1]]
+    *_, btri = tet_faces(orient_tets(pts, np.asarray(tets, np.int64)))
     p0, p1, p2 = (pts[btri[:, k]] for k in range(3))
     normal = np.cross(p1 - p0, p2 - p0)
     normal /= np.linalg.norm(normal, axis=1)[:, None]
@@ -544,29 +541,14 @@ def write_foam_case(case, pts, tets, dt, alpha, n_nonorth=0, grad="leastSquares"
     poly.mkdir(parents=True, exist_ok=True)
     (case / "system").mkdir(exist_ok=True)
     (case / "0").mkdir(exist_ok=True)
-    local = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
-    from shipthermal.mesh.tets import _orient
+    from shipthermal.mesh.tets import orient_tets, tet_faces
 
-    tets = _orient(pts, np.asarray(tets, np.int64))
-    tri = tets[:, local].reshape(-1, 3)                 # outward from the owning tet
-    owner = np.repeat(np.arange(len(tets)), 4)
-    key = np.sort(tri, axis=1)
-    order = np.lexsort(key.T[::-1])
-    ks = key[order]
-    same = np.all(ks[1:] == ks[:-1], axis=1)
-    first = np.flatnonzero(same)
-    pair = np.zeros(len(ks), bool)
-    pair[first] = pair[first + 1] = True
-    a, b = order[first], order[first + 1]
-    own, nei = owner[a], owner[b]
-    ftri = tri[a]                                       # outward from own
+    own, nei, ftri, bown, btri = tet_faces(orient_tets(pts, np.asarray(tets, np.int64)))
     swap = own > nei
     own, nei = np.where(swap, nei, own), np.where(swap, own, nei)
-    ftri = np.where(swap[:, None], tri[b], ftri)
+    ftri = np.where(swap[:, None], ftri[:, [0, 2, 1]], ftri)
     o = np.lexsort((nei, own))
     own, nei, ftri = own[o], nei[o], ftri[o]
-    bidx = order[~pair]
-    btri, bown = tri[bidx], owner[bidx]
     p0, p1, p2 = (pts[btri[:, k]] for k in range(3))
     normal = np.cross(p1 - p0, p2 - p0)
     normal /= np.linalg.norm(normal, axis=1)[:, None]

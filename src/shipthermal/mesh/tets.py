@@ -12,7 +12,7 @@ from .graph import (CORRECTION_TREATMENTS, VTK_TETRA, CellGraph, NonOrthogonalCo
                     least_squares_gradient)
 
 __all__ = ["check_closed_surface", "find_self_intersections", "tetrahedralize_surface",
-           "build_tet_graph", "tetwild"]
+           "build_tet_graph", "tetwild", "orient_tets", "tet_faces"]
 
 
 def check_closed_surface(vertices, faces, field: str = "surface") -> None:
@@ -119,7 +119,7 @@ def tetrahedralize_surface(vertices, faces, edge_length: float | None = None,
     if len(tets) == 0:
         raise InputError(field, "empty tet mesh", "pytetwild produced no tetrahedra",
                          "Check that the surface encloses a volume")
-    return points, _orient(points, tets)
+    return points, orient_tets(points, tets)
 
 
 def tetwild(vertices, faces, **kwargs):
@@ -139,13 +139,38 @@ def tetwild(vertices, faces, **kwargs):
             os.remove(debris)
 
 
-def _orient(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
+def orient_tets(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
+    """The tetrahedra with vertices 1 and 2 swapped where needed so that every one has a
+    positive volume (a copy)."""
     a, b, c, d = (points[tets[:, k]] for k in range(4))
     vol = np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a)
     tets = tets.copy()
     neg = vol < 0
     tets[neg, 1], tets[neg, 2] = tets[neg, 2], tets[neg, 1].copy()
     return tets
+
+
+def tet_faces(tets: np.ndarray):
+    """The faces of a positively oriented tetrahedral mesh (:func:`orient_tets`), paired.
+
+    Returns ``(owner (F,), neighbour (F,), interior (F, 3), boundary_cell (B,),
+    boundary (B, 3))``: each interior triangle once, wound outward from its owner; each
+    boundary triangle wound outward from its tet. Triangles are vertex-index triples.
+    """
+    local = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])   # opposite each vertex
+    tri = tets[:, local].reshape(-1, 3)          # (4M, 3), outward for the owning tet
+    owner = np.repeat(np.arange(len(tets)), 4)
+    key = np.sort(tri, axis=1)
+    order = np.lexsort(key.T[::-1])
+    key_s = key[order]
+    # Interior faces: consecutive equal keys.
+    first = np.flatnonzero(np.all(key_s[1:] == key_s[:-1], axis=1))
+    is_pair = np.zeros(len(key_s), bool)
+    is_pair[first] = True
+    is_pair[first + 1] = True
+    bidx = order[~is_pair]
+    return (owner[order[first]], owner[order[first + 1]], tri[order[first]], owner[bidx],
+            tri[bidx])
 
 
 def _tet_materials(points: np.ndarray, tets, material, cell_material):
@@ -162,7 +187,7 @@ def _tet_materials(points: np.ndarray, tets, material, cell_material):
             "must be (M, 4) with M > 0")
     require(tets.min() >= 0 and tets.max() < len(points), "tets", (int(tets.min()), int(tets.max())),
             f"vertex indices must lie in [0, {len(points) - 1}]")
-    tets = _orient(points, tets)
+    tets = orient_tets(points, tets)
 
     mats = [material] if isinstance(material, (str, Material)) else list(material)
     mats = tuple(get_material(m, f"material[{i}]") for i, m in enumerate(mats))
@@ -222,25 +247,7 @@ def build_tet_graph(points, tets, material: str | Material | Sequence = "mild_st
     a, b, c, d = (points[tets[:, k]] for k in range(4))
     centroid = (a + b + c + d) / 4.0
 
-    # Faces opposite each vertex, as sorted triples, to pair them up.
-    local = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
-    tri = tets[:, local].reshape(-1, 3)          # (4M, 3), outward for the owning tet
-    owner = np.repeat(np.arange(len(tets)), 4)
-    key = np.sort(tri, axis=1)
-    order = np.lexsort(key.T[::-1])
-    key_s = key[order]
-    same_next = np.all(key_s[1:] == key_s[:-1], axis=1)
-    # Interior faces: consecutive equal keys.
-    first = np.flatnonzero(same_next)
-    f_own = owner[order[first]]
-    f_nei = owner[order[first + 1]]
-    f_tri = tri[order[first]]
-    is_pair = np.zeros(len(key_s), bool)
-    is_pair[first] = True
-    is_pair[first + 1] = True
-    bidx = order[~is_pair]
-    b_cell = owner[bidx]
-    b_tri = tri[bidx]
+    f_own, f_nei, f_tri, b_cell, b_tri = tet_faces(tets)
 
     def face_geom(t):
         p0, p1, p2 = points[t[:, 0]], points[t[:, 1]], points[t[:, 2]]
