@@ -52,17 +52,18 @@ def _run(sc, ship, **kw):
 
 
 def _plain(sc, ship, traced=None, graph=None):
-    """Day-by-day stepping from midnight until a day repeats (no lead-in)."""
+    """Day-by-day stepping from midnight until a day repeats (no lead-in): the scenario's
+    own thermal inputs with ``lead_in = 0``."""
     import dataclasses
 
-    from shipthermal.app import thermal
+    from shipthermal.app.thermal import thermal_inputs
+    from shipthermal.diurnal import run_diurnal
 
-    orig = thermal.settings_from_scenario
-    thermal.settings_from_scenario = lambda s: dataclasses.replace(orig(s), lead_in=0.0)
-    try:
-        return _run(sc, ship, traced=traced, graph=graph)
-    finally:
-        thermal.settings_from_scenario = orig
+    inputs = thermal_inputs(sc, ship)
+    inputs["settings"] = dataclasses.replace(inputs["settings"], lead_in=0.0)
+    t0 = time.perf_counter()
+    res = run_diurnal(**inputs, progress=False, traced=traced, graph=graph)
+    return res, time.perf_counter() - t0
 
 
 def main():
@@ -82,7 +83,6 @@ def main():
                     help="run the main case with plain day-by-day stepping (to make a reference)")
     args = ap.parse_args()
 
-    from shipthermal.app.thermal import run_scenario_thermal
     from shipthermal.app.scenario import default_scenario
     from shipthermal.diurnal import lead_in_seconds
 
