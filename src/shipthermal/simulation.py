@@ -39,7 +39,7 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit
 
-from ._tridiagonal import tridiagonal_factor, tridiagonal_solve
+from ._tridiagonal import column_factor, tridiagonal_solve
 from .errors import InputError, check_finite, check_positive, require
 from .linear import Anderson, Preconditioner, choose_backend, make_preconditioner, pcg
 from .model import ThermalModel, boundary_state, conduction_flows, surface_balance
@@ -104,12 +104,6 @@ class _JacobianPattern:
         self.matrix = m
         self.n = n
 
-    def bands(self, matrix: sp.csr_matrix) -> tuple[np.ndarray, np.ndarray]:
-        """Diagonal and super-diagonal of a matrix with this pattern's structure."""
-        data = matrix.data
-        sup = np.where(self.sup_pos >= 0, data[np.maximum(self.sup_pos, 0)], 0.0)
-        return data[self.diag_pos], sup
-
     def diagonal(self, diagonal: np.ndarray, extra: np.ndarray | None = None) -> np.ndarray:
         """The diagonal of ``B + diag(diagonal)`` (+ ``extra``) without building the matrix."""
         d = self.base_diag + diagonal
@@ -117,10 +111,14 @@ class _JacobianPattern:
             d += np.bincount(self.extra_diag_cell, extra[self.extra_diag], self.n)
         return d
 
-    def jacobian(self, diagonal: np.ndarray, extra: np.ndarray | None = None) -> sp.csr_matrix:
+    def jacobian(self, diagonal: np.ndarray, extra: np.ndarray | None = None,
+                 fresh: bool = True) -> sp.csr_matrix:
         """``B + diag(diagonal)`` (+ ``extra`` values at the extra entries, summed where
-        they repeat)."""
-        data = np.empty_like(self.base)
+        they repeat). ``fresh=False`` refills the matrix's current value array in place
+        (for a caller whose preconditioner keeps nothing of an earlier matrix: a new array
+        of 10⁶–10⁷ values per Newton pass costs its page faults)."""
+        data = self.matrix.data if not fresh and self.matrix.data is not self.base else \
+            np.empty_like(self.base)
         no_extra = np.zeros(0)
         _fill_values(self.base, self.diag_pos, diagonal, self.extra_pos,
                      no_extra if extra is None else extra, data)
@@ -416,8 +414,8 @@ class Simulation:
             # O(n): rebuilt from the current Jacobian at every Newton iteration (its bands
             # read from the known positions in the value array).
             t0 = time.perf_counter()
-            diag, sup = self._pattern.bands(matrix)
-            factor = tridiagonal_factor(diag, np.where(self._column_break, 0.0, sup))
+            pat = self._pattern
+            factor = column_factor(matrix.data, pat.diag_pos, pat.sup_pos, self._column_break)
             self._precond = Preconditioner("column", lambda r: tridiagonal_solve(factor, r),
                                            time.perf_counter() - t0)
             self.timing.setup += time.perf_counter() - t0
@@ -479,6 +477,7 @@ class Simulation:
                 fixed_corr = self._extrapolated_corr(forcing, st, temp)
                 self.timing.boundary += time.perf_counter() - t1
         accel = Anderson(5) if g.correction is not None and fixed_corr is None else None
+        column = self.backend == "column"
         for it in range(self.max_iterations):
             t1 = time.perf_counter()
             if fixed_corr is None:
@@ -535,10 +534,10 @@ class Simulation:
                     jac = None    # the shared matrix now holds the preconditioner's values
                 else:
                     if jac is None:
-                        jac = pattern.jacobian(diag_c + jdiag_b, exch)
+                        jac = pattern.jacobian(diag_c + jdiag_b, exch, fresh=not column)
                     prec = self._preconditioner(prec_key, jac)
             if jac is None:
-                jac = pattern.jacobian(diag_c + jdiag_b, exch)
+                jac = pattern.jacobian(diag_c + jdiag_b, exch, fresh=not column)
             # Inexact Newton: the correction is needed only to ~1e-3 of the tolerance (the next
             # pass re-evaluates the true residual), so with a preconditioner from an earlier
             # Jacobian (radiation, drifting boundary diagonal) PCG stops after fewer
