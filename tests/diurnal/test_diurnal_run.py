@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from shipthermal.diurnal import DiurnalSettings, lead_in_seconds, run_diurnal
+from shipthermal.diurnal import DiurnalSettings, lead_in_seconds, lead_in_step, run_diurnal
 from shipthermal.environment import Environment, climate_day
 from shipthermal.geometry import patrol_boat
 from shipthermal.units import HOUR
@@ -32,10 +32,15 @@ def test_spinup_converges_and_reports_days(summer_run):
 
 def test_energy_closes_over_the_whole_run(summer_run):
     e = summer_run.energy
-    # the lead-in before the first midnight, then whole days of 144 steps
+    # the lead-in before the first midnight in its own (longer) steps, then whole days of
+    # 144 steps
     lead = lead_in_seconds(summer_run.settings)
-    assert lead > 0 and len(e.time) == summer_run.days * 144 + round(lead / 600.0)
-    assert e.time[0] == -lead + 600.0 and e.time[-1] == summer_run.days * 24 * HOUR
+    step = lead_in_step(summer_run.settings)
+    assert lead > 0 and step > summer_run.settings.time_step
+    assert len(e.time) == summer_run.days * 144 + round(lead / step)
+    assert e.time[0] == -lead + step and e.time[-1] == summer_run.days * 24 * HOUR
+    np.testing.assert_allclose(np.diff(e.time), np.r_[np.full(round(lead / step) - 1, step),
+                                                      np.full(summer_run.days * 144, 600.0)])
     # every step converged until Σ residual ≤ 1e-12 of the gross boundary heat
     assert e.relative_imbalance <= 1e-10, e.summary()
 

@@ -4,7 +4,8 @@ per-face surface balance kernel against the balance it solves."""
 import numpy as np
 import pytest
 
-from shipthermal.diurnal import DiurnalSettings, lead_in_seconds, run_diurnal
+from shipthermal.diurnal import (SPINUP_LEAD_IN_STEP, DiurnalSettings, lead_in_seconds,
+                                 lead_in_step, run_diurnal)
 from shipthermal.environment import Environment, climate_day
 from shipthermal.geometry import patrol_boat
 from shipthermal.units import DAY, SIGMA
@@ -55,6 +56,21 @@ def test_lead_in_rounds_up_to_whole_output_intervals():
     assert lead_in_seconds(DiurnalSettings(lead_in=0.0)) == 0.0
     with pytest.raises(Exception, match="lead_in"):
         DiurnalSettings(lead_in=DAY)
+
+
+def test_lead_in_step_divides_the_lead_in():
+    # 5400 s in steps of at most SPINUP_LEAD_IN_STEP (900 s): 6 steps
+    s = DiurnalSettings(time_step=300.0, output_interval=1800.0, lead_in=3700.0)
+    assert lead_in_step(s) == 900.0 == SPINUP_LEAD_IN_STEP
+    # 1800 s → two 900 s steps; 600 s output → 3 × 600 s lead-in (1800 s) in 900 s steps
+    s = DiurnalSettings(time_step=120.0, output_interval=600.0, lead_in=1700.0)
+    assert lead_in_seconds(s) == 1800.0 and lead_in_step(s) == 900.0
+    # a lead-in that 900 s does not divide: the longest shorter step that does
+    s = DiurnalSettings(time_step=300.0, output_interval=1500.0, lead_in=1500.0)
+    assert lead_in_step(s) == 750.0
+    # never shorter than the run's own step; no lead-in, the run's step
+    assert lead_in_step(DiurnalSettings(time_step=1800.0, output_interval=1800.0)) == 1800.0
+    assert lead_in_step(DiurnalSettings(lead_in=0.0)) == 300.0
 
 
 def test_energy_closes_over_lead_in_and_days(runs):
