@@ -509,6 +509,22 @@ def quasi_steady_surface_temperature(absorbed, emissivity, longwave_in, temp_air
     return temp
 
 
+def _threaded(fn, items) -> None:
+    """``fn(item)`` for every item, on up to ``numba.get_num_threads()`` threads."""
+    import numba
+
+    n = min(len(items), numba.get_num_threads())
+    if n <= 1:
+        for item in items:
+            fn(item)
+        return
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(n) as pool:
+        for _ in pool.map(fn, items):
+            pass
+
+
 def _row_chunks(n_rows, n_cols):
     step = max(1, _ROW_CHUNK_ELEMENTS // max(n_cols, 1))
     for start in range(0, n_rows, step):
@@ -1254,7 +1270,8 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
     inner = _inner_faces(graph, surface, traced, back)
     patches = _patches(graph, surface, ship)
     sw_tab, h_tab = _tables(patches, n_t, dtype)
-    for rows in _row_chunks(n_t, n_out):
+
+    def block(rows):
         absorbed = _absorbed_shortwave(state, rows, sun, lit, air, traced, surface.alpha,
                                        n_out, ship_reflection)
         h_air, ts_air = air_convection(model, air, state, rows, environment, absorbed[:, a_],
@@ -1268,6 +1285,11 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
             h_inner = _inner_convection(temp_surface, inner, back, interior_h,
                                         interior_emissivity)
         _store_rows(rows, patches, sw_tab, h_tab, absorbed, h_air, h_inner, air)
+
+    # Blocks of rows are independent and write disjoint rows; their array arithmetic
+    # releases the GIL, so they run on the process's thread budget (numba's, which a sweep
+    # pins to one per case).
+    _threaded(block, list(_row_chunks(n_t, n_out)))
     t_end = _time.perf_counter()
 
     seconds = {"trace_setup_and_view_factors": t_traced - t_start,

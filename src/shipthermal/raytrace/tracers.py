@@ -22,7 +22,6 @@ uses the same offsets so the two backends see the same rays.
 
 from __future__ import annotations
 
-import os
 from concurrent.futures import ThreadPoolExecutor
 from typing import Protocol
 
@@ -144,7 +143,7 @@ class EmbreeTracer(_MeshTracer):
         Triangle vertex indices.
     n_threads : int, optional
         Python threads each running part of a large batch (embreex releases the GIL while
-        tracing). Default: the number of CPUs.
+        tracing). Default: numba's thread count (the CPUs, or what a sweep pins a case to).
 
     Notes
     -----
@@ -160,7 +159,11 @@ class EmbreeTracer(_MeshTracer):
         from embreex import rtcore_scene
         from embreex.mesh_construction import TriangleMesh
 
-        self.n_threads = int(n_threads or os.cpu_count() or 1)
+        if not n_threads:
+            import numba
+
+            n_threads = numba.get_num_threads()
+        self.n_threads = int(n_threads)
         require(self.n_threads >= 1, "n_threads", n_threads, "must be >= 1")
         self._scene = rtcore_scene.EmbreeScene()
         # the TriangleMesh object only registers the buffers with the scene; keep a reference
