@@ -443,6 +443,7 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
         lead_timing = pre.timing.as_dict()
         model = ThermalModel(graph, conditions, initial_temperature=pre.temperature,
                              exchange=exchange)
+        del pre   # its Jacobian pattern and records are not needed any more
         say(f"lead-in: {lead / HOUR:g} h before the first day in {step:g} s steps")
     sim = Simulation(model, settings.time_step, days_max * DAY, start_time=0.0,
                      scheme=settings.scheme, output_interval=settings.output_interval)
