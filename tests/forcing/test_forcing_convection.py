@@ -164,3 +164,26 @@ def test_scenario_key_chooses_the_model_and_names_the_allowed_ones():
     assert err.value.field == "convection.model" and err.value.value == "mcadams"
     for name in conv.CONVECTION_MODELS:
         assert repr(name) in str(err.value)
+
+
+def test_tables_do_not_depend_on_threads_or_row_blocks(boat, monkeypatch):
+    """The tables are built in blocks of rows, on numba's thread budget: blocks of five
+    rows on two threads give the same tables, bit for bit, as one block."""
+    import numba
+
+    import shipthermal.forcing as forcing_module
+
+    ship, env, graph, f = boat
+    monkeypatch.setattr(forcing_module, "_ROW_CHUNK_ELEMENTS", 5 * len(f.outer_bfaces))
+    threads = numba.get_num_threads()
+    numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+    try:
+        g = build_ship_forcing(ship, env, graph, times=TIMES, dtype=np.float64,
+                               traced=f.traced, progress=False)
+    finally:
+        numba.set_num_threads(threads)
+    assert set(g._sw) == set(f._sw) and set(g._h) == set(f._h)
+    for name in f._sw:
+        np.testing.assert_array_equal(g._sw[name], f._sw[name])
+    for name in f._h:
+        np.testing.assert_array_equal(g._h[name], f._h[name])

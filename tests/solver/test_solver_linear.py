@@ -7,7 +7,7 @@ import pytest
 import scipy.sparse as sp
 from scipy.linalg import cho_solve_banded, cholesky_banded
 
-from shipthermal._tridiagonal import tridiagonal_factor, tridiagonal_solve
+from shipthermal._tridiagonal import column_factor, tridiagonal_factor, tridiagonal_solve
 from shipthermal import linear
 from shipthermal.errors import InputError
 from shipthermal.linear import choose_backend, has_cholmod, make_preconditioner, measure_backends
@@ -40,6 +40,29 @@ def test_tridiagonal_ldlt_matches_lapack_banded_cholesky():
 def test_tridiagonal_rejects_indefinite():
     with pytest.raises(np.linalg.LinAlgError):
         tridiagonal_factor(np.array([1.0, 1.0]), np.array([2.0]))
+
+
+def test_column_factor_reads_the_bands_from_the_value_array():
+    """The factor built from a CSR value array (diagonal and (i, i + 1) positions, column
+    cuts dropped) equals the factor of the bands taken with scipy."""
+    diag, sup = _columns(200, seed=7)
+    lateral = sp.random(200, 200, density=0.02, random_state=8)
+    lateral = -(lateral + lateral.T) * 1e-2
+    a = (sp.diags([sup, diag, sup], [-1, 0, 1]) + lateral).tocsr()
+    a = (a + sp.diags(np.abs(lateral).sum(axis=1).A1)).tocsr()
+    a.sort_indices()
+    rows = np.repeat(np.arange(200), np.diff(a.indptr))
+    keys = rows * 200 + a.indices
+    diag_pos = np.searchsorted(keys, np.arange(200) * 201)
+    want = np.arange(199) * 201 + 1
+    pos = np.minimum(np.searchsorted(keys, want), len(keys) - 1)
+    sup_pos = np.where(keys[pos] == want, pos, -1)
+    cut = sup == 0.0
+    cut[::17] = True                                  # cuts where a coupling is stored too
+    got = column_factor(a.data, diag_pos, sup_pos, cut)
+    ref = tridiagonal_factor(a.diagonal(), np.where(cut, 0.0, a.diagonal(1)))
+    np.testing.assert_array_equal(got[0], ref[0])
+    np.testing.assert_array_equal(got[1], ref[1])
 
 
 def test_column_preconditioner_is_the_tridiagonal_part():
