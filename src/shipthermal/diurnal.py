@@ -9,7 +9,8 @@ Data flow (all the physics lives in the modules wired here)::
     day k vs day k−1 part means  ──► converged?  ──► DiurnalResult (last day)
 
 Spin-up: the run starts ``lead_in`` before the first midnight (the end of the design day,
-from the initial temperature), then the design day repeats. After each simulated day the
+from the initial temperature, in steps of up to ``SPINUP_LEAD_IN_STEP``), then the design
+day repeats. After each simulated day the
 temperature of every cell at its end is compared with its start (the periodicity defect of
 the day); the run stops when the largest change is below ``spinup_tolerance`` [K] (reported
 with the number of days) or after ``spinup_max_days`` (reported as not converged). The
