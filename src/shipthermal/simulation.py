@@ -117,8 +117,7 @@ class _JacobianPattern:
         they repeat). ``fresh=False`` refills the matrix's current value array in place
         (for a caller whose preconditioner keeps nothing of an earlier matrix: a new array
         of 10⁶–10⁷ values per Newton pass costs its page faults)."""
-        data = self.matrix.data if not fresh and self.matrix.data is not self.base else \
-            np.empty_like(self.base)
+        data = np.empty_like(self.base) if fresh else self.matrix.data
         no_extra = np.zeros(0)
         _fill_values(self.base, self.diag_pos, diagonal, self.extra_pos,
                      no_extra if extra is None else extra, data)

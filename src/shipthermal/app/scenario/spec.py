@@ -342,45 +342,45 @@ def _part_key(key: str, path: str, ctx: _Context) -> bool:
         return False
 
 
-def _part_table(raw: Any, path: str, spec: _Spec, ctx: _Context, default: Mapping) -> Any:
-    """``{part: number}`` merged over the defaults."""
+def _per_part(raw: Any, path: str, ctx: _Context, what: str, example: str, convert,
+              out: dict) -> dict | None:
+    """A ``{part: value}`` table: every key must name a part, every value goes through
+    ``convert(value, path_of_value, current)`` (``_BAD`` once it has reported an error; all
+    values are checked either way) and lands in ``out``, over what ``out`` held for that
+    part. Returns ``out``, or None after errors."""
     if not isinstance(raw, dict):
-        ctx.err(path, raw, "must be a table of part = value",
-                "e.g. {hull = 0.7, deck = 0.85, superstructure = 0.7}")
-        return _BAD
-    out, ok = dict(default), True
-    for key, val in raw.items():
-        sub = f"{path}.{key}"
-        if not _part_key(key, sub, ctx):
-            ok = False
-            continue
-        v = _number(val, sub, spec, ctx)
-        if v is _BAD:
-            ok = False
-        else:
-            out[key] = v
-    return MappingProxyType(out) if ok else _BAD
-
-
-def _part_bands(raw: Any, path: str, spec: _Spec, ctx: _Context, default: Mapping) -> Any:
-    """``{part: {band: emissivity}}`` merged band by band over the defaults."""
-    if not isinstance(raw, dict):
-        ctx.err(path, raw, "must be a table of part = {band = emissivity}",
-                'e.g. [ship.band_emissivity.deck] with 3-5 = 0.90 and 8-14 = 0.95')
-        return _BAD
-    out = {k: dict(v) for k, v in default.items()}
+        ctx.err(path, raw, f"must be a table of part = {what}", example)
+        return None
     ok = True
-    for part, table in raw.items():
+    for part, val in raw.items():
         sub = f"{path}.{part}"
         if not _part_key(part, sub, ctx):
             ok = False
             continue
+        v = convert(val, sub, out.get(part))
+        if v is _BAD:
+            ok = False
+        else:
+            out[part] = v
+    return out if ok else None
+
+
+def _part_table(raw: Any, path: str, spec: _Spec, ctx: _Context, default: Mapping) -> Any:
+    """``{part: number}`` merged over the defaults."""
+    out = _per_part(raw, path, ctx, "value", "e.g. {hull = 0.7, deck = 0.85, superstructure = 0.7}",
+                    lambda val, sub, _: _number(val, sub, spec, ctx), dict(default))
+    return _BAD if out is None else MappingProxyType(out)
+
+
+def _part_bands(raw: Any, path: str, spec: _Spec, ctx: _Context, default: Mapping) -> Any:
+    """``{part: {band: emissivity}}`` merged band by band over the defaults."""
+
+    def bands(table, sub, current):
         if not isinstance(table, dict):
             ctx.err(sub, table, "must be a table of band = emissivity",
                     "e.g. {3-5 = 0.85, 8-14 = 0.90}")
-            ok = False
-            continue
-        merged = dict(out.get(part, {}))
+            return _BAD
+        merged, ok = dict(current or {}), True
         for band, val in table.items():
             bsub = f"{sub}.{band}"
             try:
@@ -394,55 +394,34 @@ def _part_bands(raw: Any, path: str, spec: _Spec, ctx: _Context, default: Mappin
                 ok = False
             else:
                 merged[name] = v
-        out[part] = merged
-    return _freeze(out) if ok else _BAD
+        return merged if ok else _BAD
+
+    out = _per_part(raw, path, ctx, "{band = emissivity}",
+                    "e.g. [ship.band_emissivity.deck] with 3-5 = 0.90 and 8-14 = 0.95", bands,
+                    {k: dict(v) for k, v in default.items()})
+    return _BAD if out is None else _freeze(out)
 
 
 def _layups(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
     """``{part: [{material, thickness, cells}, ...]}`` (outer layer first)."""
     example = 'e.g. deck = [{material = "deck_covering", thickness = 0.003, cells = 1}, ...]'
-    if not isinstance(raw, dict):
-        ctx.err(path, raw, "must be a table of part = list of layers", example)
-        return _BAD
-    out, ok = {}, True
-    for part, layers in raw.items():
-        sub = f"{path}.{part}"
-        if not _part_key(part, sub, ctx):
-            ok = False
-            continue
+
+    def layup(layers, sub, _):
         if not isinstance(layers, list) or not layers:
             ctx.err(sub, layers, "must be a non-empty list of layers, outer layer first", example)
-            ok = False
-            continue
-        built = []
-        for i, layer in enumerate(layers):
-            lpath = f"{sub}[{i}]"
-            obj = _section(spec.cls, layer, lpath, ctx)
-            if obj is _BAD:
-                ok = False
-            else:
-                built.append(obj)
-        out[part] = tuple(built)
-    return MappingProxyType(out) if ok else _BAD
+            return _BAD
+        built = [_section(spec.cls, layer, f"{sub}[{i}]", ctx) for i, layer in enumerate(layers)]
+        return _BAD if any(obj is _BAD for obj in built) else tuple(built)
+
+    out = _per_part(raw, path, ctx, "list of layers", example, layup, {})
+    return _BAD if out is None else MappingProxyType(out)
 
 
 def _part_files(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
-    if not isinstance(raw, dict):
-        ctx.err(path, raw, "must be a table of part = file path",
-                'e.g. {hull = "hull.stl", deck = "deck.stl", superstructure = "sup.obj"}')
-        return _BAD
-    out, ok = {}, True
-    for part, p in raw.items():
-        sub = f"{path}.{part}"
-        if not _part_key(part, sub, ctx):
-            ok = False
-            continue
-        v = _file(p, sub, ctx, MESH_EXTENSIONS)
-        if v is _BAD:
-            ok = False
-        else:
-            out[part] = v
-    return MappingProxyType(out) if ok else _BAD
+    out = _per_part(raw, path, ctx, "file path",
+                    'e.g. {hull = "hull.stl", deck = "deck.stl", superstructure = "sup.obj"}',
+                    lambda val, sub, _: _file(val, sub, ctx, MESH_EXTENSIONS), {})
+    return _BAD if out is None else MappingProxyType(out)
 
 
 _CONVERTERS = {
