@@ -7,6 +7,11 @@ a frigate day's time loop; these loops do the same arithmetic in well under 1 ms
 factor keeps ``1/D``: a multiplication per unknown instead of a division in every solve).
 The tests compare them with scipy's.
 
+Where the matrix splits into independent blocks (plate columns: no coupling across a
+column boundary), factor and solve run block by block on the process's threads
+(:func:`column_bounds`): the arithmetic of every unknown is the same as in one sweep, so the
+result is too, bit for bit, whatever the number of threads.
+
 :func:`column_factor` reads the two bands straight from the value array of the Jacobian
 (known positions) instead of through scipy's ``diagonal()``.
 """
@@ -14,76 +19,109 @@ The tests compare them with scipy's.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
-__all__ = ["tridiagonal_factor", "tridiagonal_solve", "column_factor"]
+__all__ = ["tridiagonal_factor", "tridiagonal_solve", "column_factor", "column_bounds"]
 
-
-@njit(cache=True)
-def _factor(diag, sup, dinv, l):
-    n = diag.shape[0]
-    d = diag[0]
-    ok = d > 0.0
-    dinv[0] = 1.0 / d
-    for i in range(1, n):
-        li = sup[i - 1] * dinv[i - 1]
-        l[i - 1] = li
-        d = diag[i] - li * sup[i - 1]
-        if not d > 0.0:
-            ok = False
-        dinv[i] = 1.0 / d
-    return ok
+#: Blocks of a split tridiagonal system (each a run of whole columns): enough for the
+#: threads of any machine to share, few enough to stay long.
+BLOCKS = 64
 
 
-@njit(cache=True)
-def _solve(dinv, l, r, x):
-    n = r.shape[0]
-    x[0] = r[0]
-    for i in range(1, n):
-        x[i] = r[i] - l[i - 1] * x[i - 1]
-    x[n - 1] = x[n - 1] * dinv[n - 1]
-    for i in range(n - 2, -1, -1):
-        x[i] = x[i] * dinv[i] - l[i] * x[i + 1]
+@njit(parallel=True, cache=True)
+def _factor(diag, sup, dinv, l, bounds):
+    """Blocks ``bounds[b] … bounds[b + 1]`` are independent (``sup`` is zero between them).
+    (Unsigned indices: numba then drops its negative-index test on every access.)"""
+    bad = np.zeros(bounds.shape[0] - 1, np.bool_)
+    for b in prange(bounds.shape[0] - 1):
+        lo = np.uint64(bounds[b])
+        hi = np.uint64(bounds[b + 1])
+        one = np.uint64(1)
+        d = diag[lo]
+        ok = d > 0.0
+        dinv[lo] = 1.0 / d
+        if lo > 0:
+            l[lo - one] = 0.0
+        for i in range(lo + one, hi):
+            li = sup[i - one] * dinv[i - one]
+            l[i - one] = li
+            d = diag[i] - li * sup[i - one]
+            if not d > 0.0:
+                ok = False
+            dinv[i] = 1.0 / d
+        bad[b] = not ok
+    return not np.any(bad)
 
 
-def tridiagonal_factor(diag: np.ndarray, sup: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+@njit(parallel=True, cache=True)
+def _solve(dinv, l, r, x, bounds):
+    for b in prange(bounds.shape[0] - 1):
+        lo = np.uint64(bounds[b])
+        hi = np.uint64(bounds[b + 1])
+        one = np.uint64(1)
+        x[lo] = r[lo]
+        for i in range(lo + one, hi):
+            x[i] = r[i] - l[i - one] * x[i - one]
+        x[hi - one] = x[hi - one] * dinv[hi - one]
+        for k in range(hi - lo - one):           # i = hi − 2 … lo
+            i = hi - np.uint64(2) - k
+            x[i] = x[i] * dinv[i] - l[i] * x[i + one]
+
+
+def column_bounds(cut: np.ndarray, blocks: int = BLOCKS) -> np.ndarray:
+    """Start of each of up to ``blocks`` runs of unknowns (and the end, ``n``) that split a
+    tridiagonal system where ``cut[i]`` drops the coupling of i and i + 1: the first cut at or
+    after each of ``blocks`` equal shares."""
+    n = len(cut) + 1
+    cuts = np.flatnonzero(np.asarray(cut, bool)) + 1        # a new block may start here
+    want = np.linspace(0, n, blocks + 1)[1:-1]
+    pos = np.searchsorted(cuts, want)
+    starts = cuts[pos[pos < len(cuts)]]
+    return np.unique(np.concatenate([[0], starts, [n]])).astype(np.int64)
+
+
+def tridiagonal_factor(diag: np.ndarray, sup: np.ndarray, bounds: np.ndarray | None = None):
     """``A = L D Lᵀ`` of the symmetric tridiagonal matrix with diagonal ``diag`` (n,) and
-    super-diagonal ``sup`` (n − 1,) (``sup[i]`` couples i and i + 1). Returns ``(1/D, l)``;
+    super-diagonal ``sup`` (n − 1,) (``sup[i]`` couples i and i + 1). ``bounds``
+    (:func:`column_bounds`) splits it where ``sup`` is zero. Returns ``(1/D, l, bounds)``;
     raises :class:`numpy.linalg.LinAlgError` unless ``A`` is positive definite."""
     diag = np.ascontiguousarray(diag, dtype=np.float64)
     sup = np.ascontiguousarray(sup, dtype=np.float64)
+    n = len(diag)
+    bounds = np.array([0, n], np.int64) if bounds is None else bounds
     dinv = np.empty_like(diag)
-    l = np.empty(max(len(diag) - 1, 0))
-    if len(diag) and not _factor(diag, sup, dinv, l):
+    l = np.empty(max(n - 1, 0))
+    if n and not _factor(diag, sup, dinv, l, bounds):
         raise np.linalg.LinAlgError("tridiagonal matrix is not positive definite")
-    return dinv, l
+    return dinv, l, bounds
 
 
-def tridiagonal_solve(factor: tuple[np.ndarray, np.ndarray], rhs: np.ndarray) -> np.ndarray:
+def tridiagonal_solve(factor, rhs: np.ndarray) -> np.ndarray:
     """Solve ``A x = rhs`` with the factor of :func:`tridiagonal_factor`."""
-    dinv, l = factor
+    dinv, l, bounds = factor
     x = np.empty_like(dinv)
     if len(dinv):
-        _solve(dinv, l, np.ascontiguousarray(rhs, dtype=np.float64), x)
+        _solve(dinv, l, np.ascontiguousarray(rhs, dtype=np.float64), x, bounds)
     return x
 
 
-@njit(cache=True)
+@njit(parallel=True, cache=True)
 def _bands(data, diag_pos, sup_pos, cut, diag, sup):
     n = diag_pos.shape[0]
-    for i in range(n):
-        diag[i] = data[diag_pos[i]]
-    for i in range(n - 1):
-        sup[i] = 0.0 if (cut[i] or sup_pos[i] < 0) else data[sup_pos[i]]
+    for i in prange(n):
+        diag[i] = data[np.uint64(diag_pos[i])]
+    for i in prange(n - 1):
+        sup[i] = 0.0 if (cut[i] or sup_pos[i] < 0) else data[np.uint64(sup_pos[i])]
 
 
 def column_factor(data: np.ndarray, diag_pos: np.ndarray, sup_pos: np.ndarray,
-                  cut: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                  cut: np.ndarray, bounds: np.ndarray | None = None):
     """The tridiagonal factor of a CSR matrix's through-thickness band, read from its value
     array ``data``: diagonal at ``diag_pos``, ``(i, i + 1)`` at ``sup_pos`` (−1: not
-    stored); couplings with ``cut[i]`` True (column boundaries) are dropped."""
+    stored); couplings with ``cut[i]`` True (column boundaries) are dropped. ``bounds``:
+    :func:`column_bounds` of ``cut`` (computed here when not given)."""
     n = len(diag_pos)
     diag = np.empty(n)
     sup = np.empty(max(n - 1, 0))
     _bands(data, diag_pos, sup_pos, cut, diag, sup)
-    return tridiagonal_factor(diag, sup)
+    return tridiagonal_factor(diag, sup, column_bounds(cut) if bounds is None else bounds)

@@ -65,6 +65,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from numba import njit, prange
 
 from .errors import require
 
@@ -222,10 +223,11 @@ def make_preconditioner(matrix: sp.spmatrix, backend: str,
         return _auto_preconditioner(matrix)
     t0 = time.perf_counter()
     if backend == "column":
-        from ._tridiagonal import tridiagonal_factor, tridiagonal_solve
+        from ._tridiagonal import column_bounds, tridiagonal_factor, tridiagonal_solve
 
         m = sp.csr_matrix(matrix)
-        factor = tridiagonal_factor(m.diagonal(), np.where(column_break, 0.0, m.diagonal(1)))
+        factor = tridiagonal_factor(m.diagonal(), np.where(column_break, 0.0, m.diagonal(1)),
+                                    column_bounds(column_break))
 
         def apply(r):
             return tridiagonal_solve(factor, r)
@@ -253,7 +255,54 @@ def pcg(matrix: sp.csr_matrix, rhs: np.ndarray, precond, x0: np.ndarray | None =
 
     Stops when ``‖r‖ ≤ rtol ‖b‖``. Returns ``(x, iterations, relative residual)``; the caller
     decides what a slow convergence means (here: rebuild the preconditioner).
+
+    A float64 CSR matrix goes through numba kernels on the process's thread budget
+    (``numba.get_num_threads()``): the product fused with ``p·Ap``, and the vector updates
+    fused with ``‖r‖²``. Measured on the 257 k-row, 2.64 M-nonzero Jacobian of the frigate
+    day: the product 2.4 ms in scipy, 2.7 ms here on one thread, 1.6 ms on two. Every dot
+    product is summed over :data:`PCG_BLOCKS` fixed row blocks and then in block order, so
+    the iterates do not depend on the number of threads.
     """
+    m = matrix if sp.issparse(matrix) else None
+    fast = (m is not None and m.format == "csr" and m.dtype == np.float64
+            and rhs.dtype == np.float64)
+    if not fast:
+        return _pcg_generic(matrix, rhs, precond, x0, rtol, max_iterations)
+    n = len(rhs)
+    blocks = _blocks(n)
+    part = np.empty(len(blocks) - 1)
+    rhs = np.ascontiguousarray(rhs)
+    ap = np.empty(n)
+    if x0 is None:
+        x = np.zeros(n)
+        r = rhs.copy()
+    else:
+        x = np.array(x0, dtype=np.float64)
+        _csr_matvec_dot(m.indptr, m.indices, m.data, x, ap, blocks, part)
+        r = rhs - ap
+    bnorm = np.sqrt(_dot(rhs, rhs, blocks, part))
+    if bnorm == 0.0:
+        return x, 0, 0.0
+    z = np.ascontiguousarray(precond(r), dtype=np.float64)
+    p = z.copy()
+    rz = _dot(r, z, blocks, part)
+    rel = np.sqrt(_dot(r, r, blocks, part)) / bnorm
+    it = 0
+    while rel > rtol and it < max_iterations:
+        pap = _csr_matvec_dot(m.indptr, m.indices, m.data, p, ap, blocks, part)
+        alpha = rz / pap
+        rel = np.sqrt(_update(x, r, p, ap, alpha, blocks, part)) / bnorm
+        it += 1
+        if rel <= rtol:
+            break
+        z = np.ascontiguousarray(precond(r), dtype=np.float64)
+        rz_new = _dot(r, z, blocks, part)
+        _xpby(z, p, rz_new / rz)
+        rz = rz_new
+    return x, it, rel
+
+
+def _pcg_generic(matrix, rhs, precond, x0, rtol, max_iterations):
     x = np.zeros_like(rhs) if x0 is None else x0.copy()
     r = rhs - matrix @ x if x0 is not None else rhs.copy()
     bnorm = np.linalg.norm(rhs)
@@ -278,6 +327,70 @@ def pcg(matrix: sp.csr_matrix, rhs: np.ndarray, precond, x0: np.ndarray | None =
         p = z + (rz_new / rz) * p
         rz = rz_new
     return x, it, rel
+
+
+#: Row blocks of the PCG dot products: a fixed split, so sums do not depend on threads.
+PCG_BLOCKS = 64
+
+
+def _blocks(n: int) -> np.ndarray:
+    return np.linspace(0, n, min(PCG_BLOCKS, max(n, 1)) + 1).astype(np.int64)
+
+
+# The kernels index through unsigned integers: numba then drops the negative-index
+# wraparound test on every access, which made a plain CSR product 1.7× slower than scipy's.
+@njit(parallel=True, cache=True)
+def _csr_matvec_dot(indptr, indices, data, x, out, blocks, part):
+    """``out = A x`` and ``x·out`` (summed per block, then over blocks)."""
+    for b in prange(blocks.shape[0] - 1):
+        s_b = 0.0
+        for i in range(blocks[b], blocks[b + 1]):
+            s = 0.0
+            for k in range(np.uint64(indptr[i]), np.uint64(indptr[i + 1])):
+                s += data[k] * x[np.uint64(indices[k])]
+            out[i] = s
+            s_b += x[i] * s
+        part[b] = s_b
+    return _ordered_sum(part)
+
+
+@njit(parallel=True, cache=True)
+def _update(x, r, p, ap, alpha, blocks, part):
+    """``x += α p``, ``r −= α Ap``; returns ``‖r‖²``."""
+    for b in prange(blocks.shape[0] - 1):
+        s_b = 0.0
+        for i in range(blocks[b], blocks[b + 1]):
+            x[i] += alpha * p[i]
+            ri = r[i] - alpha * ap[i]
+            r[i] = ri
+            s_b += ri * ri
+        part[b] = s_b
+    return _ordered_sum(part)
+
+
+@njit(parallel=True, cache=True)
+def _dot(u, v, blocks, part):
+    for b in prange(blocks.shape[0] - 1):
+        s_b = 0.0
+        for i in range(blocks[b], blocks[b + 1]):
+            s_b += u[i] * v[i]
+        part[b] = s_b
+    return _ordered_sum(part)
+
+
+@njit(parallel=True, cache=True)
+def _xpby(z, p, beta):
+    """``p = z + β p``."""
+    for i in prange(p.shape[0]):
+        p[i] = z[i] + beta * p[i]
+
+
+@njit(cache=True)
+def _ordered_sum(part):
+    s = 0.0
+    for b in range(part.shape[0]):
+        s += part[b]
+    return s
 
 
 class Anderson:

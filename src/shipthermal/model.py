@@ -31,7 +31,7 @@ from typing import Mapping
 
 import numpy as np
 import scipy.sparse as sp
-from numba import njit
+from numba import njit, prange
 
 from .conditions import BoundaryCondition, FaceForcing, evaluate, fill
 from .errors import InputError, check_finite, require
@@ -78,6 +78,16 @@ class RadiativeExchange:
         r.eliminate_zeros()
         object.__setattr__(self, "bfaces", bf)
         object.__setattr__(self, "area_exchange", r)
+
+    def loss_per_face(self, n_bfaces: int) -> np.ndarray:
+        """``Σ_j R_ij`` on all ``n_bfaces`` boundary faces, zero where a face exchanges
+        nothing [m2] (built once)."""
+        full = self.__dict__.get("_loss_full")
+        if full is None or len(full) != n_bfaces:
+            full = np.zeros(n_bfaces)
+            full[self.bfaces] = self.row_sum
+            object.__setattr__(self, "_loss_full", full)
+        return full
 
     @property
     def row_sum(self) -> np.ndarray:
@@ -194,18 +204,18 @@ def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarra
     """
     area = graph.bface_area
     g = graph.bface_conductance
-    tc = temp_cell[graph.bface_cell]
-    cb = np.zeros_like(area) if correction_flow is None else correction_flow
-    gain = np.zeros_like(area)      # σ Σ_j R_ij T_j⁴ (lagged) [W]
-    loss = np.zeros_like(area)      # Σ_j R_ij [m2]
+    none = np.zeros(0)             # (the kernel reads an empty array as zeros)
+    cb = none if correction_flow is None else correction_flow
+    gain = loss = none
     if exchange is not None:
-        idx = exchange.bfaces
-        loss[idx] = exchange.row_sum
-        gain[idx] = SIGMA * (exchange.area_exchange @ exchange_temp[idx] ** 4)
+        gain = np.zeros_like(area)      # σ Σ_j R_ij T_j⁴ (lagged) [W]
+        gain[exchange.bfaces] = SIGMA * _received(exchange, exchange_temp)
+        loss = exchange.loss_per_face(len(area))
     ts = np.empty_like(area)
     flow = np.empty_like(area)
     cond = np.empty_like(area)
-    step = _balance_kernel(area, g, tc, cb, forcing.q0, forcing.h, forcing.temp_fluid,
+    step = _balance_kernel(area, g, np.ascontiguousarray(temp_cell, dtype=np.float64),
+                           graph.bface_cell, cb, forcing.q0, forcing.h, forcing.temp_fluid,
                            forcing.emissivity, forcing.longwave_in, forcing.fixed,
                            forcing.temp_fixed, gain, loss, np.asarray(temp_guess, float),
                            float(tol), int(max_iterations), ts, flow, cond)
@@ -222,26 +232,58 @@ def add_exchange_flow(state: BoundaryState, exchange: RadiativeExchange) -> None
     on both sides, σ Σ_j R_ij (T_j⁴ − T_i⁴): it cancels exactly in the energy sum whatever
     the lag of the temperatures the balance was solved with."""
     idx = exchange.bfaces
-    t4 = state.temp_face[idx] ** 4
-    state.flow[idx] += SIGMA * (exchange.area_exchange @ t4 - exchange.row_sum * t4)
+    t2 = state.temp_face[idx] ** 2
+    t4 = t2 * t2                     # as in _received_kernel
+    state.flow[idx] += SIGMA * (_received(exchange, state.temp_face) - exchange.row_sum * t4)
 
 
-@njit(cache=True)
-def _balance_kernel(area, g, tc, cb, q0, h, tfl, eps, lw, fixed, tfix, gain, loss, guess,
+def _received(exchange: RadiativeExchange, temp_face: np.ndarray) -> np.ndarray:
+    """``Σ_j R_ij T_j⁴`` of every exchanging face [m2 K4]: ``R @ T⁴`` on the process's
+    threads (rows summed in scipy's order)."""
+    r = exchange.area_exchange
+    out = np.empty(r.shape[0])
+    _received_kernel(r.indptr, r.indices, r.data, exchange.bfaces,
+                     np.ascontiguousarray(temp_face, dtype=np.float64), out)
+    return out
+
+
+@njit(parallel=True, cache=True)
+def _received_kernel(indptr, indices, data, bfaces, temp_face, out):
+    t4 = np.empty(bfaces.shape[0])
+    for i in prange(bfaces.shape[0]):
+        t = temp_face[np.uint64(bfaces[i])]
+        t4[i] = (t * t) * (t * t)
+    for i in prange(out.shape[0]):
+        s = 0.0
+        for k in range(np.uint64(indptr[i]), np.uint64(indptr[i + 1])):
+            s += data[k] * t4[np.uint64(indices[k])]
+        out[i] = s
+
+
+@njit(parallel=True, cache=True)
+def _balance_kernel(area, g, temp_cell, bface_cell, cb_in, q0, h, tfl, eps, lw, fixed, tfix,
+                    gain_in, loss_in, guess,
                     tol, max_iterations, ts, flow, cond):
     """Per face: Newton on ``f(T) = rhs − (γ + h) T − e σ T⁴`` (concave, decreasing: monotone
     convergence from any positive start), then the flow into the cell (without the
     face-to-face part, added by the caller) and ``−∂flow/∂T_cell``. One pass over the faces
-    instead of ~30 array operations per Newton sweep; each face stops on its own step
-    ``|ΔT| ≤ tol·T``. Returns 0.0, or the largest last step of faces that did not converge."""
-    worst = 0.0
-    for i in range(area.shape[0]):
+    (on the process's threads) instead of ~30 array operations per Newton sweep; each face
+    stops on its own step ``|ΔT| ≤ tol·T``. Empty ``cb_in`` / ``gain_in`` / ``loss_in`` read
+    as zeros. Returns 0.0, or the largest last step of faces that did not converge."""
+    unconverged = np.zeros(area.shape[0])
+    with_cb = cb_in.shape[0] > 0
+    with_exchange = gain_in.shape[0] > 0
+    for i in prange(area.shape[0]):
+        tci = temp_cell[np.uint64(bface_cell[i])]
+        cbi = cb_in[i] if with_cb else 0.0
+        gain = gain_in[i] if with_exchange else 0.0
+        loss = loss_in[i] if with_exchange else 0.0
         gamma = g[i] / area[i]
-        e = eps[i] + loss[i] / area[i]
+        e = eps[i] + loss / area[i]
         es = e * SIGMA
         lin = gamma + h[i]
-        rhs = gamma * tc[i] - cb[i] / area[i] + q0[i] + h[i] * tfl[i] + eps[i] * lw[i] \
-            + gain[i] / area[i]
+        rhs = gamma * tci - cbi / area[i] + q0[i] + h[i] * tfl[i] + eps[i] * lw[i] \
+            + gain / area[i]
         if es > 0.0:
             t = max(guess[i], 1.0)
             ok = False
@@ -256,13 +298,13 @@ def _balance_kernel(area, g, tc, cb, q0, h, tfl, eps, lw, fixed, tfix, gain, los
                     ok = True
                     break
             if not ok:
-                worst = max(worst, abs(step))
+                unconverged[i] = abs(step)
         else:
             t = rhs / lin
         kappa = h[i] + 4.0 * es * t * t * t
         if fixed[i]:
             ts[i] = tfix[i]
-            flow[i] = g[i] * (tfix[i] - tc[i]) + cb[i]
+            flow[i] = g[i] * (tfix[i] - tci) + cbi
             cond[i] = g[i]
         else:
             ts[i] = t
@@ -270,7 +312,7 @@ def _balance_kernel(area, g, tc, cb, q0, h, tfl, eps, lw, fixed, tfix, gain, los
             flow[i] = area[i] * (q0[i] + h[i] * (tfl[i] - t) + eps[i] * lw[i]
                                  - eps[i] * SIGMA * t2 * t2)
             cond[i] = area[i] * gamma * kappa / (gamma + kappa)
-    return worst
+    return unconverged.max() if area.shape[0] else 0.0
 
 
 def conduction_flows(graph: CellGraph, temp_cell: np.ndarray) -> np.ndarray:

@@ -37,9 +37,9 @@ from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
-from numba import njit
+from numba import njit, prange
 
-from ._tridiagonal import column_factor, tridiagonal_solve
+from ._tridiagonal import column_bounds, column_factor, tridiagonal_solve
 from .errors import InputError, check_finite, check_positive, require
 from .linear import Anderson, Preconditioner, choose_backend, make_preconditioner, pcg
 from .model import ThermalModel, boundary_state, conduction_flows, surface_balance
@@ -91,6 +91,23 @@ class _JacobianPattern:
         # Positions of extra entries (face-to-face exchange couplings) in the value array.
         keys = rows.astype(np.int64) * n + m.indices
         self.extra_pos = np.searchsorted(keys, er * n + ec)
+        # The same grouped by position (several exchange pairs may share one), in their
+        # own order within a position: the fill then runs over positions in parallel and
+        # adds in the order a plain loop over the extras would.
+        order = np.argsort(self.extra_pos, kind="stable")
+        upos, first = np.unique(self.extra_pos[order], return_index=True)
+        self._extra_order = order.astype(np.int64)
+        self._extra_upos = upos.astype(np.int64)
+        self._extra_ptr = np.append(first, len(order)).astype(np.int64)
+        # The cell whose diagonal such a position is (−1: off the diagonal).
+        cell_of_pos = np.full(len(m.data), -1, np.int64)
+        cell_of_pos[self.diag_pos] = eye
+        self._extra_upos_cell = cell_of_pos[self._extra_upos]
+        # Extras already in value-array order, one per position (the usual case): the fill
+        # then reads them straight, without the grouping arrays.
+        self._extra_plain = bool(len(upos) == len(order)
+                                 and np.array_equal(order, np.arange(len(order))))
+        self._filled = False    # does the matrix hold B everywhere the fill does not write?
         # Extra entries that land on the diagonal (two exchanging faces of one cell).
         self.extra_diag = np.flatnonzero(er == ec)
         self.extra_diag_cell = er[self.extra_diag]
@@ -117,29 +134,54 @@ class _JacobianPattern:
         they repeat). ``fresh=False`` refills the matrix's current value array in place
         (for a caller whose preconditioner keeps nothing of an earlier matrix: a new array
         of 10⁶–10⁷ values per Newton pass costs its page faults)."""
+        # In place, only the diagonal and the exchange positions change (B's other values
+        # stay): a copy of all of B was 3 ms a pass on the frigate, at memory speed.
+        full = fresh or not self._filled
         data = np.empty_like(self.base) if fresh else self.matrix.data
-        no_extra = np.zeros(0)
-        _fill_values(self.base, self.diag_pos, diagonal, self.extra_pos,
-                     no_extra if extra is None else extra, data)
+        none = np.zeros(0, np.int64)
+        if extra is None:
+            _fill_values(self.base, self.diag_pos, diagonal, none, np.zeros(1, np.int64), none,
+                         np.zeros(0), none, data, full, True)
+        else:
+            _fill_values(self.base, self.diag_pos, diagonal, self._extra_upos, self._extra_ptr,
+                         self._extra_order, extra, self._extra_upos_cell, data, full,
+                         self._extra_plain)
+        self._filled = True
         self.matrix.data = data
         return self.matrix
 
 
-@njit(cache=True)
-def _fill_values(base, diag_pos, diagonal, extra_pos, extra, out):
-    out[:] = base
-    for i in range(diag_pos.shape[0]):
-        out[diag_pos[i]] += diagonal[i]
-    for k in range(extra.shape[0]):
-        out[extra_pos[k]] += extra[k]
+@njit(parallel=True, cache=True)
+def _fill_values(base, diag_pos, diagonal, upos, ptr, order, extra, upos_cell, out, full,
+                 plain):
+    """``out = B + diag(diagonal) + extras`` (``full``: every value; else only the diagonal
+    and the extra positions, ``out`` holding ``B`` elsewhere). Each value is summed as
+    ``(B + d) + e₁ + e₂ …`` in the extras' own order (``plain``: extra u is the only one at
+    ``upos[u]``)."""
+    if full:
+        for k in prange(base.shape[0]):
+            out[k] = base[k]
+    for i in prange(diag_pos.shape[0]):
+        p = np.uint64(diag_pos[i])
+        out[p] = base[p] + diagonal[i]
+    for u in prange(upos.shape[0]):
+        p = np.uint64(upos[u])
+        c = upos_cell[u]
+        acc = base[p] + diagonal[c] if c >= 0 else base[p]
+        if plain:
+            acc += extra[u]
+        else:
+            for k in range(np.uint64(ptr[u]), np.uint64(ptr[u + 1])):
+                acc += extra[np.uint64(order[k])]
+        out[p] = acc
 
 
-@njit(cache=True)
+@njit(parallel=True, cache=True)
 def _exchange_values(data, row, col, t3, s, scale, out):
     """``scale · R_ij · ½(T_i³ + T_j³) · s_i s_j`` for every stored ``R_ij``."""
-    for k in range(data.shape[0]):
-        i = row[k]
-        j = col[k]
+    for k in prange(data.shape[0]):
+        i = np.uint64(row[k])
+        j = np.uint64(col[k])
         out[k] = scale * data[k] * 0.5 * (t3[i] + t3[j]) * s[i] * s[j]
 
 
@@ -305,6 +347,7 @@ class Simulation:
             self._output_interval = int(round(k))
         self.timing = _Timing()
         self._column_break = None
+        self._column_bounds = None
         if self.backend == "column":
             cf = self.graph.metadata["cell_face"]
             self._column_break = cf[1:] != cf[:-1]
@@ -373,11 +416,7 @@ class Simulation:
 
         ex = self.model.exchange
         g = self.graph
-        if not hasattr(self, "_ex_coo"):
-            r = ex.area_exchange.tocoo()
-            cells = g.bface_cell[ex.bfaces]
-            self._ex_coo = (r.row, r.col, r.data, cells[r.row], cells[r.col])
-        row, col, data, crow, ccol = self._ex_coo
+        row, col, data, _, _ = self._exchange_coo()
         bf = ex.bfaces
         s = 1.0 - bs.conductance[bf] / g.bface_conductance[bf]
         t3 = bs.temp_face[bf] ** 3
@@ -386,11 +425,22 @@ class Simulation:
         _exchange_values(data, row, col, t3, s, 4.0 * SIGMA, out)
         return out
 
+    def _exchange_coo(self):
+        """The exchange entries ``(face i, face j, R_ij, cell of i, cell of j)``, ordered by
+        their cell pair, i.e. by their place in the Jacobian's value array (the fill then
+        reads them in sequence, not scattered: 3.4 → 0.9 ms a pass on the frigate)."""
+        if not hasattr(self, "_ex_coo"):
+            ex = self.model.exchange
+            r = ex.area_exchange.tocoo()
+            cells = self.graph.bface_cell[ex.bfaces]
+            crow, ccol = cells[r.row], cells[r.col]
+            order = np.lexsort((ccol, crow))
+            self._ex_coo = tuple(np.ascontiguousarray(a[order])
+                                 for a in (r.row, r.col, r.data, crow, ccol))
+        return self._ex_coo
+
     def _exchange_cells(self):
-        ex = self.model.exchange
-        r = ex.area_exchange.tocoo()
-        cells = self.graph.bface_cell[ex.bfaces]
-        return cells[r.row], cells[r.col]
+        return self._exchange_coo()[3:]
 
     def _jacobian_pattern(self, theta: float) -> "_JacobianPattern":
         """θ K with room for the diagonal, built once per θ (the sparsity never changes)."""
@@ -414,7 +464,10 @@ class Simulation:
             # read from the known positions in the value array).
             t0 = time.perf_counter()
             pat = self._pattern
-            factor = column_factor(matrix.data, pat.diag_pos, pat.sup_pos, self._column_break)
+            if self._column_bounds is None:
+                self._column_bounds = column_bounds(self._column_break)
+            factor = column_factor(matrix.data, pat.diag_pos, pat.sup_pos, self._column_break,
+                                   self._column_bounds)
             self._precond = Preconditioner("column", lambda r: tridiagonal_solve(factor, r),
                                            time.perf_counter() - t0)
             self.timing.setup += time.perf_counter() - t0

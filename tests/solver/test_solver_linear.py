@@ -7,7 +7,8 @@ import pytest
 import scipy.sparse as sp
 from scipy.linalg import cho_solve_banded, cholesky_banded
 
-from shipthermal._tridiagonal import column_factor, tridiagonal_factor, tridiagonal_solve
+from shipthermal._tridiagonal import (column_bounds, column_factor, tridiagonal_factor,
+                                      tridiagonal_solve)
 from shipthermal import linear
 from shipthermal.errors import InputError
 from shipthermal.linear import choose_backend, has_cholmod, make_preconditioner, measure_backends
@@ -63,6 +64,67 @@ def test_column_factor_reads_the_bands_from_the_value_array():
     ref = tridiagonal_factor(a.diagonal(), np.where(cut, 0.0, a.diagonal(1)))
     np.testing.assert_array_equal(got[0], ref[0])
     np.testing.assert_array_equal(got[1], ref[1])
+
+
+def _threads():
+    """Thread counts to compare: one and as many as numba may use (at most 2)."""
+    import numba
+
+    return sorted({1, min(2, numba.config.NUMBA_NUM_THREADS)})
+
+
+def _with_threads(n, fn):
+    import numba
+
+    before = numba.get_num_threads()
+    numba.set_num_threads(n)
+    try:
+        return fn()
+    finally:
+        numba.set_num_threads(before)
+
+
+def test_tridiagonal_blocks_equal_one_sweep_bit_for_bit_on_any_threads():
+    """Split at column boundaries, factor and solve give the very numbers of one sweep over
+    all unknowns, on one thread or two."""
+    diag, sup = _columns(20_000, seed=4)
+    cut = sup == 0.0
+    rhs = np.random.default_rng(5).normal(size=20_000)
+    one = tridiagonal_factor(diag, sup)
+    x_one = tridiagonal_solve(one, rhs)
+    bounds = column_bounds(cut, 16)
+    assert len(bounds) == 17 and bounds[0] == 0 and bounds[-1] == 20_000
+    assert np.all(cut[bounds[1:-1] - 1])              # every block starts after a cut
+    for n in _threads():
+        blk = _with_threads(n, lambda: tridiagonal_factor(diag, sup, bounds))
+        np.testing.assert_array_equal(blk[0], one[0])
+        np.testing.assert_array_equal(blk[1], one[1])
+        np.testing.assert_array_equal(_with_threads(n, lambda: tridiagonal_solve(blk, rhs)), x_one)
+
+
+def test_pcg_kernels_agree_with_plain_numpy_and_do_not_depend_on_threads():
+    """The numba PCG (fused product and updates, block-ordered dot products) takes the
+    iterations of the plain numpy loop to round-off, and the same iterates, bit for bit,
+    on one thread or two."""
+    diag, sup = _columns(30_000, seed=6)
+    rng = np.random.default_rng(7)
+    lateral = sp.coo_matrix((rng.random(180_000), (rng.integers(0, 30_000, 180_000),
+                                                     rng.integers(0, 30_000, 180_000))),
+                            shape=(30_000, 30_000))
+    lateral = -(lateral + lateral.T) * 0.5
+    a = (sp.diags([sup, diag, sup], [-1, 0, 1]) + lateral).tocsr()
+    a = (a + sp.diags(np.abs(lateral).sum(axis=1).A1)).tocsr()
+    prec = make_preconditioner(a, "column", sup == 0.0)
+    rhs = np.random.default_rng(8).normal(size=30_000)
+    ref, it_ref, rel_ref = linear._pcg_generic(a, rhs, prec.apply, None, 1e-10, 200)
+    runs = [_with_threads(n, lambda: linear.pcg(a, rhs, prec.apply, rtol=1e-10)) for n in _threads()]
+    x, it, rel = runs[0]
+    assert rel <= 1e-10 and abs(it - it_ref) <= 1
+    np.testing.assert_allclose(x, ref, rtol=0, atol=1e-9 * np.abs(ref).max())
+    assert np.max(np.abs(a @ x - rhs)) <= 1e-9 * np.linalg.norm(rhs)
+    for other in runs[1:]:
+        np.testing.assert_array_equal(other[0], x)
+        assert other[1] == it
 
 
 def test_column_preconditioner_is_the_tridiagonal_part():
@@ -158,3 +220,33 @@ def test_without_kvxopt_a_simulation_gives_the_cholmod_answer(monkeypatch):
     assert fallback.backend in ("direct", "amg")
     # Both converge each step to a 1e-9 K correction estimate.
     assert np.max(np.abs(fallback.cell_temperature - chol.cell_temperature)) < 1e-8
+
+
+@pytest.mark.parametrize("duplicates", [False, True])
+def test_jacobian_pattern_refill_equals_the_sparse_sum(duplicates):
+    """``B + diag(d) + extras`` of the solver's Jacobian pattern, fresh or refilled in place
+    (only the diagonal and the exchange positions rewritten), equals scipy's sum of the
+    three; extras on the diagonal and several extras at one position included."""
+    from shipthermal.simulation import _JacobianPattern
+
+    rng = np.random.default_rng(11)
+    n = 400
+    b = sp.random(n, n, density=0.02, random_state=12)
+    b = (b + b.T).tocsr()
+    er = rng.integers(0, n, 900)
+    ec = rng.integers(0, n, 900)
+    er[:20] = ec[:20]                                   # on the diagonal
+    if duplicates:
+        er[20:60], ec[20:60] = er[60:100], ec[60:100]   # shared positions
+    else:
+        keep = np.unique(er * n + ec, return_index=True)[1]   # sorted by position
+        er, ec = er[keep], ec[keep]
+    pat = _JacobianPattern(b, er, ec)
+    for k in range(3):
+        d = rng.normal(size=n)
+        e = rng.normal(size=len(er))
+        ref = (b + sp.diags(d) + sp.coo_matrix((e, (er, ec)), shape=(n, n))).toarray()
+        got = pat.jacobian(d, e, fresh=(k == 0)).toarray()
+        np.testing.assert_allclose(got, ref, rtol=1e-14, atol=1e-14)
+        np.testing.assert_allclose(pat.diagonal(d, e), np.diag(ref), rtol=1e-14, atol=1e-14)
+    assert pat._extra_plain is (not duplicates)     # both paths of the fill are covered
