@@ -321,22 +321,24 @@ def conduction_flows(graph: CellGraph, temp_cell: np.ndarray) -> np.ndarray:
     Evaluated face by face from temperature *differences*, not as ``K @ T``: the products
     ``G T`` of the matrix form carry a round-off of ~1e-16·G·T per cell (W-sized for stiff
     plates at 300 K), which would show up as an energy imbalance; the flux form is
-    antisymmetric face by face, so interior flows cancel to round-off of the fluxes
-    themselves.
+    antisymmetric face by face (each side computes ``G (T_other − T_self)``, the exact
+    negative of the other side's), so interior flows cancel to round-off of the fluxes
+    themselves. Gathered per cell, so the cells are shared among the process's threads.
     """
-    fc = graph.face_cells
-    out = np.zeros(graph.n_cells)
-    _conduction_kernel(fc[:, 0], fc[:, 1], graph.face_conductance,
-                       np.ascontiguousarray(temp_cell, dtype=np.float64), out)
+    out = np.empty(graph.n_cells)
+    ptr, nb, g = graph.cell_faces
+    _conduction_kernel(ptr, nb, g, np.ascontiguousarray(temp_cell, dtype=np.float64), out)
     return out
 
 
-@njit(cache=True)
-def _conduction_kernel(own, nei, conductance, temp, out):
-    for f in range(own.shape[0]):
-        flux = conductance[f] * (temp[nei[f]] - temp[own[f]])   # into the owner
-        out[own[f]] += flux
-        out[nei[f]] -= flux
+@njit(parallel=True, cache=True)
+def _conduction_kernel(ptr, nb, g, temp, out):
+    for c in prange(out.shape[0]):
+        tc = temp[c]
+        s = 0.0
+        for k in range(np.uint64(ptr[c]), np.uint64(ptr[c + 1])):
+            s += g[k] * (temp[np.uint64(nb[k])] - tc)
+        out[c] = s
 
 
 def nonorthogonal_flows(graph: CellGraph, temp_cell: np.ndarray, temp_face: np.ndarray):

@@ -250,3 +250,23 @@ def test_jacobian_pattern_refill_equals_the_sparse_sum(duplicates):
         np.testing.assert_allclose(got, ref, rtol=1e-14, atol=1e-14)
         np.testing.assert_allclose(pat.diagonal(d, e), np.diag(ref), rtol=1e-14, atol=1e-14)
     assert pat._extra_plain is (not duplicates)     # both paths of the fill are covered
+
+
+def test_gathered_conduction_flows_equal_minus_k_t_and_cancel():
+    """The per-cell (threaded) conduction flows equal ``−K T`` of the assembled matrix to
+    round-off of the products, and sum to round-off of the face fluxes (each face's flux is
+    computed on both sides as exact negatives), on one thread or two."""
+    from solver_meshes import box_tets
+
+    from shipthermal.model import conduction_flows
+
+    g = box_tets((0.4, 0.3, 0.2), 0.05)
+    temp = 290.0 + 20.0 * np.random.default_rng(3).random(g.n_cells)
+    flows = [_with_threads(n, lambda: conduction_flows(g, temp)) for n in _threads()]
+    for f in flows[1:]:
+        np.testing.assert_array_equal(f, flows[0])
+    ref = -(g.conduction_matrix @ temp)
+    scale = np.abs(g.conduction_matrix).sum(axis=1).A1 * temp      # |K| |T| per row
+    assert np.max(np.abs(flows[0] - ref) / scale) < 1e-14
+    face_flux = g.face_conductance * np.abs(temp[g.face_cells[:, 1]] - temp[g.face_cells[:, 0]])
+    assert abs(np.sum(flows[0])) < 1e-13 * np.sum(face_flux)

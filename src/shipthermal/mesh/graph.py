@@ -153,6 +153,30 @@ class CellGraph:
         return sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
 
     @cached_property
+    def cell_faces(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Each cell's interior faces as a CSR list ``(ptr, neighbour, conductance)``: cell
+        ``c``'s neighbours are ``neighbour[ptr[c]:ptr[c + 1]]`` (in face order). The per-cell
+        (gathered) form of the conduction flows, which threads can share."""
+        n = self.n_cells
+        i, j = self.face_cells[:, 0], self.face_cells[:, 1]
+        cell = np.concatenate([i, j])
+        order = np.argsort(cell, kind="stable")
+        ptr = np.zeros(n + 1, np.int64)
+        np.cumsum(np.bincount(cell, minlength=n), out=ptr[1:])
+        nb = np.concatenate([j, i])[order].astype(np.int64)
+        g = np.concatenate([self.face_conductance, self.face_conductance])[order]
+        return ptr, nb, np.ascontiguousarray(g, dtype=np.float64)
+
+    @cached_property
+    def cell_bfaces(self) -> tuple[np.ndarray, np.ndarray]:
+        """Each cell's boundary faces as a CSR list ``(ptr, bface)`` (in face order)."""
+        n = self.n_cells
+        order = np.argsort(self.bface_cell, kind="stable").astype(np.int64)
+        ptr = np.zeros(n + 1, np.int64)
+        np.cumsum(np.bincount(self.bface_cell, minlength=n), out=ptr[1:])
+        return ptr, order
+
+    @cached_property
     def boundary_gradient(self) -> tuple[sp.csr_matrix, np.ndarray] | None:
         """Rows of the least-squares gradient for the cells that own boundary faces.
 
