@@ -17,7 +17,7 @@ import pandas as pd
 from .errors import require
 from .mesh.graph import VTK_TETRA, VTK_WEDGE, CellGraph
 
-__all__ = ["EnergyLog", "Results", "atomic_path"]
+__all__ = ["EnergyLog", "Results", "atomic_path", "save_png"]
 
 
 class atomic_path:
@@ -46,6 +46,17 @@ class atomic_path:
         elif self.tmp.exists():
             self.tmp.unlink()
         return False
+
+
+def save_png(fig, path, dpi: int = 100) -> Path:
+    """Write a matplotlib figure to ``path`` as PNG (atomically) and close it."""
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png", dpi=dpi)
+    plt.close(fig)
+    return path
 
 
 def _dual_surface(graph: CellGraph):

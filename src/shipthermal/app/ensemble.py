@@ -252,7 +252,7 @@ def plot_ensemble(cross: pd.DataFrame, dist: pd.DataFrame, band: pd.DataFrame, p
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..results import atomic_path
+    from ..results import save_png
 
     bands = sorted(set(cross["band"]) | set(band["band"] if len(band) else []))
     seasons = sorted(set(cross["season"]) | set(band["season"] if len(band) else []))
@@ -301,11 +301,7 @@ def plot_ensemble(cross: pd.DataFrame, dist: pd.DataFrame, band: pd.DataFrame, p
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=90)
-    plt.close(fig)
-    return path
+    return save_png(fig, path, dpi=90)
 
 
 def write_ensemble(spec, out_dir, draws: pd.DataFrame, dists, seed: int,

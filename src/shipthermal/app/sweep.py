@@ -504,7 +504,7 @@ def plot_table(table: pd.DataFrame, axis_names, path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..results import atomic_path
+    from ..results import save_png
 
     labels = [" | ".join(str(r[a]) for a in axis_names) for _, r in table.iterrows()]
     x = np.arange(len(table))
@@ -551,11 +551,7 @@ def plot_table(table: pd.DataFrame, axis_names, path) -> Path:
     axes[-1].set_xlabel(" | ".join(axis_names), fontsize=8)
     fig.suptitle(f"sweep: {len(x)} cases ({int(ok.sum())} ok)", fontsize=10)
     fig.tight_layout()
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=100)
-    plt.close(fig)
-    return path
+    return save_png(fig, path, dpi=100)
 
 
 def _write_case(cases_dir: Path, result: dict) -> None:
