@@ -635,6 +635,32 @@ class ShipForcing:
         in ``outer_bfaces`` order."""
         return self._column_values(self._sw, t, "air")
 
+    def dark(self, start: float, end: float) -> bool:
+        """True when no face absorbs short-wave anywhere in ``[start, end]`` [s].
+
+        A table row with short-wave reaches, through the linear interpolation, the open
+        interval from the row before it to the row after it (on a periodic table folded
+        over the period; the end rows of a record reach beyond it): the interval is dark
+        when it meets none of those.
+        """
+        lit = np.zeros(len(self.times), bool)
+        for tab in self._sw.values():
+            lit |= np.any(tab > 0.0, axis=1)
+        if not lit.any():
+            return True
+        tt = self.times
+        if isinstance(self.table, PeriodicTable):
+            period = self.table.period
+            before = np.r_[tt[-1] - period, tt[:-1]][lit]
+            after = np.r_[tt[1:], tt[0] + period][lit]
+            # the first shift k·period with after + kP > start; it reaches the interval
+            # when also before + kP < end
+            k = np.floor((start - after) / period) + 1.0
+            return not bool(np.any(before + k * period < end))
+        before = np.r_[-np.inf, tt[:-1]][lit]
+        after = np.r_[tt[1:], np.inf][lit]
+        return not bool(np.any((before < end) & (after > start)))
+
     def lit_fraction(self, t: float) -> np.ndarray:
         """Lit fraction of the sun-receiving faces (``traced.receivers``) at ``t`` [-],
         linear in time between table times."""

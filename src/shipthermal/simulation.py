@@ -317,6 +317,8 @@ class _State:
     source: np.ndarray             # volumetric heat per cell at ``time`` [W]
     cell_flow: np.ndarray          # net F(T, t) at ``time`` [W]
     face_slope: np.ndarray | None = None   # ∂T_s/∂T_cell of the last balance [-]
+    dt_prev: float = 0.0           # length of the last step taken [s] (0: none yet)
+    origin: tuple = (0.0, 0)       # (time, step) where the current step length began
     recorded_times: list = field(default_factory=list)
     recorded_cell: list = field(default_factory=list)
     recorded_face: list = field(default_factory=list)
@@ -370,7 +372,8 @@ class Simulation:
         check_positive("tolerance", tolerance, "K")
         self.model = model
         self.graph = model.graph
-        self.dt = float(time_step)
+        self.dt = float(time_step)          # the run's base step (``set_time_step`` varies it)
+        self._dt_now = self.dt
         self.start_time = float(start_time)
         self.stop_time = float(stop_time)
         self.scheme = scheme
@@ -388,13 +391,13 @@ class Simulation:
             k = (ot - self.start_time) / self.dt
             require(bool(np.all(np.abs(k - np.round(k)) < 1e-6)), "output_times", ot,
                     f"must lie on the step grid start_time + k·time_step (time_step {self.dt} s)")
-            self._output_times = np.round(k).astype(np.int64)
+            self._output_times = self.start_time + np.round(k) * self.dt
         elif output_interval is not None:
             check_positive("output_interval", output_interval, "s")
             k = output_interval / self.dt
             require(abs(k - round(k)) < 1e-9 and round(k) >= 1, "output_interval", output_interval,
                     f"must be a whole multiple of time_step ({self.dt} s)")
-            self._output_interval = int(round(k))
+            self._output_interval = round(k) * self.dt
         self.timing = _Timing()
         self._column_break = None
         self._column_bounds = None
@@ -415,7 +418,7 @@ class Simulation:
         source = m.source(t0)
         cell_flow, bstate = self._flows(temp, forcing, guess)
         st = _State(t0, 0, temp, None, bstate.temp_face, bstate.flow, source, cell_flow + source,
-                    self._face_slope(bstate))
+                    self._face_slope(bstate), origin=(t0, 0))
         self._maybe_record(st, force=True)
         return st
 
@@ -434,17 +437,58 @@ class Simulation:
         """Current boundary-face surface temperatures [K] (a copy)."""
         return self._state.temp_face.copy()
 
-    def _is_output_step(self, step: int) -> bool:
+    def _is_output_time(self, t: float) -> bool:
+        tol = 1e-6 * self.dt
         if self._output_times is not None:
-            return bool(np.any(self._output_times == step))
+            return bool(np.any(np.abs(self._output_times - t) <= tol))
         if self._output_interval is not None:
-            return step % self._output_interval == 0
+            k = (t - self.start_time) / self._output_interval
+            return abs(k - round(k)) * self._output_interval <= tol
         return True
 
     def _maybe_record(self, st: _State, force: bool = False) -> None:
-        if not (force and self._output_times is None) and not self._is_output_step(st.step):
+        if not (force and self._output_times is None) and not self._is_output_time(st.time):
             return
         self._record(st)
+
+    @property
+    def time_step(self) -> float:
+        """Length of the next step [s]."""
+        return self._dt_now
+
+    def set_time_step(self, time_step: float) -> None:
+        """Take steps of ``time_step`` [s] from the current time on.
+
+        BDF2 continues with its variable-step form (coefficients from the ratio ω of the new
+        step to the last one): second order, and zero-stable for ω < 1 + √2 (Grigorieff;
+        Hairer, Nørsett & Wanner, *Solving ODEs I*, §III.5), so a step may at most double
+        (a longer step is reached through intermediate ones). Recording times must stay on
+        the new grid.
+        """
+        check_positive("time_step", time_step, "s")
+        dt = float(time_step)
+        st = self._state
+        if dt == self._dt_now:
+            return
+        if self.scheme == "bdf2" and st.dt_prev > 0.0:
+            require(dt <= 2.0 * st.dt_prev * (1 + 1e-12), "time_step", dt,
+                    f"may at most double the last step ({st.dt_prev:g} s) under BDF2",
+                    "lengthen the step through intermediate steps")
+        tol = 1e-6 * dt
+        if self._output_times is not None:
+            ahead = self._output_times[self._output_times > st.time + tol] - st.time
+        elif self._output_interval is not None:
+            iv = self._output_interval
+            k = np.ceil((st.time - self.start_time) / iv - 1e-9)
+            ahead = np.array([self.start_time + k * iv - st.time, iv])
+        else:
+            ahead = np.zeros(0)
+        k = ahead / dt
+        require(bool(np.all(np.abs(k - np.round(k)) * dt <= tol)), "time_step", dt,
+                "must keep the recording times on the step grid", "a divisor of the "
+                "recording interval, started on a recording time")
+        self._dt_now = dt
+        st.origin = (st.time, st.step)
 
     # ----------------------------------------------------------- operators -----------------
     def _flows(self, temp, forcing, face_guess):
@@ -502,13 +546,14 @@ class Simulation:
             pats[theta] = _JacobianPattern(theta * self.graph.conduction_matrix, *extra)
         return pats[theta]
 
-    def _coefficients(self, first_step: bool):
-        """(a, θ) of the scheme for this step (BDF2 starts with a backward Euler step)."""
+    def _coefficients(self, first_step: bool, omega: float = 1.0):
+        """(a, θ) of the scheme for this step (BDF2 starts with a backward Euler step; ω is
+        this step over the last: a = (1 + 2ω)/(1 + ω), 3/2 on a uniform grid)."""
         if self.scheme == "backward_euler" or (self.scheme == "bdf2" and first_step):
             return 1.0, 1.0
         if self.scheme == "crank_nicolson":
             return 1.0, 0.5
-        return 1.5, 1.0
+        return (1.5 if omega == 1.0 else (1.0 + 2.0 * omega) / (1.0 + omega)), 1.0
 
     def _preconditioner(self, base_key, matrix):
         if self.backend == "column":
@@ -548,15 +593,20 @@ class Simulation:
         """Advance one time step."""
         st = self._state
         g = self.graph
-        dt = self.dt
-        t_new = self.start_time + (st.step + 1) * dt
+        dt = self._dt_now
+        t_origin, step_origin = st.origin
+        t_new = t_origin + (st.step + 1 - step_origin) * dt
         first = st.temp_prev is None
-        a, theta = self._coefficients(first)
+        # ω: this step over the last (BDF2's variable-step form; 1 on a uniform grid)
+        omega = 1.0 if first else dt / st.dt_prev
+        a, theta = self._coefficients(first, omega)
         cap = g.heat_capacity
-        if a == 1.0:
+        if self.scheme != "bdf2" or first:
             hist = st.temp
-        else:
+        elif omega == 1.0:
             hist = 2.0 * st.temp - 0.5 * st.temp_prev
+        else:
+            hist = (1.0 + omega) * st.temp - (omega * omega / (1.0 + omega)) * st.temp_prev
         explicit = (1.0 - theta) * st.cell_flow if theta != 1.0 else None   # CN: old half
 
         t0 = time.perf_counter()
@@ -565,7 +615,12 @@ class Simulation:
         self.timing.forcing += time.perf_counter() - t0
 
         # Initial guess: linear extrapolation (exact for linear-in-time solutions).
-        temp = st.temp.copy() if first else 2.0 * st.temp - st.temp_prev
+        if first:
+            temp = st.temp.copy()
+        elif omega == 1.0:
+            temp = 2.0 * st.temp - st.temp_prev
+        else:
+            temp = st.temp + omega * (st.temp - st.temp_prev)
         # Surface temperatures to start the balances from: moved with their cells by
         # ∂T_s/∂T_cell (the last balance's), so the face-to-face fixed point of the
         # boundary starts a first-order error closer (3.6 → 2.9 sweeps a pass, frigate day).
@@ -704,6 +759,7 @@ class Simulation:
         e["gross"].append(gross)
         e["imbalance"].append(stored - boundary - src)
         st.temp_prev = st.temp
+        st.dt_prev = dt
         st.temp = temp
         st.temp_face = bs.temp_face
         st.face_slope = self._face_slope(bs)
@@ -716,7 +772,7 @@ class Simulation:
 
     def run_until(self, end_time: float, progress: bool | None = None, desc: str = "thermal") -> None:
         """Step until the clock reaches ``end_time`` (on the step grid) [s]."""
-        n = int(round((end_time - self._state.time) / self.dt))
+        n = int(round((end_time - self._state.time) / self._dt_now))
         require(n >= 0, "end_time", end_time, f"must be ≥ the current time {self._state.time} s")
         show = self.progress if progress is None else progress
         from tqdm.auto import tqdm
@@ -777,7 +833,8 @@ class Simulation:
             has_prev=st.temp_prev is not None, temp_face=st.temp_face, flow_face=st.flow_face,
             source=st.source,
             face_slope=st.face_slope if st.face_slope is not None else np.zeros(0),
-            cell_flow=st.cell_flow, rec_times=np.array(st.recorded_times),
+            cell_flow=st.cell_flow, dt_now=self._dt_now, dt_prev=st.dt_prev,
+            origin=np.array(st.origin, dtype=float), rec_times=np.array(st.recorded_times),
             rec_cell=np.array(st.recorded_cell), rec_face=np.array(st.recorded_face),
             rec_flow=np.array(st.recorded_flow),
             signature=np.array([self.dt, self.start_time, SCHEMES.index(self.scheme),
@@ -813,6 +870,14 @@ class Simulation:
             # (older checkpoints: the first step then starts its balances unmoved)
             if "face_slope" in d.files and d["face_slope"].size:
                 st.face_slope = d["face_slope"].copy()
+            if "dt_now" in d.files:     # (older checkpoints: uniform steps of time_step)
+                st.dt_prev = float(d["dt_prev"])
+                st.origin = (float(d["origin"][0]), int(d["origin"][1]))
+                dt_now = float(d["dt_now"])
+            else:
+                st.dt_prev = self.dt if st.temp_prev is not None else 0.0
+                st.origin = (self.start_time, 0)
+                dt_now = self.dt
             st.recorded_times = list(d["rec_times"])
             st.recorded_cell = list(d["rec_cell"])
             st.recorded_face = list(d["rec_face"])
@@ -820,6 +885,7 @@ class Simulation:
             st.energy = {k: list(d[f"energy_{k}"]) for k in EnergyLog.FIELDS}
             extra = {k[6:]: d[k].copy() for k in d.files if k.startswith("extra_")}
         self._state = st
+        self._dt_now = dt_now
         return extra
 
 

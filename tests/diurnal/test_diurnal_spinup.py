@@ -4,8 +4,8 @@ per-face surface balance kernel against the balance it solves."""
 import numpy as np
 import pytest
 
-from shipthermal.diurnal import (SPINUP_LEAD_IN_STEP, DiurnalSettings, lead_in_seconds,
-                                 lead_in_step, run_diurnal)
+from shipthermal.diurnal import (NIGHT_SETTLE, SPINUP_LEAD_IN_STEP, DiurnalSettings,
+                                 lead_in_seconds, lead_in_step, night_steps, run_diurnal)
 from shipthermal.environment import Environment, climate_day
 from shipthermal.geometry import patrol_boat
 from shipthermal.units import DAY, SIGMA
@@ -58,19 +58,40 @@ def test_lead_in_rounds_up_to_whole_output_intervals():
         DiurnalSettings(lead_in=DAY)
 
 
-def test_lead_in_step_divides_the_lead_in():
+def test_lead_in_step_divides_the_recording_interval():
     # 5400 s in steps of at most SPINUP_LEAD_IN_STEP (900 s): 6 steps
     s = DiurnalSettings(time_step=300.0, output_interval=1800.0, lead_in=3700.0)
     assert lead_in_step(s) == 900.0 == SPINUP_LEAD_IN_STEP
-    # 1800 s → two 900 s steps; 600 s output → 3 × 600 s lead-in (1800 s) in 900 s steps
+    # 600 s output → 3 × 600 s lead-in (1800 s) in 600 s steps (a 900 s step would pass
+    # over recording times of the one simulation that runs the lead-in and the days)
     s = DiurnalSettings(time_step=120.0, output_interval=600.0, lead_in=1700.0)
-    assert lead_in_seconds(s) == 1800.0 and lead_in_step(s) == 900.0
+    assert lead_in_seconds(s) == 1800.0 and lead_in_step(s) == 600.0
     # a lead-in that 900 s does not divide: the longest shorter step that does
     s = DiurnalSettings(time_step=300.0, output_interval=1500.0, lead_in=1500.0)
     assert lead_in_step(s) == 750.0
     # never shorter than the run's own step; no lead-in, the run's step
     assert lead_in_step(DiurnalSettings(time_step=1800.0, output_interval=1800.0)) == 1800.0
     assert lead_in_step(DiurnalSettings(lead_in=0.0)) == 300.0
+
+
+def test_night_steps_lengthen_after_dusk_through_doubling_and_return_by_dawn():
+    s = DiurnalSettings()            # 300 s, recording 1800 s, night up to 900 s
+    assert NIGHT_SETTLE == 1800.0    # one recording interval before a night step
+    # settle interval, then 48 intervals: dark 0–4 h, light 4–20 h, dark 20–24 h
+    dark = np.r_[True, [b < 8 or b >= 40 for b in range(48)]]
+    got = night_steps(s, dark, previous_step=900.0)
+    want = np.r_[[900.0] * 8, [300.0] * 32, [300.0], [600.0], [900.0] * 6]
+    assert np.array_equal(got, want), got
+    # after a 300 s step the night starts at 600 s; a 600 s limit; uniform on request
+    assert night_steps(s, dark)[0] == 600.0
+    assert night_steps(DiurnalSettings(night_step=600.0), dark).max() == 600.0
+    assert np.all(night_steps(DiurnalSettings(night_step=300.0), dark) == 300.0)
+    # the night step divides the recording interval: 1200 s is not used with 1800 s
+    assert night_steps(DiurnalSettings(night_step=1200.0), dark).max() == 900.0
+    # every interval is covered by whole steps, and no step more than doubles the last
+    steps = night_steps(s, dark)
+    assert np.all(np.abs(1800.0 / steps - np.round(1800.0 / steps)) < 1e-12)
+    assert np.all(steps[1:] <= 2.0 * steps[:-1])
 
 
 def test_energy_closes_over_lead_in_and_days(runs):

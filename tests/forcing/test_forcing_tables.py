@@ -135,6 +135,17 @@ def test_sunlit_side_gets_more_than_shaded_side_and_nothing_at_night(boat):
     assert np.all(f.absorbed_shortwave(1 * 3600.0) == 0.0)
 
 
+def test_dark_intervals_are_those_without_shortwave_anywhere(boat):
+    # ShipForcing.dark against the interpolated absorbed short-wave itself, sampled every
+    # 60 s over each 30 min interval of the day and across midnight
+    ship, graph, f = boat
+    for start in np.arange(-3 * 1800.0, DAY, 1800.0):
+        sampled = max(np.max(f.absorbed_shortwave(t))
+                      for t in np.linspace(start, start + 1800.0, 31))
+        assert f.dark(start, start + 1800.0) == (sampled == 0.0), start
+    assert f.dark(0.0, 3600.0) and not f.dark(11 * 3600.0, 11.5 * 3600.0)
+
+
 def test_exchange_matrix_is_symmetric_reciprocal_and_consistent(boat):
     ship, graph, f = boat
     bfaces, R = f.radiative_exchange()
