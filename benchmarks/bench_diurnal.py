@@ -2,7 +2,7 @@
 answer of the plain day-by-day stepping, peak memory, rays/s vs Embree.
 
 Run: ``python benchmarks/bench_diurnal.py [--edge 0.5] [--season summer] [--max-days 10]
-[--peer-edge 2.0] [--reference PATH.csv] [--save-reference PATH.csv] [--plain]``
+[--peer-edge 2.0] [--reference PATH.csv] [--save-reference PATH.csv] [--plain] [--no-uniform]``
 
 Reports, for the built-in frigate on the built-in design day (scenario defaults):
 
@@ -11,6 +11,8 @@ Reports, for the built-in frigate on the built-in design day (scenario defaults)
   solves (from the solver's own timers), with Newton / PCG iteration counts;
 * the spin-up: lead-in, days and steps to a periodic day, the periodicity defect, and the
   energy balance of the whole run;
+* the steps by length, and the recorded day against the same run with uniform day steps
+  (every face at every recording time: the error of the night steps);
 * the recorded day against a stored answer (per-part area means at every output time, from
   plain day-by-day stepping of the same ship and day: ``--reference``, by default
   ``reference/frigate_summer_0.5m_part_means.csv``, the summer day at 0.5 m edges: three
@@ -52,18 +54,41 @@ def _run(sc, ship, **kw):
 
 
 def _plain(sc, ship, traced=None, graph=None):
-    """Day-by-day stepping from midnight until a day repeats (no lead-in): the scenario's
-    own thermal inputs with ``lead_in = 0``."""
+    """Day-by-day stepping from midnight until a day repeats (no lead-in, uniform steps):
+    the scenario's own thermal inputs with ``lead_in = 0`` and ``night_step = time_step``."""
     import dataclasses
 
     from shipthermal.app.thermal import thermal_inputs
     from shipthermal.diurnal import run_diurnal
 
     inputs = thermal_inputs(sc, ship)
-    inputs["settings"] = dataclasses.replace(inputs["settings"], lead_in=0.0)
+    s = inputs["settings"]
+    inputs["settings"] = dataclasses.replace(s, lead_in=0.0, night_step=s.time_step)
     t0 = time.perf_counter()
     res = run_diurnal(**inputs, progress=False, traced=traced, graph=graph)
     return res, time.perf_counter() - t0
+
+
+def _uniform(sc, ship, traced, graph):
+    """The same run (lead-in, one recorded day) with uniform day steps: no night steps."""
+    import dataclasses
+
+    from shipthermal.app.thermal import thermal_inputs
+    from shipthermal.diurnal import run_diurnal
+
+    inputs = thermal_inputs(sc, ship)
+    s = inputs["settings"]
+    inputs["settings"] = dataclasses.replace(s, night_step=s.time_step)
+    t0 = time.perf_counter()
+    res = run_diurnal(**inputs, progress=False, traced=traced, graph=graph)
+    return res, time.perf_counter() - t0
+
+
+def _step_counts(res, start: float) -> str:
+    """'n × Δt' of the steps of a run from ``start`` [s] (lead-in included), longest first."""
+    dt = np.round(np.diff(np.r_[start, res.energy.time]), 6)
+    lengths, counts = np.unique(dt, return_counts=True)
+    return ", ".join(f"{c} × {v:g} s" for v, c in sorted(zip(lengths, counts), reverse=True))
 
 
 def main():
@@ -81,6 +106,8 @@ def main():
                     help="write this run's part means (CSV) as a reference")
     ap.add_argument("--plain", action="store_true",
                     help="run the main case with plain day-by-day stepping (to make a reference)")
+    ap.add_argument("--no-uniform", action="store_true",
+                    help="skip the run with uniform day steps (the night steps' error)")
     args = ap.parse_args()
 
     from shipthermal.app.scenario import default_scenario
@@ -105,6 +132,7 @@ def main():
     print(f"\n== diurnal run of the default ship ({'plain stepping' if args.plain else 'lead-in'}) ==")
     print(f"cells {res.graph.n_cells}, steps {steps} (lead-in {lead / 3600:g} h + {res.days} "
           f"day(s), converged={res.converged}, defect of the last day {res.day_changes[-1]:.2e} K)")
+    print(f"steps by length: {_step_counts(res, -lead)}")
     print(f"wall total      {wall:8.1f} s   (ship built before: {t_ship:.1f} s)")
     print(f"mesh            {tim['mesh']:8.1f} s")
     print(f"forcing total   {tim['forcing']:8.1f} s  (ray tracing: {f.seconds})")
@@ -129,6 +157,16 @@ def main():
         worst = np.unravel_index(np.argmax(d), d.shape)
         print(f"vs stored answer {args.reference.name}: max |ΔT| of the part means "
               f"{d.max():.2e} K ({cols[worst[1]]} at {ref.index[worst[0]]:g} h)")
+
+    if not args.plain and not args.no_uniform:
+        uni, wall_uni = _uniform(sc, ship, f.traced, res.graph)
+        d = np.abs(res.results.face_temperature - uni.results.face_temperature)
+        worst = np.unravel_index(np.argmax(d), d.shape)
+        print(f"vs uniform {res.settings.time_step:g} s day steps (same run otherwise, "
+              f"{len(uni.energy.time)} steps, time loop {uni.timings['solve']:.1f} s): max |ΔT| "
+              f"{d.max():.2e} K over every face and recording time (at "
+              f"{res.results.times[worst[0]] / 3600:g} h), part means "
+              f"{np.max(np.abs(pm.to_numpy() - uni.part_means.to_numpy())):.2e} K")
 
     if args.peer_edge:
         small = sc.updated({"ship.edge_length": args.peer_edge})

@@ -10,7 +10,9 @@ Data flow (all the physics lives in the modules wired here)::
 
 Spin-up: the run starts ``lead_in`` before the first midnight (the end of the design day,
 from the initial temperature, in steps of up to ``SPINUP_LEAD_IN_STEP``), then the design
-day repeats. After each simulated day the
+day repeats, in one simulation: BDF2 changes its step without restarting. By day the step
+is ``time_step``; at night, once no face has absorbed short-wave for ``NIGHT_SETTLE``, it
+grows to ``night_step`` (:func:`night_steps`). After each simulated day the
 temperature of every cell at its end is compared with its start (the periodicity defect of
 the day); the run stops when the largest change is below ``spinup_tolerance`` [K] (reported
 with the number of days) or after ``spinup_max_days`` (reported as not converged). The
