@@ -205,12 +205,13 @@ def night_steps(settings: DiurnalSettings, dark, previous_step: float | None = N
 
 
 def day_steps(settings: DiurnalSettings, forcing, day_start: float = 0.0,
-              previous_step: float | None = None) -> np.ndarray:
-    """:func:`night_steps` of the day from ``day_start`` [s] under ``forcing`` (dark where
-    :meth:`ShipForcing.dark <shipthermal.forcing.ShipForcing.dark>`)."""
+              previous_step: float | None = None, span: float = DAY) -> np.ndarray:
+    """:func:`night_steps` of the ``span`` [s] (a day, or a whole weather record) from
+    ``day_start`` [s] under ``forcing`` (dark where :meth:`ShipForcing.dark
+    <shipthermal.forcing.ShipForcing.dark>`)."""
     iv = settings.output_interval
     settle = int(np.ceil(NIGHT_SETTLE / iv - 1e-9))
-    n_day = int(round(DAY / iv))
+    n_day = int(round(span / iv))
     starts = day_start + iv * np.arange(-settle, n_day)
     return night_steps(settings, [forcing.dark(t, t + iv) for t in starts], previous_step)
 
@@ -667,8 +668,19 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
     sim = Simulation(model, settings.time_step, span, scheme=settings.scheme,
                      output_interval=settings.output_interval)
     t0 = _time.perf_counter()
+    plan = day_steps(settings, forcing, 0.0, span=span)
+    iv = settings.output_interval
+    per_day = int(round(DAY / iv))
+    from tqdm.auto import tqdm
+
     for day in range(n_days):
-        sim.run_until((day + 1) * DAY, progress=progress, desc=f"record day {day + 1}")
+        blocks = range(day * per_day, (day + 1) * per_day)
+        with tqdm(total=int(round(np.sum(iv / plan[blocks]))), unit="step",
+                  desc=f"record day {day + 1}", disable=not progress, leave=False) as bar:
+            for b in blocks:
+                sim.set_time_step(plan[b])
+                sim.run_until((b + 1) * iv, progress=False)
+                bar.update(int(round(iv / plan[b])))
         say(f"record day {day + 1} of {n_days} simulated")
     res = sim.results()
     t_solve = _time.perf_counter() - t0
