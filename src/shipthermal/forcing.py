@@ -90,6 +90,7 @@ import numpy as np
 import pandas as pd
 import scipy.sparse as sp
 
+from ._threads import thread_map
 from .conditions import Convection, SurfaceBalance
 from .environment import Environment, to_ship_frame
 from .environment import convection as conv
@@ -481,7 +482,8 @@ def quasi_steady_surface_temperature(absorbed, emissivity, longwave_in, temp_air
     temp_air : array_like
         Air (fluid) temperature [K].
     h_of_temperature : callable
-        ``h(T_surface)`` [W m-2 K-1].
+        ``h(T_surface)`` [W m-2 K-1], elementwise; first called with ``temp_air`` itself,
+        which may have fewer elements than the faces (it broadcasts against them).
     u_back : array_like
         Conductance from the surface to ``temp_back`` (layup + inner film) [W m-2 K-1].
     temp_back : array_like
@@ -500,29 +502,29 @@ def quasi_steady_surface_temperature(absorbed, emissivity, longwave_in, temp_air
     ta = np.asarray(temp_air, dtype=float)
     u = np.asarray(u_back, dtype=float)
     tb = np.asarray(temp_back, dtype=float)
-    temp = np.broadcast_to(ta, np.broadcast_shapes(q.shape, ta.shape)).astype(float)
+    if steps < 1:
+        return np.broadcast_to(ta, np.broadcast_shapes(q.shape, ta.shape)).astype(float)
+    # f(T) = gain − (ε σ T³ + U) T + h (T_air − T) with the T-independent part
+    # gain = q + ε L_in + U T_back; f'(T) = −(4 ε σ T³ + h + U) with h frozen
+    gain = q + eps * lw + u * tb
+    # the first step starts from T_air in its own shape (one value per table time in the
+    # forcing): the same numbers as the broadcast array, at a fraction of the work
+    temp = ta
+    eps_sigma = eps * SIGMA
     for _ in range(steps):
         h = h_of_temperature(temp)
-        f = q + eps * (lw - SIGMA * temp ** 4) + h * (ta - temp) + u * (tb - temp)
-        df = -4.0 * eps * SIGMA * temp ** 3 - h - u
-        temp = temp - f / df
+        emit = eps_sigma * (temp * temp * temp)  # ε σ T³ [W m-2 K-1]
+        f = gain - (emit + u) * temp + h * (ta - temp)
+        temp = temp + f / (4.0 * emit + h + u)
     return temp
 
 
 def _threaded(fn, items) -> None:
-    """``fn(item)`` for every item, on up to ``numba.get_num_threads()`` threads."""
+    """``fn(item)`` for every item, on up to ``numba.get_num_threads()`` threads of the
+    process's persistent pool."""
     import numba
 
-    n = min(len(items), numba.get_num_threads())
-    if n <= 1:
-        for item in items:
-            fn(item)
-        return
-    from concurrent.futures import ThreadPoolExecutor
-
-    with ThreadPoolExecutor(n) as pool:
-        for _ in pool.map(fn, items):
-            pass
+    thread_map(fn, items, numba.get_num_threads())
 
 
 def _row_chunks(n_rows, n_cols):

@@ -126,6 +126,12 @@ def test_mixed_convection_limits():
     a, b = rng.uniform(0, 20, 1000), rng.uniform(0, 20, 1000)
     m = cv.combine_mixed(a, b)
     assert np.all(m >= np.maximum(a, b) - 1e-12) and np.all(m <= a + b + 1e-12)
+    # the cubes by products equal the power form; a scalar sign applies to all faces
+    np.testing.assert_allclose(m, (a ** 3 + b ** 3) ** (1 / 3), rtol=1e-14)
+    np.testing.assert_allclose(cv.combine_mixed(a, b, n=4.0), (a ** 4 + b ** 4) ** 0.25,
+                               rtol=1e-14)
+    np.testing.assert_array_equal(cv.combine_mixed(a, b, opposing=True),
+                                  cv.combine_mixed(a, b, opposing=np.ones(1000, bool)))
 
 
 def test_exterior_coefficient_tends_to_each_mode():

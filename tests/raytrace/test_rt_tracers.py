@@ -152,6 +152,23 @@ def test_tracers_pickle(backend):
     np.testing.assert_array_equal(copy.intersects_first(o, d), tracer.intersects_first(o, d))
 
 
+def test_embree_threads_come_from_one_persistent_pool():
+    # a large batch is split over threads of the process's pool: the one-thread answer,
+    # and calls after the first start no new threads
+    import threading
+
+    V, F = scene()
+    one, two = EmbreeTracer(V, F, n_threads=1), EmbreeTracer(V, F, n_threads=2)
+    o, d = random_rays(100_000, 4, V)
+    expected = one.intersects_first(o, d)
+    np.testing.assert_array_equal(two.intersects_first(o, d), expected)
+    started = threading.active_count()
+    for _ in range(5):
+        np.testing.assert_array_equal(two.intersects_first(o, d), expected)
+        np.testing.assert_array_equal(two.any_hit(o, d), expected >= 0)
+    assert threading.active_count() == started
+
+
 def test_backends_agree_on_ship_sized_scene():
     # ~97k triangles, 1.5M view-factor rays leaving the surfaces (the hard case: origins a
     # float32-offset away from faces, many grazing rays into concave corners)

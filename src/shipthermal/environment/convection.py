@@ -110,9 +110,12 @@ def air_properties(temp_film, pressure=101325.0) -> FluidProperties:
     """
     t = np.asarray(temp_film, dtype=float)
     rho = np.asarray(pressure, dtype=float) / (_R_AIR * t)
-    mu = 1.716e-5 * (t / 273.15) ** 1.5 * (273.15 + 110.4) / (t + 110.4)
-    k = 0.0241 * (t / 273.15) ** 1.5 * (273.15 + 194.0) / (t + 194.0)
-    cp = 1007.0 + 0.03 * (t - 300.0) + 4.0e-4 * (t - 300.0) ** 2
+    ratio = t / 273.15
+    ratio_15 = ratio * np.sqrt(ratio)  # (T/273.15)^1.5 of both Sutherland laws
+    mu = 1.716e-5 * (273.15 + 110.4) * ratio_15 / (t + 110.4)
+    k = 0.0241 * (273.15 + 194.0) * ratio_15 / (t + 194.0)
+    t_300 = t - 300.0
+    cp = 1007.0 + (0.03 + 4.0e-4 * t_300) * t_300
     return FluidProperties(rho, mu, k, cp, 1.0 / t)
 
 
@@ -190,7 +193,7 @@ def relative_wind(wind_speed, wind_direction, ship_speed=0.0, ship_heading=0.0):
     psi = np.radians(np.asarray(ship_heading, dtype=float))
     ax = -u * np.sin(phi) - v * np.sin(psi)
     ay = -u * np.cos(phi) - v * np.cos(psi)
-    speed = np.hypot(ax, ay)
+    speed = np.sqrt(ax * ax + ay * ay)
     direction = np.degrees(np.arctan2(-ax, -ay)) % 360.0
     off_bow = (direction - np.degrees(psi)) % 360.0
     return speed, direction, off_bow
@@ -252,7 +255,8 @@ def rayleigh(temp_surface, temp_fluid, length, props: FluidProperties, gravity=G
     length = np.asarray(length, dtype=float)
     # ν α = μ k / (ρ² cp)
     nu_alpha = props.viscosity * props.conductivity / (props.density ** 2 * props.heat_capacity)
-    return np.asarray(gravity) * props.expansion * dt * length * length * length / nu_alpha
+    # g L³ first: it has the (usually per-face) shape of the geometry
+    return np.asarray(gravity) * (length * length * length) * props.expansion * dt / nu_alpha
 
 
 def nusselt_forced_flat_plate(re, pr, boundary_layer: str = "mixed", re_crit=5.0e5):
@@ -284,18 +288,17 @@ def nusselt_forced_flat_plate(re, pr, boundary_layer: str = "mixed", re_crit=5.0
     (0.332 Re_x^1/2 Pr^1/3) and turbulent (0.0296 Re_x^0.8 Pr^1/3) correlations.
     Below ``re_crit`` the mixed and laminar forms coincide.
     """
-    re = np.asarray(re, dtype=float)
-    pr3 = np.asarray(pr, dtype=float) ** (1.0 / 3.0)
-    lam = 0.664 * np.sqrt(re) * pr3
-    if boundary_layer == "laminar":
-        return lam
-    if boundary_layer == "turbulent":
-        return 0.037 * re ** 0.8 * pr3
-    if boundary_layer != "mixed":
+    if boundary_layer not in ("mixed", "laminar", "turbulent"):
         raise InputError("convection.boundary_layer", boundary_layer,
                          "must be 'mixed', 'laminar' or 'turbulent'")
+    re = np.asarray(re, dtype=float)
+    pr3 = np.asarray(pr, dtype=float) ** (1.0 / 3.0)
+    if boundary_layer == "laminar":
+        return 0.664 * np.sqrt(re) * pr3
+    if boundary_layer == "turbulent":
+        return 0.037 * re ** 0.8 * pr3
     a = 0.037 * re_crit ** 0.8 - 0.664 * re_crit ** 0.5
-    return np.where(re <= re_crit, lam, (0.037 * re ** 0.8 - a) * pr3)
+    return np.where(re <= re_crit, 0.664 * np.sqrt(re), 0.037 * re ** 0.8 - a) * pr3
 
 
 def nusselt_vertical_plate(ra, pr):
@@ -316,7 +319,10 @@ def nusselt_vertical_plate(ra, pr):
     Incropera 6th ed. eq. 9.26.
     """
     ra = np.asarray(ra, dtype=float)
-    psi = (1.0 + (0.492 / np.asarray(pr, dtype=float)) ** (9.0 / 16.0)) ** (8.0 / 27.0)
+    x = 0.492 / np.asarray(pr, dtype=float)
+    root = np.sqrt(x)
+    x_9_16 = root * np.sqrt(np.sqrt(np.sqrt(root)))  # x^(9/16) = x^(1/2) x^(1/16)
+    psi = (1.0 + x_9_16) ** (8.0 / 27.0)
     return (0.825 + 0.387 * np.cbrt(np.sqrt(ra)) / psi) ** 2
 
 
@@ -416,8 +422,10 @@ def h_natural(temp_surface, temp_fluid, normal_z, length_vertical, length_horizo
     cos_t = np.sqrt(np.clip(1.0 - nz ** 2, 0.0, 1.0))
     lv = np.asarray(length_vertical, dtype=float)
     lh = np.asarray(length_horizontal, dtype=float)
-    ra_v = rayleigh(ts, tf, lv, props, G * cos_t)
-    ra_h = rayleigh(ts, tf, lh, props, G * sin_t)
+    # Ra = g L³ · β|ΔT| / (ν α): the second factor (Ra at g L³ = 1) once for both
+    ra_unit = rayleigh(ts, tf, 1.0, props, 1.0)
+    ra_v = ra_unit * (G * cos_t * (lv * lv * lv))
+    ra_h = ra_unit * (G * sin_t * (lh * lh * lh))
     # hot face looking up, or cold face looking down: plume leaves the plate freely
     unstable = (ts - tf) * nz > 0.0
     h_v = nusselt_vertical_plate(ra_v, props.prandtl) * props.conductivity / lv
@@ -453,9 +461,19 @@ def combine_mixed(h_forced_, h_natural_, n: float = 3.0, opposing=False):
     scales (identical when they share one). For arbitrary wind over ship faces the
     transverse/assisting '+' form is the default.
     """
-    hf = np.asarray(h_forced_, dtype=float) ** n
-    hn = np.asarray(h_natural_, dtype=float) ** n
-    return np.abs(np.where(opposing, hf - hn, hf + hn)) ** (1.0 / n)
+    hf = np.asarray(h_forced_, dtype=float)
+    hn = np.asarray(h_natural_, dtype=float)
+    if n == 3.0:
+        hf = hf * hf * hf
+        hn = hn * hn * hn
+    else:
+        hf = hf ** n
+        hn = hn ** n
+    if np.ndim(opposing) == 0:
+        total = hf - hn if opposing else hf + hn
+    else:
+        total = np.where(opposing, hf - hn, hf + hn)
+    return np.abs(total) ** (1.0 / n)
 
 
 def h_exterior_air(temp_surface, temp_air, normal_z, wind_speed_relative, length_flow,
@@ -585,7 +603,7 @@ def h_interior_iso6946(temp_surface, temp_room, normal_z, include_radiation=Fals
                    np.where(flow_z < -sin30, hci_["down"], hci_["horizontal"]))
     if include_radiation:
         tm = 0.5 * (ts + tr)
-        hci = hci + emissivity * 4.0 * SIGMA * tm ** 3
+        hci = hci + emissivity * 4.0 * SIGMA * (tm * tm * tm)
     return hci
 
 

@@ -22,11 +22,11 @@ uses the same offsets so the two backends see the same rays.
 
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
 from typing import Protocol
 
 import numpy as np
 
+from shipthermal._threads import thread_map
 from shipthermal.errors import InputError, require
 from shipthermal.raytrace import _bvh
 
@@ -143,7 +143,8 @@ class EmbreeTracer(_MeshTracer):
         Triangle vertex indices.
     n_threads : int, optional
         Python threads each running part of a large batch (embreex releases the GIL while
-        tracing). Default: numba's thread count (the CPUs, or what a sweep pins a case to).
+        tracing), from the process's persistent pool (:mod:`shipthermal._threads`).
+        Default: numba's thread count (the CPUs, or what a sweep pins a case to).
 
     Notes
     -----
@@ -199,8 +200,8 @@ class EmbreeTracer(_MeshTracer):
             return self._scene.run(o32[sl], d32 if one_dir else d32[sl], dists=t32[sl],
                                    query=query)
 
-        with ThreadPoolExecutor(self.n_threads) as pool:
-            return np.concatenate(list(pool.map(part, range(self.n_threads)))).astype(np.int64)
+        parts = thread_map(part, range(self.n_threads), self.n_threads)
+        return np.concatenate(parts).astype(np.int64)
 
     def intersects_first(self, origins, directions, max_distance=np.inf, *,
                          validate: bool = True) -> np.ndarray:

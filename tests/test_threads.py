@@ -1,0 +1,53 @@
+"""The persistent thread pool of shipthermal._threads."""
+
+import threading
+
+import pytest
+
+from shipthermal._threads import thread_map
+
+
+def test_results_keep_the_order_of_the_items():
+    assert thread_map(lambda x: x * x, range(10), 2) == [x * x for x in range(10)]
+    assert thread_map(lambda x: x + 1, [], 2) == []
+
+
+def test_one_thread_runs_in_the_caller():
+    caller = threading.get_ident()
+    assert thread_map(lambda _: threading.get_ident(), range(4), 1) == [caller] * 4
+
+
+def test_the_pool_is_kept_and_bounded():
+    seen = set()
+    barrier = threading.Barrier(2, timeout=10)
+
+    def work(_):
+        barrier.wait()          # both workers are busy at once
+        seen.add(threading.get_ident())
+
+    thread_map(work, range(2), 2)
+    started = threading.active_count()
+    for _ in range(3):
+        thread_map(work, range(4), 2)
+    assert threading.active_count() == started
+    assert len(seen) == 2
+
+
+def test_a_nested_call_runs_in_the_worker():
+    def inner(_):
+        return threading.get_ident()
+
+    def outer(_):
+        return set(thread_map(inner, range(4), 2)) == {threading.get_ident()}
+
+    assert all(thread_map(outer, range(4), 2))
+
+
+def test_errors_reach_the_caller():
+    def fail(x):
+        if x == 3:
+            raise ValueError("item 3")
+        return x
+
+    with pytest.raises(ValueError, match="item 3"):
+        thread_map(fail, range(6), 2)
