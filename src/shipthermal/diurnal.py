@@ -64,16 +64,30 @@ SPINUP_LEAD_IN_STEP = 900.0
 #: Time step of the night [s]: where no face has absorbed short-wave for ``NIGHT_SETTLE``
 #: (sunset's fast cooling over), the plates follow slowly varying air, sky and wind, and
 #: BDF2 takes steps of this length (reached from ``time_step`` through doubling steps, back
-#: to ``time_step`` before the first short-wave of the morning). Measured on the built-in
-#: frigate at 0.5 m (summer design day, 1800 s recording): 288 → 221 steps a day, face
-#: temperatures within 0.017 K of 300 s steps throughout (largest 1.5 h after sunset);
-#: without the settling interval 0.043 K, with 600 s night steps 0.027 K. A 900 s step
-#: costs ~1.3 of a 300 s one (27.6 vs 20.5 PCG iterations, 4.0 vs 4.1 Newton passes).
+#: to ``time_step`` before the first short-wave of the morning). A 900 s step costs ~1.3 of
+#: a 300 s one (27.6 vs 20.5 PCG iterations, 4.0 vs 4.1 Newton passes). Measured on the
+#: built-in frigate at 0.5 m, 300 s day steps, 1800 s recording, every face at every
+#: recording time against uniform 300 s steps:
+#:
+#: ============  ======  ================  ================
+#: night, settle  season  steps (lead-in +  max |ΔT| faces /
+#:                        day)              part means [K]
+#: ============  ======  ================  ================
+#: 900 s, 0.5 h  summer  245               0.017 / 0.0067
+#: 900 s, 0.5 h  winter  205               0.051 / 0.016
+#: 900 s, 1 h    winter  209               0.020 / 0.0078
+#: 900 s, 1.5 h  summer  253               0.0036 / 0.0018
+#: 900 s, 1.5 h  winter  213               0.0089 / 0.0040
+#: 600 s, 1 h    winter  234               0.012 / 0.0048
+#: uniform       both    312               —
+#: ============  ======  ================  ================
+#:
 #: ``night_step = time_step`` keeps the step uniform.
 NIGHT_STEP = 900.0
 
-#: Darkness before the night step [s] (see ``NIGHT_STEP``).
-NIGHT_SETTLE = 1800.0
+#: Darkness before the night step [s] (see ``NIGHT_STEP``): the first 1.5 h after the last
+#: short-wave, where the plates cool fastest, keep ``time_step``.
+NIGHT_SETTLE = 5400.0
 
 #: Columns of the part-mean table, in plotting order
 MAIN_SERIES = ("hull", "deck", "superstructure", "hull_wetted")

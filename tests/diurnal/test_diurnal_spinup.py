@@ -76,11 +76,12 @@ def test_lead_in_step_divides_the_recording_interval():
 
 def test_night_steps_lengthen_after_dusk_through_doubling_and_return_by_dawn():
     s = DiurnalSettings()            # 300 s, recording 1800 s, night up to 900 s
-    assert NIGHT_SETTLE == 1800.0    # one recording interval before a night step
-    # settle interval, then 48 intervals: dark 0–4 h, light 4–20 h, dark 20–24 h
-    dark = np.r_[True, [b < 8 or b >= 40 for b in range(48)]]
+    settle = int(NIGHT_SETTLE / 1800.0)
+    assert settle * 1800.0 == NIGHT_SETTLE
+    # the settle intervals before the day, then 48: dark 0–4 h, light 4–20 h, dark 20–24 h
+    dark = np.r_[[True] * settle, [b < 8 or b >= 40 for b in range(48)]]
     got = night_steps(s, dark, previous_step=900.0)
-    want = np.r_[[900.0] * 8, [300.0] * 32, [300.0], [600.0], [900.0] * 6]
+    want = np.r_[[900.0] * 8, [300.0] * (32 + settle), [600.0], [900.0] * (7 - settle)]
     assert np.array_equal(got, want), got
     # after a 300 s step the night starts at 600 s; a 600 s limit; uniform on request
     assert night_steps(s, dark)[0] == 600.0
@@ -92,6 +93,9 @@ def test_night_steps_lengthen_after_dusk_through_doubling_and_return_by_dawn():
     steps = night_steps(s, dark)
     assert np.all(np.abs(1800.0 / steps - np.round(1800.0 / steps)) < 1e-12)
     assert np.all(steps[1:] <= 2.0 * steps[:-1])
+    # a short night (shorter than the settle time) keeps the day's step
+    short = np.r_[[False] * settle, [38 <= b < 38 + settle for b in range(48)]]
+    assert np.all(night_steps(s, short) == 300.0)
 
 
 def test_energy_closes_over_lead_in_and_days(runs):
