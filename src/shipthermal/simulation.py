@@ -557,8 +557,8 @@ class Simulation:
 
     def _preconditioner(self, base_key, matrix):
         if self.backend == "column":
-            # O(n): rebuilt from the current Jacobian at every Newton iteration (its bands
-            # read from the known positions in the value array).
+            # O(n): rebuilt from the current Jacobian at every step (its bands read from the
+            # known positions in the value array).
             t0 = time.perf_counter()
             pat = self._pattern
             if self._column_bounds is None:
@@ -691,10 +691,12 @@ class Simulation:
                     converged = True
                     break
             t3 = time.perf_counter()
-            if scale is None or self.backend == "column":
+            if scale is None:
                 # The preconditioner is built from the first Jacobian of a (dt, scheme) pair
                 # and reused while the Jacobian only drifts (boundary diagonal); the O(n)
-                # column preconditioner is rebuilt every iteration.
+                # column preconditioner from the first Jacobian of every step, for the step's
+                # later passes too (frigate day, 48 steps: the same 967 PCG iterations as
+                # with one per pass, 151 → 48 factorisations, 6.14 → 5.83 s).
                 if self.backend != "column" and self._precond_key == prec_key:
                     prec = self._precond
                 elif prec_a != a:
