@@ -82,6 +82,7 @@ spin-up sees exactly day 0's forcing. Values are exact at the table times.
 
 from __future__ import annotations
 
+import functools
 import time as _time
 from dataclasses import dataclass, field
 from typing import Callable, Mapping
@@ -637,6 +638,14 @@ class ShipForcing:
         in ``outer_bfaces`` order."""
         return self._column_values(self._sw, t, "air")
 
+    @functools.cached_property
+    def _lit_rows(self) -> np.ndarray:
+        """(n,) bool: some face absorbs short-wave at the table time."""
+        lit = np.zeros(len(self.times), bool)
+        for tab in self._sw.values():
+            lit |= np.any(tab > 0.0, axis=1)
+        return lit
+
     def dark(self, start: float, end: float) -> bool:
         """True when no face absorbs short-wave anywhere in ``[start, end]`` [s].
 
@@ -645,9 +654,7 @@ class ShipForcing:
         over the period; the end rows of a record reach beyond it): the interval is dark
         when it meets none of those.
         """
-        lit = np.zeros(len(self.times), bool)
-        for tab in self._sw.values():
-            lit |= np.any(tab > 0.0, axis=1)
+        lit = self._lit_rows
         if not lit.any():
             return True
         tt = self.times
