@@ -98,6 +98,46 @@ def test_night_steps_lengthen_after_dusk_through_doubling_and_return_by_dawn():
     assert np.all(night_steps(s, short) == 300.0)
 
 
+@pytest.fixture(scope="module")
+def night_runs(tmp_path_factory):
+    """The patrol boat's day in 300 s steps: night steps (with a checkpoint every simulated
+    hour), uniform steps, and a resume from the last checkpoint (23:00, in the night)."""
+    ship = patrol_boat(edge_length=3.0)
+    env = Environment.from_climate_day(climate_day("winter"), ship_heading=90.0)
+    base = DiurnalSettings(time_step=300.0, output_interval=1800.0, rays_per_face=32,
+                           samples_per_face=8, spinup_max_days=1, spinup_tolerance=1.0)
+    ckpt = tmp_path_factory.mktemp("night") / "run.npz"
+    night = run_diurnal(ship, env, base, progress=False, checkpoint=ckpt,
+                        checkpoint_interval=3600.0)
+    with np.load(ckpt) as c:
+        saved_at = float(c["time"])
+    resumed = run_diurnal(ship, env, base, progress=False, checkpoint=ckpt, resume=True,
+                          traced=night.forcing.traced, graph=night.graph)
+    uniform = run_diurnal(ship, env, DiurnalSettings(**{**base.__dict__, "night_step": 300.0}),
+                          progress=False, traced=night.forcing.traced, graph=night.graph)
+    return night, uniform, resumed, saved_at
+
+
+def test_night_steps_keep_the_day_and_its_energy(night_runs):
+    night, uniform, resumed, saved_at = night_runs
+    steps = np.diff(night.results.times)   # recording times: every 1800 s either way
+    assert np.allclose(steps, 1800.0)
+    n_night, n_uniform = len(night.energy.time), len(uniform.energy.time)
+    d = np.max(np.abs(night.results.face_temperature - uniform.results.face_temperature))
+    print(f"patrol boat, winter: {n_night} vs {n_uniform} steps, faces within {d:.2e} K")
+    assert n_night < 0.8 * n_uniform
+    # measured 0.0089 K on the frigate at 0.5 m in winter; the same bound here
+    assert d < 0.02
+    assert night.energy.relative_imbalance <= 1e-10
+
+
+def test_a_run_resumed_in_the_night_repeats_the_uninterrupted_one(night_runs):
+    night, uniform, resumed, saved_at = night_runs
+    assert 20 * 3600.0 <= saved_at < DAY     # the last hourly checkpoint, night steps on
+    assert np.array_equal(resumed.results.face_temperature, night.results.face_temperature)
+    assert np.array_equal(resumed.results.cell_temperature, night.results.cell_temperature)
+
+
 def test_energy_closes_over_lead_in_and_days(runs):
     for r in runs:
         assert r.energy.relative_imbalance <= 1e-10, r.energy.summary()
