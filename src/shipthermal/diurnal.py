@@ -447,7 +447,8 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
     progress : bool
         Progress bars.
     checkpoint : path, optional
-        Checkpoint file (.npz) written every ``checkpoint_interval`` of simulated time.
+        Checkpoint file (.npz) written every ``checkpoint_interval`` of simulated time (on
+        recording times: at most one per ``settings.output_interval``).
     resume : bool
         Continue from ``checkpoint`` if it exists (same result as an uninterrupted run).
     log : callable, optional

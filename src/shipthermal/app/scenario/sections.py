@@ -826,7 +826,9 @@ class OutputSettings:
                           "Products to write", choices=OUTPUT_FORMATS)
     checkpoint_interval: float = _opt(3600.0, "float", "Thermal checkpoint interval of "
                                       "simulated time (0 = none; a multiple of "
-                                      "solver.time_step)", unit="s", lo=0.0, hi=DAY)
+                                      "solver.time_step; checkpoints fall on recording "
+                                      "times, so at most one per `time.output_interval`)",
+                                      unit="s", lo=0.0, hi=DAY)
 
     @staticmethod
     def _check(obj, raw, path, ctx, bad):
