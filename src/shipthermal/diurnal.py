@@ -37,7 +37,7 @@ import numpy as np
 import pandas as pd
 
 from .errors import check_positive, require
-from .parameters import DEFAULT_CONVECTION_MODEL
+from .parameters import DEFAULT_CONVECTION_MODEL, NIGHT_SETTLE, NIGHT_STEP
 from .results import EnergyLog, Results, atomic_path
 from .units import DAY, HOUR
 
@@ -60,34 +60,6 @@ SPINUP_LEAD_IN = 6.0 * 3600.0
 #: temperatures moved by at most 1.1e-3 K (1800 s steps: 0.0084 K and 5.5e-3 K, too close
 #: to the default 0.01 K spin-up tolerance).
 SPINUP_LEAD_IN_STEP = 900.0
-
-#: Time step of the night [s]: where no face has absorbed short-wave for ``NIGHT_SETTLE``
-#: (sunset's fast cooling over), the plates follow slowly varying air, sky and wind, and
-#: BDF2 takes steps of this length (reached from ``time_step`` through doubling steps, back
-#: to ``time_step`` before the first short-wave of the morning). A 900 s step costs ~1.3 of
-#: a 300 s one (27.6 vs 20.5 PCG iterations, 4.0 vs 4.1 Newton passes). Measured on the
-#: built-in frigate at 0.5 m, 300 s day steps, 1800 s recording, every face at every
-#: recording time against uniform 300 s steps:
-#:
-#: ============  ======  ================  ================
-#: night, settle  season  steps (lead-in +  max |ΔT| faces /
-#:                        day)              part means [K]
-#: ============  ======  ================  ================
-#: 900 s, 0.5 h  summer  245               0.017 / 0.0067
-#: 900 s, 0.5 h  winter  205               0.051 / 0.016
-#: 900 s, 1 h    winter  209               0.020 / 0.0078
-#: 900 s, 1.5 h  summer  253               0.0036 / 0.0018
-#: 900 s, 1.5 h  winter  213               0.0089 / 0.0040
-#: 600 s, 1 h    winter  234               0.012 / 0.0048
-#: uniform       both    312               —
-#: ============  ======  ================  ================
-#:
-#: ``night_step = time_step`` keeps the step uniform.
-NIGHT_STEP = 900.0
-
-#: Darkness before the night step [s] (see ``NIGHT_STEP``): the first 1.5 h after the last
-#: short-wave, where the plates cool fastest, keep ``time_step``.
-NIGHT_SETTLE = 5400.0
 
 #: Columns of the part-mean table, in plotting order
 MAIN_SERIES = ("hull", "deck", "superstructure", "hull_wetted")

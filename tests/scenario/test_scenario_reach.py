@@ -233,6 +233,7 @@ CASES = {
     "ship.longwave_emissivity.<part>": ("builtin", {FUNNEL: 0.6}, {T}),
     "ship.band_emissivity.<part>.<band>": ("builtin", {FUNNEL: {"3-5": 0.6}}, {I}),
     "solver.time_step": ("builtin", 900.0, {T}),
+    "solver.night_step": ("builtin", 600.0, {T}),
     "solver.scheme": ("builtin", "crank_nicolson", {T}),
     "solver.spinup_tolerance": ("builtin", 0.05, {T}),
     "solver.spinup_max_days": ("builtin", 3, {T}),

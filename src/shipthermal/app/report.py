@@ -156,7 +156,8 @@ def _scenario_section(case: str, path: Path) -> str:
         ("ship", f"{ship}, edge {s.edge_length if s.edge_length else 'default'} m, heading "
                  f"{s.heading:g} deg, speed {s.speed:g} m/s, mooring "
                  f"{list(s.mooring_position)} m"),
-        ("solver", f"{sv.scheme}, dt {sv.time_step:g} s, spin-up tol {sv.spinup_tolerance:g} K, "
+        ("solver", f"{sv.scheme}, dt {sv.time_step:g} s (night up to {sv.night_step:g} s), "
+                   f"spin-up tol {sv.spinup_tolerance:g} K, "
                    f"max {sv.spinup_max_days} days, {sv.rays_per_face} rays/face, seed {sv.seed}"),
         ("background", f"{sc.background.source} (seed {sc.background.seed})"),
         ("imaging", f"bands {', '.join(img.bands)}; images at {', '.join(img.times)}; SCR every "

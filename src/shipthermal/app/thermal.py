@@ -14,7 +14,7 @@ __all__ = ["settings_from_scenario", "thermal_inputs", "run_scenario_thermal",
 def settings_from_scenario(scenario) -> DiurnalSettings:
     """The thermal settings of a :class:`~shipthermal.app.scenario.Scenario`."""
     s = scenario.solver
-    return DiurnalSettings(time_step=s.time_step, scheme=s.scheme,
+    return DiurnalSettings(time_step=s.time_step, night_step=s.night_step, scheme=s.scheme,
                            output_interval=scenario.time.output_interval,
                            spinup_tolerance=s.spinup_tolerance, spinup_max_days=s.spinup_max_days,
                            samples_per_face=s.samples_per_face, rays_per_face=s.rays_per_face,

@@ -16,6 +16,7 @@ from ...errors import InputError
 from ...geometry.layups import ISO7547_INDOOR_C
 from ...geometry.parts import MAIN_PARTS, main_part
 from ...materials import MATERIALS
+from ...parameters import NIGHT_SETTLE, NIGHT_STEP
 from ...units import ZERO_CELSIUS
 from .spec import _Context, _opt, _part_key, _suggest, parse_band
 from .values import (ATMOSPHERE_BACKENDS, BAND_EMISSIVITY, BUILTIN_SHIP_NAMES, CLEAR_SKY_MODELS,
@@ -623,6 +624,11 @@ class SolverSettings:
 
     time_step: float = _opt(300.0, "float", "Time step (must divide 24 h)", unit="s", lo=0.0,
                             hi=3600.0, lo_open=True)
+    night_step: float = _opt(NIGHT_STEP, "float", "Longest time step of the night, from "
+                             f"{NIGHT_SETTLE / 3600:g} h after the last sunlight to dawn: the "
+                             "longest multiple of time_step up to it that divides "
+                             "time.output_interval (time_step or less: uniform steps)",
+                             unit="s", lo=0.0, hi=3600.0, lo_open=True)
     scheme: str = _opt("bdf2", "choice", "Time integration scheme",
                        choices=("backward_euler", "crank_nicolson", "bdf2"))
     spinup_tolerance: float = _opt(0.01, "float", "Spin-up stops when no cell temperature "
