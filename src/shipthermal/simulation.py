@@ -649,6 +649,7 @@ class Simulation:
                 fixed_corr = self._extrapolated_corr(forcing, st, temp)
                 self.timing.boundary += time.perf_counter() - t1
         accel = Anderson(5) if g.correction is not None and fixed_corr is None else None
+        jac_step = exch_step = None
         column = self.backend == "column"
         for it in range(self.max_iterations):
             t1 = time.perf_counter()
@@ -662,10 +663,16 @@ class Simulation:
             flow, resid, jdiag_b = _cell_residual(g, temp, hist, a, dt, theta, bs, corr_cell,
                                                   source, explicit)
             # The matrix itself is built only when a correction is solved for (the last pass
-            # of a step only checks convergence and needs the diagonal alone).
-            jac = None
-            exch = None
-            if self.model.exchange is not None:
+            # of a step only checks convergence and needs the diagonal alone), and only on
+            # the first pass: the later passes of the step solve with it again (chord
+            # Newton; the residual is always the exact one). The Jacobian moves little within
+            # a step, so this costs few iterations (frigate day: 4.10 → 4.13 Newton passes a
+            # step, 5.4 PCG iterations a pass either way) and saves computing and refilling
+            # its 1.2 M exchange entries (time loop 32.7 → 29.3 s). The diagonal of the
+            # convergence estimate takes the fresh boundary part.
+            jac = jac_step
+            exch = exch_step
+            if exch is None and self.model.exchange is not None:
                 exch = -theta * self._exchange_jacobian(bs)
             jdiag = pattern.diagonal(diag_c + jdiag_b, exch)
             face_lag = bs.temp_face
@@ -710,6 +717,7 @@ class Simulation:
                     prec = self._preconditioner(prec_key, jac)
             if jac is None:
                 jac = pattern.jacobian(diag_c + jdiag_b, exch, fresh=not column)
+            jac_step, exch_step = jac, exch
             # Inexact Newton: the correction is needed only to ~1e-3 of the tolerance (the next
             # pass re-evaluates the true residual), so with a preconditioner from an earlier
             # Jacobian (radiation, drifting boundary diagonal) PCG stops after fewer
