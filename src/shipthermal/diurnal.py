@@ -43,7 +43,7 @@ from .units import DAY, HOUR
 
 __all__ = ["DiurnalSettings", "DiurnalResult", "run_diurnal", "SPINUP_LEAD_IN",
            "SPINUP_LEAD_IN_STEP", "NIGHT_STEP", "NIGHT_SETTLE", "lead_in_seconds",
-           "lead_in_step", "night_steps", "day_steps",
+           "lead_in_step", "night_steps", "dark_intervals",
            "part_groups", "MAIN_SERIES"]
 
 #: Default lead-in before the first simulated midnight [s]. The start-up error of the
@@ -152,6 +152,11 @@ def lead_in_step(settings: DiurnalSettings) -> float:
     return max(h, iv / np.ceil(iv / SPINUP_LEAD_IN_STEP - 1e-9))
 
 
+def _settle_intervals(settings: DiurnalSettings) -> int:
+    """``NIGHT_SETTLE`` in whole recording intervals (rounded up)."""
+    return int(np.ceil(NIGHT_SETTLE / settings.output_interval - 1e-9))
+
+
 def night_steps(settings: DiurnalSettings, dark, previous_step: float | None = None) -> np.ndarray:
     """Time step of each recording interval of a day [s].
 
@@ -172,7 +177,7 @@ def night_steps(settings: DiurnalSettings, dark, previous_step: float | None = N
     last that divides the recording interval.
     """
     iv, h = settings.output_interval, settings.time_step
-    settle = int(np.ceil(NIGHT_SETTLE / iv - 1e-9))
+    settle = _settle_intervals(settings)
     dark = np.asarray(dark, bool)
     n_day = len(dark) - settle
     require(n_day >= 1, "dark", len(dark),
@@ -190,16 +195,30 @@ def night_steps(settings: DiurnalSettings, dark, previous_step: float | None = N
     return steps
 
 
-def day_steps(settings: DiurnalSettings, forcing, day_start: float = 0.0,
-              previous_step: float | None = None, span: float = DAY) -> np.ndarray:
-    """:func:`night_steps` of the ``span`` [s] (a day, or a whole weather record) from
-    ``day_start`` [s] under ``forcing`` (dark where :meth:`ShipForcing.dark
-    <shipthermal.forcing.ShipForcing.dark>`)."""
+def dark_intervals(settings: DiurnalSettings, forcing, span: float = DAY) -> np.ndarray:
+    """The ``dark`` argument of :func:`night_steps` for the ``span`` [s] (a day, or a whole
+    weather record) from 0 under ``forcing``: :meth:`ShipForcing.dark
+    <shipthermal.forcing.ShipForcing.dark>` of each recording interval, the settle
+    intervals before 0 first."""
     iv = settings.output_interval
-    settle = int(np.ceil(NIGHT_SETTLE / iv - 1e-9))
-    n_day = int(round(span / iv))
-    starts = day_start + iv * np.arange(-settle, n_day)
-    return night_steps(settings, [forcing.dark(t, t + iv) for t in starts], previous_step)
+    starts = iv * np.arange(-_settle_intervals(settings), int(round(span / iv)))
+    return np.array([forcing.dark(t, t + iv) for t in starts], bool)
+
+
+def _run_intervals(sim, steps, start: float, interval: float, desc: str, progress: bool,
+                   after=None) -> None:
+    """Step ``sim`` through consecutive recording intervals from ``start`` [s], interval k
+    in steps of ``steps[k]``, with one progress bar; ``after()`` once after each interval."""
+    from tqdm.auto import tqdm
+
+    with tqdm(total=int(round(np.sum(interval / steps))), unit="step", desc=desc,
+              disable=not progress, leave=False) as bar:
+        for k, dt in enumerate(steps):
+            sim.set_time_step(dt)
+            sim.run_until(start + (k + 1) * interval, progress=False)
+            bar.update(int(round(interval / dt)))
+            if after is not None:
+                after()
 
 
 @dataclass(eq=False)
@@ -517,9 +536,10 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
         say(f"resumed from {checkpoint} at t = {sim.time / HOUR:.2f} h (day {day + 1})")
     # The design day repeats: the steps of the first day (after the lead-in's) and of the
     # days after it (after the last day's).
-    plans = [day_steps(settings, forcing, 0.0,
-                       lead_in_step(settings) if lead > 0.0 else settings.time_step)]
-    plans.append(day_steps(settings, forcing, 0.0, plans[0][-1]))
+    dark = dark_intervals(settings, forcing)
+    plans = [night_steps(settings, dark,
+                         lead_in_step(settings) if lead > 0.0 else settings.time_step)]
+    plans.append(night_steps(settings, dark, plans[0][-1]))
     if np.any(plans[0] != settings.time_step):
         say(f"steps: {int(round(np.sum(iv / plans[0])))} a day ({settings.time_step:g} s; "
             f"{np.max(plans[0]):g} s from {NIGHT_SETTLE / HOUR:g} h after the last "
@@ -536,8 +556,6 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
 
     converged = False
     res = None
-    from tqdm.auto import tqdm
-
     while day < days_max:
         day_end = (day + 1) * DAY
         if abs(sim.time - day * DAY) < 1e-6:
@@ -547,16 +565,16 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
         plan = plans[min(day, 1)]
         first = int(round((sim.time - day * DAY) / iv))
         last_save = sim.time
-        with tqdm(total=int(round(np.sum(iv / plan[first:]))), unit="step",
-                  desc=f"day {day + 1}", disable=not progress, leave=False) as bar:
-            for b in range(first, len(plan)):
-                sim.set_time_step(plan[b])
-                sim.run_until(day * DAY + (b + 1) * iv, progress=False)
-                bar.update(int(round(iv / plan[b])))
-                if (checkpoint is not None and sim.time < day_end - 1e-6
-                        and sim.time - last_save >= checkpoint_interval - 1e-6):
-                    save(day)
-                    last_save = sim.time
+
+        def checkpoint_due(day=day, day_end=day_end):
+            nonlocal last_save
+            if (checkpoint is not None and sim.time < day_end - 1e-6
+                    and sim.time - last_save >= checkpoint_interval - 1e-6):
+                save(day)
+                last_save = sim.time
+
+        _run_intervals(sim, plan[first:], sim.time, iv, f"day {day + 1}", progress,
+                       checkpoint_due)
         res = sim.results()
         energy_parts.append(res.energy)
         # Periodicity defect of the day: the largest change of any cell temperature from
@@ -655,19 +673,12 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
     sim = Simulation(model, settings.time_step, span, scheme=settings.scheme,
                      output_interval=settings.output_interval)
     t0 = _time.perf_counter()
-    plan = day_steps(settings, forcing, 0.0, span=span)
+    plan = night_steps(settings, dark_intervals(settings, forcing, span))
     iv = settings.output_interval
     per_day = int(round(DAY / iv))
-    from tqdm.auto import tqdm
-
     for day in range(n_days):
-        blocks = range(day * per_day, (day + 1) * per_day)
-        with tqdm(total=int(round(np.sum(iv / plan[blocks]))), unit="step",
-                  desc=f"record day {day + 1}", disable=not progress, leave=False) as bar:
-            for b in blocks:
-                sim.set_time_step(plan[b])
-                sim.run_until((b + 1) * iv, progress=False)
-                bar.update(int(round(iv / plan[b])))
+        _run_intervals(sim, plan[day * per_day:(day + 1) * per_day], day * DAY, iv,
+                       f"record day {day + 1}", progress)
         say(f"record day {day + 1} of {n_days} simulated")
     res = sim.results()
     t_solve = _time.perf_counter() - t0
