@@ -53,35 +53,29 @@ def _run(sc, ship, **kw):
     return res, time.perf_counter() - t0
 
 
+def _uniform(sc, ship, traced=None, graph=None, lead_in=None):
+    """The scenario's own thermal inputs with uniform day steps (``night_step =
+    time_step``) and, given ``lead_in``, that lead-in: ``lead_in=0`` is day-by-day stepping
+    from midnight until a day repeats."""
+    import dataclasses
+
+    from shipthermal.app.thermal import thermal_inputs
+    from shipthermal.diurnal import run_diurnal
+
+    inputs = thermal_inputs(sc, ship)
+    s = inputs["settings"]
+    changes = {"night_step": s.time_step}
+    if lead_in is not None:
+        changes["lead_in"] = lead_in
+    inputs["settings"] = dataclasses.replace(s, **changes)
+    t0 = time.perf_counter()
+    res = run_diurnal(**inputs, progress=False, traced=traced, graph=graph)
+    return res, time.perf_counter() - t0
+
+
 def _plain(sc, ship, traced=None, graph=None):
-    """Day-by-day stepping from midnight until a day repeats (no lead-in, uniform steps):
-    the scenario's own thermal inputs with ``lead_in = 0`` and ``night_step = time_step``."""
-    import dataclasses
-
-    from shipthermal.app.thermal import thermal_inputs
-    from shipthermal.diurnal import run_diurnal
-
-    inputs = thermal_inputs(sc, ship)
-    s = inputs["settings"]
-    inputs["settings"] = dataclasses.replace(s, lead_in=0.0, night_step=s.time_step)
-    t0 = time.perf_counter()
-    res = run_diurnal(**inputs, progress=False, traced=traced, graph=graph)
-    return res, time.perf_counter() - t0
-
-
-def _uniform(sc, ship, traced, graph):
-    """The same run (lead-in, one recorded day) with uniform day steps: no night steps."""
-    import dataclasses
-
-    from shipthermal.app.thermal import thermal_inputs
-    from shipthermal.diurnal import run_diurnal
-
-    inputs = thermal_inputs(sc, ship)
-    s = inputs["settings"]
-    inputs["settings"] = dataclasses.replace(s, night_step=s.time_step)
-    t0 = time.perf_counter()
-    res = run_diurnal(**inputs, progress=False, traced=traced, graph=graph)
-    return res, time.perf_counter() - t0
+    """Day-by-day stepping from midnight until a day repeats (no lead-in, uniform steps)."""
+    return _uniform(sc, ship, traced, graph, lead_in=0.0)
 
 
 def _step_counts(res, start: float) -> str:
