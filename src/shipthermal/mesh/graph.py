@@ -157,12 +157,8 @@ class CellGraph:
         """Each cell's interior faces as a CSR list ``(ptr, neighbour, conductance)``: cell
         ``c``'s neighbours are ``neighbour[ptr[c]:ptr[c + 1]]`` (in face order). The per-cell
         (gathered) form of the conduction flows, which threads can share."""
-        n = self.n_cells
         i, j = self.face_cells[:, 0], self.face_cells[:, 1]
-        cell = np.concatenate([i, j])
-        order = np.argsort(cell, kind="stable")
-        ptr = np.zeros(n + 1, np.int64)
-        np.cumsum(np.bincount(cell, minlength=n), out=ptr[1:])
+        ptr, order = _group_by(np.concatenate([i, j]), self.n_cells)
         nb = np.concatenate([j, i])[order].astype(np.int64)
         g = np.concatenate([self.face_conductance, self.face_conductance])[order]
         return ptr, nb, np.ascontiguousarray(g, dtype=np.float64)
@@ -170,11 +166,7 @@ class CellGraph:
     @cached_property
     def cell_bfaces(self) -> tuple[np.ndarray, np.ndarray]:
         """Each cell's boundary faces as a CSR list ``(ptr, bface)`` (in face order)."""
-        n = self.n_cells
-        order = np.argsort(self.bface_cell, kind="stable").astype(np.int64)
-        ptr = np.zeros(n + 1, np.int64)
-        np.cumsum(np.bincount(self.bface_cell, minlength=n), out=ptr[1:])
-        return ptr, order
+        return _group_by(self.bface_cell, self.n_cells)
 
     @cached_property
     def boundary_gradient(self) -> tuple[sp.csr_matrix, np.ndarray] | None:
@@ -314,3 +306,12 @@ def least_squares_gradient(cell_centroid: np.ndarray, face_cells: np.ndarray,
         vals_q.append(-coef[:, comp])
     return sp.csr_matrix((np.concatenate(vals_q), (np.concatenate(rows_q), np.concatenate(cols_q))),
                          shape=(3 * n, n + b))
+
+
+def _group_by(cell: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """CSR grouping of items by their cell: ``(ptr, order)``, cell ``c``'s items being
+    ``order[ptr[c]:ptr[c + 1]]`` in their own order."""
+    order = np.argsort(cell, kind="stable").astype(np.int64)
+    ptr = np.zeros(n + 1, np.int64)
+    np.cumsum(np.bincount(cell, minlength=n), out=ptr[1:])
+    return ptr, order
