@@ -21,7 +21,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["tridiagonal_factor", "tridiagonal_solve", "column_factor", "column_bounds"]
+__all__ = ["tridiagonal_factor", "tridiagonal_solve", "column_factor", "column_bounds",
+           "ColumnSolve"]
 
 #: Blocks of a split tridiagonal system (each a run of whole columns): enough for the
 #: threads of any machine to share, few enough to stay long.
@@ -53,19 +54,67 @@ def _factor(diag, sup, dinv, l, bounds):
     return not np.any(bad)
 
 
+@njit(inline="always")
+def _sweeps(dinv, l, r, x, lo, hi):
+    one = np.uint64(1)
+    x[lo] = r[lo]
+    for i in range(lo + one, hi):
+        x[i] = r[i] - l[i - one] * x[i - one]
+    x[hi - one] = x[hi - one] * dinv[hi - one]
+    for k in range(hi - lo - one):           # i = hi − 2 … lo
+        i = hi - np.uint64(2) - k
+        x[i] = x[i] * dinv[i] - l[i] * x[i + one]
+
+
 @njit(parallel=True, cache=True)
 def _solve(dinv, l, r, x, bounds):
     for b in prange(bounds.shape[0] - 1):
+        _sweeps(dinv, l, r, x, np.uint64(bounds[b]), np.uint64(bounds[b + 1]))
+
+
+@njit(parallel=True, cache=True)
+def _solve_dot(dinv, l, r, x, bounds, part):
+    """``x = A⁻¹ r``; returns ``r·x`` (summed per block, then over blocks in order)."""
+    for b in prange(bounds.shape[0] - 1):
         lo = np.uint64(bounds[b])
         hi = np.uint64(bounds[b + 1])
-        one = np.uint64(1)
-        x[lo] = r[lo]
-        for i in range(lo + one, hi):
-            x[i] = r[i] - l[i - one] * x[i - one]
-        x[hi - one] = x[hi - one] * dinv[hi - one]
-        for k in range(hi - lo - one):           # i = hi − 2 … lo
-            i = hi - np.uint64(2) - k
-            x[i] = x[i] * dinv[i] - l[i] * x[i + one]
+        _sweeps(dinv, l, r, x, lo, hi)
+        s = 0.0
+        for i in range(lo, hi):
+            s += r[i] * x[i]
+        part[b] = s
+    return _in_order(part)
+
+
+@njit(parallel=True, cache=True)
+def _update_solve_dot(dinv, l, bounds, x, r, p, ap, alpha, z, part_rr, part_rz):
+    """One PCG update fused with the preconditioner, block by block (each block's vectors
+    stay in cache between the passes): ``x += α p``, ``r −= α Ap``, ``z = A⁻¹ r``. Returns
+    ``(‖r‖², r·z)``, each summed per block and then over blocks in order."""
+    for b in prange(bounds.shape[0] - 1):
+        lo = np.uint64(bounds[b])
+        hi = np.uint64(bounds[b + 1])
+        s = 0.0
+        for i in range(lo, hi):
+            x[i] += alpha * p[i]
+            ri = r[i] - alpha * ap[i]
+            r[i] = ri
+            s += ri * ri
+        part_rr[b] = s
+        _sweeps(dinv, l, r, z, lo, hi)
+        s = 0.0
+        for i in range(lo, hi):
+            s += r[i] * z[i]
+        part_rz[b] = s
+    return _in_order(part_rr), _in_order(part_rz)
+
+
+@njit(cache=True)
+def _in_order(part):
+    s = 0.0
+    for b in range(part.shape[0]):
+        s += part[b]
+    return s
 
 
 def column_bounds(cut: np.ndarray, blocks: int = BLOCKS) -> np.ndarray:
@@ -103,6 +152,38 @@ def tridiagonal_solve(factor, rhs: np.ndarray) -> np.ndarray:
     if len(dinv):
         _solve(dinv, l, np.ascontiguousarray(rhs, dtype=np.float64), x, bounds)
     return x
+
+
+class ColumnSolve:
+    """``r ↦ A⁻¹ r`` with a :func:`tridiagonal_factor` (a preconditioner's ``apply``).
+
+    :func:`shipthermal.linear.pcg` recognises it (``factor``) and fuses the solve with its
+    vector updates and dot products (:meth:`update_solve`), the sums then taken over the
+    factor's blocks: deterministic whatever the number of threads.
+    """
+
+    def __init__(self, factor):
+        self.factor = factor
+        self._part = np.empty(max(len(factor[2]) - 1, 0))
+        self._part2 = np.empty_like(self._part)
+
+    def __call__(self, r: np.ndarray) -> np.ndarray:
+        return tridiagonal_solve(self.factor, r)
+
+    def solve_dot(self, r: np.ndarray, z: np.ndarray) -> float:
+        """``z = A⁻¹ r`` (into ``z``); returns ``r·z``. ``r`` float64, contiguous."""
+        dinv, l, bounds = self.factor
+        if not len(dinv):
+            return 0.0
+        return _solve_dot(dinv, l, r, z, bounds, self._part)
+
+    def update_solve(self, x, r, p, ap, alpha: float, z):
+        """``x += α p``, ``r −= α Ap``, ``z = A⁻¹ r``; returns ``(‖r‖², r·z)``."""
+        dinv, l, bounds = self.factor
+        if not len(dinv):
+            return 0.0, 0.0
+        return _update_solve_dot(dinv, l, bounds, x, r, p, ap, float(alpha), z, self._part,
+                                 self._part2)
 
 
 @njit(parallel=True, cache=True)

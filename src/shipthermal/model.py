@@ -180,6 +180,7 @@ class BoundaryState:
     temp_face: np.ndarray   # (b,) surface temperature [K]
     flow: np.ndarray        # (b,) heat flow into the body [W]
     conductance: np.ndarray  # (b,) −∂flow/∂T_cell [W K-1]
+    converged: bool = True   # the face-to-face fixed point reached its tolerance
 
 
 def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarray,
@@ -362,7 +363,8 @@ def nonorthogonal_flows(graph: CellGraph, temp_cell: np.ndarray, temp_face: np.n
 
 
 def boundary_state(model: "ThermalModel", forcing: FaceForcing, temp_cell: np.ndarray,
-                   temp_guess: np.ndarray, tol: float = 1e-11, max_iterations: int = 200):
+                   temp_guess: np.ndarray, tol: float = 1e-11, max_iterations: int = 200,
+                   sweeps: int | None = None):
     """Surface temperatures and flows consistent with the cell field ``temp_cell``.
 
     The surface balance of a face depends on other faces through the non-orthogonal
@@ -370,6 +372,10 @@ def boundary_state(model: "ThermalModel", forcing: FaceForcing, temp_cell: np.nd
     radiation; both are iterated here, at fixed cell temperatures, to a fixed point
     (cheap: local work and one sparse product per pass). The result is then a function
     of ``temp_cell`` alone, which the outer Newton/Anderson iteration needs.
+
+    ``sweeps`` caps the passes of the fixed point instead (no error when it stops short;
+    ``state.converged`` tells): an outer iteration that moves ``temp_cell`` anyway can
+    carry the fixed point along and accept only a converged one.
 
     Returns
     -------
@@ -386,7 +392,9 @@ def boundary_state(model: "ThermalModel", forcing: FaceForcing, temp_cell: np.nd
         bkt = g.correction.bface_kt
         m = bgrad.shape[0] // 3
     cb = None
-    for _ in range(max_iterations):
+    limit = max_iterations if sweeps is None else max(1, int(sweeps))
+    converged = False
+    for _ in range(limit):
         if g.correction is not None:
             grad = (bgrad @ np.concatenate([temp_cell, tf])).reshape(3, m).T
             cb = np.einsum("ij,ij->i", bkt, grad[local])
@@ -394,9 +402,11 @@ def boundary_state(model: "ThermalModel", forcing: FaceForcing, temp_cell: np.nd
         change = np.max(np.abs(bs.temp_face - tf)) if len(tf) else 0.0
         tf = bs.temp_face
         if change <= tol * max(1.0, float(np.max(tf))):
+            converged = True
             break
-    else:
+    if not converged and sweeps is None:
         raise RuntimeError(f"boundary fixed point did not converge (last change {change:.3g} K)")
+    bs.converged = converged
     if exch is not None:
         add_exchange_flow(bs, exch)
     corr_cell = 0.0

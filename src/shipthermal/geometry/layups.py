@@ -24,10 +24,14 @@ Why these numbers:
   50 mm mineral wool (A-60 fire insulation of accommodation boundaries, SOLAS II-2).
 * Paint: a typical marine coating system is 250–350 µm dry film; 0.3 mm is used.
 
-Cells through the thickness: paint and coverings 1 cell; steel 2 cells (the Biot number of a
-14 mm steel plate is ≈ 0.004, so the plate is nearly isothermal and 2 cells resolve it);
-mineral wool 4 cells (its diurnal penetration depth √(αP/π) ≈ 0.1 m exceeds the 50 mm
-thickness, 4 cells keep the through-thickness profile to a few percent).
+Cells through the thickness: paint and coverings 1 cell; steel 1 cell (the Biot number of a
+14 mm steel plate is ≈ 0.004 and heat crosses it in t²/α ≈ 15 s, twenty times less than a
+300 s step: the plate is isothermal to what the steps can see, and a cell's two-point
+conductances carry its steady through-thickness drop exactly); mineral wool 4 cells (its
+diurnal penetration depth √(αP/π) ≈ 0.1 m exceeds the 50 mm thickness, 4 cells keep the
+through-thickness profile to a few percent). Measured on the built-in frigate summer day at
+0.5 m: 2 steel cells instead of 1 change the surface temperatures by at most 6.4e-3 K
+(part means 1.0e-3 K) and cost 23 % more cells (257 k against 197 k) and 20 % more time.
 
 Compartment air temperature
 ---------------------------
@@ -55,10 +59,10 @@ __all__ = ["PAINT_THICKNESS", "HULL_LAYUP", "DECK_LAYUP", "SUPERSTRUCTURE_LAYUP"
 PAINT_THICKNESS = 0.3e-3
 """Dry film thickness of the outer coating system [m]."""
 
-HULL_LAYUP = Layup((Layer("marine_paint", PAINT_THICKNESS, 1), Layer("mild_steel", 0.014, 2)),
+HULL_LAYUP = Layup((Layer("marine_paint", PAINT_THICKNESS, 1), Layer("mild_steel", 0.014, 1)),
                    name="hull")
-DECK_LAYUP = Layup((Layer("deck_covering", 0.003, 1), Layer("mild_steel", 0.010, 2)), name="deck")
-MAST_LAYUP = Layup((Layer("marine_paint", PAINT_THICKNESS, 1), Layer("mild_steel", 0.008, 2)),
+DECK_LAYUP = Layup((Layer("deck_covering", 0.003, 1), Layer("mild_steel", 0.010, 1)), name="deck")
+MAST_LAYUP = Layup((Layer("marine_paint", PAINT_THICKNESS, 1), Layer("mild_steel", 0.008, 1)),
                    name="superstructure_mast")
 
 
@@ -75,7 +79,7 @@ def superstructure_layup(material: str = "mild_steel", plate: float = 0.006,
     insulation : float
         Mineral wool thickness [m]; 0 for none.
     """
-    layers = [Layer("marine_paint", PAINT_THICKNESS, 1), Layer(material, plate, 2)]
+    layers = [Layer("marine_paint", PAINT_THICKNESS, 1), Layer(material, plate, 1)]
     if insulation > 0:
         layers.append(Layer("mineral_wool", insulation, 4))
     return Layup(tuple(layers), name="superstructure")
