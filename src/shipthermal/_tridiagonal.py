@@ -155,35 +155,46 @@ def tridiagonal_solve(factor, rhs: np.ndarray) -> np.ndarray:
 
 
 class ColumnSolve:
-    """``r ↦ A⁻¹ r`` with a :func:`tridiagonal_factor` (a preconditioner's ``apply``).
+    """``r ↦ A⁻¹ r`` with a :func:`tridiagonal_factor` (a preconditioner's ``apply``), and
+    optionally groups of columns solved as dense blocks instead (``aggregates``, factorised:
+    :mod:`shipthermal._aggregates`).
 
-    :func:`shipthermal.linear.pcg` recognises it (``factor``) and fuses the solve with its
-    vector updates and dot products (:meth:`update_solve`), the sums then taken over the
-    factor's blocks: deterministic whatever the number of threads.
+    :func:`shipthermal.linear.pcg` recognises it (``update_solve``) and fuses the solve with
+    its vector updates and dot products, the sums then taken over the factor's blocks and
+    the groups: deterministic whatever the number of threads.
     """
 
-    def __init__(self, factor):
+    def __init__(self, factor, aggregates=None):
         self.factor = factor
+        self.aggregates = aggregates if aggregates is not None and aggregates.n_groups else None
         self._part = np.empty(max(len(factor[2]) - 1, 0))
         self._part2 = np.empty_like(self._part)
+        self._part_agg = np.empty(self.aggregates.n_groups if self.aggregates else 0)
+
+    def _groups(self, r, z) -> float:
+        return 0.0 if self.aggregates is None else self.aggregates.solve(r, z, self._part_agg)
 
     def __call__(self, r: np.ndarray) -> np.ndarray:
-        return tridiagonal_solve(self.factor, r)
+        z = tridiagonal_solve(self.factor, r)
+        self._groups(np.ascontiguousarray(r, dtype=np.float64), z)
+        return z
 
     def solve_dot(self, r: np.ndarray, z: np.ndarray) -> float:
         """``z = A⁻¹ r`` (into ``z``); returns ``r·z``. ``r`` float64, contiguous."""
         dinv, l, bounds = self.factor
         if not len(dinv):
             return 0.0
-        return _solve_dot(dinv, l, r, z, bounds, self._part)
+        rz = _solve_dot(dinv, l, r, z, bounds, self._part)
+        return rz + self._groups(r, z)
 
     def update_solve(self, x, r, p, ap, alpha: float, z):
         """``x += α p``, ``r −= α Ap``, ``z = A⁻¹ r``; returns ``(‖r‖², r·z)``."""
         dinv, l, bounds = self.factor
         if not len(dinv):
             return 0.0, 0.0
-        return _update_solve_dot(dinv, l, bounds, x, r, p, ap, float(alpha), z, self._part,
-                                 self._part2)
+        rr, rz = _update_solve_dot(dinv, l, bounds, x, r, p, ap, float(alpha), z, self._part,
+                                   self._part2)
+        return rr, rz + self._groups(r, z)
 
 
 @njit(parallel=True, cache=True)

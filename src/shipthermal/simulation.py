@@ -39,6 +39,7 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit, prange
 
+from ._aggregates import Aggregates, column_aggregates
 from ._tridiagonal import ColumnSolve, column_bounds, column_factor
 from .errors import InputError, check_finite, check_positive, require
 from .linear import Anderson, Preconditioner, choose_backend, make_preconditioner, pcg
@@ -407,6 +408,7 @@ class Simulation:
         self.timing = _Timing()
         self._column_break = None
         self._column_bounds = None
+        self._aggregates = None    # column groups of the preconditioner (see _aggregates)
         if self.backend == "column":
             cf = self.graph.metadata["cell_face"]
             self._column_break = cf[1:] != cf[:-1]
@@ -571,7 +573,14 @@ class Simulation:
                 self._column_bounds = column_bounds(self._column_break)
             factor = column_factor(matrix.data, pat.diag_pos, pat.sup_pos, self._column_break,
                                    self._column_bounds)
-            self._precond = Preconditioner("column", ColumnSolve(factor),
+            # Columns held by strong sideways couplings are solved with their neighbours,
+            # found once from the first Jacobian (the worst columns are the same slivers
+            # whatever the step: only how many pass the ratio changes with it).
+            if self._aggregates is None:
+                self._aggregates = column_aggregates(matrix, self._column_break)
+            groups = self._aggregates
+            groups.factor(matrix.data)
+            self._precond = Preconditioner("column", ColumnSolve(factor, groups),
                                            time.perf_counter() - t0)
             self.timing.setup += time.perf_counter() - t0
             self.timing.preconditioner_builds += 1
@@ -847,6 +856,10 @@ class Simulation:
             origin=np.array(st.origin, dtype=float), rec_times=np.array(st.recorded_times),
             rec_cell=np.array(st.recorded_cell), rec_face=np.array(st.recorded_face),
             rec_flow=np.array(st.recorded_flow),
+            # the preconditioner's column groups, so that a resumed run solves with the
+            # very same ones (found from the first Jacobian of the run)
+            **({f"groups_{k}": v for k, v in self._aggregates.arrays().items()}
+               if self._aggregates is not None else {}),
             signature=np.array([self.dt, self.start_time, SCHEMES.index(self.scheme),
                                 self.graph.n_cells, self.graph.n_bfaces], dtype=float),
             **{f"energy_{k}": np.array(v) for k, v in st.energy.items()},
@@ -894,6 +907,9 @@ class Simulation:
             st.recorded_flow = list(d["rec_flow"])
             st.energy = {k: list(d[f"energy_{k}"]) for k in EnergyLog.FIELDS}
             extra = {k[6:]: d[k].copy() for k in d.files if k.startswith("extra_")}
+            if "groups_ptr" in d.files:
+                self._aggregates = Aggregates.from_arrays(
+                    {k: d[f"groups_{k}"] for k in Aggregates.FIELDS})
         self._state = st
         self._dt_now = dt_now
         return extra

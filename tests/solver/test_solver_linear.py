@@ -141,6 +141,111 @@ def test_column_preconditioner_is_the_tridiagonal_part():
     np.testing.assert_allclose(tri @ prec.apply(r), r, rtol=0, atol=1e-10 * np.abs(r).max())
 
 
+def _plates(n_cols=4000, cells=3, slivers=0.03, seed=11):
+    """Plate columns (stiff through the thickness) coupled sideways to random neighbours, a
+    share of them slivers: tiny own stiffness (capacity and boundary) against their sideways
+    couplings, like the small triangles at plate edges of a ship mesh. Returns the SPD
+    matrix, the column cuts and the sliver columns."""
+    rng = np.random.default_rng(seed)
+    n = n_cols * cells
+    col = np.repeat(np.arange(n_cols), cells)
+    sup = np.where(np.arange(n - 1) % cells == cells - 1, 0.0, -rng.uniform(50.0, 100.0, n - 1))
+    own = rng.uniform(20.0, 40.0, n_cols)
+    sliver = rng.choice(n_cols, int(slivers * n_cols), replace=False)
+    own[sliver] = 10.0 ** rng.uniform(-1.0, 1.0, len(sliver))
+    # sideways: each column's middle cell to 3 others (nearby numbering, as on a mesh)
+    i = np.repeat(np.arange(n_cols), 3)
+    j = (i + rng.integers(1, 40, len(i))) % n_cols
+    g = rng.uniform(0.1, 0.6, len(i))
+    mid = cells // 2
+    lat = sp.coo_matrix((-g, (i * cells + mid, j * cells + mid)), shape=(n, n))
+    lat = (lat + lat.T).tocsr()
+    diag = (np.abs(np.concatenate([sup, [0.0]])) + np.abs(np.concatenate([[0.0], sup]))
+            - lat.sum(axis=1).A1)
+    diag[np.arange(n_cols) * cells] += own          # capacity and boundary on the surface cell
+    a = (sp.diags([sup, diag, sup], [-1, 0, 1]) + lat).tocsr()
+    a.sort_indices()
+    return a, sup == 0.0, np.sort(sliver)
+
+
+def test_column_groups_take_the_slivers_and_solve_their_blocks_exactly():
+    """Columns whose sideways couplings outweigh their own stiffness are grouped with their
+    neighbours (slivers first, at most AGGREGATE_SHARE of the columns starting a group), and
+    the preconditioner solves each group's block exactly and the other columns as before."""
+    from shipthermal._aggregates import AGGREGATE_SHARE, column_aggregates
+    from shipthermal._tridiagonal import ColumnSolve
+
+    a, cut, sliver = _plates()
+    groups = column_aggregates(a, cut)
+    n_cols = int(cut.sum()) + 1
+    assert 0 < groups.n_groups <= AGGREGATE_SHARE * n_cols + 1
+    col = np.concatenate([[0], np.cumsum(cut)])
+    grouped_cols = np.unique(col[groups.cells])
+    assert np.isin(sliver, grouped_cols).mean() > 0.9
+    groups.factor(a.data)
+    factor = tridiagonal_factor(a.diagonal(), np.where(cut, 0.0, a.diagonal(1)),
+                                column_bounds(cut))
+    prec = ColumnSolve(factor, groups)
+    rng = np.random.default_rng(12)
+    r = rng.normal(size=a.shape[0])
+    z = prec(r)
+    for g in range(0, groups.n_groups, max(1, groups.n_groups // 25)):
+        cells = groups.cells[groups.ptr[g]:groups.ptr[g + 1]]
+        block = a[cells][:, cells].toarray()
+        np.testing.assert_allclose(block @ z[cells], r[cells], rtol=0,
+                                   atol=1e-12 * np.abs(r).max())
+    alone = np.setdiff1d(np.arange(a.shape[0]), groups.cells)
+    np.testing.assert_array_equal(z[alone], tridiagonal_solve(factor, r)[alone])
+
+
+def test_column_groups_same_answer_on_any_threads():
+    from shipthermal._aggregates import column_aggregates
+    from shipthermal._tridiagonal import ColumnSolve
+
+    a, cut, _ = _plates(seed=13)
+    factor = tridiagonal_factor(a.diagonal(), np.where(cut, 0.0, a.diagonal(1)),
+                                column_bounds(cut))
+    groups = column_aggregates(a, cut)
+    groups.factor(a.data)
+    rhs = np.random.default_rng(14).normal(size=a.shape[0])
+    x0, _, _ = linear.pcg(a, rhs, ColumnSolve(factor), rtol=1e-10)
+    runs = [_with_threads(n, lambda: linear.pcg(a, rhs, ColumnSolve(factor, groups), rtol=1e-10))
+            for n in _threads()]
+    x, it, rel = runs[0]
+    assert rel <= 1e-10
+    np.testing.assert_allclose(x, x0, rtol=0, atol=1e-8 * np.abs(x0).max())
+    for other in runs[1:]:
+        np.testing.assert_array_equal(other[0], x)
+        assert other[1] == it
+
+
+def test_column_groups_cut_the_pcg_iterations_of_a_ship_day(monkeypatch):
+    """A patrol boat's day at 3 m: the column groups take 45 % of the PCG iterations off
+    (measured 5800 → 3202; frigate at 0.5 m: 5.4 → 3.9 a Newton pass), the answer the same
+    to the Newton tolerance (1e-9 K a step; measured 3e-9 K over the day)."""
+    from shipthermal import _aggregates, simulation
+    from shipthermal.diurnal import DiurnalSettings, run_diurnal
+    from shipthermal.environment import Environment, climate_day
+    from shipthermal.geometry import patrol_boat
+
+    ship = patrol_boat(edge_length=3.0)
+    env = Environment.from_climate_day(climate_day("summer"), ship_heading=90.0)
+    s = DiurnalSettings(time_step=300.0, output_interval=1800.0, rays_per_face=32,
+                        samples_per_face=8, spinup_max_days=1, spinup_tolerance=1.0)
+    grouped = run_diurnal(ship, env, s, progress=False)
+    monkeypatch.setattr(simulation, "column_aggregates",
+                        lambda m, cut: _aggregates.column_aggregates(m, cut, ratio=np.inf))
+    alone = run_diurnal(ship, env, s, progress=False, traced=grouped.forcing.traced,
+                        graph=grouped.graph)
+    it_g = grouped.timings["solver_detail"]["linear_iterations"]
+    it_a = alone.timings["solver_detail"]["linear_iterations"]
+    d = np.max(np.abs(grouped.results.face_temperature - alone.results.face_temperature))
+    print(f"PCG iterations: columns alone {it_a:.0f}, grouped {it_g:.0f}; faces within {d:.1e} K")
+    assert it_g < 0.7 * it_a
+    assert d < 1e-7
+    assert grouped.energy.relative_imbalance <= 1e-11
+
+
 @pytest.mark.skipif(not has_cholmod(), reason="kvxopt (CHOLMOD) not installed")
 def test_cholmod_backend_solves_spd_system():
     diag, sup = _columns(400, seed=5)
