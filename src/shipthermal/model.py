@@ -187,7 +187,8 @@ def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarra
                     temp_guess: np.ndarray, correction_flow: np.ndarray | None = None,
                     exchange: RadiativeExchange | None = None,
                     exchange_temp: np.ndarray | None = None, tol: float = 1e-12,
-                    max_iterations: int = 60, exchange_flow: bool = True) -> BoundaryState:
+                    max_iterations: int = 60, exchange_flow: bool = True,
+                    received: np.ndarray | None = None) -> BoundaryState:
     """Solve every boundary face's energy balance for its surface temperature (see module
     docstring) and return the flows into the cells and their derivatives.
 
@@ -202,6 +203,9 @@ def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarra
     exchange_flow : bool
         Include the face-to-face part in ``flow`` (a fixed-point loop over the faces needs
         it only once, at the end: :func:`add_exchange_flow`).
+    received : (k,) array, optional
+        ``Σ_j R_ij T_j⁴`` of the exchanging faces at ``exchange_temp`` [m2 K4], when the
+        caller has it (computed here otherwise).
     """
     area = graph.bface_area
     g = graph.bface_conductance
@@ -210,7 +214,9 @@ def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarra
     gain = loss = none
     if exchange is not None:
         gain = np.zeros_like(area)      # σ Σ_j R_ij T_j⁴ (lagged) [W]
-        gain[exchange.bfaces] = SIGMA * _received(exchange, exchange_temp)
+        if received is None:
+            received = _received(exchange, exchange_temp)
+        gain[exchange.bfaces] = SIGMA * received
         loss = exchange.loss_per_face(len(area))
     ts = np.empty_like(area)
     flow = np.empty_like(area)
@@ -228,14 +234,21 @@ def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarra
     return state
 
 
-def add_exchange_flow(state: BoundaryState, exchange: RadiativeExchange) -> None:
-    """Add the face-to-face part to ``state.flow``, with the *same* (converged) temperatures
-    on both sides, σ Σ_j R_ij (T_j⁴ − T_i⁴): it cancels exactly in the energy sum whatever
-    the lag of the temperatures the balance was solved with."""
+def add_exchange_flow(state: BoundaryState, exchange: RadiativeExchange,
+                      temp_face: np.ndarray | None = None,
+                      received: np.ndarray | None = None) -> None:
+    """Add the face-to-face part to ``state.flow``, with the *same* temperatures on both
+    sides, σ Σ_j R_ij (T_j⁴ − T_i⁴): it cancels exactly in the energy sum whatever the lag
+    of the temperatures the balance was solved with. The temperatures are ``temp_face``
+    (default: the state's own) and ``received`` their ``Σ_j R_ij T_j⁴`` (computed when not
+    given)."""
     idx = exchange.bfaces
-    t2 = state.temp_face[idx] ** 2
+    temp = state.temp_face if temp_face is None else temp_face
+    if received is None:
+        received = _received(exchange, temp)
+    t2 = temp[idx] ** 2
     t4 = t2 * t2                     # as in _received_kernel
-    state.flow[idx] += SIGMA * (_received(exchange, state.temp_face) - exchange.row_sum * t4)
+    state.flow[idx] += SIGMA * (received - exchange.row_sum * t4)
 
 
 def _received(exchange: RadiativeExchange, temp_face: np.ndarray) -> np.ndarray:
@@ -398,9 +411,11 @@ def boundary_state(model: "ThermalModel", forcing: FaceForcing, temp_cell: np.nd
         if g.correction is not None:
             grad = (bgrad @ np.concatenate([temp_cell, tf])).reshape(3, m).T
             cb = np.einsum("ij,ij->i", bkt, grad[local])
-        bs = surface_balance(g, forcing, temp_cell, tf, cb, exch, tf, exchange_flow=False)
+        received = _received(exch, tf) if exch is not None else None
+        bs = surface_balance(g, forcing, temp_cell, tf, cb, exch, tf, exchange_flow=False,
+                             received=received)
         change = np.max(np.abs(bs.temp_face - tf)) if len(tf) else 0.0
-        tf = bs.temp_face
+        tf_in, tf = tf, bs.temp_face
         if change <= tol * max(1.0, float(np.max(tf))):
             converged = True
             break
@@ -408,7 +423,10 @@ def boundary_state(model: "ThermalModel", forcing: FaceForcing, temp_cell: np.nd
         raise RuntimeError(f"boundary fixed point did not converge (last change {change:.3g} K)")
     bs.converged = converged
     if exch is not None:
-        add_exchange_flow(bs, exch)
+        # The face-to-face flows at the temperatures the last pass received from (their
+        # R T⁴ is at hand): on a converged fixed point they differ from its result by the
+        # tolerance, and the flows cancel in the energy sum either way.
+        add_exchange_flow(bs, exch, tf_in, received)
     corr_cell = 0.0
     if g.correction is not None:
         # Interior correction once, with the converged face temperatures; c_b of the last
