@@ -329,6 +329,20 @@ def _balance_kernel(area, g, temp_cell, bface_cell, cb_in, q0, h, tfl, eps, lw, 
     return unconverged.max() if area.shape[0] else 0.0
 
 
+@njit(cache=True)
+def _change_and_max(new, old):
+    """``(max |new − old|, max new)`` of two face-temperature arrays (0 when empty)."""
+    change = 0.0
+    top = -np.inf if new.shape[0] else 0.0
+    for i in range(new.shape[0]):
+        d = abs(new[i] - old[i])
+        if not d <= change:
+            change = d
+        if new[i] > top:
+            top = new[i]
+    return change, top
+
+
 def conduction_flows(graph: CellGraph, temp_cell: np.ndarray) -> np.ndarray:
     """Net two-point conductive heat flow into each cell, ``−K T`` [W].
 
@@ -414,9 +428,9 @@ def boundary_state(model: "ThermalModel", forcing: FaceForcing, temp_cell: np.nd
         received = _received(exch, tf) if exch is not None else None
         bs = surface_balance(g, forcing, temp_cell, tf, cb, exch, tf, exchange_flow=False,
                              received=received)
-        change = np.max(np.abs(bs.temp_face - tf)) if len(tf) else 0.0
+        change, top = _change_and_max(bs.temp_face, tf)
         tf_in, tf = tf, bs.temp_face
-        if change <= tol * max(1.0, float(np.max(tf))):
+        if change <= tol * max(1.0, top):
             converged = True
             break
     if not converged and sweeps is None:

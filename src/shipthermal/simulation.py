@@ -241,6 +241,32 @@ def _cell_residual_kernel(ptr, nb, gc, bptr, bface, temp, hist, cap, a, dt, thet
         jdiag_b[c] = theta * gb
 
 
+@njit(cache=True)
+def _max_ratio(num, den):
+    """``max |num / den|`` without the temporaries."""
+    m = 0.0
+    for i in range(num.shape[0]):
+        v = abs(num[i] / den[i])
+        if not v <= m:          # (a NaN wins, as in numpy's max)
+            m = v
+    return m
+
+
+@njit(parallel=True, cache=True)
+def _moved_kernel(temp_face, delta, cond, g, bcell, out):
+    for i in prange(temp_face.shape[0]):
+        out[i] = temp_face[i] + (1.0 - cond[i] / g[i]) * delta[np.uint64(bcell[i])]
+
+
+def _moved_by_balance(temp_face, delta, conductance, bface_conductance, bface_cell):
+    """``T_s + s ΔT_cell`` with ``s = 1 − G_eff/g`` (:meth:`Simulation._face_slope` and
+    :meth:`Simulation._moved_faces` in one pass)."""
+    out = np.empty_like(temp_face)
+    _moved_kernel(temp_face, np.ascontiguousarray(delta), conductance, bface_conductance,
+                  bface_cell, out)
+    return out
+
+
 class _ExtrapolatedCorrection:
     """The non-orthogonal correction of a step held fixed from the predicted field
     (:mod:`.mesh.graph`, treatment ``"extrapolated"``): ``(interior flow into each cell,
@@ -686,7 +712,7 @@ class Simulation:
             jdiag = pattern.diagonal(diag_c + jdiag_b, exch)
             face_lag = bs.temp_face
             self.timing.assembly += time.perf_counter() - t2
-            est = np.max(np.abs(resid) / jdiag)
+            est = _max_ratio(resid, jdiag)
             if not np.isfinite(est):
                 raise SimulationError(f"non-finite temperature at t = {t_new:.6g} s "
                                       f"(step {st.step + 1}); reduce time_step or check the "
@@ -753,7 +779,9 @@ class Simulation:
             self.timing.solve += time.perf_counter() - t3
             if accel is None:
                 temp = temp + delta
-                face_lag = self._moved_faces(face_lag, delta, self._face_slope(bs))
+                face_lag = _moved_by_balance(face_lag, delta, bs.conductance,
+                                             self.graph.bface_conductance,
+                                             self.graph.bface_cell)
             else:
                 temp = accel.update(temp, delta)
             scale = 1
