@@ -5,23 +5,27 @@ The ``column`` preconditioner solves every plate column (the cells through one s
 triangle) exactly and drops the couplings between columns: sideways conduction along the
 plates and face-to-face radiation. Its PCG convergence is set by the columns where those
 dropped couplings are largest against the column's own stiffness ``Σ (C a/Δt + boundary)``
-— small sliver triangles at plate edges, whose neighbours hold them. On the built-in frigate
-at 0.5 m the preconditioned spectrum was [0.42, 1.58] with the extreme eigenvectors on such
-columns (dropped/own above 0.5 on 246 of 59 694 columns; median 0.12).
+— small sliver triangles at plate edges, whose neighbours hold them. On a Jacobian of the
+built-in frigate day at 0.5 m (then with two steel cells, 257 k cells) the preconditioned
+spectrum was [0.42, 1.58], its extreme eigenvectors on such columns (dropped/own above 0.5
+on 246 of 59 694 columns; median 0.12).
 
 :func:`column_aggregates` groups every column whose ratio of dropped to own coupling
-exceeds :data:`AGGREGATE_RATIO` with its most strongly coupled neighbours (greedily, until
-the group's own ratio is below it, at most :data:`AGGREGATE_MAX_COLUMNS` columns); the
-preconditioner then solves each group as one small dense SPD block (Cholesky) instead of
-column by column. Measured on Jacobians of the frigate day (300 s steps; PCG iterations to
-1e-3 / 1e-4 / 1e-6 relative residual): columns alone 5–7 / 6–9 / 10–12, groups at ratio 0.3
-4–5 / 5–6 / 8–9, at 0.2 3–4 / 5 / 7–8 (2.5 k groups, 10 % of the cells), at 0.15 no
-better.
+exceeds :data:`AGGREGATE_RATIO` (and is among the worst :data:`AGGREGATE_SHARE` of the
+columns) with its most strongly coupled neighbours (greedily, until the group's own ratio is
+below it, at most :data:`AGGREGATE_MAX_COLUMNS` columns); the preconditioner then solves
+each group as one small dense SPD block (Cholesky) instead of column by column. Measured on
+that Jacobian (PCG iterations to 1e-3 / 1e-4 / 1e-6): columns alone 5–7 / 6–9 / 10–12,
+grouped at ratio 0.2 without the share cap 3–4 / 5 / 7–8 (at 0.15 no better); over the
+frigate day (197 k cells) 5 730 → 4 110 PCG iterations (4.0 a Newton pass) with the 5 %
+cap, 3 801 with 10 % at no gain in time (the dense solves cost more per iteration); a patrol
+boat's day 5 800 → 3 202.
 
 The groups depend on the matrix values through the ratio; the solver finds them once, from
 its first Jacobian (a step length scales every column's own stiffness alike, so the worst
-columns stay the worst), and factorises the dense blocks from every new Jacobian. The kernels run group by group on the process's threads and sum
-per group in a fixed order: results do not depend on the number of threads.
+columns stay the worst), and factorises the dense blocks from every new Jacobian. The
+kernels run group by group on the process's threads and sum per group in a fixed order:
+results do not depend on the number of threads.
 """
 
 from __future__ import annotations

@@ -29,6 +29,15 @@ __all__ = ["tridiagonal_factor", "tridiagonal_solve", "column_factor", "column_b
 BLOCKS = 64
 
 
+@njit(cache=True)
+def _ordered_sum(part):
+    """Sum of per-block partial sums, in block order (deterministic whatever the threads)."""
+    s = 0.0
+    for b in range(part.shape[0]):
+        s += part[b]
+    return s
+
+
 @njit(parallel=True, cache=True)
 def _factor(diag, sup, dinv, l, bounds):
     """Blocks ``bounds[b] … bounds[b + 1]`` are independent (``sup`` is zero between them).
@@ -83,7 +92,7 @@ def _solve_dot(dinv, l, r, x, bounds, part):
         for i in range(lo, hi):
             s += r[i] * x[i]
         part[b] = s
-    return _in_order(part)
+    return _ordered_sum(part)
 
 
 @njit(parallel=True, cache=True)
@@ -106,15 +115,7 @@ def _update_solve_dot(dinv, l, bounds, x, r, p, ap, alpha, z, part_rr, part_rz):
         for i in range(lo, hi):
             s += r[i] * z[i]
         part_rz[b] = s
-    return _in_order(part_rr), _in_order(part_rz)
-
-
-@njit(cache=True)
-def _in_order(part):
-    s = 0.0
-    for b in range(part.shape[0]):
-        s += part[b]
-    return s
+    return _ordered_sum(part_rr), _ordered_sum(part_rz)
 
 
 def column_bounds(cut: np.ndarray, blocks: int = BLOCKS) -> np.ndarray:

@@ -67,6 +67,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numba import njit, prange
 
+from ._tridiagonal import _ordered_sum
 from .errors import require
 
 __all__ = ["LINEAR_SOLVERS", "Preconditioner", "make_preconditioner", "pcg", "choose_backend",
@@ -395,14 +396,6 @@ def _xpby(z, p, beta):
     """``p = z + β p``."""
     for i in prange(p.shape[0]):
         p[i] = z[i] + beta * p[i]
-
-
-@njit(cache=True)
-def _ordered_sum(part):
-    s = 0.0
-    for b in range(part.shape[0]):
-        s += part[b]
-    return s
 
 
 class Anderson:
