@@ -336,7 +336,9 @@ def _change_and_max(new, old):
     top = -np.inf if new.shape[0] else 0.0
     for i in range(new.shape[0]):
         d = abs(new[i] - old[i])
-        if not d <= change:
+        if d != d:              # a NaN is the answer, as numpy's max gives
+            return d, d
+        if d > change:
             change = d
         if new[i] > top:
             top = new[i]

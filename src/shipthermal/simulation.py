@@ -247,7 +247,9 @@ def _max_ratio(num, den):
     m = 0.0
     for i in range(num.shape[0]):
         v = abs(num[i] / den[i])
-        if not v <= m:          # (a NaN wins, as in numpy's max)
+        if v != v:              # a NaN is the answer, as numpy's max gives
+            return v
+        if v > m:
             m = v
     return m
 

@@ -375,3 +375,18 @@ def test_gathered_conduction_flows_equal_minus_k_t_and_cancel():
     assert np.max(np.abs(flows[0] - ref) / scale) < 1e-14
     face_flux = g.face_conductance * np.abs(temp[g.face_cells[:, 1]] - temp[g.face_cells[:, 0]])
     assert abs(np.sum(flows[0])) < 1e-13 * np.sum(face_flux)
+
+
+def test_one_pass_reductions_equal_numpy_and_keep_nan():
+    from shipthermal.model import _change_and_max
+    from shipthermal.simulation import _max_ratio
+
+    rng = np.random.default_rng(21)
+    a, b = rng.normal(size=5000), rng.uniform(0.5, 2.0, 5000)
+    assert _max_ratio(a, b) == np.max(np.abs(a) / b)
+    new, old = 300.0 + rng.normal(size=5000), 300.0 + rng.normal(size=5000)
+    assert _change_and_max(new, old) == (np.max(np.abs(new - old)), np.max(new))
+    a[1234] = np.nan
+    new[17] = np.nan
+    assert np.isnan(_max_ratio(a, b)) and np.isnan(_change_and_max(new, old)[0])
+    assert _change_and_max(np.zeros(0), np.zeros(0)) == (0.0, 0.0)
