@@ -241,17 +241,32 @@ def _cell_residual_kernel(ptr, nb, gc, bptr, bface, temp, hist, cap, a, dt, thet
         jdiag_b[c] = theta * gb
 
 
-@njit(cache=True)
 def _max_ratio(num, den):
-    """``max |num / den|`` without the temporaries."""
-    m = 0.0
-    for i in range(num.shape[0]):
-        v = abs(num[i] / den[i])
-        if v != v:              # a NaN is the answer, as numpy's max gives
-            return v
-        if v > m:
-            m = v
-    return m
+    """``max |num / den|`` without the temporaries (NaN if any ratio is)."""
+    blocks = min(_REDUCE_BLOCKS, max(1, num.shape[0]))
+    part = np.empty(blocks)
+    _max_ratio_kernel(num, den, part)
+    return float(np.max(part))     # (a NaN block wins, as in numpy's max)
+
+
+#: Blocks of the one-pass maxima (a max does not depend on their order).
+_REDUCE_BLOCKS = 64
+
+
+@njit(parallel=True, cache=True)
+def _max_ratio_kernel(num, den, part):
+    n = num.shape[0]
+    nb = part.shape[0]
+    for b in prange(nb):
+        m = 0.0
+        for i in range(b * n // nb, (b + 1) * n // nb):
+            v = abs(num[i] / den[i])
+            if v != v:
+                m = v
+                break
+            if v > m:
+                m = v
+        part[b] = m
 
 
 @njit(parallel=True, cache=True)
