@@ -176,8 +176,9 @@ class ColumnSolve:
         return 0.0 if self.aggregates is None else self.aggregates.solve(r, z, self._part_agg)
 
     def __call__(self, r: np.ndarray) -> np.ndarray:
+        r = np.ascontiguousarray(r, dtype=np.float64)
         z = tridiagonal_solve(self.factor, r)
-        self._groups(np.ascontiguousarray(r, dtype=np.float64), z)
+        self._groups(r, z)
         return z
 
     def solve_dot(self, r: np.ndarray, z: np.ndarray) -> float:

@@ -270,18 +270,10 @@ def _max_ratio_kernel(num, den, part):
 
 
 @njit(parallel=True, cache=True)
-def _moved_kernel(temp_face, delta, cond, g, bcell, out):
+def _moved_kernel(temp_face, delta, slope, bcell, out):
+    """``out = T_s + s ΔT_cell`` face by face (no gathered temporary)."""
     for i in prange(temp_face.shape[0]):
-        out[i] = temp_face[i] + (1.0 - cond[i] / g[i]) * delta[np.uint64(bcell[i])]
-
-
-def _moved_by_balance(temp_face, delta, conductance, bface_conductance, bface_cell):
-    """``T_s + s ΔT_cell`` with ``s = 1 − G_eff/g`` (:meth:`Simulation._face_slope` and
-    :meth:`Simulation._moved_faces` in one pass)."""
-    out = np.empty_like(temp_face)
-    _moved_kernel(temp_face, np.ascontiguousarray(delta), conductance, bface_conductance,
-                  bface_cell, out)
-    return out
+        out[i] = temp_face[i] + slope[i] * delta[np.uint64(bcell[i])]
 
 
 class _ExtrapolatedCorrection:
@@ -644,7 +636,10 @@ class Simulation:
         """``T_s + s ΔT_cell`` (``slope`` None: ``T_s`` as it is)."""
         if slope is None:
             return temp_face.copy()
-        return temp_face + slope * cell_change[self.graph.bface_cell]
+        out = np.empty_like(temp_face)
+        _moved_kernel(temp_face, np.ascontiguousarray(cell_change), slope,
+                      self.graph.bface_cell, out)
+        return out
 
     # ------------------------------------------------------------------ step ---------------
     def step(self) -> None:
@@ -796,9 +791,7 @@ class Simulation:
             self.timing.solve += time.perf_counter() - t3
             if accel is None:
                 temp = temp + delta
-                face_lag = _moved_by_balance(face_lag, delta, bs.conductance,
-                                             self.graph.bface_conductance,
-                                             self.graph.bface_cell)
+                face_lag = self._moved_faces(face_lag, delta, self._face_slope(bs))
             else:
                 temp = accel.update(temp, delta)
             scale = 1
