@@ -286,6 +286,8 @@ class DiurnalResult:
         parts = {c: {"min_K": float(pm[c].min()), "max_K": float(pm[c].max()),
                      "hour_of_max": float(pm[c].idxmax())} for c in pm.columns}
         return {"ship": self.ship.name, "surface_faces": self.n_surface_faces,
+                "edge_length_m": (float(self.ship.edge_length)
+                                  if np.isfinite(self.ship.edge_length) else None),
                 "cells": int(self.graph.n_cells), "days": self.days,
                 "converged": self.converged,
                 "day_changes_K": [None if not np.isfinite(x) else float(x) for x in self.day_changes],

@@ -228,7 +228,7 @@ def test_run_demo_as_documented(tmp_path):
 
 @pytest.mark.slow
 def test_validate_as_documented(workdir, monkeypatch):
-    """`shipthermal validate --quick --into runs/my` and `shipthermal validate` (2 m)."""
+    """`shipthermal validate --quick --into runs/my` and `shipthermal validate` (the default 0.5 m mesh)."""
     assert _shipthermal(["validate", "--quick", "--into", "runs/my"], workdir,
                         monkeypatch) == 0
     assert _shipthermal(["validate", "--out", "runs/validation"], workdir, monkeypatch) == 0

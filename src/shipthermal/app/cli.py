@@ -176,8 +176,7 @@ def _print_crossovers(run_path: Path, con: Console, as_csv: bool = False) -> int
 # subcommands
 # ---------------------------------------------------------------------------------------
 def cmd_demo(args, con: Console) -> int:
-    from .pipeline import (DEMO_EDGE_LENGTH, QUICK_EDGE_LENGTH, QUICK_SCR_INTERVAL, demo_scenarios,
-                           thermal_case)
+    from .pipeline import QUICK_EDGE_LENGTH, QUICK_SCR_INTERVAL, demo_scenarios, thermal_case
     from .rundir import RunDir, is_complete
 
     out = Path(args.out)
@@ -188,21 +187,23 @@ def cmd_demo(args, con: Console) -> int:
     t0 = time.perf_counter()
     with RunDir(out, resume=args.resume, force=args.force, command=args.argv, kind="demo",
                 log=con.info) as run:
-        edge = QUICK_EDGE_LENGTH if args.quick else DEMO_EDGE_LENGTH
+        mesh = f"edge {QUICK_EDGE_LENGTH:g} m" if args.quick else "default mesh"
         run.manifest["settings"].update({
-            "quick": args.quick, "ship": "frigate (built-in)", "edge_length_m": edge,
-            "default_demo_edge_length_m": DEMO_EDGE_LENGTH,
+            "quick": args.quick, "ship": "frigate (built-in)",
+            "edge_length_m": QUICK_EDGE_LENGTH if args.quick else None,
             "imaging_step_s": QUICK_SCR_INTERVAL if args.quick else 600.0,
-            "note": "built-in default scenarios: only the ship edge length differs from "
-                    "default_scenario(season); --quick also images every 30 min instead of "
-                    "the scenario's 10 min"})
+            "note": "the built-in default scenarios, default_scenario(season), unchanged; "
+                    f"--quick changes the ship edge length to {QUICK_EDGE_LENGTH:g} m and "
+                    "images every 30 min instead of the scenario's 10 min"})
         for season, sc in scen.items():
             run.add_scenario(sc, case=season)
         for season, sc in scen.items():
-            con.info(f"{season}: thermal run ({sc.ship.builtin}, edge {edge} m)")
+            con.info(f"{season}: thermal run ({sc.ship.builtin}, {mesh})")
             s = thermal_case(sc, run, season, resume=args.resume, progress=con.progress,
                              log=con.debug)
-            con.info(f"{season}: {s['surface_faces']} faces, {s['days']} days "
+            edge = s.get("edge_length_m")
+            con.info(f"{season}: {s['surface_faces']} faces"
+                     + (f" (edge {edge:.2g} m)" if edge else "") + f", {s['days']} days "
                      f"(converged: {s['converged']}), energy imbalance "
                      f"{s['energy']['relative_imbalance']:.1e}")
         if not args.no_imaging:
@@ -524,7 +525,7 @@ def _common(p: argparse.ArgumentParser, top: bool) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from .pipeline import DEMO_EDGE_LENGTH, QUICK_EDGE_LENGTH
+    from .pipeline import QUICK_EDGE_LENGTH
 
     p = argparse.ArgumentParser(
         prog="shipthermal", description="Ship infrared signature in a port: thermal runs, "
@@ -545,7 +546,7 @@ def build_parser() -> argparse.ArgumentParser:
             "frigate, images in 3-5 and 8-14 um, SCR curves, crossover times, HTML report",
             cmd_demo)
     d.add_argument("--quick", action="store_true", help=f"coarser ship mesh "
-                   f"({QUICK_EDGE_LENGTH} m edges instead of {DEMO_EDGE_LENGTH} m) and "
+                   f"({QUICK_EDGE_LENGTH:g} m edges instead of the default ship's) and "
                    "images every 30 min instead of 10")
     d.add_argument("--out", default="runs/demo", help="run directory (default runs/demo)")
     d.add_argument("--force", action="store_true", help="replace a finished run directory")

@@ -33,17 +33,15 @@ from ..units import DAY, HOUR
 from .run_environment import aerosol_conditions, sea_glint_wind_speed, sky_weather
 from .thermal import ship_thermal_history
 
-__all__ = ["DEMO_EDGE_LENGTH", "QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case", "prepare",
+__all__ = ["QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case", "prepare",
            "check_imaging_bands", "output_inputs", "write_thermal", "save_history",
            "load_history", "background_inputs", "build_background", "imaging_scenario",
            "experiment_inputs", "frame_times", "image_cases"]
 
-#: Ship surface edge of ``shipthermal demo`` [m] (the validation's default too): the
-#: frigate with 4756 triangles (21k shell cells); its converged three-day spin-up took 24 s
-#: per season and the whole demo 73 s on the shared 2-core machine at load ~2 (4.5 min at
-#: load ~5, when other jobs held the cores).
-DEMO_EDGE_LENGTH = 2.0
-#: ``demo --quick`` [m]: 1520 triangles
+#: ``demo --quick`` and ``validate --quick`` [m]: the frigate with 1520 triangles. Without
+#: ``--quick`` both run the scenario's own mesh: the built-in default
+#: (:data:`shipthermal.geometry.DEFAULT_EDGE_LENGTH` per 132 m of length; 59 694 triangles
+#: on the frigate).
 QUICK_EDGE_LENGTH = 4.0
 #: ``demo --quick`` SCR / crossover frame step [s] (the scenario's ``imaging.scr_interval``,
 #: default 600 s, is the finest step; coarser frames only for a quick look)
@@ -51,16 +49,17 @@ QUICK_SCR_INTERVAL = 1800.0
 
 
 def demo_scenarios(quick: bool = False, seasons=("summer", "winter")) -> dict:
-    """The built-in default scenarios of the demo, one per season, with the demo's mesh.
+    """The built-in default scenarios of the demo, one per season.
 
-    The only change to :func:`~shipthermal.app.scenario.default_scenario` is the ship's edge
-    length (:data:`DEMO_EDGE_LENGTH`, quick :data:`QUICK_EDGE_LENGTH`); everything else is
-    the documented default.
+    They are :func:`~shipthermal.app.scenario.default_scenario` itself; ``quick`` changes
+    only the ship's edge length (:data:`QUICK_EDGE_LENGTH`).
     """
     from .scenario import default_scenario
 
-    edge = QUICK_EDGE_LENGTH if quick else DEMO_EDGE_LENGTH
-    return {s: default_scenario(s).updated({"ship.edge_length": edge}) for s in seasons}
+    if not quick:
+        return {s: default_scenario(s) for s in seasons}
+    return {s: default_scenario(s).updated({"ship.edge_length": QUICK_EDGE_LENGTH})
+            for s in seasons}
 
 
 # ---------------------------------------------------------------------------------------

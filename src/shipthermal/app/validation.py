@@ -34,6 +34,7 @@ import pandas as pd
 
 from ..results import atomic_path
 from .paper import REFERENCE_DECK, clock_text, crossover_rows
+from .pipeline import QUICK_EDGE_LENGTH
 
 __all__ = ["SENSITIVITY", "ValidationReport", "validate"]
 
@@ -116,15 +117,17 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
     out_dir : path, optional
         Write the tables (CSV, JSON, text) here.
     quick : bool
-        Coarse mesh (4 m edges) and fewer rays: for the test suite (the table is the same
-        kind; numbers move by the discretisation).
+        Coarse mesh (:data:`~shipthermal.app.pipeline.QUICK_EDGE_LENGTH` edges) and fewer
+        rays: for the test suite (the table is the same kind; numbers move by the
+        discretisation).
     sensitivity : bool
         Run the ±perturbations (8 more runs per season, warm-started from the baseline and
         reusing its ray tracing).
     crossovers : bool
         Render both bands every 10 min (imaging stage) and find the contrast zero crossings.
     edge_length : float, optional
-        Ship surface edge length [m] (default 2 m; quick 4 m).
+        Ship surface edge length [m] (default: the scenario's own, i.e. the built-in
+        default mesh; quick :data:`~shipthermal.app.pipeline.QUICK_EDGE_LENGTH`).
     scenarios : dict season → Scenario, optional
         Instead of the built-in defaults.
     calibrate : bool
@@ -138,8 +141,8 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
 
     say = log or (lambda m: None)
     t_start = _time.perf_counter()
-    edge = edge_length or (4.0 if quick else 2.0)
-    tweaks = {"ship.edge_length": edge}
+    edge = edge_length or (QUICK_EDGE_LENGTH if quick else None)
+    tweaks = {"ship.edge_length": edge} if edge else {}
     if quick:
         tweaks.update({"solver.rays_per_face": 64, "solver.samples_per_face": 8})
     scen = {}
@@ -149,8 +152,8 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
 
     rows, sens_rows, runs = [], [], {}
     for season, sc in scen.items():
-        say(f"{season}: thermal run (edge {edge} m)")
         ship = sc.ship()
+        say(f"{season}: thermal run ({ship.n_faces} triangles, edge {ship.edge_length:.2g} m)")
         res = run_scenario_thermal(sc, ship=ship, progress=progress)
         runs[season] = res
         for (s, hour), ref in REFERENCE_DECK.items():
@@ -193,7 +196,9 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
     cross_rows = []
     if crossovers:
         cross_rows = crossover_rows(scen, runs, progress, say)
-    settings = {"edge_length": edge, "quick": quick,
+    edges = {float(r.ship.edge_length) for r in runs.values()}
+    settings = {"edge_length": edges.pop() if len(edges) == 1 else sorted(edges),
+                "quick": quick,
                 "surface_faces": {s: int(r.ship.n_faces) for s, r in runs.items()},
                 "days": {s: int(r.days) for s, r in runs.items()},
                 "converged": {s: bool(r.converged) for s, r in runs.items()},
