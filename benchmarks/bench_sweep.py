@@ -20,9 +20,10 @@ the threads of each worker process; each worker process's whole CPU time; the lo
 around each phase; and whether the two tables agree (same values: the cases are
 deterministic). Last, a projection that other jobs on the machine cannot spoil: the serial
 run's CPU time over the busiest worker's CPU time plus the cluster start-up, i.e. the
-speed-up with a free core per worker. With 2 workers on 2 free cores the ideal is 2x, less the cluster start-up, each worker's first-case set-up (imports,
-cached numba kernels) and the port background, which one worker builds while the other
-starts on thermal stages. Because other jobs may share the machine, it first measures the
+speed-up with a free core per worker. With 2 workers on 2 free cores the ideal is 2x, less
+the cluster start-up and each worker's first-case set-up (imports, cached numba kernels,
+the port background): the serial run pays that set-up once, the sweep once per worker (in
+parallel), so the speed-up grows with the number and the size of the cases. Because other jobs may share the machine, it first measures the
 ceiling: how much faster ``--workers`` concurrent single-threaded numpy matmul processes
 get through their work than one (2.0 on two free cores). Timings are wall clock: compare
 the speed-up with that ceiling. Matmul is compute-bound; the sweep's sparse solves and ray

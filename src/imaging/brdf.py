@@ -24,6 +24,8 @@ from shipthermal.environment.sea import (
 from shipthermal.errors import InputError, check_positive, check_range, require
 from shipthermal.parameters import check_wind_speed
 
+from .quadrature import gauss_legendre
+
 __all__ = [
     "direction", "fresnel_reflectance", "fresnel_normal_reflectance", "schlick_fresnel",
     "cox_munk_slope_variance", "cox_munk_brdf", "smith_lambda_gaussian",
@@ -408,7 +410,7 @@ def directional_albedo(brdf, theta_i, phi_i: float = 0.0, n_mu: int = 256, n_phi
             "phi_r, **params) [deg]")
     deg_i, deg_phi_i = theta_i, phi_i
     theta_i, phi_i = math.radians(theta_i), math.radians(phi_i)
-    x, w = np.polynomial.legendre.leggauss(int(n_mu))
+    x, w = gauss_legendre(int(n_mu))
     if method == "view":
         mu = 0.5 * (x + 1.0)
         wmu = 0.5 * w

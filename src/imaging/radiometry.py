@@ -44,6 +44,8 @@ from shipthermal.errors import InputError, check_positive, check_range, require
 from shipthermal.parameters import BAND_EMISSIVITY, BANDS, check_wind_speed
 from shipthermal.units import PLANCK_C1, PLANCK_C2
 
+from .quadrature import gauss_legendre
+
 __all__ = [
     "SpectralResponse", "rectangular_response", "standard_band",
     "planck_radiance", "planck_radiance_dt",
@@ -107,7 +109,7 @@ class SpectralResponse:
         folded into the weights, so ``sum(weights * g(nodes))`` is the band integral of
         ``g``. Exact for ``g`` polynomial of degree ``2 n - 2`` on each segment.
         """
-        xg, wg = np.polynomial.legendre.leggauss(int(nodes_per_segment))
+        xg, wg = gauss_legendre(int(nodes_per_segment))
         a, b = self.wavelength_um[:-1, None], self.wavelength_um[1:, None]
         ra, rb = self.response[:-1, None], self.response[1:, None]
         half = 0.5 * (b - a)
@@ -664,7 +666,7 @@ def rough_sea_emissivity_hemispherical(band="8-14", wind_speed=5.0, n_nodes: int
     Gauss-Legendre in ``mu = cos(theta)`` with ``n_nodes`` nodes over
     :func:`rough_sea_emissivity` (smooth in mu: 24 nodes agree with 48 within 1e-5).
     """
-    x, w = np.polynomial.legendre.leggauss(int(n_nodes))
+    x, w = gauss_legendre(int(n_nodes))
     mu = 0.5 * (x + 1.0)
     eps = rough_sea_emissivity(np.degrees(np.arccos(mu)), band, wind_speed)
     return float(np.sum(w * mu * eps))

@@ -256,7 +256,7 @@ def test_external_scheduler_and_worker_processes(sweep_file, serial, tmp_path, c
 
 
 class StallFirstStart(WorkerPlugin):
-    """A worker plugin: the first worker to start the thermal stage of case ``key`` writes
+    """A worker plugin: the first worker to start the task ``key`` (a case) writes
     its process id to ``flag`` and stalls there (until it is killed); any later attempt
     finds the flag and runs normally."""
 
@@ -297,7 +297,7 @@ def test_lost_worker_is_logged_and_its_case_retried(sweep_file, serial, tmp_path
     try:
         with cluster.client() as c:
             address = c.scheduler.address
-            c.register_plugin(StallFirstStart(f"thermal-{target.id}", str(flag)))
+            c.register_plugin(StallFirstStart(f"case-{target.id}", str(flag)))
         watcher = threading.Thread(target=kill_when_started, daemon=True)
         watcher.start()
         code = main(["sweep", str(sweep_file.parent / "two.toml"), "--scheduler", address,

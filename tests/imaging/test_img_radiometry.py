@@ -209,3 +209,17 @@ def test_leaving_radiance_solar_term_and_sun_behind():
     out = rad.leaving_radiance(0.0, 1.0, brdf=0.1, cos_sun_zenith=np.array([0.5, -0.3]),
                                solar_irradiance=20.0)
     assert np.allclose(out, [1.0, 0.0])
+
+
+def test_gauss_legendre_rule_is_numpys_computed_once_and_read_only():
+    """The shared rule equals numpy's leggauss bit for bit, integrates a degree 2n-1
+    polynomial exactly, is the same object on every call and cannot be altered in place."""
+    from imaging.quadrature import gauss_legendre
+
+    x, w = gauss_legendre(8)
+    xr, wr = np.polynomial.legendre.leggauss(8)
+    assert np.array_equal(x, xr) and np.array_equal(w, wr)
+    assert abs(np.sum(w * x**14) - 2.0 / 15.0) < 1e-15     # ∫_{-1}^{1} x^14 dx
+    assert gauss_legendre(8)[0] is x
+    with pytest.raises(ValueError):
+        x[0] = 0.0

@@ -44,6 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
+from imaging.quadrature import gauss_legendre
 from imaging.radiometry import planck_radiance
 
 from . import aerosol as aer
@@ -314,7 +315,7 @@ def sky_irradiance(model: int, aerosol: dict | None = None, n_nodes: int = 16,
     wavelength_um : ndarray [µm]
     irradiance : ndarray [W m⁻² µm⁻¹]
     """
-    x, w = np.polynomial.legendre.leggauss(n_nodes)
+    x, w = gauss_legendre(n_nodes)
     mu, w = 0.5 * (x + 1.0), 0.5 * w
     total = None
     for m_i, w_i in zip(mu, w):

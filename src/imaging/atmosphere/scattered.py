@@ -98,7 +98,9 @@ def single_scatter_sky_irradiance(solar_irradiance_ground, tau, omega, g, sun_ze
     (``n_phi`` over 0–360°; the integrand is periodic, so the rule is spectrally
     accurate).
     """
-    x, w = np.polynomial.legendre.leggauss(n_mu)
+    from ..quadrature import gauss_legendre
+
+    x, w = gauss_legendre(n_mu)
     mu, w = 0.5 * (x + 1.0), 0.5 * w
     phi = (np.arange(n_phi) + 0.5) * 360.0 / n_phi
     zen = np.degrees(np.arccos(mu))

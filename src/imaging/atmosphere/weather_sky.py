@@ -137,7 +137,9 @@ def weather_sky_irradiance(band: str, temp_air: float, relative_humidity: float,
                            cloud_model: str = "unsworth_monteith", n_nodes: int = 16) -> float:
     """Hemispherical band sky irradiance [W m⁻²] on a horizontal surface,
     ``2π ∫ L(μ) μ dμ`` (Gauss–Legendre, ``n_nodes`` nodes in μ, as the tables)."""
-    x, w = np.polynomial.legendre.leggauss(int(n_nodes))
+    from ..quadrature import gauss_legendre
+
+    x, w = gauss_legendre(int(n_nodes))
     mu = 0.5 * (x + 1.0)
     rad = weather_sky_radiance(band, np.degrees(np.arccos(mu)), temp_air, relative_humidity,
                                cloud_cover, longwave_down, clear_model, cloud_model)

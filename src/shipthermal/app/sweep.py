@@ -28,9 +28,9 @@ defaults follow (``time.season = "winter"`` on the built-in base also moves the 
 map and image times and the compartment temperatures to the winter defaults). Every case
 is validated before anything runs: a bad value is a user error listing all problems.
 
-Each case runs pinned to one thread (numba, BLAS, OpenMP: :data:`CASE_THREADS`), as two
-dask tasks (its thermal stage, then its imaging stage, which also waits for the port
-background: one task per distinct port) on a LocalCluster (one single-threaded worker
+Each case runs pinned to one thread (numba, BLAS, OpenMP: :data:`CASE_THREADS`), as one
+dask task (its thermal stage, then its imaging stage; the worker builds each port
+background once and keeps it for its later cases) on a LocalCluster (one single-threaded worker
 process per usable core, at most one per case; no dashboard) or on an existing scheduler
 (``scheduler=ADDRESS``, see ``docs/CLUSTER.md``). With one usable core the cases run one
 by one in this process. Results come back to the client, which writes ``cases/<id>.json``
@@ -434,18 +434,6 @@ def _imaging_part(part, background, spec: dict, threads: int = CASE_THREADS) -> 
     return out
 
 
-def _build_background(toml: str, threads: int = CASE_THREADS):
-    """A port background for the imaging tasks of a sweep (one task per distinct port);
-    an error is returned, not raised, so that each case records it as a serial run would."""
-    from .scenario import loads_scenario
-
-    try:
-        with _pinned(threads):
-            return _background(loads_scenario(toml))
-    except Exception as exc:
-        return exc
-
-
 def run_case(spec: dict, backgrounds: dict | None = None,
              threads: int = CASE_THREADS) -> dict:
     """Run one case; never raises for a failure of the case itself (it is returned as
@@ -614,7 +602,7 @@ class _RetryLog:
     cases it was running (or held results of) and must run again; counts the retries of
     each case. Events arrive on the client's event loop before the retried case's result."""
 
-    _PREFIXES = ("thermal-", "case-")
+    _PREFIXES = ("case-",)
 
     def __init__(self, cases: dict, say):
         self.cases = cases
@@ -668,9 +656,8 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
     threads : int
         Threads each case may use (numba, BLAS, OpenMP); :data:`CASE_THREADS`.
 
-    On dask each case is two tasks: its thermal stage, then its imaging stage, which also
-    waits for the port background (one task per distinct port, run on a worker while the
-    other workers start on thermal stages). A worker lost in the middle of a case is named
+    On dask each case is one task, thermal then imaging stage, the cases in order; each
+    worker builds a port background the first time one of its cases needs it. A worker lost in the middle of a case is named
     in the log with the case, which dask runs again elsewhere; the case's row counts the
     retries (``retries``).
     """
@@ -721,26 +708,17 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
                 say(f"dask: {workers} workers at {client.scheduler.address}")
                 retry_log = _RetryLog({c.id: c for c in todo}, say)
                 client.subscribe_topic("all", retry_log)
-                # one background task per distinct port, submitted first: a worker builds
-                # it while the others start on thermal stages
-                backgrounds, port = {}, {}
-                if "imaging" in spec.stages:
-                    from .scenario import loads_scenario
-
-                    for c in todo:
-                        k = port[c.id] = _background_key(loads_scenario(c.toml))
-                        if k not in backgrounds:
-                            backgrounds[k] = client.submit(
-                                _build_background, c.toml, threads,
-                                key=f"background-{_digest(k)}", pure=False)
-                futures = {}
-                for c in todo:
-                    part = client.submit(_thermal_part, c.spec(), threads,
-                                         key=f"thermal-{c.id}", pure=False)
-                    bg = backgrounds.get(port.get(c.id))
-                    futures[client.submit(_imaging_part, part, bg, c.spec(), threads,
-                                          key=f"case-{c.id}", pure=False)] = c
-                    del part
+                # One task per case, submitted in order (dask runs the highest priority
+                # first, so cases finish one after the other and the last ones run side by
+                # side). A worker builds a port background the first time one of its cases
+                # needs it and keeps it for its later cases (``_BACKGROUNDS``): each worker
+                # pays one build (~1 s warm) instead of receiving 43 MB from a worker whose
+                # compute thread holds the GIL, and a case's history never leaves the worker
+                # that computed it.
+                futures = {client.submit(run_case, c.spec(), None, threads,
+                                         priority=len(todo) - i, key=f"case-{c.id}",
+                                         pure=False): c
+                           for i, c in enumerate(todo)}
                 for fut in as_completed(futures):
                     c = futures[fut]
                     try:
@@ -755,7 +733,6 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
                     results[c.id] = r
                     _write_case(cases_dir, r)
                     bar.update(1)
-                backgrounds.clear()
             finally:
                 client.unsubscribe_topic("all")
                 client.close()
