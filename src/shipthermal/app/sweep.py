@@ -384,9 +384,9 @@ def _thermal_part(spec: dict, threads: int = CASE_THREADS):
     return out, history
 
 
-def _imaging_part(part, background, spec: dict, threads: int = CASE_THREADS) -> dict:
-    """Finish a case after :func:`_thermal_part`: the imaging stage on ``background`` (a
-    built port, an exception raised while building it, or ``None``: build it here)."""
+def _imaging_part(part, spec: dict, threads: int = CASE_THREADS) -> dict:
+    """Finish a case after :func:`_thermal_part`: the imaging stage on its port background
+    (built in this process the first time, then kept: :func:`_background`)."""
     out, history = part
     if history is None:            # thermal only, or the thermal stage failed
         return out
@@ -398,11 +398,8 @@ def _imaging_part(part, background, spec: dict, threads: int = CASE_THREADS) -> 
     t1, c1 = _time.perf_counter(), _time.process_time()
     try:
         with _pinned(threads):
-            if isinstance(background, BaseException):
-                raise background
             sc = loads_scenario(spec["toml"])
-            bg = _background(sc) if background is None else background
-            scen = imaging_scenario(sc, bg, history)
+            scen = imaging_scenario(sc, _background(sc), history)
             series = render_series(history, scen, sc.bands, frame_times(sc), progress=False)
             v = out["values"]
             curves = out["curves"] = {}
@@ -424,10 +421,6 @@ def _imaging_part(part, background, spec: dict, threads: int = CASE_THREADS) -> 
         out["status"] = "ok"
     except Exception as exc:
         _fail(out, exc)
-    out = dict(out)
-    here = f"{socket.gethostname()}:{os.getpid()}"
-    if here != out["worker"]:
-        out["worker"] = f"{out['worker']} + {here}"
     out["seconds"] += _time.perf_counter() - t1
     out["cpu_s"] += _time.process_time() - c1
     out["threads"] = max(out.get("threads", 0), _threads_now())
@@ -444,7 +437,7 @@ def run_case(spec: dict, backgrounds: dict | None = None,
     """
     for key, bg in (backgrounds or {}).items():
         _BACKGROUNDS.setdefault(key, bg)
-    return _imaging_part(_thermal_part(spec, threads), None, spec, threads)
+    return _imaging_part(_thermal_part(spec, threads), spec, threads)
 
 
 # ---------------------------------------------------------------------------------------
