@@ -48,6 +48,7 @@ from pathlib import Path
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "src"))
 
+import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from shipthermal.app.sweep import (default_workers, load_sweep, local_cluster,  # noqa: E402
@@ -142,6 +143,21 @@ def describe(name: str, folder, table: pd.DataFrame, wall: float) -> None:
           f"in {len(threads)} process(es); retries {int(table['retries'].sum())}", flush=True)
 
 
+def setup_and_steady(table: pd.DataFrame) -> tuple[float, float]:
+    """``(set-up, steady)``: how much longer each process's first case took than its others
+    (imports, cached numba kernels, the port background; mean over the processes), and the
+    median wall time of the other cases [s]. Cases run in table order, so a process's first
+    row is the first case it ran."""
+    sec = pd.to_numeric(table["seconds"]).to_numpy()
+    worker = table["worker"].astype(str).to_numpy()
+    first = {w: i for i, w in reversed(list(enumerate(worker)))}
+    rest = np.array([i for i in range(len(sec)) if i not in first.values()])
+    if not len(rest):
+        return float("nan"), float("nan")
+    steady = float(np.median(sec[rest]))
+    return float(np.mean([sec[i] - steady for i in first.values()])), steady
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--cases", type=int, default=8, help="number of cases (even, >= 2)")
@@ -214,6 +230,16 @@ def main() -> None:
               f"{min(par.workers, os.cpu_count() or 1)}x on free cores; measured machine "
               f"ceiling now {ceiling:.2f}x, this workload's {t_ser / max(walls):.2f}x; "
               f"dask / split {max(walls) / t_par:.2f})")
+        # Why the speed-up is what it is: the set-up every worker pays (the serial run once)
+        # and how much slower a case runs next to another one than alone.
+        f_ser, c_one = setup_and_steady(ser.table)
+        f_par, c_side = setup_and_steady(par.table)
+        k = c_side / c_one
+        print(f"why: a case takes {c_one:.2f} s alone and {c_side:.2f} s next to another "
+              f"({k:.2f}x); each worker's first case takes {f_par:.1f} s more (imports, "
+              f"cached kernels, the port background), which the serial run pays once "
+              f"({f_ser:.1f} s). At this slow-down no number of cases gets past "
+              f"{par.workers / k:.2f}x.")
         # the wall times with a free core per process: their CPU time, plus the cluster
         # start-up, plus (pessimistically, as if it never overlapped) this process's share
         projected = c_ser / (startup + max(busy.values()) + c_par)
