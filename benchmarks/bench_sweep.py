@@ -14,21 +14,23 @@ about 3 minutes on two free cores.
    of ``--workers`` single-threaded worker processes (default: the usable cores; start-up
    included in the wall time).
 
-Prints both wall times and the speed-up; per case the mean wall and CPU time (user +
-system; CPU well below wall means the case waited for a core that other processes held);
-the threads of each worker process; each worker process's whole CPU time; the load average
-around each phase; and whether the two tables agree (same values: the cases are
-deterministic). Last, a projection that other jobs on the machine cannot spoil: the serial
-run's CPU time over the busiest worker's CPU time plus the cluster start-up, i.e. the
-speed-up with a free core per worker. With 2 workers on 2 free cores the ideal is 2x, less
-the cluster start-up and each worker's first-case set-up (imports, cached numba kernels,
-the port background): the serial run pays that set-up once, the sweep once per worker (in
-parallel), so the speed-up grows with the number and the size of the cases. Because other jobs may share the machine, it first measures the
-ceiling: how much faster ``--workers`` concurrent single-threaded numpy matmul processes
-get through their work than one (2.0 on two free cores). Timings are wall clock: compare
-the speed-up with that ceiling. Matmul is compute-bound; the sweep's sparse solves and ray
-tracing also share the memory bus and the last-level cache, so a third run measures the
-ceiling of this very workload without any scheduler:
+Prints both wall times and the speed-up; per case the mean wall and CPU time (user + system;
+CPU well below wall means the case waited for a core that other processes held); the threads
+of each worker process; each worker process's whole CPU time; the load average around each
+phase; and whether the two tables agree (same values: the cases are deterministic). Then
+why: a case's time alone and next to another one, each worker's first-case set-up, and the
+limit that slow-down sets. Last, a projection that other jobs on the machine cannot spoil:
+the serial run's CPU time over the busiest worker's CPU time plus the cluster start-up, i.e.
+the speed-up with a free core per worker. With 2 workers on 2 free cores the ideal is 2x,
+less the cluster start-up and each worker's first-case set-up (imports, cached numba
+kernels, the port background): the serial run pays that set-up once, the sweep once per
+worker (in parallel), so the speed-up grows with the number and the size of the cases.
+Because other jobs may share the machine, it first measures the ceiling: how much faster
+``--workers`` concurrent single-threaded numpy matmul processes get through their work than
+one (2.0 on two free cores). Timings are wall clock: compare the speed-up with that ceiling.
+Matmul is compute-bound; the sweep's sparse solves and ray tracing also share the memory bus
+and the last-level cache, so a third run measures the ceiling of this very workload without
+any scheduler:
 
 3. split: ``--workers`` plain processes started at once, each running its share of the
    cases serially (``run_sweep(serial=True)`` on cases k, k + n, ...; start-up, imports and

@@ -30,8 +30,8 @@ is validated before anything runs: a bad value is a user error listing all probl
 
 Each case runs pinned to one thread (numba, BLAS, OpenMP: :data:`CASE_THREADS`), as one
 dask task (its thermal stage, then its imaging stage; the worker builds each port
-background once and keeps it for its later cases) on a LocalCluster (one single-threaded worker
-process per usable core, at most one per case; no dashboard) or on an existing scheduler
+background once and keeps it for its later cases) on a LocalCluster (one single-threaded
+worker process per usable core, at most one per case; no dashboard) or on an existing scheduler
 (``scheduler=ADDRESS``, see ``docs/CLUSTER.md``). With one usable core the cases run one
 by one in this process. Results come back to the client, which writes ``cases/<id>.json``
 at once (so a remote cluster needs no shared disk for results; input files named in
@@ -650,9 +650,9 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
         Threads each case may use (numba, BLAS, OpenMP); :data:`CASE_THREADS`.
 
     On dask each case is one task, thermal then imaging stage, the cases in order; each
-    worker builds a port background the first time one of its cases needs it. A worker lost in the middle of a case is named
-    in the log with the case, which dask runs again elsewhere; the case's row counts the
-    retries (``retries``).
+    worker builds a port background the first time one of its cases needs it. A worker
+    lost in the middle of a case is named in the log with the case, which dask runs again
+    elsewhere; the case's row counts the retries (``retries``).
     """
     say = log or (lambda m: None)
     out = Path(out_dir)
