@@ -152,12 +152,12 @@ def setup_and_steady(table: pd.DataFrame) -> tuple[float, float]:
     row is the first case it ran."""
     sec = pd.to_numeric(table["seconds"]).to_numpy()
     worker = table["worker"].astype(str).to_numpy()
-    first = {w: i for i, w in reversed(list(enumerate(worker)))}
-    rest = np.array([i for i in range(len(sec)) if i not in first.values()])
+    _, first_rows = np.unique(worker, return_index=True)
+    rest = np.delete(sec, first_rows)
     if not len(rest):
         return float("nan"), float("nan")
-    steady = float(np.median(sec[rest]))
-    return float(np.mean([sec[i] - steady for i in first.values()])), steady
+    steady = float(np.median(rest))
+    return float(np.mean(sec[first_rows]) - steady), steady
 
 
 def main() -> None:

@@ -427,16 +427,13 @@ def _imaging_part(part, spec: dict, threads: int = CASE_THREADS) -> dict:
     return out
 
 
-def run_case(spec: dict, backgrounds: dict | None = None,
-             threads: int = CASE_THREADS) -> dict:
+def run_case(spec: dict, threads: int = CASE_THREADS) -> dict:
     """Run one case; never raises for a failure of the case itself (it is returned as
     ``status = 'failed'`` with the error and traceback).
 
-    ``backgrounds``: port backgrounds built before (key → background), so that the same
-    port is not rebuilt. ``threads``: the threads the case may use (:data:`CASE_THREADS`).
+    ``threads``: the threads the case may use (:data:`CASE_THREADS`). The port background
+    is built in this process the first time a case needs it and kept (:func:`_background`).
     """
-    for key, bg in (backgrounds or {}).items():
-        _BACKGROUNDS.setdefault(key, bg)
     return _imaging_part(_thermal_part(spec, threads), spec, threads)
 
 
@@ -708,7 +705,7 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
                 # pays one build (~1 s warm) instead of receiving 43 MB from a worker whose
                 # compute thread holds the GIL, and a case's history never leaves the worker
                 # that computed it.
-                futures = {client.submit(run_case, c.spec(), None, threads,
+                futures = {client.submit(run_case, c.spec(), threads,
                                          priority=len(todo) - i, key=f"case-{c.id}",
                                          pure=False): c
                            for i, c in enumerate(todo)}
