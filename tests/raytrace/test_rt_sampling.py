@@ -29,6 +29,11 @@ def test_kernel_matches_numpy_reference():
     ref_d = cosine_hemisphere(normals[idx], t1[idx], t2[idx], s[..., 2], s[..., 3])
     np.testing.assert_allclose(o, ref_o.reshape(-1, 3), rtol=0, atol=1e-12)
     np.testing.assert_allclose(d, ref_d.reshape(-1, 3), rtol=0, atol=1e-12)
+    # the serial kernel (for chunks traced on several threads) makes the same rays
+    for a, b in zip((o, d), _raygen.face_rays_serial(
+            tri[:, 0], tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], normals, t1, t2, base,
+            shift, idx, 0.01, True)):
+        np.testing.assert_array_equal(a, b)
 
 
 def test_frames_are_orthonormal_and_right_handed():

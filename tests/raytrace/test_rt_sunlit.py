@@ -105,8 +105,12 @@ def test_many_suns_equal_one_at_a_time_and_backends_agree():
     rng = np.random.default_rng(0)
     suns = rng.normal(size=(5, 3))
     suns[:, 2] = np.abs(suns[:, 2]) + 0.2
-    tracer = make_tracer(V, F, "embree")
+    # two threads: the directions run side by side (one per thread), a single one alone
+    tracer = make_tracer(V, F, "embree", n_threads=2)
     together = sun_lit_fraction(tracer, V, F, suns, samples_per_face=8, seed=3).face
+    serial = sun_lit_fraction(tracer.single_threaded(), V, F, suns, samples_per_face=8,
+                              seed=3).face
+    np.testing.assert_array_equal(serial, together)
     for j in range(len(suns)):
         alone = sun_lit_fraction(tracer, V, F, suns[j], samples_per_face=8, seed=3).face
         np.testing.assert_array_equal(alone[:, 0], together[:, j])

@@ -182,6 +182,17 @@ def test_deterministic_and_seed_dependent():
     np.testing.assert_array_equal(a.F_sky, b.F_sky)  # chunking does not change the rays
     np.testing.assert_array_equal(a.F_faces.toarray(), b.F_faces.toarray())
     assert not np.array_equal(a.F_faces.toarray(), c.F_faces.toarray())
+    # Embree on two threads, one chunk of faces per thread, against one thread; with a sea
+    # through the wall (origins under it) and one without
+    two = make_tracer(V, F, "embree", n_threads=2)
+    for sea in (0.5, None):
+        d = view_factors(two, V, F, rays_per_face=64, seed=9, chunk_rays=100, sea_level_z=sea)
+        e = view_factors(two.single_threaded(), V, F, rays_per_face=64, seed=9,
+                         chunk_rays=100, sea_level_z=sea)
+        assert (d.F_sea == 1).any() if sea else d.F_faces.nnz > 0   # submerged / hits
+        for x, y in ((d.F_sky, e.F_sky), (d.F_sea, e.F_sea),
+                     (d.F_faces.toarray(), e.F_faces.toarray())):
+            np.testing.assert_array_equal(x, y)
 
 
 def test_backends_give_same_view_factors():

@@ -12,6 +12,32 @@ import numpy as np
 from numba import njit, prange
 
 
+@njit(cache=True, nogil=True)
+def _face_samples(a, i, v0, e1, e2, normals, t1, t2, base, shift, offset, with_dirs,
+                  origins, dirs):
+    """Samples of face ``i`` into rows ``a·k … a·k + k − 1`` (see :func:`face_rays`)."""
+    k = base.shape[0]
+    for j in range(k):
+        r = a * k + j
+        u = (base[j, 0] + shift[i, 0]) % 1.0
+        v = (base[j, 1] + shift[i, 1]) % 1.0
+        su = np.sqrt(u)
+        w1 = su * (1.0 - v)
+        w2 = su * v
+        for c in range(3):
+            origins[r, c] = v0[i, c] + w1 * e1[i, c] + w2 * e2[i, c] + offset * normals[i, c]
+        if with_dirs:
+            u = (base[j, 2] + shift[i, 2]) % 1.0
+            v = (base[j, 3] + shift[i, 3]) % 1.0
+            rr = np.sqrt(u)
+            phi = 2.0 * np.pi * v
+            x = rr * np.cos(phi)
+            y = rr * np.sin(phi)
+            z = np.sqrt(max(0.0, 1.0 - u))
+            for c in range(3):
+                dirs[r, c] = x * t1[i, c] + y * t2[i, c] + z * normals[i, c]
+
+
 @njit(parallel=True, cache=True)
 def face_rays(v0, e1, e2, normals, t1, t2, base, shift, face_idx, offset, with_dirs):
     """Origins (and cosine-weighted directions when ``with_dirs``) of ``len(base)`` samples
@@ -27,26 +53,22 @@ def face_rays(v0, e1, e2, normals, t1, t2, base, shift, face_idx, offset, with_d
     origins = np.empty((n * k, 3))
     dirs = np.empty((n * k if with_dirs else 0, 3))
     for a in prange(n):
-        i = face_idx[a]
-        for j in range(k):
-            r = a * k + j
-            u = (base[j, 0] + shift[i, 0]) % 1.0
-            v = (base[j, 1] + shift[i, 1]) % 1.0
-            su = np.sqrt(u)
-            w1 = su * (1.0 - v)
-            w2 = su * v
-            for c in range(3):
-                origins[r, c] = v0[i, c] + w1 * e1[i, c] + w2 * e2[i, c] + offset * normals[i, c]
-            if with_dirs:
-                u = (base[j, 2] + shift[i, 2]) % 1.0
-                v = (base[j, 3] + shift[i, 3]) % 1.0
-                rr = np.sqrt(u)
-                phi = 2.0 * np.pi * v
-                x = rr * np.cos(phi)
-                y = rr * np.sin(phi)
-                z = np.sqrt(max(0.0, 1.0 - u))
-                for c in range(3):
-                    dirs[r, c] = x * t1[i, c] + y * t2[i, c] + z * normals[i, c]
+        _face_samples(a, face_idx[a], v0, e1, e2, normals, t1, t2, base, shift, offset,
+                      with_dirs, origins, dirs)
+    return origins, dirs
+
+
+@njit(cache=True, nogil=True)
+def face_rays_serial(v0, e1, e2, normals, t1, t2, base, shift, face_idx, offset, with_dirs):
+    """:func:`face_rays` in the calling thread, without the GIL (for callers that run
+    several chunks at once on their own threads)."""
+    n = face_idx.shape[0]
+    k = base.shape[0]
+    origins = np.empty((n * k, 3))
+    dirs = np.empty((n * k if with_dirs else 0, 3))
+    for a in range(n):
+        _face_samples(a, face_idx[a], v0, e1, e2, normals, t1, t2, base, shift, offset,
+                      with_dirs, origins, dirs)
     return origins, dirs
 
 

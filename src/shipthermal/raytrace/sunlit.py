@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from tqdm.auto import tqdm
 
+from shipthermal._threads import thread_map
 from shipthermal.errors import require
 from shipthermal.raytrace import _raygen
 from shipthermal.raytrace.sampling import unit_samples
@@ -226,26 +227,38 @@ def sun_lit_fraction(tracer, vertices, faces, sun_dirs, samples_per_face: int = 
     if plane_pts is not None:
         total += int(((sun[:, 2] > 0) & visible).sum()) * len(plane_pts)
     face_chunk = max(1, int(chunk_rays) // k)
-    n_traced = 0
+
+    def direction(j, tr):
+        """Trace sun direction ``j`` with ``tr``; returns the rays traced."""
+        if not visible[j]:
+            return 0
+        n = 0
+        front = np.flatnonzero(cos_inc[:, j] > 0.0)
+        for idx in _chunks(front, face_chunk):
+            o = origins[idx].reshape(-1, 3)
+            blocked = tr.any_hit(o, sun[j], validate=False)
+            lit = ~blocked.reshape(len(idx), k)
+            if under is not None:
+                lit &= ~under[idx]
+            face_lit[idx, j] = lit.mean(axis=1)
+            n += len(o)
+            bar.update(len(o))
+        if plane_pts is not None and sun[j, 2] > 0.0:
+            n += _trace_plane(tr, plane_pts, receiver_plane.samples_per_cell, sun[j],
+                              chunk_rays, plane_lit[:, j], bar)
+        return n
+
     with tqdm(total=total, unit="ray", unit_scale=True, desc="sun rays",
               disable=(not progress) if progress is not None else None) as bar:
-        for j in range(n_sun):
-            if not visible[j]:
-                continue
-            front = np.flatnonzero(cos_inc[:, j] > 0.0)
-            for idx in _chunks(front, face_chunk):
-                o = origins[idx].reshape(-1, 3)
-                blocked = tracer.any_hit(o, sun[j], validate=False)
-                lit = ~blocked.reshape(len(idx), k)
-                if under is not None:
-                    lit &= ~under[idx]
-                face_lit[idx, j] = lit.mean(axis=1)
-                n_traced += len(o)
-                bar.update(len(o))
-            if plane_pts is not None and sun[j, 2] > 0.0:
-                n = _trace_plane(tracer, plane_pts, receiver_plane.samples_per_cell, sun[j],
-                                 chunk_rays, plane_lit[:, j], bar)
-                n_traced += n
+        threads = getattr(tracer, "n_threads", 1)
+        if hasattr(tracer, "single_threaded") and threads > 1 and n_sun > 1:
+            # Embree: one direction per thread, each thread doing its own ray set-up and
+            # averaging (in one direction's batches those ran between the parallel
+            # traces, on one thread). Frigate summer day, 87 directions: 3.2 → 2.7 s.
+            one = tracer.single_threaded()
+            n_traced = sum(thread_map(lambda j: direction(j, one), range(n_sun), threads))
+        else:
+            n_traced = sum(direction(j, tracer) for j in range(n_sun))
     plane_out = None
     if receiver_plane is not None:
         plane_out = plane_lit.reshape(receiver_plane.ny, receiver_plane.nx, n_sun)

@@ -179,6 +179,16 @@ class EmbreeTracer(_MeshTracer):
         # the Embree scene is a C object: pickle the mesh and rebuild (for dask workers)
         return (type(self), (self.vertices, self.faces, self.n_threads))
 
+    def single_threaded(self) -> "EmbreeTracer":
+        """This tracer (the same committed scene) answering each call in the calling
+        thread: for callers that run several batches at once on their own threads (Embree's
+        queries on a committed scene are thread-safe)."""
+        import copy
+
+        one = copy.copy(self)
+        one.n_threads = 1
+        return one
+
     def _run(self, origins, directions, max_distance, query, validate):
         origins, directions, dist = _check_rays(origins, directions, max_distance, validate)
         n = len(origins)

@@ -25,8 +25,10 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
+from numba import njit
 from tqdm.auto import tqdm
 
+from shipthermal._threads import thread_map
 from shipthermal.errors import require
 from shipthermal.raytrace import _raygen
 from shipthermal.raytrace.sampling import unit_samples
@@ -110,10 +112,50 @@ class _Frames:
          self.t2) = _raygen.face_frames(np.ascontiguousarray(vertices, dtype=np.float64),
                                         np.ascontiguousarray(faces, dtype=np.int64))
 
-    def rays(self, idx, base, shift, offset):
+    def rays(self, idx, base, shift, offset, kernel=_raygen.face_rays):
         # fused numba version of sampling.triangle_points + cosine_hemisphere
-        return _raygen.face_rays(self.v0, self.e1, self.e2, self.normals, self.t1, self.t2,
-                                 base, shift, idx, float(offset), True)
+        return kernel(self.v0, self.e1, self.e2, self.normals, self.t1, self.t2, base, shift,
+                      idx, float(offset), True)
+
+
+@njit(cache=True, nogil=True)
+def _sea_distances(o, d, z):
+    t = np.empty(o.shape[0])
+    under = np.empty(o.shape[0], np.bool_)
+    for r in range(o.shape[0]):
+        under[r] = o[r, 2] < z
+        t[r] = (z - o[r, 2]) / d[r, 2] if d[r, 2] < 0.0 else np.inf
+    return t, under
+
+
+def _sea_distance(o, d, sea_level_z):
+    """Distance along each ray to the sea plane (inf for rays going up, or without a sea)
+    and whether its origin is under the sea."""
+    if sea_level_z is None:
+        return np.full(len(o), np.inf), np.zeros(len(o), bool)
+    return _sea_distances(o, d, float(sea_level_z))
+
+
+@njit(cache=True, nogil=True)
+def _tally(hit, submerged, t_sea, k, n_faces):
+    """Per face of a chunk (rays ``k`` by ``k``): rays to the sea (from under it, or
+    meeting it before any face), to the sky, and the (face, hit face) pairs of the rest."""
+    sea = np.zeros(n_faces, np.int64)
+    sky = np.zeros(n_faces, np.int64)
+    rows = np.empty(hit.shape[0], np.int64)
+    cols = np.empty(hit.shape[0], np.int64)
+    m = 0
+    for r in range(hit.shape[0]):
+        f = r // k
+        if submerged[r] or (hit[r] < 0 and np.isfinite(t_sea[r])):
+            sea[f] += 1
+        elif hit[r] < 0:
+            sky[f] += 1
+        else:
+            rows[m] = f
+            cols[m] = hit[r]
+            m += 1
+    return sea, sky, rows[:m], cols[:m]
 
 
 def view_factors(tracer, vertices, faces, rays_per_face: int = 256, seed: int = 0,
@@ -161,38 +203,43 @@ def view_factors(tracer, vertices, faces, rays_per_face: int = 256, seed: int = 
 
     n_sky = np.zeros(n_faces, np.int64)
     n_sea = np.zeros(n_faces, np.int64)
-    blocks = []  # one CSR block of rows per chunk of faces (chunks are disjoint row ranges)
     face_chunk = max(1, int(chunk_rays) // k)
+    starts = range(0, n_faces, face_chunk)
+    threads = getattr(tracer, "n_threads", 1)
+    # Embree: one chunk of faces per thread, each thread making its own rays and tallying
+    # its own hits (in one chunk's batch those ran between the parallel traces, on one
+    # thread). Frigate, 10.3 M rays: 1.9 → 1.3 s.
+    by_chunk = hasattr(tracer, "single_threaded") and threads > 1 and len(starts) > 1
+    tr = tracer.single_threaded() if by_chunk else tracer
+    make_rays = _raygen.face_rays_serial if by_chunk else _raygen.face_rays
     with tqdm(total=n_faces * k, unit="ray", unit_scale=True, desc="view-factor rays",
               disable=(not progress) if progress is not None else None) as bar:
-        for start in range(0, n_faces, face_chunk):
+
+        def chunk(start):
+            """Rays of faces ``start …``: their sky and sea counts and their face hits (one
+            CSR block of rows: chunks are disjoint row ranges)."""
             idx = np.arange(start, min(n_faces, start + face_chunk))
-            o, d = frames.rays(idx, base, shift, tracer.offset)
-            src = np.repeat(idx, k)
-            if sea_level_z is None:
-                submerged = np.zeros(len(o), bool)
-                t_sea = np.full(len(o), np.inf)
-            else:
-                # distance along the ray to the sea plane (inf for rays going up)
-                submerged = o[:, 2] < sea_level_z
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    t_sea = np.where(d[:, 2] < 0.0, (sea_level_z - o[:, 2]) / d[:, 2], np.inf)
+            o, d = frames.rays(idx, base, shift, tracer.offset, make_rays)
+            t_sea, submerged = _sea_distance(o, d, sea_level_z)
             if submerged.any():
                 traced = ~submerged
                 hit = np.full(len(o), -1, np.int64)
-                hit[traced] = tracer.intersects_first(o[traced], d[traced], t_sea[traced],
-                                                      validate=False)
+                hit[traced] = tr.intersects_first(o[traced], d[traced], t_sea[traced],
+                                                  validate=False)
             else:
-                hit = tracer.intersects_first(o, d, t_sea, validate=False)
-            to_sea = submerged | ((hit < 0) & np.isfinite(t_sea))
-            to_sky = (hit < 0) & ~to_sea
-            n_sea[idx] += np.bincount(src[to_sea] - start, minlength=len(idx))
-            n_sky[idx] += np.bincount(src[to_sky] - start, minlength=len(idx))
-            h = hit >= 0
+                hit = tr.intersects_first(o, d, t_sea, validate=False)
+            sea, sky, rows, cols = _tally(hit, submerged, t_sea, k, len(idx))
             # COO -> CSR sums the duplicate (i, j) pairs in linear time, no sort
-            blocks.append(sp.csr_matrix(
-                (np.ones(int(h.sum())), (src[h] - start, hit[h])), shape=(len(idx), n_cols)))
+            block = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(len(idx), n_cols))
             bar.update(len(o))
+            return idx, sea, sky, block
+
+        parts = thread_map(chunk, starts, threads) if by_chunk else [chunk(s) for s in starts]
+    blocks = []
+    for idx, sea, sky, block in parts:
+        n_sea[idx] = sea
+        n_sky[idx] = sky
+        blocks.append(block)
 
     F_faces = sp.vstack(blocks, format="csr") / k
     F_faces.sum_duplicates()
