@@ -24,7 +24,11 @@ Reports, for the built-in frigate on the built-in design day (scenario defaults)
   coarser edge (``--peer-edge``), against the lead-in spin-up on that ship: wall-time ratio
   and the difference of their recorded days. (No external code computes this ship day.)
 * the rays per second of our tracing pipeline against raw Embree (trimesh's
-  ``intersects_first`` through embreex) on the same view-factor rays.
+  ``intersects_first`` through embreex) on the same view-factor rays;
+* a host-speed probe before and after the main run: one thread's sparse product of a fixed
+  matrix (a 500 × 500 five-point Laplacian, scipy), in ms. This machine's host speed drifts
+  by up to 40 %; the probe says in which state a run's times were measured (iteration counts
+  do not depend on it).
 
 Not a test. Other jobs share the 2 CPUs: timings move by ±30 % between runs.
 """
@@ -40,6 +44,24 @@ import numpy as np
 import pandas as pd
 
 HERE = Path(__file__).resolve().parent
+
+
+def _host_probe() -> float:
+    """ms of one scipy CSR product of a fixed 250 000-row five-point Laplacian (median of
+    five timings of 100 products)."""
+    import scipy.sparse as sp
+
+    n = 500
+    lap1 = sp.diags([-1.0, 2.0, -1.0], [-1, 0, 1], shape=(n, n))
+    a = (sp.kron(lap1, sp.eye(n)) + sp.kron(sp.eye(n), lap1)).tocsr()
+    x = np.ones(a.shape[0])
+    times = []
+    for _ in range(5):
+        t0 = time.perf_counter()
+        for _ in range(100):
+            a @ x
+        times.append((time.perf_counter() - t0) * 10.0)
+    return float(np.median(times))
 
 
 def _peak_rss_gib() -> float:
@@ -117,7 +139,9 @@ def main():
     ship = sc.ship()
     t_ship = time.perf_counter() - t0
     print(f"ship: {ship.name}, {ship.n_faces} surface faces (built in {t_ship:.1f} s)")
+    probe_before = _host_probe()
     res, wall = _plain(sc, ship) if args.plain else _run(sc, ship, log=print)
+    probe_after = _host_probe()
     rss = _peak_rss_gib()
     f = res.forcing
     tim = res.timings
@@ -139,6 +163,8 @@ def main():
           f"PCG iterations/Newton {det['linear_iterations'] / max(det['newton_iterations'], 1):.1f}")
     print(f"energy: relative imbalance {res.energy.relative_imbalance:.2e}")
     print(f"peak RSS {rss:.2f} GiB")
+    print(f"host-speed probe (sparse product, one thread): {probe_before:.2f} ms before, "
+          f"{probe_after:.2f} ms after the run")
     pm = res.part_means
     if args.save_reference:
         pm.to_csv(args.save_reference, float_format="%.6f")
