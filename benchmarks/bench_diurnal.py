@@ -27,8 +27,8 @@ Reports, for the built-in frigate on the built-in design day (scenario defaults)
   ``intersects_first`` through embreex) on the same view-factor rays;
 * a host-speed probe before and after the main run: one thread's sparse product of a fixed
   matrix (a 500 × 500 five-point Laplacian, scipy), in ms. This machine's host speed drifts
-  by up to 40 %; the probe says in which state a run's times were measured (iteration counts
-  do not depend on it).
+  by up to 40 %; the probe is a rough mark of the state a run's times were measured in (it
+  moves by ±25 % itself within a minute; iteration counts do not depend on the host).
 
 Not a test. Other jobs share the 2 CPUs: timings move by ±30 % between runs.
 """
