@@ -33,6 +33,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..quadrature import gauss_legendre
+
 __all__ = ["henyey_greenstein", "cos_scattering_angle", "single_scatter_sky_radiance",
            "single_scatter_sky_irradiance", "single_scatter_path_radiance"]
 
@@ -98,8 +100,6 @@ def single_scatter_sky_irradiance(solar_irradiance_ground, tau, omega, g, sun_ze
     (``n_phi`` over 0–360°; the integrand is periodic, so the rule is spectrally
     accurate).
     """
-    from ..quadrature import gauss_legendre
-
     x, w = gauss_legendre(n_mu)
     mu, w = 0.5 * (x + 1.0), 0.5 * w
     phi = (np.arange(n_phi) + 0.5) * 360.0 / n_phi

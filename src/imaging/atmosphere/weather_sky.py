@@ -39,6 +39,8 @@ import numpy as np
 
 from shipthermal.errors import check_range, require
 
+from ..quadrature import gauss_legendre
+
 __all__ = ["SCHEME_ERROR", "SkyWeather", "standard_states", "band_sky_emissivity",
            "weather_sky_radiance", "weather_sky_irradiance", "broadband_emissivities"]
 
@@ -137,8 +139,6 @@ def weather_sky_irradiance(band: str, temp_air: float, relative_humidity: float,
                            cloud_model: str = "unsworth_monteith", n_nodes: int = 16) -> float:
     """Hemispherical band sky irradiance [W m⁻²] on a horizontal surface,
     ``2π ∫ L(μ) μ dμ`` (Gauss–Legendre, ``n_nodes`` nodes in μ, as the tables)."""
-    from ..quadrature import gauss_legendre
-
     x, w = gauss_legendre(int(n_nodes))
     mu = 0.5 * (x + 1.0)
     rad = weather_sky_radiance(band, np.degrees(np.arccos(mu)), temp_air, relative_humidity,

@@ -31,7 +31,7 @@ from shipthermal.errors import InputError, require
 from shipthermal.raytrace import _bvh
 
 __all__ = ["RAY_OFFSET_FACTOR", "Tracer", "EmbreeTracer", "NumbaTracer", "make_tracer",
-           "ray_offset", "has_embree"]
+           "ray_offset", "has_embree", "batch_threads"]
 
 RAY_OFFSET_FACTOR = 1e-5
 """Ray origin offset from a surface as a fraction of the model's bounding-box diagonal [-]."""
@@ -302,6 +302,19 @@ class NumbaTracer(_MeshTracer):
         return _bvh.brute_force_first(
             self._v0, self._e1, self._e2, np.ascontiguousarray(origins - self.center),
             np.ascontiguousarray(directions), np.ascontiguousarray(dist))
+
+
+def batch_threads(tracer, n_batches: int) -> tuple:
+    """``(tracer, threads)`` for a caller with ``n_batches`` independent batches of rays:
+    on Embree with several threads and batches, a single-threaded view of the tracer and
+    one batch per thread (each thread then also does its batch's own set-up and
+    bookkeeping, which otherwise run on one thread between the parallel traces); else the
+    tracer itself, batches one after the other (the numba tracer is parallel inside a call
+    and not safe for concurrent ones)."""
+    threads = getattr(tracer, "n_threads", 1)
+    if hasattr(tracer, "single_threaded") and threads > 1 and n_batches > 1:
+        return tracer.single_threaded(), threads
+    return tracer, 1
 
 
 _BACKENDS = ("auto", "embree", "numba")
