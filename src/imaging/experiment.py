@@ -184,9 +184,9 @@ class SeriesResult:
         Zero crossings of the contrast (times in s).
     crop : tuple
         ``(row0, row1, col0, col1)`` of the stored image stack.
-    radiance : (nt, rows, cols) float32
-        At-aperture radiance of the crop [W m-2 sr-1].
-    leaving : (nt, rows, cols) float32
+    radiance : (ns, rows, cols) float32
+        At-aperture radiance of the crop [W m-2 sr-1] at ``stack_times_s``.
+    leaving : (ns, rows, cols) float32
         Surface-leaving radiance of the crop [W m-2 sr-1].
     coverage : (ny, nx) float32
         Ship coverage of the full image [-].
@@ -196,6 +196,8 @@ class SeriesResult:
         Wall time of the series [s].
     rays : int
         Rays traced [-].
+    stack_times_s : (ns,) float or None
+        Times of the stored stacks [s] (None: every frame, ``times_s``).
     """
 
     season: str
@@ -211,6 +213,11 @@ class SeriesResult:
     seconds: float = 0.0
     rays: int = 0
     placement: ShipPlacement | None = None
+    stack_times_s: np.ndarray | None = None
+
+    def __post_init__(self):
+        if self.stack_times_s is None:
+            self.stack_times_s = self.times_s
 
 
 def _crop_box(coverage, crop_px, shape):
@@ -229,7 +236,8 @@ def _crop_box(coverage, crop_px, shape):
 
 def render_series(history, scenario: ImagingScenario, bands=("3-5", "8-14"),
                   times_s=DEFAULT_TIMES_S, keep_times_s=(), crop_px: int | None = 128,
-                  progress: bool = True, renderer: SceneRenderer | None = None) -> dict:
+                  progress: bool = True, renderer: SceneRenderer | None = None,
+                  stack_step_s: float | None = None) -> dict:
     """Render ``history`` in ``scenario`` at every time and band; metrics per frame.
 
     Parameters
@@ -250,6 +258,9 @@ def render_series(history, scenario: ImagingScenario, bands=("3-5", "8-14"),
         tqdm progress bar.
     renderer : SceneRenderer or None
         Reuse a renderer (its view rays) built by ``scenario.renderer(history)``.
+    stack_step_s : float or None
+        Keep the crop of every frame in the image stacks (None), or only of the frames on
+        this grid [s] (weather records: hourly images over weeks stay in memory).
 
     Returns
     -------
@@ -276,8 +287,15 @@ def render_series(history, scenario: ImagingScenario, bands=("3-5", "8-14"),
     r0, r1, c0, c1 = crop
     keep = {float(k) for k in keep_times_s}
     rows = {b: [] for b in bands}
-    stacks = {b: np.empty((t.size, r1 - r0, c1 - c0), np.float32) for b in bands}
-    leaves = {b: np.empty((t.size, r1 - r0, c1 - c0), np.float32) for b in bands}
+    if stack_step_s is None:
+        stored = np.ones(t.size, bool)
+    else:
+        phase = np.mod(t - t[0], float(stack_step_s))
+        stored = (phase < 1e-6) | (float(stack_step_s) - phase < 1e-6)
+    slot = np.cumsum(stored) - 1
+    n_stack = int(stored.sum())
+    stacks = {b: np.empty((n_stack, r1 - r0, c1 - c0), np.float32) for b in bands}
+    leaves = {b: np.empty((n_stack, r1 - r0, c1 - c0), np.float32) for b in bands}
     frames = {b: {} for b in bands}
     mask = r.coverage > 0
     water = bg.class_map == 1
@@ -308,8 +326,9 @@ def render_series(history, scenario: ImagingScenario, bands=("3-5", "8-14"),
                 water_mean_temp=float(np.mean(temp_bg[water])) if water.any() else math.nan,
                 path_radiance=cond.path_radiance,
                 tau_300k=float(cond.transmittance_emitted(300.0))))
-            stacks[b][k] = fr.radiance[r0:r1, c0:c1]
-            leaves[b][k] = fr.leaving[r0:r1, c0:c1]
+            if stored[k]:
+                stacks[b][slot[k]] = fr.radiance[r0:r1, c0:c1]
+                leaves[b][slot[k]] = fr.leaving[r0:r1, c0:c1]
             if any(abs(tk - kt) < 1e-6 for kt in keep):
                 frames[b][float(tk)] = fr
     seconds = _time.perf_counter() - t0
@@ -319,7 +338,7 @@ def render_series(history, scenario: ImagingScenario, bands=("3-5", "8-14"),
         cross = crossover_times(df["time_s"].to_numpy(), df["contrast"].to_numpy(), "pchip")
         out[b] = SeriesResult(scenario.season, b, t, df, cross, crop, stacks[b], leaves[b],
                               r.coverage.astype(np.float32), frames[b], seconds, rays,
-                              r.placement)
+                              r.placement, stack_times_s=t[stored])
     return out
 
 
@@ -403,7 +422,8 @@ def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
                    times=DEFAULT_TIMES_S, progress: bool = True, scenarios: dict | None = None,
                    typical_hours: dict | None = None, crop_px: int | None = 128,
                    crossover_window_h: float = 0.5,
-                   shared_panel_scale: bool = True) -> ExperimentResult:
+                   shared_panel_scale: bool = True,
+                   stack_step_s: float | None = None) -> ExperimentResult:
     """The paper's experiment in one call: seasons x bands over a day, with all products.
 
     Parameters
@@ -430,6 +450,8 @@ def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
         Half-width of the crossover periods of the band comparison [h].
     shared_panel_scale : bool
         One colour scale per band and season for all panel times (False: one per panel).
+    stack_step_s : float or None
+        Cadence of the stored image stacks [s] (:func:`render_series`; None: every frame).
 
     Returns
     -------
@@ -466,15 +488,18 @@ def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
         t = np.union1d(t_base, np.array(hours) * HOUR)
         t0 = _time.perf_counter()
         res = render_series(hist, scen, bands, t, keep_times_s=np.array(hours) * HOUR,
-                            crop_px=crop_px, progress=progress)
+                            crop_px=crop_px, progress=progress, stack_step_s=stack_step_s)
         seconds[season] = _time.perf_counter() - t0
         for b, sr in res.items():
             series[(season, b)] = sr
         scenarios[season] = scen
-    rows = [dict(season=s, band=b, time_h=c.time / HOUR, time_local=_hhmm(c.time),
-                 direction=c.direction)
+    rows = [dict(season=s, band=b, time_h=c.time / HOUR,
+                 date_local=str((pd.Timestamp(scenarios[s].date)
+                                 + pd.Timedelta(seconds=float(c.time))).date()),
+                 time_local=_hhmm(c.time), direction=c.direction)
             for (s, b), sr in series.items() for c in sr.crossovers]
-    cross = pd.DataFrame(rows, columns=["season", "band", "time_h", "time_local", "direction"])
+    cross = pd.DataFrame(rows, columns=["season", "band", "time_h", "date_local", "time_local",
+                                        "direction"])
     comp = band_comparison(series, crossover_window_h)
     t0 = _time.perf_counter()
     files = P.write_products(out_dir, series, cross, comp, scenarios, history_by_season, typical,

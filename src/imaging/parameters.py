@@ -11,7 +11,7 @@ The band list, the surface optics and the other values both stages share live in
 from __future__ import annotations
 
 __all__ = ["PAPER_SENSOR_PARAMETERS", "MAX_VIEW_ZENITH", "VARIOGRAM_MODELS", "MET_UNITS",
-           "N_SPLITS", "DEM_NODATA", "SYNTHETIC_PIXEL_M"]
+           "N_SPLITS", "DEM_NODATA", "SYNTHETIC_PIXEL_M", "BACKGROUND_MODELS", "RESIDUAL_MODES"]
 
 # ---------------------------------------------------------------------------------------
 # Sensor
@@ -56,3 +56,14 @@ them by interpolation."""
 SYNTHETIC_PIXEL_M = 30.0
 """Pixel size of the built-in synthetic port [m]: the Landsat 8/9 surface-temperature and
 reflectance grid."""
+
+BACKGROUND_MODELS = ("physical", "paper")
+"""Port background models: ``physical`` (a surface energy balance per pixel driven by the
+run's environment, :mod:`imaging.background.physical`) and ``paper`` (the paper's Landsat
+LST + kriged met grid + terrain regression, :mod:`imaging.background.background`)."""
+
+RESIDUAL_MODES = ("constant", "solar", "none")
+"""How the physical background carries the part of a scene's LST its fitted model cannot
+reach through the day (:mod:`imaging.background.physical`): ``constant`` (``T(t_ov) = LST``
+exactly), ``solar`` (scaled by the global irradiance relative to the overpass; a night
+overpass keeps it constant), ``none`` (the model alone)."""

@@ -71,7 +71,8 @@ def write_series_netcdf(path, sr, grid, attrs: dict | None = None) -> str:
                                "long_name": "surface-leaving radiance, area-mixed (eq. 2)"}),
          "coverage": (("y", "x"), sr.coverage[r0:r1, c0:c1],
                       {"units": "1", "long_name": "ship area fraction of the pixel"})},
-        coords={"time": ("time", sr.times_s / HOUR, {"units": "hours after local midnight"}),
+        coords={"time": ("time", sr.stack_times_s / HOUR,
+                         {"units": "hours after local midnight"}),
                 "x": ("x", x, {"units": "m", "long_name": "easting of pixel centre"}),
                 "y": ("y", y, {"units": "m", "long_name": "northing of pixel centre"})},
         attrs={"title": f"Ship in port, {sr.season}, {sr.band} um", "season": sr.season,
@@ -119,7 +120,8 @@ def _rect(ax, box, h, res_km, **kw):
 
 
 def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 40,
-                backgrounds: dict | None = None, shared_scale: bool = True) -> str:
+                backgrounds: dict | None = None, shared_scale: bool = True,
+                labelled: dict | None = None) -> str:
     """Image panels at the typical times, one row per season (like the paper's Figs. 14/16).
 
     Each panel is the at-aperture radiance [W m-2 sr-1] of a ``display_px`` square around the
@@ -232,7 +234,10 @@ def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 
                 tb = cb.ax.secondary_yaxis("left", functions=(to_t, to_l))
                 tb.set_ylabel("apparent temperature [K]", fontsize=7)
                 tb.tick_params(labelsize=6)
-    fig.suptitle(f"Ship in port, at-aperture radiance {band} um; "
+    synthetic = any("synthetic port" in background_label(b) for b in
+                    (labelled or backgrounds).values())
+    fig.suptitle(("Ship in a synthetic port (not a real place)" if synthetic else "Ship in port")
+                 + f", at-aperture radiance {band} um; "
                  + ("one colour scale per season for all times" if shared_scale
                     else "one colour scale per panel")
                  + "\ncyan: ship pixels, white dashed: local SCR background window; "
@@ -257,22 +262,45 @@ def plot_scr_curves(path, series: dict, band: str) -> str:
         m = sr.metrics
         ax.plot(m["time_h"], m["scr"], color="C0", lw=1.5, label="local SCR (eq. 22)")
         ax.set_ylabel("SCR [-]", color="C0")
-        ax.set_xlim(0, 24)
-        ax.set_xticks(range(0, 25, 2))
+        span_h = max(24.0, float(sr.times_s[-1]) / HOUR)
+        ax.set_xlim(0, span_h)
+        if span_h <= 24.0:
+            ax.set_xticks(range(0, 25, 2))
+        else:                                     # a weather record: one tick per day
+            ax.set_xticks(np.arange(0.0, span_h + 1e-9, 24.0 * max(1, round(span_h / 24 / 15))))
+        many = len(sr.crossovers) > 12            # a record: lines without labels
         ax2 = ax.twinx()
         ax2.plot(m["time_h"], m["contrast"], color="C3", lw=1.0, label="contrast")
         ax2.axhline(0.0, color="C3", lw=0.5, ls=":")
         ax2.set_ylabel("contrast [W m-2 sr-1]", color="C3")
         for c in sr.crossovers:
-            ax.axvline(c.time / HOUR, color="k", ls="--", lw=0.8)
-            ax.text(c.time / HOUR, ax.get_ylim()[1], f" {_hhmm(c.time / HOUR)}", fontsize=7,
-                    va="top")
+            ax.axvline(c.time / HOUR, color="k", ls="--", lw=0.4 if many else 0.8)
+            if not many:
+                ax.text(c.time / HOUR, ax.get_ylim()[1], f" {_hhmm(c.time / HOUR)}",
+                        fontsize=7, va="top")
         ax.set_title(f"({'ab'[seasons.index(season)] if len(seasons) <= 2 else season}) "
                      f"{season}, {band} um; dashed: thermal crossover", fontsize=9)
-        ax.set_xlabel("local time [h]")
+        ax.set_xlabel("local time [h]" if span_h <= 24.0 else
+                      "hours after local midnight of the first day [h]")
     out = _savefig(fig, os.fspath(path))
     plt.close(fig)
     return out
+
+
+def background_label(background) -> str:
+    """What a background is, in the words every product uses: the physical model's own
+    label (a synthetic port or the scene it is anchored on), or the paper's chain on the
+    synthetic port or on real files."""
+    src = getattr(background, "source", None) or background
+    label = getattr(src, "label", "")
+    if label:
+        return f"{label}; physical model driven by the scenario's weather"
+    if getattr(src, "synthetic_truth", None) is not None:
+        return ("synthetic port (not a real place) with a generated Landsat scene and met grid "
+                "of the built-in design day; the paper's chain")
+    if hasattr(src, "overpass_utc"):
+        return f"Landsat scene of {src.overpass_utc:%Y-%m-%d %H:%M} UTC; the paper's chain"
+    return "user background"
 
 
 def write_products(out_dir, series, crossovers, comparison, scenarios, histories, typical,
@@ -292,7 +320,7 @@ def write_products(out_dir, series, crossovers, comparison, scenarios, histories
                  "view_azimuth_deg": scen.view_azimuth_deg,
                  "samples_per_pixel": scen.samples_per_pixel,
                  "atmosphere_backend": scen.atmosphere_backend, "date": scen.date,
-                 "timezone": scen.tz}
+                 "timezone": scen.tz, "background": background_label(scen.background)}
         tag = f"{season}_{band}"
         files[f"netcdf_{tag}"] = write_series_netcdf(p(f"images_{tag}.nc"), sr, grid, attrs)
         tif = write_typical_geotiff(p(f"typical_{tag}.tif"), sr, grid)
@@ -304,7 +332,9 @@ def write_products(out_dir, series, crossovers, comparison, scenarios, histories
                        if b == band}
         files[f"panels_{band}"] = plot_panels(p(f"panels_{band}.png"), series, band, typical,
                                               backgrounds=backgrounds,
-                                              shared_scale=shared_panel_scale)
+                                              shared_scale=shared_panel_scale,
+                                              labelled={s: scenarios[s].background
+                                                        for s in backgrounds})
         files[f"scr_{band}"] = plot_scr_curves(p(f"scr_{band}.png"), series, band)
     files["crossovers"] = _csv(crossovers, p("crossovers.csv"))
     files["band_comparison"] = _csv(comparison, p("band_comparison.csv"))
@@ -316,6 +346,7 @@ def write_products(out_dir, series, crossovers, comparison, scenarios, histories
                           "view_zenith_deg": sc.view_zenith_deg,
                           "view_azimuth_deg": sc.view_azimuth_deg,
                           "samples_per_pixel": sc.samples_per_pixel,
+                          "background": background_label(sc.background),
                           "placement": next((vars(sr.placement) for (ss, _), sr in series.items()
                                              if ss == s and sr.placement is not None), None)}
                       for s, sc in scenarios.items()},

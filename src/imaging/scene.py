@@ -149,6 +149,11 @@ class GriddedBackground:
     grid : SceneGrid or None
         Georeferencing for GeoTIFF/NetCDF (``imaging.background.SceneGrid``); None: a local
         grid with the origin at the south-west corner and no CRS.
+    source : object or None
+        A background that computes its temperatures itself (``source.temperature_at(hour)``,
+        e.g. :class:`imaging.background.physical.PhysicalBackground`, whose hours run on
+        past one day for a weather record); ``hours_local`` / ``temperature`` then hold its
+        first hour only.
     """
 
     class_map: np.ndarray
@@ -156,6 +161,7 @@ class GriddedBackground:
     temperature: np.ndarray
     resolution_m: float = 30.0
     grid: object = None
+    source: object = None
 
     def __post_init__(self):
         cm = np.asarray(self.class_map)
@@ -186,7 +192,10 @@ class GriddedBackground:
         return tuple(self.class_map.shape)
 
     def temperature_at(self, hour_local: float) -> np.ndarray:
-        """Background temperature [K] at a local clock hour [h], linear, 24-h periodic."""
+        """Background temperature [K] at a local clock hour [h], linear, 24-h periodic (or
+        the :attr:`source`'s own, hours after local midnight of its first day)."""
+        if self.source is not None:
+            return self.source.temperature_at(hour_local)
         hrs = self.hours_local
         temp = np.asarray(self.temperature)
         if hrs.size == 1:
@@ -207,10 +216,16 @@ class GriddedBackground:
 
 
 def as_scene_background(background) -> GriddedBackground:
-    """A :class:`GriddedBackground` from itself or from an
-    :class:`imaging.background.PortBackground` (arrays shared, not copied)."""
+    """A :class:`GriddedBackground` from itself, from an
+    :class:`imaging.background.PortBackground` (arrays shared, not copied) or from a
+    background that computes its temperatures (:class:`imaging.background.physical.
+    PhysicalBackground`: kept as the ``source``)."""
     if isinstance(background, GriddedBackground):
         return background
+    if hasattr(background, "column_temperature"):
+        return GriddedBackground(background.class_map, np.array([0.0]),
+                                 background.temperature_at(0.0)[None],
+                                 background.grid.resolution, background.grid, source=background)
     needed = ("class_map", "hours_local", "temperature", "grid")
     if not all(hasattr(background, a) for a in needed):
         raise InputError("background", type(background).__name__,

@@ -165,6 +165,9 @@ class SkyWeather:
         uses it.
     clear_model, cloud_model : str
         The thermal stage's sky models.
+    periodic : bool
+        True (default): one day, repeated; False: a weather record, ``hours_local`` counted
+        from local midnight of its first day and running on past 24 h.
     """
 
     hours_local: np.ndarray
@@ -174,10 +177,12 @@ class SkyWeather:
     longwave_down: np.ndarray | None = None
     clear_model: str = "brutsaert"
     cloud_model: str = "unsworth_monteith"
+    periodic: bool = True
 
     def __post_init__(self):
         h = np.asarray(self.hours_local, dtype=float).reshape(-1)
-        require(h.size >= 1 and bool(np.all(np.diff(h) > 0)) and h[-1] - h[0] < 24.0,
+        require(h.size >= 1 and bool(np.all(np.diff(h) > 0))
+                and (h[-1] - h[0] < 24.0 or not self.periodic),
                 "sky_weather.hours_local", h, "must increase within one day [h]")
         for name in ("temp_air", "relative_humidity", "cloud_cover", "longwave_down"):
             v = getattr(self, name)
@@ -191,13 +196,26 @@ class SkyWeather:
 
     @classmethod
     def from_weather(cls, weather, start=None, clear_model: str = "brutsaert",
-                     cloud_model: str = "unsworth_monteith") -> "SkyWeather":
+                     cloud_model: str = "unsworth_monteith", record: bool = False
+                     ) -> "SkyWeather":
         """From a :class:`shipthermal.environment.Weather`: the day starting at ``start``
-        (a tz-aware timestamp; default the record's first instant)."""
+        (a tz-aware timestamp; default the record's first instant), or with ``record`` the
+        whole record from ``start`` on (not periodic)."""
         import pandas as pd
 
         t = pd.DatetimeIndex(weather.time)
         t0 = t[0] if start is None else pd.Timestamp(start)
+        if record:
+            sel = t >= t0
+            hours = np.asarray((t[sel] - t0.normalize()).total_seconds(), dtype=float) / 3600.0
+            lw = getattr(weather, "longwave_down", None)
+
+            def cut(v):
+                return np.asarray(v, dtype=float)[sel]
+
+            return cls(hours, cut(weather.temp_air), cut(weather.relative_humidity),
+                       cut(weather.cloud_cover), None if lw is None else cut(lw),
+                       clear_model, cloud_model, periodic=False)
         sel = (t >= t0) & (t < t0 + pd.Timedelta(days=1))
         if not sel.any():
             sel = np.ones(len(t), dtype=bool)
@@ -216,13 +234,15 @@ class SkyWeather:
 
     def at(self, time_s: float) -> dict:
         """Keyword arguments of :func:`weather_sky_radiance` at ``time_s`` [s after local
-        midnight] (linear, 24-h periodic)."""
+        midnight of the first day] (linear; 24-h periodic unless a record)."""
         h = self.hours_local
         x = float(time_s) / 3600.0
 
         def value(v):
             if h.size == 1:
                 return float(v[0])
+            if not self.periodic:
+                return float(np.interp(x, h, v))
             return float(np.interp(x, h, v, period=24.0))
 
         lw = None

@@ -15,7 +15,7 @@ import rasterio
 
 from .classify import CLASS_CODES, CLASS_COLOURS, CLASS_NAMES, format_jm_table
 
-__all__ = ["write_outputs", "write_overpass_outputs", "write_geotiff"]
+__all__ = ["write_outputs", "write_overpass_outputs", "write_geotiff", "write_physical_outputs"]
 
 
 def _tmp(path: str) -> str:
@@ -176,6 +176,8 @@ def write_outputs(bg, out_dir) -> dict:
     ``confusion_matrix.csv``, ``accuracy.csv``, ``class_fractions.csv``, ``variograms.csv``,
     ``terrain_regression.csv``, ``summary.json``.
     """
+    if hasattr(bg, "column_temperature"):
+        return write_physical_outputs(bg, out_dir)
     import matplotlib
 
     matplotlib.use("Agg")
@@ -187,8 +189,10 @@ def write_outputs(bg, out_dir) -> dict:
     out: dict[str, str] = {}
     g = bg.grid
     nan = np.float32(np.nan)
+    synthetic = bg.synthetic_truth is not None
     out["lst"] = write_geotiff(p("lst_K.tif"), bg.lst.astype(np.float32), g, nodata=nan,
-                               descriptions=["land surface temperature [K]"])
+                               descriptions=["land surface temperature [K]"
+                                             + (" (synthetic scene)" if synthetic else "")])
     out["background"] = write_geotiff(
         p("background_K.tif"), bg.temperature.astype(np.float32), g, nodata=nan,
         descriptions=[f"background temperature [K] at {h:05.2f} h local" for h in bg.hours_local])
@@ -224,7 +228,8 @@ def write_outputs(bg, out_dir) -> dict:
     im = ax.imshow(bg.lst, cmap="inferno", extent=extent)
     fig.colorbar(im, ax=ax, label="LST [K]", shrink=0.8)
     src = bg.overpass.lst_source if bg.overpass is not None else "single_channel"
-    ax.set(title=f"Landsat LST ({src}), {bg.overpass_utc:%Y-%m-%d %H:%M} UTC",
+    what = "Synthetic port, generated LST (not a real scene)" if synthetic else "Landsat LST"
+    ax.set(title=f"{what} ({src}), {bg.overpass_utc:%Y-%m-%d %H:%M} UTC",
            xlabel="easting [km]", ylabel="northing [km]")
     out["lst_png"] = _savefig(fig, p("lst.png"))
     plt.close(fig)
@@ -239,7 +244,110 @@ def write_outputs(bg, out_dir) -> dict:
         ax.set_xticks([])
         ax.set_yticks([])
     fig.colorbar(im, ax=axes, label="background temperature [K]", shrink=0.7)
-    fig.suptitle(f"Port background every 3 h ({bg.season or 'input'}; local time UTC{bg.utc_offset_hours:+g})")
+    label = "synthetic port, " if synthetic else ""
+    fig.suptitle(f"Port background every 3 h ({label}paper's chain, {bg.season or 'input'}; "
+                 f"local time UTC{bg.utc_offset_hours:+g})")
+    out["background_png"] = _savefig(fig, p("background_hours.png"))
+    plt.close(fig)
+
+    tmp = _tmp(p("summary.json"))
+    with open(tmp, "w", encoding="utf-8") as fh:
+        json.dump(bg.summary(), fh, indent=2, default=str)
+    os.replace(tmp, p("summary.json"))
+    out["summary"] = p("summary.json")
+    return out
+
+
+def _utc_text(offset_hours: float) -> str:
+    h = int(offset_hours)
+    m = int(round(abs(offset_hours - h) * 60))
+    return f"UTC{'+' if offset_hours >= 0 else '-'}{abs(h):d}" + (f":{m:02d}" if m else "")
+
+
+def write_physical_outputs(bg, out_dir) -> dict:
+    """Write the products of a :class:`~.physical.PhysicalBackground` into ``out_dir``.
+
+    Files: ``background_K.tif`` (float32 K, 24 bands: the local hours of the first day, each
+    band described with its date, time and zone), ``class_map.tif``/``.png``, ``albedo.tif``
+    (as used; fitted to the scene when anchored), ``elevation_m.tif``, ``slope_deg.tif``,
+    ``aspect_deg.tif``, ``residual_K.tif`` and ``fit_by_class.csv`` (anchored),
+    ``sea.csv`` (hourly: the weather's bulk sea, its skin, the median water pixel),
+    ``columns.csv`` (the solved columns), ``background_hours.png``, ``summary.json``.
+    Every title and description names what the background is (a synthetic port or the
+    scene it is anchored on).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out_dir = os.fspath(out_dir)
+    os.makedirs(out_dir, exist_ok=True)
+    p = lambda name: os.path.join(out_dir, name)  # noqa: E731
+    out: dict[str, str] = {}
+    g = bg.grid
+    nan = np.float32(np.nan)
+    zone = _utc_text(bg.utc_offset_hours)
+    day = bg.start
+    layers = bg.temperature
+    what = bg.label
+    out["background"] = write_geotiff(
+        p("background_K.tif"), layers.astype(np.float32), g, nodata=nan,
+        descriptions=[f"surface temperature [K], {day:%Y-%m-%d} {int(h):02d}:00 local ({zone}); "
+                      f"{what}" for h in bg.hours_local])
+    out["class_map"] = _class_map_tif(p, bg.class_map, g)
+    out["albedo"] = write_geotiff(p("albedo.tif"), bg.albedo.astype(np.float32), g, nodata=nan,
+                                  descriptions=["short-wave albedo [-] as used"
+                                                + (" (fitted to the scene's LST)"
+                                                   if bg.ground.observation is not None else "")])
+    gr = bg.ground
+    out["elevation"] = write_geotiff(p("elevation_m.tif"), gr.elevation.astype(np.float32), g, nodata=nan)
+    out["slope"] = write_geotiff(p("slope_deg.tif"), gr.slope_deg.astype(np.float32), g, nodata=nan)
+    out["aspect"] = write_geotiff(p("aspect_deg.tif"), gr.aspect_deg.astype(np.float32), g, nodata=nan)
+    if gr.observation is not None:
+        res = np.full(bg.class_map.size, np.nan, np.float32)
+        res[bg.land] = bg.residual
+        out["residual"] = write_geotiff(p("residual_K.tif"), res.reshape(g.shape), g, nodata=nan,
+                                        descriptions=[f"LST minus the fitted model at the overpass "
+                                                      f"[K] ({gr.observation.source})"])
+        out["fit"] = _csv(pd.DataFrame([f.__dict__ for f in bg.fits]), p("fit_by_class.csv"),
+                          index=False)
+    hours = np.arange(0.0, 24.0)
+    water = bg.class_map.ravel() == 1
+    sea = pd.DataFrame({
+        "time_local": [f"{day:%Y-%m-%d} {int(h):02d}:00" for h in hours],
+        "sea_bulk_K": np.interp(hours * 3600.0, bg.times_s, bg.sea_bulk),
+        "sea_skin_K": [bg.sea_temperature_at(h) for h in hours],
+        "water_median_K": [float(np.median(layer.ravel()[water])) if water.any() else np.nan
+                           for layer in layers]})
+    out["sea"] = _csv(sea, p("sea.csv"), index=False)
+    if bg.column_info is not None:
+        out["columns"] = _csv(bg.column_info, p("columns.csv"), index=True)
+
+    b = g.transform
+    extent = [b.c / 1000, (b.c + g.shape[1] * b.a) / 1000, (b.f + g.shape[0] * b.e) / 1000, b.f / 1000]
+    frac = pd.Series(bg.class_map.ravel()).map(CLASS_NAMES).value_counts(normalize=True)
+
+    class _Fractions:        # what _class_png reads of a classification
+        fractions = pd.DataFrame({"class": list(CLASS_NAMES.values()),
+                                  "fraction": [float(frac.get(n, 0.0)) for n in CLASS_NAMES.values()]})
+        overall_accuracy = float("nan")
+
+        @staticmethod
+        def spread():
+            return {}
+
+    out["class_map_png"] = _class_png(p, bg.class_map, _Fractions, g)
+    vmin, vmax = np.nanpercentile(layers, [0.5, 99.5])
+    fig, axes = plt.subplots(2, 4, figsize=(13, 6.8), constrained_layout=True)
+    for ax, k in zip(axes.ravel(), range(0, 24, 3)):
+        im = ax.imshow(layers[k], cmap="inferno", vmin=vmin, vmax=vmax, extent=extent)
+        ax.set_title(f"{k:02d}:00", fontsize=9)
+        ax.set_xticks([])
+        ax.set_yticks([])
+    fig.colorbar(im, ax=axes, label="surface temperature [K]", shrink=0.7)
+    fig.suptitle(f"Port background, {day:%Y-%m-%d}, every 3 h (local time {zone})\n{what}; "
+                 "surface energy balance driven by the scenario's weather", fontsize=10)
     out["background_png"] = _savefig(fig, p("background_hours.png"))
     plt.close(fig)
 

@@ -60,7 +60,8 @@ from .landsat import REFLECTIVE_BANDS, THERMAL_BAND, SceneGrid, north_up_transfo
 from .lst import at_sensor_radiance, atmospheric_functions, emissivity_ndvi_threshold, ndvi
 from .terrain import slope_aspect, southness
 
-__all__ = ["SEASONS", "SeasonSpec", "SyntheticPort", "write_synthetic_port", "LANDSAT8_B10"]
+__all__ = ["SEASONS", "SeasonSpec", "SyntheticPort", "write_synthetic_port", "LANDSAT8_B10",
+           "synthetic_surface", "synthetic_grid"]
 
 LANDSAT8_B10 = {"mult": 3.3420e-4, "add": 0.1, "k1": 774.8853, "k2": 1321.0789}
 """Landsat-8 TIRS band-10 rescaling and thermal constants (Collection-2 MTL)."""
@@ -270,6 +271,77 @@ def _mtl_text(groups) -> str:
     return "\n".join(lines)
 
 
+def synthetic_grid(size_px: int, lat: float, lon: float) -> SceneGrid:
+    """The synthetic port's grid: ``size_px`` square pixels of 30 m centred on (lat, lon) in
+    the WGS 84 UTM zone of ``lon`` (north or south by ``lat``)."""
+    n = int(size_px)
+    res = SYNTHETIC_PIXEL_M
+    epsg = (32600 if lat >= 0 else 32700) + int((lon + 180) // 6) % 60 + 1
+    crs = CRS.from_epsg(epsg)
+    (xc,), (yc,) = warp_transform("EPSG:4326", crs, [lon], [lat])
+    x0 = np.round((xc - n * res / 2) / res) * res
+    y0 = np.round((yc + n * res / 2) / res) * res
+    return SceneGrid(north_up_transform(x0, y0, res, res), crs, (n, n))
+
+
+def _surface(rng, n: int, season: str):
+    """Class map, elevation [m], reflectances of bands 2-7 [-] (6, n, n) and the sheltered
+    basin mask of the layout, drawn from ``rng`` in a fixed order (the same port for the
+    same seed)."""
+    layout = _Layout()
+    rows, cols = np.mgrid[0:n, 0:n]
+    u, v = (cols + 0.5) / n, (rows + 0.5) / n
+    land, basin, structures = layout.land(u, v)
+    elevation = layout.elevation(u, v)
+    classes = np.where(land, 3, 1).astype(np.uint8)
+    veg_noise = _unit_noise(rng, (n, n), 6)
+    hills = elevation > 35
+    classes[land & hills & (veg_noise > -0.6)] = 2
+    classes[land & ~hills & (veg_noise > 1.4) & (v < 0.5)] = 2          # parks
+    blocks = ((rows % 9) < 6) & ((cols % 11) < 8)                         # 180 m x 240 m blocks, roads between
+    port_zone = (u > 0.40) & (u < 0.80) & (v > 0.24) & (v < 0.39)
+    town = (u > 0.05) & (u < 0.36) & (v > 0.40) & (v < 0.60)
+    classes[land & ~structures & blocks & (port_zone | town) & (elevation < 60)] = 4
+    classes[structures] = 3
+
+    refl = np.empty((len(REFLECTIVE_BANDS), n, n))
+    brightness = 1.0 + 0.08 * _unit_noise(rng, (n, n), 3)   # common to all bands: NDVI barely moves
+    em = {k: np.asarray(val)[:, None] for k, val in _ENDMEMBERS[season].items()}
+    for c, (ea, eb, lo, hi) in _MIXTURES.items():
+        m = classes == c
+        frac = lo + (hi - lo) * (0.5 + 0.5 * np.tanh(_unit_noise(rng, (n, n), 2)[m]))
+        refl[:, m] = frac * em[ea] + (1.0 - frac) * em[eb]
+    refl *= brightness
+    refl *= 1.0 + 0.03 * rng.standard_normal(refl.shape)
+    # Sensor point-spread (about half a pixel, Landsat OLI) mixes classes at their borders,
+    # which is where a real classifier errs.
+    refl = gaussian_filter(refl, sigma=(0, 0.6, 0.6), mode="nearest")
+    return classes, elevation, refl, basin
+
+
+def synthetic_surface(seed: int = 2026, size_px: int = 334, lat: float = 38.93,
+                      lon: float = 121.65) -> dict:
+    """The synthetic port's surface without any temperature: what the physical background
+    (:mod:`.physical`) needs of it.
+
+    The same port as :func:`write_synthetic_port` of the summer scene with the same seed
+    (classes, hills, reflectances of leaf-on vegetation), at any site: its grid is centred
+    on (lat, lon) in the local UTM zone. Nothing in it depends on a climate.
+
+    Returns
+    -------
+    dict
+        ``grid`` (SceneGrid), ``class_map`` (uint8), ``elevation`` [m], ``reflectance``
+        (6, rows, cols) of OLI bands 2-7 [-].
+    """
+    if not (isinstance(size_px, (int, np.integer)) and size_px >= 60):
+        raise InputError("background.size_px", size_px, "must be an integer >= 60 (pixels of 30 m)")
+    rng = np.random.default_rng([seed, 0])
+    classes, elevation, refl, _ = _surface(rng, int(size_px), "summer")
+    return {"grid": synthetic_grid(size_px, lat, lon), "class_map": classes,
+            "elevation": elevation.astype(np.float32), "reflectance": refl.astype(np.float32)}
+
+
 def write_synthetic_port(directory: str | os.PathLike, season: str = "summer", seed: int = 2026,
                          size_px: int = 334, lat: float = 38.93, lon: float = 121.65) -> SyntheticPort:
     """Generate the synthetic port of one season and write it in the real formats.
@@ -300,43 +372,13 @@ def write_synthetic_port(directory: str | os.PathLike, season: str = "summer", s
     rng = np.random.default_rng([seed, 0 if season == "summer" else 1])
     n = int(size_px)
     res = SYNTHETIC_PIXEL_M
-    epsg = (32600 if lat >= 0 else 32700) + int((lon + 180) // 6) + 1
-    crs = CRS.from_epsg(epsg)
-    (xc,), (yc,) = warp_transform("EPSG:4326", crs, [lon], [lat])
-    x0 = np.round((xc - n * res / 2) / res) * res
-    y0 = np.round((yc + n * res / 2) / res) * res
-    transform = north_up_transform(x0, y0, res, res)
-    grid = SceneGrid(transform, crs, (n, n))
+    grid = synthetic_grid(n, lat, lon)
+    crs, transform = grid.crs, grid.transform
+    x0, y0 = transform.c, transform.f
     layout = _Layout()
-
-    # --- truth on the scene grid -------------------------------------------------------------
     rows, cols = np.mgrid[0:n, 0:n]
     u, v = (cols + 0.5) / n, (rows + 0.5) / n
-    land, basin, structures = layout.land(u, v)
-    elevation = layout.elevation(u, v)
-    classes = np.where(land, 3, 1).astype(np.uint8)
-    veg_noise = _unit_noise(rng, (n, n), 6)
-    hills = elevation > 35
-    classes[land & hills & (veg_noise > -0.6)] = 2
-    classes[land & ~hills & (veg_noise > 1.4) & (v < 0.5)] = 2          # parks
-    blocks = ((rows % 9) < 6) & ((cols % 11) < 8)                         # 180 m x 240 m blocks, roads between
-    port_zone = (u > 0.40) & (u < 0.80) & (v > 0.24) & (v < 0.39)
-    town = (u > 0.05) & (u < 0.36) & (v > 0.40) & (v < 0.60)
-    classes[land & ~structures & blocks & (port_zone | town) & (elevation < 60)] = 4
-    classes[structures] = 3
-
-    refl = np.empty((len(REFLECTIVE_BANDS), n, n))
-    brightness = 1.0 + 0.08 * _unit_noise(rng, (n, n), 3)   # common to all bands: NDVI barely moves
-    em = {k: np.asarray(val)[:, None] for k, val in _ENDMEMBERS[season].items()}
-    for c, (ea, eb, lo, hi) in _MIXTURES.items():
-        m = classes == c
-        frac = lo + (hi - lo) * (0.5 + 0.5 * np.tanh(_unit_noise(rng, (n, n), 2)[m]))
-        refl[:, m] = frac * em[ea] + (1.0 - frac) * em[eb]
-    refl *= brightness
-    refl *= 1.0 + 0.03 * rng.standard_normal(refl.shape)
-    # Sensor point-spread (about half a pixel, Landsat OLI) mixes classes at their borders,
-    # which is where a real classifier errs.
-    refl = gaussian_filter(refl, sigma=(0, 0.6, 0.6), mode="nearest")
+    classes, elevation, refl, basin = _surface(rng, n, season)
     red, nir = refl[REFLECTIVE_BANDS.index(4)], refl[REFLECTIVE_BANDS.index(5)]
     ndvi_true = ndvi(red, nir)
     emissivity = emissivity_ndvi_threshold(ndvi_true, red)

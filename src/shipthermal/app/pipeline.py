@@ -173,10 +173,28 @@ def thermal_case(scenario, run, case: str, *, resume: bool = False, progress: bo
 # Imaging stage
 # ---------------------------------------------------------------------------------------
 def background_inputs(scenario) -> tuple[str, dict]:
-    """What the background stage receives from a scenario: ``("builtin", keyword arguments
-    of imaging.background.build_port_background)`` or ``("files", keyword arguments of
-    imaging.background.build_background_from_files)``."""
+    """What the background stage receives from a scenario.
+
+    ``("physical", {...})``: the surface energy balance of every pixel
+    (:func:`imaging.background.physical.build_physical_background`) under the run's one
+    environment, its ground the synthetic port around ``[location]`` (``ground``:
+    ``{"kind": "synthetic", ...}``) or a Landsat scene with ROIs and an optional DEM
+    (``{"kind": "files", ...}``); ``("builtin", ...)`` / ``("files", ...)``: the paper's chain
+    (keyword arguments of :func:`imaging.background.build_port_background` /
+    :func:`imaging.background.build_background_from_files`).
+    """
     bgs = scenario.background
+    if bgs.model == "physical":
+        if bgs.source == "builtin":
+            ground = dict(kind="synthetic", latitude=scenario.location.latitude,
+                          longitude=scenario.location.longitude, size_px=bgs.size_px,
+                          seed=bgs.seed)
+        else:
+            ground = dict(kind="files", mtl=bgs.mtl, roi=bgs.roi, dem=bgs.dem,
+                          band_files=bgs.band_files, use_qa=bgs.qa_mask, seed=bgs.seed,
+                          n_splits=bgs.roi_splits, dem_nodata=bgs.dem_nodata)
+        return "physical", dict(ground=ground, residual=bgs.residual,
+                                end_s=record_span_s(scenario))
     if bgs.source == "builtin":
         return "builtin", dict(season=scenario.time.season, seed=bgs.seed, size_px=bgs.size_px,
                                lat=scenario.location.latitude,
@@ -186,10 +204,10 @@ def background_inputs(scenario) -> tuple[str, dict]:
                                krige_statistics=bgs.krige_statistics)
     for key in ("dem", "met"):
         if getattr(bgs, key) is None:
-            raise InputError(f"background.{key}", None, "is required with source = 'files' for "
-                             "the hourly background of the imaging stage",
-                             "Add it to [background] (`shipthermal background` writes the "
-                             "overpass products without it)")
+            raise InputError(f"background.{key}", None, "is required with model = 'paper' and "
+                             "source = 'files' for the hourly background of the imaging stage",
+                             "Add it to [background], or use model = 'physical' (no met grid "
+                             "needed; `shipthermal background` writes the overpass products)")
     offset = scenario.start.utcoffset().total_seconds() / HOUR
     return "files", dict(mtl_path=bgs.mtl, dem_path=bgs.dem, met_path=bgs.met, roi_path=bgs.roi,
                          season=scenario.time.season, utc_offset_hours=offset,
@@ -200,24 +218,72 @@ def background_inputs(scenario) -> tuple[str, dict]:
                          krige_statistics=bgs.krige_statistics, dem_nodata=bgs.dem_nodata)
 
 
+def record_span_s(scenario) -> float | None:
+    """Length of a weather record's run [s] (``weather.day = 'record'``); None for a
+    periodic day."""
+    if scenario.weather.day != "record" or scenario.weather.source == "builtin":
+        return None
+    env = scenario.environment()
+    return float((env.weather.time[-1] - env.start).total_seconds())
+
+
+def _ground(spec: dict, progress: bool = False):
+    """The :class:`imaging.background.physical.GroundCover` of ``background_inputs``."""
+    from imaging.background.physical import ground_from_overpass, ground_from_synthetic
+
+    spec = dict(spec)
+    kind = spec.pop("kind")
+    if kind == "synthetic":
+        return ground_from_synthetic(**spec)
+    from imaging.background.background import build_overpass
+    from imaging.background.landsat import read_landsat_scene
+    from imaging.background.terrain import load_dem
+
+    scene = read_landsat_scene(spec["mtl"], None, band_files=spec["band_files"],
+                               use_qa=spec["use_qa"])
+    ov = build_overpass(scene, spec["roi"], seed=spec["seed"], n_splits=spec["n_splits"])
+    elevation, note = None, ""
+    if spec["dem"] is not None:
+        dem = load_dem(spec["dem"], ov.grid, fill_voids=spec["dem_nodata"] == "fill")
+        elevation = dem.elevation
+        note = "; ".join(dem.notes)
+        if spec["dem_nodata"] == "error" and not np.isfinite(elevation).all():
+            raise InputError("background.dem", spec["dem"], f"{int((~np.isfinite(elevation)).sum())} "
+                             "scene pixels have no elevation (voids or outside the DEM)",
+                             "Set background.dem_nodata = 'fill' or 'mask' (masked: level there)")
+    return ground_from_overpass(ov, elevation, dem_note=note)
+
+
 def build_background(scenario, progress: bool = False):
-    """The port background of ``[background]``: the built-in synthetic port (around
-    ``[location]``) or the real files."""
+    """The port background of ``[background]``: by default the physical model over the
+    synthetic port (around ``[location]``) or a real scene, driven by the scenario's one
+    environment; with ``model = 'paper'`` the paper's chain."""
     kind, kwargs = background_inputs(scenario)
+    if kind == "physical":
+        from imaging.background.physical import build_physical_background
+
+        return _reading_rasters(scenario, lambda: build_physical_background(
+            _ground(kwargs["ground"], progress), scenario.environment(),
+            end_s=kwargs["end_s"], residual=kwargs["residual"], progress=progress))
     if kind == "builtin":
         from imaging.background import build_port_background
 
         return build_port_background(**kwargs)
-    from rasterio.errors import RasterioIOError
-
     from imaging.background import build_background_from_files
+
+    return _reading_rasters(scenario, lambda: build_background_from_files(
+        **kwargs, progress=progress))
+
+
+def _reading_rasters(scenario, build):
+    """``build()``, with GDAL's failures to open a raster the scenario names reported as a
+    user error on its key rather than as a crash."""
+    from rasterio.errors import RasterioIOError
 
     bgs = scenario.background
     try:
-        return build_background_from_files(**kwargs, progress=progress)
+        return build()
     except RasterioIOError as exc:
-        # GDAL could not open a raster: a user error (a file the scenario names), reported
-        # with its key rather than as a crash
         text = str(exc)
         key = next((k for k in ("dem", "roi", "mtl", "met") if getattr(bgs, k) and
                     Path(getattr(bgs, k)).name in text), "files")
@@ -284,12 +350,14 @@ def experiment_inputs(scenario, step_s: float | None = None) -> dict:
 
 
 def frame_times(scenario, step_s: float | None = None) -> np.ndarray:
-    """SCR / crossover frame times over the day [s after local midnight]: every
-    ``imaging.scr_interval`` (or ``step_s``, a quick look)."""
+    """SCR / crossover frame times [s after local midnight of ``time.date``]: every
+    ``imaging.scr_interval`` (or ``step_s``, a quick look) over the day, or over the whole
+    span of a weather record."""
     step = float(step_s or scenario.imaging.scr_interval)
     if not (60.0 <= step <= 3 * HOUR):
         raise InputError("step", step, "must lie in [60, 10800] s (1 min to 3 h)")
-    return np.arange(0.0, DAY + 1.0, step)
+    end = record_span_s(scenario)
+    return np.arange(0.0, (DAY if end is None else end) + 1.0, step)
 
 
 IMAGING_BANDS = tuple(BANDS)
@@ -297,14 +365,16 @@ IMAGING_BANDS = tuple(BANDS)
 
 
 def check_imaging_bands(scenario) -> None:
-    """The imaging stage renders the paper's two bands over one periodic day; the scenario
-    also accepts custom 'lo-hi' bands (thermal emissivities) and weather records, which
-    imaging cannot take yet: say so up front."""
-    if scenario.weather.day == "record" and scenario.weather.source != "builtin":
-        raise InputError("weather.day", "record", "the imaging stage renders one periodic "
-                         "day; a weather record runs the thermal stage only",
-                         "Run the thermal stage only (no --image / stages = ['thermal']), "
-                         "or image one day with weather.day = 'periodic'")
+    """The imaging stage renders the paper's two bands; the scenario also accepts custom
+    'lo-hi' bands (thermal emissivities), which imaging cannot take yet: say so up front.
+    A weather record is imaged over its whole span only with the physical background (the
+    paper's chain is one day of a met grid)."""
+    if (scenario.weather.day == "record" and scenario.weather.source != "builtin"
+            and scenario.background.model == "paper"):
+        raise InputError("background.model", "paper", "images one periodic day (a same-day "
+                         "met grid); a weather record is imaged with the physical background",
+                         "Set background.model = 'physical', or image one day with "
+                         "weather.day = 'periodic'")
     other = [b for b in scenario.bands if b not in IMAGING_BANDS]
     if other:
         raise InputError("imaging.bands", list(scenario.bands), "the imaging stage takes "
@@ -374,10 +444,12 @@ def image_cases(cases: dict, out_dir, progress: bool = True, log=None,
         given = experiment_inputs(next(iter(group.values()))[0], step_s)
         target = out / folder if folder else out
         t0 = _time.perf_counter()
+        record = any(record_span_s(sc) is not None for sc, _ in group.values())
         results[folder] = run_experiment(hist, target, bands=given["bands"],
                                          times=given["times"], progress=progress,
                                          scenarios=scen, typical_hours=typical,
-                                         shared_panel_scale=given["shared_panel_scale"])
+                                         shared_panel_scale=given["shared_panel_scale"],
+                                         stack_step_s=HOUR if record else None)
         say(f"imaging {'+'.join(hist)} x {', '.join(given['bands'])} um "
             f"({_time.perf_counter() - t0:.1f} s)")
     require(bool(results), "cases", cases, "must hold at least one case")

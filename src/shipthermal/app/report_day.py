@@ -137,8 +137,9 @@ def first_screen(run: Path) -> str:
         sc = (summary.get("scenarios") or {}).get(season, {})
         where = ""
         if sc:
-            where = (f" ({sc.get('date')}, {sc.get('latitude'):.2f} N "
-                     f"{sc.get('longitude'):.2f} E)")
+            lat, lon = sc.get("latitude"), sc.get("longitude")
+            where = (f" ({sc.get('date')}, {abs(lat):.2f} {'N' if lat >= 0 else 'S'} "
+                     f"{abs(lon):.2f} {'E' if lon >= 0 else 'W'})")
         parts.append(
             f'<p class="headline"><b>{html.escape(season)}{html.escape(where)}:</b> hardest '
             f"at <b>{best['time_min']}</b> local in the <b>{html.escape(best['band'])} µm</b> "
@@ -159,6 +160,8 @@ def first_screen(run: Path) -> str:
         src = (summary.get("ship_temperatures") or {}).get(season)
         if src:
             sure.append(f"ship temperatures: {src}")
+        if sc.get("background"):
+            sure.append(f"background: {sc['background']}")
         parts.append("<ul>" + "".join(f"<li>{html.escape(s)}</li>" for s in sure) + "</ul>")
     for f in sorted((run / "thermal").glob("*/thermal_summary.json")):
         th = json.loads(f.read_text(encoding="utf-8"))

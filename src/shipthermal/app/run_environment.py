@@ -27,13 +27,16 @@ __all__ = ["day_weather", "sea_glint_wind_speed", "aerosol_conditions", "sky_wea
 
 
 def day_weather(environment) -> dict:
-    """The environment's weather over its first day ``[start, start + 24 h)``: arrays of
-    ``wind_speed`` [m s-1] and ``relative_humidity`` [%] (the whole record if no sample
-    falls in that day)."""
+    """The environment's weather over its first day ``[start, start + 24 h)`` (a weather
+    record: over the whole record from ``start``): arrays of ``wind_speed`` [m s-1] and
+    ``relative_humidity`` [%] (the whole record if no sample falls in that span).
+
+    A record's images keep one sea-glint wind and one aerosol for the whole record (their
+    means): the renderer's sea optics are set up once per run."""
     w = environment.weather
     t = pd.DatetimeIndex(w.time)
     start = environment.start
-    sel = (t >= start) & (t < start + pd.Timedelta(seconds=DAY))
+    sel = (t >= start) & ((t < start + pd.Timedelta(seconds=DAY)) | (not w.periodic))
     if not sel.any():
         sel = np.ones(len(t), dtype=bool)
     return {"wind_speed": np.asarray(w.wind_speed, dtype=float)[sel],
@@ -57,8 +60,10 @@ def aerosol_conditions(environment) -> dict:
 
 def sky_weather(environment):
     """The image's thermal sky (:class:`imaging.atmosphere.weather_sky.SkyWeather`): the
-    environment's first day of near-surface weather with its sky models."""
+    environment's near-surface weather with its sky models (the periodic day, or the whole
+    record of a record run)."""
     from imaging.atmosphere.weather_sky import SkyWeather
 
     return SkyWeather.from_weather(environment.weather, environment.start,
-                                   environment.clear_sky_model, environment.cloud_model)
+                                   environment.clear_sky_model, environment.cloud_model,
+                                   record=not environment.weather.periodic)

@@ -19,7 +19,7 @@ from ...materials import MATERIALS
 from ...parameters import NIGHT_SETTLE, NIGHT_STEP
 from ...units import ZERO_CELSIUS
 from .spec import _Context, _opt, _part_key, _suggest, parse_band
-from .values import (ATMOSPHERE_BACKENDS, BAND_EMISSIVITY, BUILTIN_SHIP_NAMES, CLEAR_SKY_MODELS,
+from .values import (ATMOSPHERE_BACKENDS, BACKGROUND_MODELS, RESIDUAL_MODES, BAND_EMISSIVITY, BUILTIN_SHIP_NAMES, CLEAR_SKY_MODELS,
                      CLIMATE_DATES, CLOUD_MODELS, CLOUD_UNITS, CONVECTION_MODEL_SOURCES, DALIAN,
                      DAY, DECOMPOSITIONS, DEFAULT_CONVECTION_MODEL, DEM_NODATA, LATITUDE_MAX,
                      LONGWAVE_EMISSIVITY, MAX_GAP_HOURS, MAX_RECORD_DAYS, MAX_REPAIR_CHANGE,
@@ -673,6 +673,16 @@ class BackgroundSettings:
     source: str = _opt("builtin", "choice", "'builtin' = synthetic port around the "
                        "location, 'files' = real Landsat MTL, DEM, met NetCDF and ROIs",
                        choices=("builtin", "files"))
+    model: str = _opt("physical", "choice", "'physical' = a surface energy balance per pixel "
+                      "driven by the run's own weather, sun and sea (any site, date and record; "
+                      "anchored on the scene's LST with source = 'files'); 'paper' = the paper's "
+                      "chain: Landsat LST + kriged same-day met grid + terrain regression (needs "
+                      "a met grid; with source = 'builtin' only on the built-in design days)",
+                      choices=BACKGROUND_MODELS)
+    residual: str = _opt("constant", "choice", "model = 'physical' with a scene: how the part of "
+                         "the overpass LST the fitted model cannot reach is carried through the "
+                         "day: 'constant', 'solar' (scaled by the global irradiance), 'none'",
+                         choices=RESIDUAL_MODES)
     seed: int = _opt(2026, "int", "Seed of the synthetic port and of the train/test split",
                      lo=0, hi=2 ** 32 - 1)
     size_px: int = _opt(334, "int", "Synthetic port side in 30 m pixels (334 = 10 km)",
@@ -736,6 +746,12 @@ class BackgroundSettings:
         for key in BackgroundSettings._FILES_ONLY:
             if obj.source == "builtin" and key in raw:
                 ctx.err(f"{path}.{key}", raw[key], "only applies with source = 'files'")
+        if obj.model == "physical":
+            for key in ("met",) + BackgroundSettings._FILES_ONLY[:3]:
+                if key in raw:
+                    ctx.err(f"{path}.{key}", raw[key], "only applies with model = 'paper' (the "
+                            "physical background takes its weather from [weather])",
+                            "Remove it, or set background.model = 'paper'")
         if obj.source == "files" and "size_px" in raw:
             ctx.err(f"{path}.size_px", raw["size_px"], "only applies with source = 'builtin'")
         if obj.source == "builtin" and "band_files" in raw:

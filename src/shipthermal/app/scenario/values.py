@@ -8,6 +8,8 @@ from __future__ import annotations
 # the parameter modules (cheap to import) or, where already loaded, the module itself. The
 # names below are the scenario's views of them (sorted choices, the scenario's key names).
 from imaging.parameters import (  # noqa: F401
+    BACKGROUND_MODELS,
+    RESIDUAL_MODES,
     DEM_NODATA,
     MAX_VIEW_ZENITH,
     MET_UNITS,

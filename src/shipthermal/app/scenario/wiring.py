@@ -90,6 +90,14 @@ class Scenario:
                         f"the built-in {obj.time.season} design day (mid-"
                         f"{'July' if obj.time.season == 'summer' else 'January'} climatology)",
                         "Change time.season, the date, or give a weather file")
+        bg = obj.background
+        if (bg.model == "paper" and bg.source == "builtin" and obj.weather.source != "builtin"
+                and not ctx.failed("weather.source", "background")):
+            ctx.err("background.model", "paper", "with background.source = 'builtin' needs "
+                    "weather.source = 'builtin': the synthetic port's met grid is the built-in "
+                    "Dalian design day, another climate than the weather file's",
+                    "Use background.model = 'physical' (the port follows the weather file), or "
+                    "real files with their own met grid (background.source = 'files')")
         half = obj.background.half_extent_m
         if half is not None and not ctx.failed("ship.mooring_position", "background"):
             x, y = obj.ship.mooring_position

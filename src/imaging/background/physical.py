@@ -1,0 +1,718 @@
+"""The port background as physics: every pixel a surface energy balance under the ship's sky.
+
+The paper's background (:mod:`.background`) extends one Landsat overpass through the day
+with a same-day kriged met grid and a terrain regression; it exists only where such a grid
+exists, and the built-in port carried its design days' climate wherever it was placed.
+Here the background follows the run's one :class:`shipthermal.environment.Environment` —
+the same sun, sky long-wave, air, humidity, wind, cloud and sea as the ship — at any site,
+date and weather record:
+
+* **land pixels** (vegetation, land, building, and classes users add) are layered columns
+  (:mod:`.surface_classes`, :mod:`.surface_energy`): absorbed short-wave on the pixel's own
+  slope and aspect, long-wave exchange with the sky it sees and with the terrain around it,
+  convection, latent heat where the class evaporates, conduction into the substrate;
+* **water pixels** are the weather's sea at its skin temperature (bulk + diurnal warm layer
+  − cool skin, :mod:`shipthermal.environment.sea_skin`): the very sea the ship floats on;
+* **terrain**: each pixel's slope and aspect (DEM or the synthetic hills) set its solar
+  incidence (pvlib's plane-of-array irradiance) and its sky view ``(1 + cos s)/2``; the rest
+  of its hemisphere is terrain taken at the air temperature (ASSUMPTION: no terrain
+  horizon shading, no building shadows).
+
+**Columns, not pixels.** A 1000 x 1000 scene has a million pixels but few distinct columns:
+pixels are grouped by class and orientation (slope bins of :data:`SLOPE_EDGES_DEG` x 8
+aspect sectors, the bin's mean slope and circular-mean aspect), and each group is solved at
+:data:`ALBEDO_SAMPLES` short-wave albedos spanning its class's range; a pixel's temperature
+is the linear interpolation between the two columns whose albedos bracket its own. The
+surface temperature is close to linear in the albedo (the absorbed short-wave is), and the
+interpolation and orientation-binning errors are measured in the tests.
+
+**Anchoring on a scene** (Landsat, :func:`ground_from_overpass`): each land pixel's albedo
+is *fitted* within its class's range so that the model reproduces the scene's LST at the
+overpass instant (a labelled calibration; everything else is the class table). What the fit
+cannot reach (LST hotter than the darkest or colder than the brightest allowed surface) is
+the pixel's residual, carried through the day as :data:`RESIDUAL_MODES` says and reported
+per class with the fitted albedos' spread. Water is never fitted: its spatial pattern at the
+overpass (LST minus the scene's median water LST) is kept as a fixed anomaly on the modelled
+skin temperature, and the scene's median water against the model is reported as a check of
+the weather's sea temperature. Without a scene (the synthetic port, a user class raster) the
+albedo is the class value (the synthetic port: with its reflectance texture) and every product
+says so.
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from shipthermal.errors import InputError, require
+from shipthermal.units import DAY, HOUR
+
+from ..parameters import RESIDUAL_MODES
+from .classify import CLASS_NAMES
+from .landsat import SceneGrid
+from .terrain import slope_aspect
+
+__all__ = ["GroundCover", "PhysicalBackground", "build_physical_background",
+           "ground_from_synthetic", "ground_from_overpass", "broadband_albedo",
+           "orientation_bins", "ALBEDO_SAMPLES", "SLOPE_EDGES_DEG", "RESIDUAL_MODES",
+           "MAX_SCENE_DAYS", "COLUMN_STEP_S"]
+
+WATER = 1
+
+SLOPE_EDGES_DEG = (0.0, 3.0, 8.0, 15.0, 25.0, 35.0, 90.0)
+"""Slope bins [deg]: below 3 deg a pixel is solved as level ground; above, 8 aspect sectors
+of 45 deg per bin. ASSUMPTION: the bins' spread of direct-beam incidence is measured in the
+tests (orientation-binning error)."""
+
+ALBEDO_SAMPLES = 5
+"""Albedos each (class, orientation) group is solved at, evenly spanning the class's range."""
+
+COLUMN_STEP_S = 300.0
+"""Time step of the column solve [s] (the ship's default step)."""
+
+MAX_SCENE_DAYS = 15.0
+"""Largest distance [days] between a scene's acquisition and the simulated span for its
+albedos and water pattern to stand for it. ASSUMPTION: vegetation, soil moisture and sea
+surface patterns change over weeks; further apart, choose a closer scene."""
+
+LIANG_OLI = {2: 0.356, 4: 0.130, 5: 0.373, 6: 0.085, 7: 0.072}
+LIANG_OFFSET = -0.0018
+"""Broadband short-wave albedo from surface reflectances, Liang (2001), Remote Sens. Environ.
+76, 213-238, Table 5 (Landsat TM/ETM+ bands 1, 3, 4, 5, 7), applied to the corresponding
+OLI bands 2, 4, 5, 6, 7 (blue, red, NIR, SWIR-1, SWIR-2). SOURCED."""
+
+
+def broadband_albedo(reflectance: dict) -> np.ndarray:
+    """Short-wave broadband albedo [-] from OLI surface reflectances (Liang 2001).
+
+    Parameters
+    ----------
+    reflectance : dict[int, ndarray]
+        Surface reflectance [-] of OLI bands 2, 4, 5, 6 and 7.
+
+    Returns
+    -------
+    ndarray
+        ``0.356 ρ2 + 0.130 ρ4 + 0.373 ρ5 + 0.085 ρ6 + 0.072 ρ7 - 0.0018`` [-].
+    """
+    missing = [b for b in LIANG_OLI if b not in reflectance]
+    require(not missing, "reflectance", sorted(reflectance), f"needs OLI bands {sorted(LIANG_OLI)}")
+    out = sum(w * np.asarray(reflectance[b], dtype=float) for b, w in LIANG_OLI.items())
+    return out + LIANG_OFFSET
+
+
+# ---------------------------------------------------------------------------------------
+# What is known of the ground
+# ---------------------------------------------------------------------------------------
+@dataclass(frozen=True, eq=False)
+class Observation:
+    """A thermal scene the background is anchored on.
+
+    Attributes
+    ----------
+    lst : ndarray float32 (rows, cols)
+        Land surface temperature [K].
+    time_utc : pandas.Timestamp
+        Acquisition instant (tz-aware UTC).
+    source : str
+        What the LST is (``"Landsat-8 L2 ST_B10, 2020-09-27 11:10 UTC"``).
+    accuracy_K : float
+        Stated accuracy of that LST [K].
+    """
+
+    lst: np.ndarray
+    time_utc: pd.Timestamp
+    source: str
+    accuracy_K: float
+
+
+@dataclass(frozen=True, eq=False)
+class GroundCover:
+    """The ground of a port scene, before any temperature.
+
+    Attributes
+    ----------
+    grid : SceneGrid
+    class_map : ndarray uint8 (rows, cols)
+        Class codes (:data:`imaging.background.classify.CLASS_NAMES`; 1 water).
+    elevation, slope_deg, aspect_deg : ndarray float32 (rows, cols)
+        [m], [deg], compass azimuth of the downslope direction [deg].
+    albedo : ndarray float32 (rows, cols) or None
+        Short-wave albedo per pixel [-] (NaN: the class's value); None: class values.
+    albedo_source : str
+    origin : {"synthetic", "scene", "user"}
+    label : str
+        What every product says the background is.
+    observation : Observation or None
+        The scene to anchor on.
+    notes : tuple of str
+    """
+
+    grid: SceneGrid
+    class_map: np.ndarray
+    elevation: np.ndarray
+    slope_deg: np.ndarray
+    aspect_deg: np.ndarray
+    albedo: np.ndarray | None
+    albedo_source: str
+    origin: str
+    label: str
+    observation: Observation | None = None
+    notes: tuple = ()
+
+    def __post_init__(self):
+        cm = np.asarray(self.class_map)
+        require(cm.shape == tuple(self.grid.shape), "background.class_map", cm.shape,
+                f"must be the scene grid's shape {tuple(self.grid.shape)}")
+        for name in ("elevation", "slope_deg", "aspect_deg"):
+            require(np.shape(getattr(self, name)) == cm.shape, f"background.{name}",
+                    np.shape(getattr(self, name)), f"must be the scene grid's shape {cm.shape}")
+        unknown = sorted(set(np.unique(cm).tolist()) - set(CLASS_NAMES))
+        require(not unknown, "background.class_map", unknown,
+                f"codes must be {sorted(CLASS_NAMES)} ({', '.join(CLASS_NAMES.values())})",
+                "Fill unclassified pixels (code 0) or crop them away")
+
+
+def ground_from_synthetic(latitude: float, longitude: float, size_px: int = 334,
+                          seed: int = 2026) -> GroundCover:
+    """The built-in synthetic port (:func:`.synthetic.synthetic_surface`) centred on the site.
+
+    Classes and hills are the generator's; the albedo is the broadband albedo of its
+    synthetic reflectances (:func:`broadband_albedo`), so pixels of a class differ as in a
+    real scene. No temperature, no climate: the physics supplies those."""
+    from .synthetic import synthetic_surface
+
+    s = synthetic_surface(seed=seed, size_px=size_px, lat=latitude, lon=longitude)
+    refl = {b: s["reflectance"][k] for k, b in enumerate((2, 3, 4, 5, 6, 7))}
+    slope, aspect = slope_aspect(s["elevation"].astype(float), s["grid"].resolution)
+    albedo = broadband_albedo(refl).astype(np.float32)
+    albedo[s["class_map"] == WATER] = np.nan
+    lat = f"{abs(latitude):.2f} {'N' if latitude >= 0 else 'S'}"
+    lon = f"{abs(longitude):.2f} {'E' if longitude >= 0 else 'W'}"
+    return GroundCover(
+        grid=s["grid"], class_map=s["class_map"], elevation=s["elevation"],
+        slope_deg=slope.astype(np.float32), aspect_deg=aspect.astype(np.float32),
+        albedo=albedo, albedo_source="synthetic reflectances (Liang 2001 broadband)",
+        origin="synthetic", label=f"synthetic port (not a real place) centred on {lat} {lon}",
+        notes=(f"synthetic port, seed {seed}, {size_px} x {size_px} pixels of 30 m: classes, "
+               "hills and reflectances are generated; its temperatures are physics driven by "
+               "the scenario's weather",))
+
+
+def ground_from_overpass(overpass, elevation=None, *, dem_note: str = "") -> GroundCover:
+    """The ground of a Landsat scene (:func:`.background.build_overpass`): its classes, the
+    broadband albedo of its surface reflectances, its LST to anchor on; terrain from
+    ``elevation`` (a DEM on the scene grid [m]; None: level ground, said in the notes)."""
+    ov = overpass
+    grid = ov.grid
+    cm = np.asarray(ov.class_map)
+    if (cm == 0).any():
+        raise InputError("background.mtl", str(ov.scene.mtl.path), f"{int((cm == 0).sum())} "
+                         "pixels have no class (masked with no valid neighbour)",
+                         "Crop the scene to its valid part (background.bounds / --bounds)")
+    feats = ov.features
+    refl = {b: feats[..., k] for k, b in enumerate((2, 3, 4, 5, 6, 7))}
+    albedo = broadband_albedo(refl).astype(np.float32)
+    level = ov.scene.level
+    notes = list(ov.notes)
+    src = ("Landsat surface reflectance (Liang 2001 broadband)" if level == "L2" else
+           "Landsat top-of-atmosphere reflectance (Liang 2001 broadband; no atmospheric "
+           "correction: approximate)")
+    albedo[cm == WATER] = np.nan
+    if elevation is None:
+        elev = np.zeros(grid.shape, np.float32)
+        slope = np.zeros(grid.shape, np.float32)
+        aspect = np.zeros(grid.shape, np.float32)
+        notes.append("no DEM: the ground is taken as level (no slope or aspect in the sun)")
+    else:
+        elev = np.asarray(elevation, dtype=float)
+        elev = np.where(np.isfinite(elev), elev, 0.0)
+        slope, aspect = slope_aspect(elev, grid.resolution)
+        elev = elev.astype(np.float32)
+        if dem_note:
+            notes.append(dem_note)
+    when = pd.Timestamp(ov.scene.mtl.acquired_utc)
+    when = when.tz_localize("UTC") if when.tzinfo is None else when.tz_convert("UTC")
+    sat = str(ov.scene.mtl.spacecraft).replace("_", "-").title() if hasattr(
+        ov.scene.mtl, "spacecraft") else "Landsat"
+    obs = Observation(lst=np.asarray(ov.lst, dtype=np.float32), time_utc=when,
+                      source=f"{sat} {level} {ov.lst_source}, {when:%Y-%m-%d %H:%M} UTC",
+                      accuracy_K=float(ov.lst_accuracy_k))
+    return GroundCover(grid=grid, class_map=cm.astype(np.uint8), elevation=elev,
+                       slope_deg=np.asarray(slope, np.float32),
+                       aspect_deg=np.asarray(aspect, np.float32), albedo=albedo,
+                       albedo_source=src, origin="scene",
+                       label=f"real scene: {obs.source}", observation=obs, notes=tuple(notes))
+
+
+# ---------------------------------------------------------------------------------------
+# Orientation groups
+# ---------------------------------------------------------------------------------------
+def orientation_bins(slope_deg, aspect_deg):
+    """Group pixels by orientation.
+
+    Returns
+    -------
+    index : ndarray int (rows, cols)
+        Bin of each pixel (0: level ground, slope below ``SLOPE_EDGES_DEG[1]``).
+    slope, aspect : ndarray (n_bins,)
+        Mean slope [deg] and circular-mean aspect [deg] of the pixels of each bin (level
+        ground: 0, 180).
+    """
+    s = np.asarray(slope_deg, dtype=float)
+    a = np.mod(np.asarray(aspect_deg, dtype=float), 360.0)
+    sb = np.clip(np.searchsorted(SLOPE_EDGES_DEG, s, side="right") - 1, 0,
+                 len(SLOPE_EDGES_DEG) - 2)
+    sector = np.floor(np.mod(a + 22.5, 360.0) / 45.0).astype(int) % 8
+    raw = np.where(sb == 0, 0, 1 + (sb - 1) * 8 + sector)
+    used, index = np.unique(raw, return_inverse=True)
+    index = index.reshape(s.shape)
+    n = used.size
+    counts = np.bincount(index.ravel(), minlength=n)
+    slope = np.bincount(index.ravel(), s.ravel(), minlength=n) / counts
+    sx = np.bincount(index.ravel(), np.sin(np.radians(a)).ravel(), minlength=n)
+    cx = np.bincount(index.ravel(), np.cos(np.radians(a)).ravel(), minlength=n)
+    aspect = np.mod(np.degrees(np.arctan2(sx, cx)), 360.0)
+    level = used == 0
+    slope[level] = 0.0
+    aspect[level] = 180.0
+    return index, slope, aspect
+
+
+# ---------------------------------------------------------------------------------------
+# The background
+# ---------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class ClassFit:
+    """Anchoring of one class on the scene (albedos fitted to the LST at the overpass)."""
+
+    name: str
+    pixels: int
+    albedo_median: float
+    albedo_p05: float
+    albedo_p95: float
+    albedo_reflectance_median: float
+    at_bound_fraction: float
+    residual_median_K: float
+    residual_p05_K: float
+    residual_p95_K: float
+    residual_rms_K: float
+
+
+@dataclass(eq=False)
+class PhysicalBackground:
+    """The port background of one run: temperatures of every pixel at any time.
+
+    Attributes
+    ----------
+    ground : GroundCover
+    times_s : ndarray (n_t,)
+        Times of the column solution [s after local midnight of the run's first day].
+    period_s : float or None
+        One day for a periodic (design-day) run; None for a weather record.
+    column_temperature : ndarray float32 (n_t, n_columns)
+        Surface temperature of every solved column [K].
+    land : ndarray int64
+        Flat indices of the land pixels.
+    lower, upper : ndarray int32
+        The two columns each land pixel interpolates between.
+    weight : ndarray float32
+        Weight of ``upper`` [-].
+    residual : ndarray float32
+        Anchoring residual per land pixel [K] (zeros without a scene).
+    residual_weight : ndarray (n_t,)
+        Factor of the residual at each solved time (:data:`RESIDUAL_MODES`).
+    water : ndarray int64
+        Flat indices of the water pixels.
+    water_temperature : ndarray (n_t,)
+        The sea's skin temperature [K] (the ship's sea).
+    water_anomaly : ndarray float32
+        Fixed pattern of the water pixels [K] (zeros without a scene).
+    sea_bulk : ndarray (n_t,)
+        The weather's bulk sea temperature [K].
+    albedo : ndarray float32 (rows, cols)
+        Albedo of every land pixel as used (fitted with a scene) [-]; NaN on water.
+    fits : list of ClassFit
+    utc_offset_hours : float
+    start : pandas.Timestamp
+        Local midnight of the first day (the clock's zero).
+    label : str
+    notes : list of str
+    timings : dict
+    """
+
+    ground: GroundCover
+    times_s: np.ndarray
+    period_s: float | None
+    column_temperature: np.ndarray
+    land: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    weight: np.ndarray
+    residual: np.ndarray
+    residual_weight: np.ndarray
+    water: np.ndarray
+    water_temperature: np.ndarray
+    water_anomaly: np.ndarray
+    sea_bulk: np.ndarray
+    albedo: np.ndarray
+    fits: list
+    utc_offset_hours: float
+    start: pd.Timestamp
+    residual_mode: str = "constant"
+    column_info: pd.DataFrame | None = field(default=None, repr=False)
+    label: str = ""
+    notes: list = field(default_factory=list)
+    timings: dict = field(default_factory=dict)
+    outputs: dict = field(default_factory=dict)
+
+    # -- the protocol of the imaging stage (imaging.scene.as_scene_background) ----------
+    @property
+    def grid(self) -> SceneGrid:
+        return self.ground.grid
+
+    @property
+    def class_map(self) -> np.ndarray:
+        return self.ground.class_map
+
+    @property
+    def synthetic(self) -> bool:
+        return self.ground.origin == "synthetic"
+
+    def _locate(self, seconds: float):
+        t = self.times_s
+        s = float(seconds)
+        require(math.isfinite(s), "time", seconds, "must be finite")
+        if self.period_s is not None:
+            s = t[0] + (s - t[0]) % self.period_s
+            if s > t[-1]:                     # between the last sample and the next day's first
+                w = (s - t[-1]) / (t[0] + self.period_s - t[-1])
+                return len(t) - 1, 0, w
+        elif not (t[0] - 1e-6 <= s <= t[-1] + 1e-6):
+            raise InputError("time", f"{s / HOUR:.3f} h", f"must lie within the simulated span "
+                             f"[{t[0] / HOUR:g}, {t[-1] / HOUR:g}] h of the weather record")
+        k = int(np.clip(np.searchsorted(t, s, side="right") - 1, 0, len(t) - 2))
+        w = (s - t[k]) / (t[k + 1] - t[k])
+        return k, k + 1, float(np.clip(w, 0.0, 1.0))
+
+    def temperature_at(self, hour: float) -> np.ndarray:
+        """Surface temperature of every pixel [K], float32 (rows, cols), at ``hour`` hours
+        after local midnight of the first day (periodic runs fold it into the day)."""
+        k0, k1, w = self._locate(float(hour) * HOUR)
+        col = ((1.0 - w) * self.column_temperature[k0].astype(float)
+               + w * self.column_temperature[k1].astype(float))
+        rw = (1.0 - w) * self.residual_weight[k0] + w * self.residual_weight[k1]
+        out = np.empty(self.class_map.size, np.float32)
+        out[self.land] = ((1.0 - self.weight) * col[self.lower] + self.weight * col[self.upper]
+                          + rw * self.residual)
+        tw = (1.0 - w) * self.water_temperature[k0] + w * self.water_temperature[k1]
+        out[self.water] = tw + self.water_anomaly
+        return out.reshape(self.class_map.shape)
+
+    def sea_temperature_at(self, hour: float) -> float:
+        """The sea's skin temperature [K] (the temperature of water without anomaly)."""
+        k0, k1, w = self._locate(float(hour) * HOUR)
+        return float((1.0 - w) * self.water_temperature[k0] + w * self.water_temperature[k1])
+
+    @property
+    def hours_local(self) -> np.ndarray:
+        """Whole hours of the first day [h] (the layers of :attr:`temperature`)."""
+        return np.arange(24.0)
+
+    @property
+    def temperature(self) -> np.ndarray:
+        """Hourly layers of the first day [K], float32 (24, rows, cols)."""
+        return np.stack([self.temperature_at(h) for h in self.hours_local])
+
+    def summary(self) -> dict:
+        """JSON-able key figures."""
+        g = self.ground
+        counts = {CLASS_NAMES[int(c)]: int(n) for c, n in zip(*np.unique(g.class_map,
+                                                                          return_counts=True))}
+        out = {
+            "model": "physical (surface energy balance per pixel, shipthermal environment)",
+            "background": g.label, "origin": g.origin, "synthetic": self.synthetic,
+            "shape": list(g.grid.shape), "crs": str(g.grid.crs),
+            "start_local": str(self.start), "utc_offset_hours": self.utc_offset_hours,
+            "span_h": [float(self.times_s[0] / HOUR), float(self.times_s[-1] / HOUR)],
+            "periodic": self.period_s is not None, "columns": int(self.column_temperature.shape[1]),
+            "class_pixels": counts, "albedo_source": g.albedo_source,
+            "residual_mode": self.residual_mode,
+            "sea_skin_minus_bulk_K": [float(np.min(self.water_temperature - self.sea_bulk)),
+                                      float(np.max(self.water_temperature - self.sea_bulk))],
+            "notes": list(g.notes) + list(self.notes),
+            "timings_s": {k: round(v, 3) for k, v in self.timings.items()},
+        }
+        if g.observation is not None:
+            out["anchored_on"] = g.observation.source
+            out["lst_stated_accuracy_K"] = g.observation.accuracy_K
+            out["fit_by_class"] = [f.__dict__ for f in self.fits]
+        return out
+
+
+# ---------------------------------------------------------------------------------------
+# Building it
+# ---------------------------------------------------------------------------------------
+def _scene_seconds(obs: Observation, start: pd.Timestamp, end_s: float, periodic: bool):
+    """Seconds after ``start`` at which the scene is matched, and a note: the instant itself
+    inside the simulated span, else its local clock time on the first day when the scene
+    is within :data:`MAX_SCENE_DAYS` of the span."""
+    when = obs.time_utc.tz_convert(start.tz)
+    s = (when - start).total_seconds()
+    if not periodic and 0.0 <= s <= end_s:
+        return s, None
+    span_end = start + pd.Timedelta(seconds=end_s)
+    days = (start - when).total_seconds() / DAY if when < start else \
+        (when - span_end).total_seconds() / DAY
+    if days > MAX_SCENE_DAYS:
+        raise InputError("background.mtl", f"scene of {when:%Y-%m-%d %H:%M %Z}",
+                         f"must lie within {MAX_SCENE_DAYS:g} days of the simulated span "
+                         f"({start:%Y-%m-%d} … {span_end:%Y-%m-%d}); it is {days:.0f} days away",
+                         "Choose a scene closer to time.date, or move time.date to the scene's "
+                         "date")
+    clock = (when - when.normalize()).total_seconds()
+    note = None if periodic else (f"the scene ({when:%Y-%m-%d %H:%M %Z}) lies outside the "
+                                  "record: matched at its clock time on the first day")
+    return clock, note
+
+
+def _fit_albedo(t_ov, lst, grid_albedo):
+    """Albedo in the sampled range that gives ``lst`` (piecewise-linear inverse of the
+    surface temperature at the overpass over the albedo samples).
+
+    Parameters
+    ----------
+    t_ov : ndarray (n, K)
+        Modelled temperature at the overpass at each albedo sample [K].
+    lst : ndarray (n,)
+    grid_albedo : ndarray (n, K)
+        The albedo samples of each pixel's class [-], increasing.
+
+    Returns
+    -------
+    position : ndarray (n,)
+        Fractional sample index in [0, K - 1] of the fitted albedo.
+    residual : ndarray (n,)
+        ``lst`` minus the model at the fitted albedo [K] (non-zero only at the bounds).
+    """
+    n, k = t_ov.shape
+    pos = np.full(n, np.nan)
+    # temperature falls with albedo (more reflected sun); a night scene may be flat: the
+    # bracketing segment nearest to the target is taken where none brackets it
+    for j in range(k - 1):
+        a, b = t_ov[:, j], t_ov[:, j + 1]
+        lo, hi = np.minimum(a, b), np.maximum(a, b)
+        inside = np.isnan(pos) & (lst >= lo) & (lst <= hi)
+        d = np.where(b != a, b - a, 1.0)
+        pos = np.where(inside, j + np.clip((lst - a) / d, 0.0, 1.0), pos)
+    rest = np.isnan(pos)
+    if rest.any():
+        nearest = np.argmin(np.abs(t_ov[rest] - lst[rest, None]), axis=1)
+        pos[rest] = nearest
+    j0 = np.clip(np.floor(pos).astype(int), 0, k - 2)
+    w = pos - j0
+    rows = np.arange(n)
+    model = (1.0 - w) * t_ov[rows, j0] + w * t_ov[rows, j0 + 1]
+    return pos, lst - model
+
+
+def build_physical_background(ground: GroundCover, environment, *, end_s: float | None = None,
+                              classes=None, residual: str = "constant",
+                              step_s: float = COLUMN_STEP_S, progress: bool = False
+                              ) -> PhysicalBackground:
+    """Solve the background of ``ground`` under ``environment``.
+
+    Parameters
+    ----------
+    ground : GroundCover
+        :func:`ground_from_synthetic` or :func:`ground_from_overpass`.
+    environment : shipthermal.environment.Environment
+        The run's environment (the ship's): site, sun, weather, sea.
+    end_s : float, optional
+        End of a weather record's span [s after ``environment.start``] (required for a
+        record; a periodic weather is one repeated day).
+    classes : dict, optional
+        Surface classes by name (:data:`.surface_classes.SURFACE_CLASSES` with the user's
+        additions and overrides); default the built-in set.
+    residual : {"constant", "solar", "none"}
+        :data:`RESIDUAL_MODES`.
+    step_s : float
+        Column time step [s].
+    progress : bool
+        Progress bar of the column solve.
+
+    Returns
+    -------
+    PhysicalBackground
+    """
+    from . import surface_classes as sc
+
+    t0 = _time.perf_counter()
+    require(residual in RESIDUAL_MODES, "background.residual", residual,
+            f"must be one of {', '.join(RESIDUAL_MODES)}")
+    periodic = bool(environment.weather.periodic)
+    if periodic:
+        times = np.arange(0.0, DAY, step_s)
+        span_end = DAY - step_s
+    else:
+        require(end_s is not None and end_s > 0, "end_s", end_s,
+                "must give the record's span [s] for a weather record")
+        times = np.arange(0.0, float(end_s) + 0.5 * step_s, step_s)
+        span_end = float(times[-1])
+    table = sc.SURFACE_CLASSES if classes is None else classes
+    state = environment.at(times)
+    timings = {"environment": _time.perf_counter() - t0}
+
+    cm = ground.class_map
+    flat = cm.ravel()
+    land = np.flatnonzero(flat != WATER)
+    water = np.flatnonzero(flat == WATER)
+    names = {int(c): CLASS_NAMES[int(c)] for c in np.unique(flat[land])}
+    for code, name in names.items():
+        if name not in table:
+            raise InputError(f"background.classes.{name}", None, "needs its surface properties "
+                             f"(class {code} is in the scene)", f"Add [background.classes.{name}]"
+                             f" (built-in classes: {', '.join(sorted(table))})")
+
+    # groups of (class, orientation) over the land pixels, each solved at K albedos
+    obin, b_slope, b_aspect = orientation_bins(ground.slope_deg, ground.aspect_deg)
+    key = flat[land].astype(np.int64) * 1000 + obin.ravel()[land]
+    groups, g_of_pixel = np.unique(key, return_inverse=True)
+    g_class = (groups // 1000).astype(int)
+    g_bin = (groups % 1000).astype(int)
+    k = ALBEDO_SAMPLES
+    samples = np.array([np.linspace(*table[names[c]].albedo_range, k) for c in g_class])
+    t1 = _time.perf_counter()
+    poa = _plane_of_array(state, b_slope, b_aspect, np.unique(g_bin))
+    svf = 0.5 * (1.0 + np.cos(np.radians(b_slope)))
+    col_class = np.repeat([table[names[c]] for c in g_class], k).tolist()
+    col_albedo = samples.ravel()
+    col_bin = np.repeat(g_bin, k)
+    sw = (1.0 - col_albedo)[None, :] * poa[:, col_bin]
+    sigma_t4 = 5.670374419e-8 * state.temp_air ** 4
+    lw = svf[col_bin][None, :] * state.longwave_down[:, None] \
+        + (1.0 - svf[col_bin])[None, :] * sigma_t4[:, None]
+    timings["forcing"] = _time.perf_counter() - t1
+    t1 = _time.perf_counter()
+    temp = _column_temperatures(col_class, col_albedo, sw, lw, state, environment, times,
+                                periodic, progress)
+    timings["columns"] = _time.perf_counter() - t1
+
+    # each land pixel between two albedo samples of its group
+    albedo_px = np.full(land.size, np.nan)
+    if ground.albedo is not None:
+        albedo_px = np.asarray(ground.albedo, dtype=float).ravel()[land]
+    lo_a, hi_a = samples[g_of_pixel, 0], samples[g_of_pixel, -1]
+    default = np.array([table[names[c]].albedo for c in g_class])[g_of_pixel]
+    albedo_px = np.where(np.isfinite(albedo_px), albedo_px, default)
+    reflectance_albedo = albedo_px.copy()
+    notes = []
+    outside = (albedo_px < lo_a) | (albedo_px > hi_a)
+    if outside.any() and ground.observation is None:
+        notes.append(f"{int(outside.sum())} land pixels ({100 * outside.mean():.1f} %) have an "
+                     "albedo outside their class's range: clipped to it")
+    pos = (np.clip(albedo_px, lo_a, hi_a) - lo_a) / np.where(hi_a > lo_a, hi_a - lo_a, 1.0) * (k - 1)
+    res = np.zeros(land.size)
+    fits = []
+    obs = ground.observation
+    utc_offset = environment.start.utcoffset().total_seconds() / HOUR
+    rweight = np.ones(times.size)
+    water_anomaly = np.zeros(water.size, np.float32)
+    skin = np.asarray(getattr(state, "temp_sea_skin", state.temp_sea), dtype=float)
+    if obs is not None:
+        s_ov, note = _scene_seconds(obs, environment.start, span_end, periodic)
+        if note:
+            notes.append(note)
+        k0 = int(np.clip(np.searchsorted(times, s_ov, side="right") - 1, 0, times.size - 2))
+        wt = float(np.clip((s_ov - times[k0]) / (times[k0 + 1] - times[k0]), 0.0, 1.0))
+        t_col = (1.0 - wt) * temp[k0] + wt * temp[k0 + 1]
+        idx = g_of_pixel[:, None] * k + np.arange(k)[None, :]
+        lst = np.asarray(obs.lst, dtype=float).ravel()[land]
+        pos, res = _fit_albedo(t_col[idx], lst, samples[g_of_pixel])
+        j0 = np.clip(np.floor(pos).astype(int), 0, k - 2)
+        albedo_px = samples[g_of_pixel, j0] + (pos - j0) * (samples[g_of_pixel, j0 + 1]
+                                                          - samples[g_of_pixel, j0])
+        ghi_ov = (1.0 - wt) * state.ghi[k0] + wt * state.ghi[k0 + 1]
+        if residual == "solar" and ghi_ov > 50.0:
+            rweight = state.ghi / ghi_ov
+        elif residual == "none":
+            rweight = np.zeros(times.size)
+        for code, name in names.items():
+            m = flat[land] == code
+            if not m.any():
+                continue
+            a, r, a_lo, a_hi = albedo_px[m], res[m], lo_a[m], hi_a[m]
+            bound = (np.isclose(a, a_lo) | np.isclose(a, a_hi)) & (np.abs(r) > 1e-6)
+            fits.append(ClassFit(
+                name=name, pixels=int(m.sum()), albedo_median=float(np.median(a)),
+                albedo_p05=float(np.percentile(a, 5)), albedo_p95=float(np.percentile(a, 95)),
+                albedo_reflectance_median=float(np.nanmedian(reflectance_albedo[m])),
+                at_bound_fraction=float(bound.mean()), residual_median_K=float(np.median(r)),
+                residual_p05_K=float(np.percentile(r, 5)),
+                residual_p95_K=float(np.percentile(r, 95)),
+                residual_rms_K=float(np.sqrt(np.mean(r ** 2)))))
+        if water.size:
+            lst_w = np.asarray(obs.lst, dtype=float).ravel()[water]
+            median_w = float(np.nanmedian(lst_w))
+            water_anomaly = np.nan_to_num(lst_w - median_w).astype(np.float32)
+            model_w = (1.0 - wt) * skin[k0] + wt * skin[k0 + 1]
+            diff = median_w - model_w
+            notes.append(f"scene water median {median_w:.2f} K against the weather's sea skin "
+                         f"{model_w:.2f} K at the overpass ({diff:+.2f} K); the water keeps its "
+                         "observed pattern around the weather's sea")
+            if abs(diff) > 2.0:
+                notes.append(f"WARNING: the scene's water is {diff:+.1f} K from the weather's "
+                             "sea temperature: check weather.temp_sea / the weather file's SST")
+    j0 = np.clip(np.floor(pos).astype(int), 0, k - 2)
+    w = pos - j0
+    lower = (g_of_pixel * k + j0).astype(np.int32)
+    albedo_map = np.full(flat.size, np.nan, np.float32)
+    albedo_map[land] = albedo_px
+    info = pd.DataFrame({"class": [names[c] for c in np.repeat(g_class, k)],
+                         "slope_deg": b_slope[col_bin], "aspect_deg": b_aspect[col_bin],
+                         "albedo": col_albedo})
+    timings["total"] = _time.perf_counter() - t0
+    return PhysicalBackground(
+        ground=ground, times_s=times, period_s=DAY if periodic else None,
+        column_temperature=temp.astype(np.float32), land=land, lower=lower, upper=lower + 1,
+        weight=w.astype(np.float32), residual=res.astype(np.float32),
+        residual_weight=np.asarray(rweight, dtype=float), water=water,
+        water_temperature=skin, water_anomaly=water_anomaly,
+        sea_bulk=np.asarray(state.temp_sea, dtype=float),
+        albedo=albedo_map.reshape(cm.shape), fits=fits, utc_offset_hours=utc_offset,
+        start=environment.start, residual_mode=residual, column_info=info,
+        label=ground.label, notes=notes, timings=timings)
+
+
+def _plane_of_array(state, slope, aspect, used_bins):
+    """Global irradiance on each orientation bin's plane [W m-2], (n_t, n_bins): pvlib's
+    plane-of-array irradiance (isotropic sky diffuse; ground-reflected with albedo 0.2)."""
+    import pvlib
+
+    out = np.zeros((state.ghi.size, slope.size))
+    zen = np.asarray(state.zenith, dtype=float)
+    azi = np.asarray(state.azimuth, dtype=float)
+    for b in used_bins:
+        if slope[b] == 0.0:
+            out[:, b] = state.ghi
+            continue
+        poa = pvlib.irradiance.get_total_irradiance(
+            surface_tilt=float(slope[b]), surface_azimuth=float(aspect[b]), solar_zenith=zen,
+            solar_azimuth=azi, dni=state.dni, ghi=state.ghi, dhi=state.dhi,
+            albedo=GROUND_ALBEDO, model="isotropic")
+        out[:, b] = np.nan_to_num(np.asarray(poa["poa_global"], dtype=float))
+    return np.maximum(out, 0.0)
+
+
+GROUND_ALBEDO = 0.2
+"""Albedo of the terrain a tilted pixel sees (pvlib's default, a generic ground). ASSUMPTION."""
+
+
+def _column_temperatures(col_class, col_albedo, sw, lw, state, environment, times, periodic,
+                         progress):
+    """Surface temperature of every column [K], (n_t, n_columns) (:mod:`.surface_energy`)."""
+    raise NotImplementedError("the column solver")
