@@ -6,7 +6,9 @@ compared with the unchanged scenario's — without running any stage:
 
 * ``thermal``    — :func:`shipthermal.app.thermal.thermal_inputs` (ship geometry and
   layups, the environment evaluated every 30 min, settings, per-part optics, checkpoints);
-* ``background`` — :func:`shipthermal.app.pipeline.background_inputs`;
+* ``background`` — :func:`shipthermal.app.pipeline.background_inputs` (the physical
+  model's environment evaluated every 30 min in the fields it uses: the same weather,
+  sun and sea as the ship's, so every weather key must reach it);
 * ``imaging``    — :func:`shipthermal.app.pipeline.imaging_scenario` (sun, placement,
   view, per-face band emissivities, sensor, sea-glint wind, aerosol, sky weather) and
   :func:`~shipthermal.app.pipeline.experiment_inputs`, for one fixed ship: the imaging
@@ -157,6 +159,10 @@ def bases(d: Path) -> dict:
                                          "use_measured_longwave": True}}),
         "ship_files": _merge(TINY, ship_files),
         "ship_parts": _merge(TINY, parts),
+        "paper": _merge(TINY, {"background": {"model": "paper"}}),
+        "bg_physical": _merge(TINY, {"background": {
+            "source": "files", "mtl": str(PORT / "LC08_L2SP_204023_20200927_20201006_02_T1_MTL.txt"),
+            "roi": str(PORT / "mersey_rois.geojson"), "size_px": None}}),
         "bg_files": _merge(TINY, {"background": {
             "source": "files", "mtl": str(PORT / "LC08_L2SP_204023_20200927_20201006_02_T1_MTL.txt"),
             "roi": str(PORT / "mersey_rois.geojson"), "dem": str(DEM), "met": str(MET),
@@ -174,34 +180,34 @@ CASES = {
     "description": ("builtin", "changed text", set()),
     "location.latitude": ("builtin", 39.5, {T, B, I}),
     "location.longitude": ("builtin", 122.0, {T, B, I}),
-    "location.time_zone": ("builtin", "Etc/GMT-9", {T, I}),
-    "location.altitude": ("builtin", 200.0, {T}),
+    "location.time_zone": ("builtin", "Etc/GMT-9", {T, B, I}),
+    "location.altitude": ("builtin", 200.0, {T, B}),
     "time.season": ("builtin", "winter", {T, B, I, O}),
-    "time.date": ("builtin", "2023-07-25", {T, I}),
+    "time.date": ("builtin", "2023-07-25", {T, B, I}),
     "time.output_interval": ("builtin", 7200.0, {T}),
     "time.map_times": ("builtin", ["09:30"], {O}),
-    "weather.source": ("buoy", "buoy2.txt", {T, I}),
-    "weather.format": ("csv", "tmy3", {T, I}),             # the wrong reader: refused
-    "weather.day": ("buoy", "record", {T, I}),             # imaging refuses a record
-    "weather.days": ("record", 1, {T}),
-    "weather.wind_height": ("buoy", 10.0, {T, I}),
-    "weather.max_gap_hours": ("buoy", 0.5, {T, I}),        # the buoy's gaps: refused
-    "weather.temp_sea": ("csv", 290.0, {T}),
-    "weather.cloud_cover": ("csv", 0.8, {T, I}),
+    "weather.source": ("buoy", "buoy2.txt", {T, B, I}),
+    "weather.format": ("csv", "tmy3", {T, B, I}),             # the wrong reader: refused
+    "weather.day": ("buoy", "record", {T, B, I}),          # the record's span everywhere
+    "weather.days": ("record", 1, {T, B, I}),
+    "weather.wind_height": ("buoy", 10.0, {T, B, I}),
+    "weather.max_gap_hours": ("buoy", 0.5, {T, B, I}),        # the buoy's gaps: refused
+    "weather.temp_sea": ("csv", 290.0, {T, B}),
+    "weather.cloud_cover": ("csv", 0.8, {T, B, I}),
     "weather.wind_direction": ("csv", 90.0, {T}),
-    "weather.temp_unit": ("csv", "K", {T, I}),             # 24 K air: refused
-    "weather.cloud_unit": ("csv_cloud", "percent", {T, I}),
+    "weather.temp_unit": ("csv", "K", {T, B, I}),             # 24 K air: refused
+    "weather.cloud_unit": ("csv_cloud", "percent", {T, B, I}),
     "weather.year": ("builtin", None, set()),
-    "weather.use_measured_irradiance": ("epw", False, {T}),
-    "weather.use_measured_longwave": ("epw", False, {T, I}),
-    "weather.clear_sky_model": ("builtin", "prata", {T, I}),
-    "weather.cloud_model": ("builtin", "crawford_duchon", {T, I}),
-    "weather.decomposition": ("epw", "dirint", {T}),
-    "weather.linke_turbidity": ("builtin", 5.0, {T}),
+    "weather.use_measured_irradiance": ("epw", False, {T, B}),
+    "weather.use_measured_longwave": ("epw", False, {T, B, I}),
+    "weather.clear_sky_model": ("builtin", "prata", {T, B, I}),
+    "weather.cloud_model": ("builtin", "crawford_duchon", {T, B, I}),
+    "weather.decomposition": ("epw", "dirint", {T, B}),
+    "weather.linke_turbidity": ("builtin", 5.0, {T, B}),
     "weather.sea_emissivity": ("builtin", 0.95, {T}),
-    "weather.wind_speed_offset": ("builtin", 2.0, {T, I}),
-    "weather.temp_air_offset": ("builtin", 1.0, {T, I}),
-    "weather.cloud_cover_offset": ("builtin", 0.2, {T, I}),
+    "weather.wind_speed_offset": ("builtin", 2.0, {T, B, I}),
+    "weather.temp_air_offset": ("builtin", 1.0, {T, B, I}),
+    "weather.cloud_cover_offset": ("builtin", 0.2, {T, B, I}),
     "ship.builtin": ("builtin", "frigate", {T}),
     "ship.parameters.length": ("parametric", 70.0, {T}),
     "ship.parameters.beam": ("parametric", 9.0, {T}),
@@ -243,21 +249,23 @@ CASES = {
     "solver.backend": ("builtin", "numba", {T, I}),
     "convection.model": ("builtin", "iso6946", {T}),
     "background.source": ("builtin", "files", {B}),
+    "background.model": ("builtin", "paper", {B}),
+    "background.residual": ("bg_physical", "solar", {B}),
     "background.seed": ("builtin", 5, {B}),
     "background.size_px": ("builtin", 120, {B}),
     "background.mtl": ("bg_files", None, {B}),
     "background.dem": ("bg_files", None, {B}),
     "background.met": ("bg_files", None, {B}),
     "background.roi": ("bg_files", None, {B}),
-    "background.krige_coarsen": ("builtin", 3, {B}),
-    "background.variogram_model": ("builtin", "exponential", {B}),
+    "background.krige_coarsen": ("paper", 3, {B}),
+    "background.variogram_model": ("paper", "exponential", {B}),
     "background.band_files": ("bg_files", "l8_{band}.tif", {B}),
     "background.qa_mask": ("bg_files", False, {B}),
-    "background.roi_splits": ("builtin", 4, {B}),
+    "background.roi_splits": ("paper", 4, {B}),
     "background.met_variable": ("bg_files", "t2m", {B}),
     "background.met_units": ("bg_files", "K", {B}),
     "background.met_margin_cells": ("bg_files", 3, {B}),
-    "background.krige_statistics": ("builtin", True, {B}),
+    "background.krige_statistics": ("paper", True, {B}),
     "background.dem_nodata": ("bg_files", "fill", {B}),
     "imaging.bands": ("builtin", ["8-14"], {I}),
     "imaging.times": ("builtin", ["10:00"], {I}),
@@ -374,6 +382,26 @@ def _environment(env):
     return _plain({"state": st, "env": keep, "periodic": w.periodic})
 
 
+#: What the physical background takes of the environment (the ship's motion and the sea's
+#: emissivity belong to the thermal stage alone)
+BACKGROUND_STATE = ("zenith", "azimuth", "dni", "dhi", "ghi", "temp_air", "relative_humidity",
+                    "longwave_down", "wind_speed", "temp_sea", "temp_sea_skin")
+
+
+def _background(given):
+    kind, kwargs = given
+    env = kwargs.get("environment")
+    if env is None:
+        return _plain(given)
+    w = env.weather
+    span = 86400.0 if w.periodic else (w.time[-1] - env.start).total_seconds() + 1.0
+    st = env.at(np.arange(0.0, span, 1800.0))
+    used = {k: getattr(st, k) for k in BACKGROUND_STATE if hasattr(st, k)}
+    rest = {k: v for k, v in kwargs.items() if k != "environment"}
+    return _plain((kind, {**rest, "state": used, "altitude": env.altitude,
+                          "start": env.start}))
+
+
 def _ship(ship):
     return _plain({k: getattr(ship, k) for k in ("vertices", "faces", "face_part", "part_names",
                                                   "layups", "compartment_temperature",
@@ -411,7 +439,7 @@ def stage_inputs(sc, background, ship) -> dict:
                   if f.name != "background"}
         return _plain({**fields, "experiment": experiment_inputs(sc)})
 
-    return {T: _safe(thermal), B: _safe(lambda: _plain(background_inputs(sc))),
+    return {T: _safe(thermal), B: _safe(lambda: _background(background_inputs(sc))),
             I: _safe(imaging), O: _safe(lambda: _plain(output_inputs(sc)))}
 
 

@@ -47,6 +47,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
+from scipy.ndimage import gaussian_filter
 
 from shipthermal.errors import InputError, require
 from shipthermal.units import DAY, HOUR
@@ -54,6 +55,9 @@ from shipthermal.units import DAY, HOUR
 from ..parameters import RESIDUAL_MODES
 from .classify import CLASS_NAMES
 from .landsat import SceneGrid
+from .surface_classes import SURFACE_CLASSES
+from .surface_energy import (SurfaceForcing, build_columns, longwave_incoming,
+                             shortwave_on_tilted, sky_view_factor, solve_surface_energy)
 from .terrain import slope_aspect
 
 __all__ = ["GroundCover", "PhysicalBackground", "build_physical_background",
@@ -78,6 +82,15 @@ MAX_SCENE_DAYS = 15.0
 """Largest distance [days] between a scene's acquisition and the simulated span for its
 albedos and water pattern to stand for it. ASSUMPTION: vegetation, soil moisture and sea
 surface patterns change over weeks; further apart, choose a closer scene."""
+
+SYNTHETIC_WATER_STD_K = 0.24
+SYNTHETIC_WATER_SMOOTHING_PX = 5.0
+"""The synthetic port's water pattern: a Gaussian random field smoothed over 5 pixels
+(150 m) with a standard deviation of 0.24 K, fixed through the day around the weather's
+sea. DERIVED: the water of the real Landsat-8 scene of ``examples/real_port`` (Mersey,
+2020-09-27, ST_B10) has a scene-wide standard deviation of 0.24 K and a median local
+(9 x 9 pixels) standard deviation of 0.09 K; this field gives 0.24 K and about 0.1 K. Real
+harbour water is never uniform, and the local SCR divides by the background's spread."""
 
 LIANG_OLI = {2: 0.356, 4: 0.130, 5: 0.373, 6: 0.085, 7: 0.072}
 LIANG_OFFSET = -0.0018
@@ -149,6 +162,9 @@ class GroundCover:
         What every product says the background is.
     observation : Observation or None
         The scene to anchor on.
+    water_anomaly : ndarray float32 (rows, cols) or None
+        Fixed pattern of the water around the sea's skin temperature [K] (a scene's is
+        taken from its LST instead).
     notes : tuple of str
     """
 
@@ -162,6 +178,7 @@ class GroundCover:
     origin: str
     label: str
     observation: Observation | None = None
+    water_anomaly: np.ndarray | None = None
     notes: tuple = ()
 
     def __post_init__(self):
@@ -191,6 +208,10 @@ def ground_from_synthetic(latitude: float, longitude: float, size_px: int = 334,
     slope, aspect = slope_aspect(s["elevation"].astype(float), s["grid"].resolution)
     albedo = broadband_albedo(refl).astype(np.float32)
     albedo[s["class_map"] == WATER] = np.nan
+    rng = np.random.default_rng([seed, 2])
+    field_ = gaussian_filter(rng.standard_normal(s["class_map"].shape),
+                             SYNTHETIC_WATER_SMOOTHING_PX, mode="wrap")
+    water = (field_ / field_.std() * SYNTHETIC_WATER_STD_K).astype(np.float32)
     lat = f"{abs(latitude):.2f} {'N' if latitude >= 0 else 'S'}"
     lon = f"{abs(longitude):.2f} {'E' if longitude >= 0 else 'W'}"
     return GroundCover(
@@ -198,9 +219,10 @@ def ground_from_synthetic(latitude: float, longitude: float, size_px: int = 334,
         slope_deg=slope.astype(np.float32), aspect_deg=aspect.astype(np.float32),
         albedo=albedo, albedo_source="synthetic reflectances (Liang 2001 broadband)",
         origin="synthetic", label=f"synthetic port (not a real place) centred on {lat} {lon}",
+        water_anomaly=water,
         notes=(f"synthetic port, seed {seed}, {size_px} x {size_px} pixels of 30 m: classes, "
-               "hills and reflectances are generated; its temperatures are physics driven by "
-               "the scenario's weather",))
+               f"hills, reflectances and a water pattern of {SYNTHETIC_WATER_STD_K:g} K are "
+               "generated; its temperatures are physics driven by the scenario's weather",))
 
 
 def ground_from_overpass(overpass, elevation=None, *, dem_note: str = "") -> GroundCover:
@@ -263,8 +285,8 @@ def orientation_bins(slope_deg, aspect_deg):
         Mean slope [deg] and circular-mean aspect [deg] of the pixels of each bin (level
         ground: 0, 180).
     """
-    s = np.asarray(slope_deg, dtype=float)
-    a = np.mod(np.asarray(aspect_deg, dtype=float), 360.0)
+    s = np.nan_to_num(np.asarray(slope_deg, dtype=float))
+    a = np.mod(np.nan_to_num(np.asarray(aspect_deg, dtype=float)), 360.0)   # level: no aspect
     sb = np.clip(np.searchsorted(SLOPE_EDGES_DEG, s, side="right") - 1, 0,
                  len(SLOPE_EDGES_DEG) - 2)
     sector = np.floor(np.mod(a + 22.5, 360.0) / 45.0).astype(int) % 8
@@ -549,8 +571,6 @@ def build_physical_background(ground: GroundCover, environment, *, end_s: float 
     -------
     PhysicalBackground
     """
-    from . import surface_classes as sc
-
     t0 = _time.perf_counter()
     require(residual in RESIDUAL_MODES, "background.residual", residual,
             f"must be one of {', '.join(RESIDUAL_MODES)}")
@@ -563,7 +583,7 @@ def build_physical_background(ground: GroundCover, environment, *, end_s: float 
                 "must give the record's span [s] for a weather record")
         times = np.arange(0.0, float(end_s) + 0.5 * step_s, step_s)
         span_end = float(times[-1])
-    table = sc.SURFACE_CLASSES if classes is None else classes
+    table = SURFACE_CLASSES if classes is None else classes
     state = environment.at(times)
     timings = {"environment": _time.perf_counter() - t0}
 
@@ -588,18 +608,17 @@ def build_physical_background(ground: GroundCover, environment, *, end_s: float 
     samples = np.array([np.linspace(*table[names[c]].albedo_range, k) for c in g_class])
     t1 = _time.perf_counter()
     poa = _plane_of_array(state, b_slope, b_aspect, np.unique(g_bin))
-    svf = 0.5 * (1.0 + np.cos(np.radians(b_slope)))
-    col_class = np.repeat([table[names[c]] for c in g_class], k).tolist()
+    svf = sky_view_factor(b_slope)
+    col_class = [table[names[c]] for c in np.repeat(g_class, k)]
     col_albedo = samples.ravel()
     col_bin = np.repeat(g_bin, k)
     sw = (1.0 - col_albedo)[None, :] * poa[:, col_bin]
-    sigma_t4 = 5.670374419e-8 * state.temp_air ** 4
-    lw = svf[col_bin][None, :] * state.longwave_down[:, None] \
-        + (1.0 - svf[col_bin])[None, :] * sigma_t4[:, None]
+    lw = longwave_incoming(np.asarray(state.longwave_down)[:, None], svf[col_bin],
+                           np.asarray(state.temp_air)[:, None])
     timings["forcing"] = _time.perf_counter() - t1
     t1 = _time.perf_counter()
-    temp = _column_temperatures(col_class, col_albedo, sw, lw, state, environment, times,
-                                periodic, progress)
+    temp, solve = _column_temperatures(col_class, sw, lw, state, environment, times, periodic,
+                                       table)
     timings["columns"] = _time.perf_counter() - t1
 
     # each land pixel between two albedo samples of its group
@@ -622,6 +641,8 @@ def build_physical_background(ground: GroundCover, environment, *, end_s: float 
     utc_offset = environment.start.utcoffset().total_seconds() / HOUR
     rweight = np.ones(times.size)
     water_anomaly = np.zeros(water.size, np.float32)
+    if ground.water_anomaly is not None:
+        water_anomaly = np.asarray(ground.water_anomaly, np.float32).ravel()[water]
     skin = np.asarray(getattr(state, "temp_sea_skin", state.temp_sea), dtype=float)
     if obs is not None:
         s_ov, note = _scene_seconds(obs, environment.start, span_end, periodic)
@@ -667,6 +688,9 @@ def build_physical_background(ground: GroundCover, environment, *, end_s: float 
             if abs(diff) > 2.0:
                 notes.append(f"WARNING: the scene's water is {diff:+.1f} K from the weather's "
                              "sea temperature: check weather.temp_sea / the weather file's SST")
+    notes.append(f"{temp.shape[1]} columns ({len(groups)} class x orientation groups x "
+                 f"{k} albedos), spin-up {solve.spinup_days} days (last day-to-day change "
+                 f"{float(np.max(solve.spinup_change)):.3g} K)")
     j0 = np.clip(np.floor(pos).astype(int), 0, k - 2)
     w = pos - j0
     lower = (g_of_pixel * k + j0).astype(np.int32)
@@ -690,21 +714,15 @@ def build_physical_background(ground: GroundCover, environment, *, end_s: float 
 
 def _plane_of_array(state, slope, aspect, used_bins):
     """Global irradiance on each orientation bin's plane [W m-2], (n_t, n_bins): pvlib's
-    plane-of-array irradiance (isotropic sky diffuse; ground-reflected with albedo 0.2)."""
-    import pvlib
-
+    plane-of-array irradiance (:func:`.surface_energy.shortwave_on_tilted`, isotropic sky
+    diffuse, ground-reflected with :data:`GROUND_ALBEDO`); level ground takes the GHI."""
     out = np.zeros((state.ghi.size, slope.size))
-    zen = np.asarray(state.zenith, dtype=float)
-    azi = np.asarray(state.azimuth, dtype=float)
-    for b in used_bins:
-        if slope[b] == 0.0:
-            out[:, b] = state.ghi
-            continue
-        poa = pvlib.irradiance.get_total_irradiance(
-            surface_tilt=float(slope[b]), surface_azimuth=float(aspect[b]), solar_zenith=zen,
-            solar_azimuth=azi, dni=state.dni, ghi=state.ghi, dhi=state.dhi,
-            albedo=GROUND_ALBEDO, model="isotropic")
-        out[:, b] = np.nan_to_num(np.asarray(poa["poa_global"], dtype=float))
+    tilted = np.array([b for b in used_bins if slope[b] > 0.0], dtype=int)
+    out[:, [b for b in used_bins if slope[b] == 0.0]] = np.asarray(state.ghi)[:, None]
+    if tilted.size:
+        poa = shortwave_on_tilted(slope[tilted], aspect[tilted], state.zenith, state.azimuth,
+                                  state.dni, state.ghi, state.dhi, albedo_ground=GROUND_ALBEDO)
+        out[:, tilted] = poa["poa_global"]
     return np.maximum(out, 0.0)
 
 
@@ -712,7 +730,19 @@ GROUND_ALBEDO = 0.2
 """Albedo of the terrain a tilted pixel sees (pvlib's default, a generic ground). ASSUMPTION."""
 
 
-def _column_temperatures(col_class, col_albedo, sw, lw, state, environment, times, periodic,
-                         progress):
-    """Surface temperature of every column [K], (n_t, n_columns) (:mod:`.surface_energy`)."""
-    raise NotImplementedError("the column solver")
+def _column_temperatures(col_class, sw, lw, state, environment, times, periodic, classes):
+    """Surface temperature of every column [K], (n_t, n_columns), and the solve's report
+    (:func:`.surface_energy.solve_surface_energy`).
+
+    The deep ground below the diurnal wave and the rooms under the roofs are at the mean air
+    temperature of the simulated span (ASSUMPTION: an unconditioned port warehouse; the deep
+    ground of a periodic day in equilibrium with its air)."""
+    bottom = float(np.mean(state.temp_air))
+    cols = build_columns(col_class, bottom, classes=classes)
+    pressure = 101325.0 * (1.0 - 2.25577e-5 * environment.altitude) ** 5.25588
+    forcing = SurfaceForcing(time_step=float(times[1] - times[0]), shortwave_absorbed=sw,
+                             longwave_down=lw, temp_air=np.asarray(state.temp_air, float),
+                             relative_humidity=np.clip(state.relative_humidity, 0.0, 100.0),
+                             wind_speed=np.asarray(state.wind_speed, float), pressure=pressure)
+    res = solve_surface_energy(forcing, cols, mode="periodic" if periodic else "record")
+    return res.temp_surface, res

@@ -177,7 +177,8 @@ def background_inputs(scenario) -> tuple[str, dict]:
 
     ``("physical", {...})``: the surface energy balance of every pixel
     (:func:`imaging.background.physical.build_physical_background`) under the run's one
-    environment, its ground the synthetic port around ``[location]`` (``ground``:
+    environment (``environment``, the thermal stage's own object), its ground the synthetic
+    port around ``[location]`` (``ground``:
     ``{"kind": "synthetic", ...}``) or a Landsat scene with ROIs and an optional DEM
     (``{"kind": "files", ...}``); ``("builtin", ...)`` / ``("files", ...)``: the paper's chain
     (keyword arguments of :func:`imaging.background.build_port_background` /
@@ -194,7 +195,8 @@ def background_inputs(scenario) -> tuple[str, dict]:
                           band_files=bgs.band_files, use_qa=bgs.qa_mask, seed=bgs.seed,
                           n_splits=bgs.roi_splits, dem_nodata=bgs.dem_nodata)
         return "physical", dict(ground=ground, residual=bgs.residual,
-                                end_s=record_span_s(scenario))
+                                end_s=record_span_s(scenario),
+                                environment=scenario.environment())
     if bgs.source == "builtin":
         return "builtin", dict(season=scenario.time.season, seed=bgs.seed, size_px=bgs.size_px,
                                lat=scenario.location.latitude,
@@ -263,7 +265,7 @@ def build_background(scenario, progress: bool = False):
         from imaging.background.physical import build_physical_background
 
         return _reading_rasters(scenario, lambda: build_physical_background(
-            _ground(kwargs["ground"], progress), scenario.environment(),
+            _ground(kwargs["ground"], progress), kwargs["environment"],
             end_s=kwargs["end_s"], residual=kwargs["residual"], progress=progress))
     if kind == "builtin":
         from imaging.background import build_port_background

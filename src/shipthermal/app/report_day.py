@@ -339,9 +339,12 @@ def _scr_svg(m: pd.DataFrame, crossovers: list[float], label: str) -> str:
     W, H, L, R, T, B = 560, 170, 46, 10, 18, 26
     t = m["time_h"].to_numpy(float)
     scr = np.clip(m["scr"].to_numpy(float), 1e-3, None)
-    lo = np.floor(np.log10(max(np.nanmin(scr), 1e-3)))
-    hi = np.ceil(np.log10(max(np.nanmax(scr), 10 ** (lo + 1))))
-    sx = (W - L - R) / 24.0
+    finite = scr[np.isfinite(scr)]
+    if not finite.size:
+        finite = np.array([1.0])
+    lo = np.floor(np.log10(max(np.min(finite), 1e-3)))
+    hi = np.ceil(np.log10(max(np.max(finite), 10 ** (lo + 1))))
+    sx = (W - L - R) / max(24.0, float(np.nanmax(t)) if t.size else 24.0)
 
     def X(h):
         return L + h * sx

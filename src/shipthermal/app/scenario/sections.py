@@ -677,7 +677,8 @@ class BackgroundSettings:
                       "driven by the run's own weather, sun and sea (any site, date and record; "
                       "anchored on the scene's LST with source = 'files'); 'paper' = the paper's "
                       "chain: Landsat LST + kriged same-day met grid + terrain regression (needs "
-                      "a met grid; with source = 'builtin' only on the built-in design days)",
+                      "a met grid; with source = 'builtin' only on the built-in design days). "
+                      "Default 'physical', or 'paper' when [background] gives a met grid",
                       choices=BACKGROUND_MODELS)
     residual: str = _opt("constant", "choice", "model = 'physical' with a scene: how the part of "
                          "the overpass LST the fitted model cannot reach is carried through the "
@@ -746,7 +747,9 @@ class BackgroundSettings:
         for key in BackgroundSettings._FILES_ONLY:
             if obj.source == "builtin" and key in raw:
                 ctx.err(f"{path}.{key}", raw[key], "only applies with source = 'files'")
-        if obj.model == "physical":
+        if "model" not in raw and "met" in raw and obj.source == "files":
+            obj = dataclasses.replace(obj, model="paper")     # a met grid: the paper's chain
+        if obj.model == "physical" and obj.source == "files":
             for key in ("met",) + BackgroundSettings._FILES_ONLY[:3]:
                 if key in raw:
                     ctx.err(f"{path}.{key}", raw[key], "only applies with model = 'paper' (the "
