@@ -46,6 +46,7 @@ and CPU seconds, retries and worker.
 
 from __future__ import annotations
 
+import copy
 import hashlib
 import itertools
 import json
@@ -222,7 +223,7 @@ def load_sweep(path) -> SweepSpec:
         raise InputError("sweep.axes", f"{n} cases", "must give at most 10000 cases")
     cases, problems = [], []
     for index, combo in enumerate(itertools.product(*axes.values())):
-        case_raw = json.loads(json.dumps(base_raw))
+        case_raw = copy.deepcopy(base_raw)      # TOML dates and times stay as they are
         changes: dict = {}
         for k, v in fixed.items():
             _set_dotted(case_raw, k, v, "sweep.set")
