@@ -680,6 +680,8 @@ def test_calibrate_bad_input(case, csv, extra, fragments, tmp_path, capsys, monk
 ENSEMBLE_CASES = [
     # (id, argv after the scenario, fragments)
     ("ens-one-member", ["--members", "1"], ["--members", ">= 2"]),
+    ("ens-negative-seed", ["--seed", "-1"], ["--seed = -1", "must be an integer in [0, "
+                                             "4294967295]"]),
     ("ens-unknown-dist", ["--dist", "humidity=normal:0:5"], ["--dist", "humidity",
                                                               "cloud, wind, air"]),
     ("ens-dist-syntax", ["--dist", "wind=gauss:0:1"], ["--dist", "NAME=uniform:LOWER:UPPER"]),
