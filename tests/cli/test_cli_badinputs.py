@@ -321,10 +321,13 @@ def _cli_inputs(d):
     (d / "file.txt").write_text("a file")
     (d / "mine").mkdir()
     (d / "mine" / "thesis.tex").write_text("precious")
-    for name, done in (("unfinished", False), ("finished", True)):
+    for name, kind, done in (("unfinished", "run", False), ("finished", "mesh", True)):
         r = d / name
         r.mkdir()
-        (r / "manifest.json").write_text(json.dumps({"cases": {}, "status": "running"}))
+        entries = ["manifest.json", "scenario.toml"] + (["COMPLETE"] if done else [])
+        (r / "manifest.json").write_text(json.dumps({"tool": "shipthermal", "kind": kind,
+                                                     "entries": entries, "cases": {},
+                                                     "status": "running"}))
         (r / "scenario.toml").write_text("")
         if done:
             (r / "COMPLETE").write_text("x")

@@ -265,6 +265,9 @@ def test_external_scheduler_and_worker_processes(sweep_file, serial, tmp_path, c
     assert ran_on == pids
     manifest = json.loads((tmp_path / "o" / "manifest.json").read_text())
     assert manifest["settings"]["scheduler"] == address
+    # signed: every top-level entry is listed as written by the tool
+    assert (manifest["tool"], manifest["kind"]) == ("shipthermal", "sweep")
+    assert manifest["entries"] == sorted(p.name for p in (tmp_path / "o").iterdir())
 
 
 class StallFirstStart(WorkerPlugin):
