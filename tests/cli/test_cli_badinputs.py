@@ -321,10 +321,13 @@ def _cli_inputs(d):
     (d / "file.txt").write_text("a file")
     (d / "mine").mkdir()
     (d / "mine" / "thesis.tex").write_text("precious")
-    for name, done in (("unfinished", False), ("finished", True)):
+    for name, kind, done in (("unfinished", "run", False), ("finished", "mesh", True)):
         r = d / name
         r.mkdir()
-        (r / "manifest.json").write_text(json.dumps({"cases": {}, "status": "running"}))
+        entries = ["manifest.json", "scenario.toml"] + (["COMPLETE"] if done else [])
+        (r / "manifest.json").write_text(json.dumps({"tool": "shipthermal", "kind": kind,
+                                                     "entries": entries, "cases": {},
+                                                     "status": "running"}))
         (r / "scenario.toml").write_text("")
         if done:
             (r / "COMPLETE").write_text("x")
@@ -680,6 +683,8 @@ def test_calibrate_bad_input(case, csv, extra, fragments, tmp_path, capsys, monk
 ENSEMBLE_CASES = [
     # (id, argv after the scenario, fragments)
     ("ens-one-member", ["--members", "1"], ["--members", ">= 2"]),
+    ("ens-negative-seed", ["--seed", "-1"], ["--seed = -1", "must be an integer in [0, "
+                                             "4294967295]"]),
     ("ens-unknown-dist", ["--dist", "humidity=normal:0:5"], ["--dist", "humidity",
                                                               "cloud, wind, air"]),
     ("ens-dist-syntax", ["--dist", "wind=gauss:0:1"], ["--dist", "NAME=uniform:LOWER:UPPER"]),

@@ -27,6 +27,10 @@ def ensemble(tmp_path_factory):
     code = main(["-q", "ensemble", str(sc), "--members", str(MEMBERS), "--serial",
                  "--seed", "7", "--out", str(out)])
     assert code == 0
+    # signed: every top-level entry is listed as written by the tool
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert (manifest["tool"], manifest["kind"]) == ("shipthermal", "ensemble")
+    assert manifest["entries"] == sorted(p.name for p in out.iterdir())
     return out
 
 

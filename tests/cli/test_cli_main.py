@@ -160,6 +160,9 @@ def test_mesh_command(tmp_path, capsys):
     for f in ("ship.ply", "ship_parts.json", "parts.png", "ship_parts/deck.stl"):
         assert (out / "mesh" / f).is_file(), f
     assert (out / "COMPLETE").is_file() and (out / "report.html").is_file()
+    m = json.loads((out / "manifest.json").read_text())
+    assert (m["tool"], m["kind"]) == ("shipthermal", "mesh")
+    assert m["entries"] == sorted(p.name for p in out.iterdir())
     # the written ship reads back with the same triangle count
     from shipthermal.geometry import read_ship
 
@@ -194,6 +197,9 @@ def test_validate_plumbing(monkeypatch, tmp_path, capsys):
     assert "FAKE VALIDATION TABLE" in capsys.readouterr().out
     assert (out / "validation" / "validation_table.csv").is_file()
     assert "304.67" in (out / "report.html").read_text()
+    m = json.loads((out / "manifest.json").read_text())
+    assert (m["tool"], m["kind"]) == ("shipthermal", "validate")
+    assert m["entries"] == sorted(p.name for p in out.iterdir())
 
 
 def test_validate_missing_module_message(monkeypatch, capsys):

@@ -229,6 +229,7 @@ def test_lock_refuses_a_live_writer_and_takes_a_dead_ones(tmp_path):
         (r / ".lock").write_text(f"{dead} {socket.gethostname()}")
         (r / ".stage-imaging.999").mkdir()
         (r / ".report.html.tmp123").write_text("half")
+        run.claim("thermal")                # listed in the manifest before it is written
         (r / "thermal").mkdir()
         (r / "thermal" / "x.csv.part-77").write_text("half")
     with RunDir(r, command=["again"], resume=True) as run2:

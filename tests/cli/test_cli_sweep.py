@@ -138,6 +138,18 @@ def test_season_axis_moves_the_season_defaults(tmp_path):
         assert loads_scenario(case.toml) == default_scenario(season)
 
 
+def test_base_scenario_with_a_date(tmp_path):
+    """A base scenario with a TOML date (``date = 2024-07-15``, not a string) is swept like
+    any other: the date reaches every case."""
+    base = write_tiny(tmp_path)
+    base.write_text(base.read_text().replace("[time]\n", "[time]\ndate = 2024-07-15\n"))
+    (tmp_path / "s.toml").write_text('base = "tiny.toml"\n[axes]\n"ship.heading" = [0, 90]\n')
+    spec = load_sweep(tmp_path / "s.toml")
+    from shipthermal.app.scenario import loads_scenario
+
+    assert [str(loads_scenario(c.toml).time.date) for c in spec.cases] == ["2024-07-15"] * 2
+
+
 def test_run_case_never_raises():
     r = run_case({"id": "x", "index": 0, "changes": {}, "labels": {}, "toml": "not = [toml",
                   "stages": ["thermal"]})
@@ -253,6 +265,9 @@ def test_external_scheduler_and_worker_processes(sweep_file, serial, tmp_path, c
     assert ran_on == pids
     manifest = json.loads((tmp_path / "o" / "manifest.json").read_text())
     assert manifest["settings"]["scheduler"] == address
+    # signed: every top-level entry is listed as written by the tool
+    assert (manifest["tool"], manifest["kind"]) == ("shipthermal", "sweep")
+    assert manifest["entries"] == sorted(p.name for p in (tmp_path / "o").iterdir())
 
 
 class StallFirstStart(WorkerPlugin):

@@ -742,6 +742,27 @@ def paper_text(paper: dict) -> str:
 
 
 # --------------------------------------------------------------------------- command ----
+def _measurement_inputs(path, meas: pd.DataFrame) -> list:
+    """The files a calibration reads: the measurement CSV, the scenario files its cases
+    name (relative to the CSV) and the files those scenarios name."""
+    from .rundir import scenario_inputs
+    from .scenario import load_scenario
+
+    out = [str(path)]
+    base = Path(path).parent
+    for name in dict.fromkeys(meas["case"]):
+        if name in ("summer", "winter"):
+            continue
+        p = Path(name) if Path(name).is_absolute() else base / name
+        if p.is_file():
+            out.append(str(p))
+            try:
+                out += scenario_inputs(load_scenario(p))
+            except InputError:        # reported with its own message by the fit
+                pass
+    return out
+
+
 def run_calibrate_command(args, con) -> int:
     """``shipthermal calibrate``: inputs checked first; products written only when the fit
     has finished (a user error leaves no folder behind)."""
@@ -759,8 +780,10 @@ def run_calibrate_command(args, con) -> int:
         unknowns = [parse_unknown(u) for u in args.unknown]
         require(len(unknowns) > 0, "--unknown", None, "give at least one unknown "
                 "[CASE:]KEY=LOWER:UPPER", "e.g. --unknown weather.cloud_cover_offset=-0.5:0.5")
-    RunDir.check_target(Path(args.out), force=args.force)
-    with RunDir(Path(args.out), force=args.force, command=args.argv, kind="calibrate") as run:
+    inputs = [] if args.paper else _measurement_inputs(args.measurements, meas)
+    RunDir.check_target(Path(args.out), force=args.force, kind="calibrate", inputs=inputs)
+    with RunDir(Path(args.out), force=args.force, command=args.argv, kind="calibrate",
+                inputs=inputs) as run:
         with run.stage("calibration") as tmp:
             if args.paper:
                 paper = paper_calibration(settings=settings, log=con.info,

@@ -83,15 +83,39 @@ def _load_scenario(path):
     return load_scenario(path)
 
 
-def _require_run(path) -> Path:
-    from .rundir import MANIFEST
+def _require_run(path, kinds: tuple = ()) -> Path:
+    """A run folder this tool wrote (signed manifest, or one of an earlier version), of one
+    of ``kinds`` when given: the only folders ``image``, ``report``, ``crossover`` and
+    ``validate --into`` read and amend."""
+    from .rundir import MANIFEST, read_signature
 
     p = Path(path)
-    if not (p / MANIFEST).is_file():
+    sig = read_signature(p) if p.is_dir() else None
+    if sig is None:
+        foreign = p.is_dir() and (p / MANIFEST).exists()
         raise InputError("run directory", str(path), "must be a shipthermal run directory "
-                         "(with manifest.json)", "Give a folder written by `shipthermal run` or "
-                         "`shipthermal demo`")
+                         "(with manifest.json)" + ("; this manifest.json was not written by "
+                                                   "shipthermal" if foreign else ""),
+                         "Give a folder written by `shipthermal run` or `shipthermal demo`")
+    if kinds and sig.kind not in kinds:
+        raise InputError("run directory", str(path), f"is a shipthermal {sig.kind} folder; "
+                         f"this command needs a thermal run ({' or '.join(kinds)})",
+                         "Give a folder written by `shipthermal run` or `shipthermal demo`")
     return p
+
+
+def _require_report_file(path) -> None:
+    """``report --output``: a new file, or a report this tool wrote (never another file)."""
+    from .report import is_report_file
+
+    p = Path(path)
+    if p.is_dir():
+        raise InputError("--output", str(path), "must be a file name (a folder of that name "
+                         "exists)", "Name the HTML file to write, e.g. report-copy.html")
+    if os.path.lexists(p) and not is_report_file(p):
+        raise InputError("--output", str(path), "is a file that shipthermal did not write (not "
+                         "one of its reports)", "Choose a new file name: shipthermal writes "
+                         "over a report it wrote, never over another file")
 
 
 def _cases_of(run_path: Path) -> dict:
@@ -116,6 +140,7 @@ def _report(run, con: Console, finishing: bool = False) -> Path:
     from .report import write_report
 
     t0 = time.perf_counter()
+    run.claim("report.html")
     if finishing and not run.amend:
         run.mark_finished()
     path = write_report(run.path, finishing=finishing)
@@ -180,6 +205,7 @@ def cmd_demo(args, con: Console) -> int:
     from .rundir import RunDir, is_complete
 
     out = Path(args.out)
+    RunDir.check_target(out, resume=args.resume, force=args.force, kind="demo")
     if args.resume and is_complete(out):
         con.info(f"{out} is already complete: nothing to resume")
         return EXIT_OK
@@ -221,7 +247,7 @@ def cmd_mesh(args, con: Console) -> int:
     import json
 
     from ..geometry import build_ship_mesh, render_parts_png, write_ship
-    from .rundir import RunDir
+    from .rundir import RunDir, scenario_inputs
 
     sc = _load_scenario(args.scenario)
     changes = {}
@@ -232,8 +258,9 @@ def cmd_mesh(args, con: Console) -> int:
     if changes:
         sc = sc.updated(changes)
     out = Path(args.out or f"runs/{sc.name}-mesh")
-    RunDir.check_target(out, force=args.force)
-    with RunDir(out, force=args.force, command=args.argv, kind="mesh") as run:
+    inputs = scenario_inputs(sc)
+    RunDir.check_target(out, force=args.force, kind="mesh", inputs=inputs)
+    with RunDir(out, force=args.force, command=args.argv, kind="mesh", inputs=inputs) as run:
         run.add_scenario(sc)
         con.info(f"mesh: building the ship ({sc.ship.builtin or 'user files'})")
         with run.stage("mesh") as tmp:
@@ -278,10 +305,13 @@ def cmd_mesh(args, con: Console) -> int:
 
 def cmd_run(args, con: Console) -> int:
     from .pipeline import output_inputs, prepare, thermal_case
-    from .rundir import RunDir, changes_from_copy, is_complete
+    from .rundir import RunDir, changes_from_copy, is_complete, scenario_inputs
 
     sc = _load_scenario(args.scenario)
     out = Path(args.out or output_inputs(sc)["directory"])
+    inputs = scenario_inputs(sc)
+    RunDir.check_target(out, resume=args.resume, force=args.force, scenario=sc, kind="run",
+                        inputs=inputs)
     if args.resume and is_complete(out):
         changed = changes_from_copy(out, sc)
         if changed:
@@ -292,13 +322,12 @@ def cmd_run(args, con: Console) -> int:
         return EXIT_OK
     t0 = time.perf_counter()
     case = sc.name
-    RunDir.check_target(out, resume=args.resume, force=args.force, scenario=sc)
     con.debug("reading the inputs (ship, weather" + (", background)" if args.image else ")"))
     ship, background = prepare(sc, imaging=args.image, progress=con.progress, log=con.info)
     for line in sc.check_weather():     # gaps interpolated, constants used, wind height
         con.info(f"  {line}")
     with RunDir(out, resume=args.resume, force=args.force, command=args.argv, kind="run",
-                log=con.info, scenario=sc) as run:
+                log=con.info, scenario=sc, inputs=inputs) as run:
         run.add_scenario(sc)
         run.manifest["cases"][case]["scenario"] = "scenario.toml"
         con.info(f"{case}: thermal run ({sc.ship.builtin or 'user ship'}, "
@@ -327,7 +356,7 @@ def cmd_image(args, con: Console) -> int:
     step = None if args.step_min is None else 60.0 * args.step_min
     if step is not None and not 60.0 <= step <= 10800.0:
         raise InputError("--step-min", args.step_min, "must lie in [1, 180] min")
-    path = _require_run(args.run_dir)
+    path = _require_run(args.run_dir, kinds=("run", "demo"))
     if not (path / MARKER).is_file():
         raise InputError("run directory", str(path), "is not finished (no COMPLETE marker)",
                          f"Finish it first: shipthermal run --resume ... --out {path}")
@@ -361,7 +390,7 @@ def cmd_validate(args, con: Console) -> int:
         return EXIT_FAILURE
     from .rundir import RunDir
 
-    if args.into:
+    if args.into:      # the folders are checked here, before the (slow) validation
         path = _require_run(args.into)
         ctx = RunDir(path, command=args.argv, kind="validate", amend=True)
     else:
@@ -387,11 +416,14 @@ def cmd_calibrate(args, con: Console) -> int:
 
 def cmd_background(args, con: Console) -> int:
     from .background_cmd import run_background
+    from .rundir import scenario_inputs
 
     opts = dict(mtl=args.mtl, roi=args.roi, dem=args.dem, met=args.met, band_files=args.band_files)
     offset = 0.0
+    inputs = []
     if args.scenario:
         sc = _load_scenario(args.scenario)
+        inputs = scenario_inputs(sc)
         bgs = sc.background
         if bgs.source != "files":
             raise InputError("background.source", bgs.source, "must be 'files' for `shipthermal background`")
@@ -404,7 +436,7 @@ def cmd_background(args, con: Console) -> int:
     res = run_background(args.out, **opts, bounds=args.bounds, use_qa=not args.no_qa,
                          n_splits=args.splits, seed=args.seed, utc_offset_hours=offset,
                          water_vapour=args.water_vapour, force=args.force, log=con.info,
-                         progress=con.progress)
+                         progress=con.progress, command=args.argv, inputs=inputs)
     sp = res["summary"].get("accuracy_over_splits", {}).get("overall_accuracy")
     if sp:
         con.out(f"classification: overall accuracy {sp['mean']:.3f} +- {sp['std']:.3f} over "
@@ -415,12 +447,15 @@ def cmd_background(args, con: Console) -> int:
 
 def cmd_sweep(args, con: Console) -> int:
     from .rundir import RunDir, atomic_write_text
-    from .sweep import load_sweep, run_sweep
+    from .sweep import load_sweep, run_sweep, sweep_inputs
 
     spec = load_sweep(args.sweep)
     out = Path(args.out or f"runs/sweep-{spec.name}")
     con.info(f"sweep {spec.name}: {len(spec.cases)} cases over {', '.join(spec.axis_names)}")
-    with RunDir(out, resume=True, force=args.force, command=args.argv, kind="sweep") as run:
+    # re-running continues the sweep (finished cases are skipped); --force starts afresh
+    with RunDir(out, resume=not args.force, force=args.force, command=args.argv, kind="sweep",
+                inputs=sweep_inputs(spec)) as run:
+        run.claim("sweep.toml")
         atomic_write_text(out / "sweep.toml", spec.text)
         run.manifest["settings"].update({"sweep": str(args.sweep), "stages": list(spec.stages),
                                          "axes": {k: len(v) for k, v in spec.axes.items()}})
@@ -445,7 +480,7 @@ def cmd_ensemble(args, con: Console) -> int:
     from .pipeline import QUICK_EDGE_LENGTH
     from .rundir import RunDir, atomic_write_text
     from .scenario import SEASONS
-    from .sweep import run_sweep
+    from .sweep import run_sweep, sweep_inputs
 
     dists = dict(DISTRIBUTIONS)
     for text in args.dist:
@@ -466,7 +501,9 @@ def cmd_ensemble(args, con: Console) -> int:
     out = Path(args.out)
     con.info(f"ensemble: {args.members} members x {len(spec.cases) // args.members} "
              f"season(s), seed {args.seed}")
-    with RunDir(out, resume=True, force=args.force, command=args.argv, kind="ensemble") as run:
+    with RunDir(out, resume=not args.force, force=args.force, command=args.argv,
+                kind="ensemble", inputs=sweep_inputs(spec)) as run:
+        run.claim("sweep.toml", "ensemble")
         atomic_write_text(out / "sweep.toml", text)
         run.manifest["settings"].update({"members": args.members, "seed": args.seed,
                                          "quick": args.quick,
@@ -504,9 +541,11 @@ def cmd_report(args, con: Console) -> int:
 
     path = _require_run(args.run_dir)
     if args.output:
+        _require_report_file(args.output)
         out = write_report(path, args.output)
     else:
         with RunDir(path, command=args.argv, kind="report", amend=True) as run:
+            run.claim("report.html")
             out = write_report(run.path)
     con.out(f"report: {out}")
     return EXIT_OK
@@ -549,7 +588,8 @@ def build_parser() -> argparse.ArgumentParser:
                    f"({QUICK_EDGE_LENGTH:g} m edges instead of the default ship's) and "
                    "images every 30 min instead of 10")
     d.add_argument("--out", default="runs/demo", help="run directory (default runs/demo)")
-    d.add_argument("--force", action="store_true", help="replace a finished run directory")
+    d.add_argument("--force", action="store_true", help="replace a demo folder this tool "
+                   "wrote (never other files)")
     d.add_argument("--resume", action="store_true", help="continue an interrupted demo")
     d.add_argument("--seasons", nargs="+", default=["summer", "winter"],
                    choices=["summer", "winter"], help="seasons (default both)")
@@ -563,7 +603,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="use this built-in ship")
     m.add_argument("--edge-length", type=float, help="target surface edge length [m]")
     m.add_argument("--out", help="run directory (default runs/<name>-mesh)")
-    m.add_argument("--force", action="store_true", help="replace a finished run directory")
+    m.add_argument("--force", action="store_true", help="replace a finished run "
+                   "folder of this command (only what it wrote there)")
 
     r = add("run", "thermal run of a scenario (spin-up until periodic, recorded day, "
             "checkpoints every outputs.checkpoint_interval)", cmd_run)
@@ -571,7 +612,8 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--out", help="run directory (default: the scenario's outputs.directory)")
     r.add_argument("--resume", action="store_true",
                    help="continue an interrupted run from its last checkpoint")
-    r.add_argument("--force", action="store_true", help="replace a finished run directory")
+    r.add_argument("--force", action="store_true", help="replace a finished run "
+                   "folder of this command (only what it wrote there)")
     r.add_argument("--image", action="store_true", help="also run the imaging stage")
     r.add_argument("--no-report", action="store_true", help="no HTML report")
 
@@ -595,7 +637,8 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--calibrate", action="store_true", help="also fit the reference's "
                    "conditions to its noon values, predict 07:00 / 08:00 held out, and the "
                    "sol-air anchor (docs/CALIBRATION.md; a few minutes more)")
-    v.add_argument("--force", action="store_true", help="replace a finished run directory")
+    v.add_argument("--force", action="store_true", help="replace a finished run "
+                   "folder of this command (only what it wrote there)")
 
     cb = add("calibrate", "fit unknown scenario quantities (bounded least squares on the "
              "full model) to measured temperatures: values, intervals, held-out errors "
@@ -614,7 +657,8 @@ def build_parser() -> argparse.ArgumentParser:
                     "instead of the coarse calibration setting (much slower)")
     cb.add_argument("--out", default="runs/calibration", help="run directory (default "
                     "runs/calibration)")
-    cb.add_argument("--force", action="store_true", help="replace a finished run directory")
+    cb.add_argument("--force", action="store_true", help="replace a finished run "
+                   "folder of this command (only what it wrote there)")
 
     b = add("background", "build and write the port background from real files: Landsat "
             "L1/L2 scene + ROIs give LST, classes, QA mask, accuracy; with --dem and --met the "
@@ -637,7 +681,8 @@ def build_parser() -> argparse.ArgumentParser:
     b.add_argument("--no-qa", action="store_true", help="do not mask clouds/shadows from QA")
     b.add_argument("--out", default="runs/background", help="output folder (default "
                    "runs/background)")
-    b.add_argument("--force", action="store_true", help="replace a non-empty output folder")
+    b.add_argument("--force", action="store_true", help="replace an earlier output "
+                   "folder of `shipthermal background` (never other files)")
 
     en = add("ensemble", "weather ensemble: crossover times and SCR curves with a median "
              "and a 5-95 percent range (shipthermal.app.ensemble; one sweep case per member and "
@@ -658,7 +703,8 @@ def build_parser() -> argparse.ArgumentParser:
     en.add_argument("--scheduler", help="address of an existing dask scheduler")
     en.add_argument("--workers", type=int, help="LocalCluster workers (default: the cores)")
     en.add_argument("--serial", action="store_true", help="run the members one by one here")
-    en.add_argument("--force", action="store_true", help="start afresh")
+    en.add_argument("--force", action="store_true", help="start afresh (deletes only "
+                    "what an earlier ensemble wrote there)")
 
     s = add("sweep", "parameter sweep: the Cartesian product of scenario changes, one "
             "dask task per case; re-running skips finished cases", cmd_sweep)
@@ -670,7 +716,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--serial", action="store_true", help="run the cases one by one here")
     s.add_argument("--keep-failed", action="store_true", help="do not retry cases that "
                    "failed before")
-    s.add_argument("--force", action="store_true", help="start the sweep afresh")
+    s.add_argument("--force", action="store_true", help="start the sweep afresh "
+                   "(deletes only what an earlier sweep wrote there)")
 
     rp = add("report", "write the self-contained HTML report of a run directory", cmd_report)
     rp.add_argument("run_dir", help="run directory")

@@ -135,6 +135,10 @@ def draw_members(dists, members: int, seed: int = 0) -> pd.DataFrame:
     if not isinstance(members, int) or members < 2:
         raise InputError("--members", members, "must be an integer >= 2 (a range needs "
                          "several members)", "e.g. --members 8")
+    if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool) \
+            or not 0 <= seed <= 2 ** 32 - 1:
+        raise InputError("--seed", seed, "must be an integer in [0, 4294967295]",
+                         "e.g. --seed 0")
     dists = list(dists)
     u = qmc.LatinHypercube(d=len(dists), seed=seed).random(members)
     df = pd.DataFrame({d.key: np.round(d.ppf(u[:, j]), 4) for j, d in enumerate(dists)})

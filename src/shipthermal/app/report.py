@@ -28,7 +28,11 @@ from ..errors import InputError
 from .html_table import html_table
 from .rundir import MANIFEST, MARKER, atomic_write_text
 
-__all__ = ["write_report", "build_report"]
+__all__ = ["write_report", "build_report", "is_report_file", "GENERATOR"]
+
+#: The tag by which a report of this tool is recognised (``report --output`` writes over
+#: nothing else)
+GENERATOR = '<meta name="generator" content="shipthermal report">'
 
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Helvetica,Arial,sans-serif;margin:0;
@@ -397,7 +401,7 @@ def build_report(run_dir, finishing: bool = False) -> str:
         sweep.append(html_table(table, "{:.3f}"))
         section("sweep", "Sweep", "".join(sweep))
     title = f"shipthermal run {run.resolve().name}"
-    head = (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">'
+    head = (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">{GENERATOR}'
             f'<meta name="viewport" content="width=device-width, initial-scale=1">'
             f"<title>{html.escape(title)}</title><style>{_CSS}</style></head><body><main>"
             f"<h1>{html.escape(title)}</h1><p>Status: <span class=\"{cls}\">"
@@ -407,6 +411,18 @@ def build_report(run_dir, finishing: bool = False) -> str:
     has_slider = 'id="day-slider"' in "".join(body)
     script = f"<script>{report_day.SCRIPT}</script>" if has_slider else ""
     return head + "".join(body) + f"</main>{script}</body></html>\n"
+
+
+def is_report_file(path) -> bool:
+    """Whether ``path`` is a report this tool wrote (its generator tag, or the title that
+    earlier versions began with): the only kind of file ``report --output`` writes over."""
+    try:
+        with open(path, "rb") as fh:
+            start = fh.read(4096)
+    except OSError:
+        return False
+    return (start.startswith(b"<!DOCTYPE html>")
+            and (GENERATOR.encode() in start or b"<title>shipthermal run " in start))
 
 
 def write_report(run_dir, path=None, finishing: bool = False) -> Path:

@@ -46,6 +46,7 @@ and CPU seconds, retries and worker.
 
 from __future__ import annotations
 
+import copy
 import hashlib
 import itertools
 import json
@@ -65,7 +66,7 @@ from ..errors import InputError
 from ..units import HOUR
 
 __all__ = ["SweepSpec", "SweepCase", "load_sweep", "run_case", "run_sweep", "SweepResult",
-           "plot_table", "default_workers", "CASE_THREADS"]
+           "plot_table", "default_workers", "CASE_THREADS", "sweep_inputs"]
 
 STAGES = ("thermal", "imaging")
 _TOP_KEYS = ("name", "description", "base", "stages", "set", "axes")
@@ -222,7 +223,7 @@ def load_sweep(path) -> SweepSpec:
         raise InputError("sweep.axes", f"{n} cases", "must give at most 10000 cases")
     cases, problems = [], []
     for index, combo in enumerate(itertools.product(*axes.values())):
-        case_raw = json.loads(json.dumps(base_raw))
+        case_raw = copy.deepcopy(base_raw)      # TOML dates and times stay as they are
         changes: dict = {}
         for k, v in fixed.items():
             _set_dotted(case_raw, k, v, "sweep.set")
@@ -267,6 +268,26 @@ def load_sweep(path) -> SweepSpec:
 _BACKGROUNDS: dict = {}
 """Per-process cache of port backgrounds (a worker builds each port once; it depends only
 on the season, date, location and [background], and costs seconds)."""
+
+
+def sweep_inputs(spec: SweepSpec) -> list:
+    """The files a sweep reads: the sweep file, its base scenario and every file its cases'
+    scenarios name (the sweep folder may hold none of them)."""
+    from .rundir import named_files
+    from .scenario import SEASONS
+
+    out = []
+    src = Path(spec.source)
+    if src.is_file():
+        out.append(str(src))
+    if spec.base not in SEASONS:
+        bp = Path(os.path.expanduser(spec.base))
+        bp = bp if bp.is_absolute() else src.parent / bp
+        if bp.is_file():
+            out.append(str(bp))
+    for case in spec.cases:
+        named_files(tomllib.loads(case.toml), out)
+    return sorted(set(out))
 
 
 def _background_key(sc) -> str:
@@ -653,6 +674,8 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
     """
     say = log or (lambda m: None)
     out = Path(out_dir)
+    if run is not None:
+        run.claim("cases", "table.csv", "table.png")
     cases_dir = out / "cases"
     cases_dir.mkdir(parents=True, exist_ok=True)
     t0 = _time.perf_counter()
