@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 
 from imaging.background.physical import (ALBEDO_SAMPLES, MAX_SCENE_DAYS, Observation,
-                                         _fit_albedo, _scene_seconds, broadband_albedo,
+                                         _fit_position, _scene_seconds, broadband_albedo,
                                          ground_from_synthetic, orientation_bins)
 from imaging.background.synthetic import synthetic_surface, write_synthetic_port
 from shipthermal.errors import InputError
@@ -60,7 +60,7 @@ def test_albedo_fit_inverts_a_linear_response_exactly():
     grid = np.tile(np.linspace(0.05, 0.35, k), (4, 1))
     t_ov = 320.0 - 60.0 * grid                                      # 317 K … 299 K
     lst = np.array([310.0, 317.0, 325.0, 290.0])
-    pos, res = _fit_albedo(t_ov, lst, grid)
+    pos, res = _fit_position(t_ov, lst)
     albedo = 0.05 + pos / (k - 1) * 0.30
     np.testing.assert_allclose(albedo[:2], (320.0 - lst[:2]) / 60.0, atol=1e-12)
     np.testing.assert_allclose(res, [0.0, 0.0, 325.0 - 317.0, 290.0 - 299.0], atol=1e-12)

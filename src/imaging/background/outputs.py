@@ -270,7 +270,8 @@ def write_physical_outputs(bg, out_dir) -> dict:
     Files: ``background_K.tif`` (float32 K, 24 bands: the local hours of the first day, each
     band described with its date, time and zone), ``class_map.tif``/``.png``, ``albedo.tif``
     (as used; fitted to the scene when anchored), ``elevation_m.tif``, ``slope_deg.tif``,
-    ``aspect_deg.tif``, ``residual_K.tif`` and ``fit_by_class.csv`` (anchored),
+    ``aspect_deg.tif``, ``residual_K.tif``, ``surface_resistance_s_m.tif`` (classes fitted
+    on their wetness) and ``fit_by_class.csv`` (anchored),
     ``sea.csv`` (hourly: the weather's bulk sea, its skin, the median water pixel),
     ``columns.csv`` (the solved columns), ``background_hours.png``, ``summary.json``.
     Every title and description names what the background is (a synthetic port or the
@@ -312,6 +313,16 @@ def write_physical_outputs(bg, out_dir) -> dict:
                                                       f"[K] ({gr.observation.source})"])
         out["fit"] = _csv(pd.DataFrame([f.__dict__ for f in bg.fits]), p("fit_by_class.csv"),
                           index=False)
+        wet = [f.name for f in bg.fits if f.parameter == "surface_resistance"]
+        if wet and bg.fitted is not None:
+            codes = [c for c, n in CLASS_NAMES.items() if n in wet]
+            rs = np.full(bg.class_map.size, np.nan, np.float32)
+            sel = np.isin(bg.class_map.ravel()[bg.land], codes)
+            rs[bg.land[sel]] = bg.fitted[sel]
+            out["surface_resistance"] = write_geotiff(
+                p("surface_resistance_s_m.tif"), rs.reshape(g.shape), g, nodata=nan,
+                descriptions=[f"surface resistance r_s [s m-1] fitted to the scene's LST "
+                              f"({', '.join(wet)}; inf = dry)"])
     hours = np.arange(0.0, 24.0)
     water = bg.class_map.ravel() == 1
     sea = pd.DataFrame({

@@ -41,12 +41,14 @@ says so.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time as _time
 from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
+from numba import njit, prange
 from scipy.ndimage import gaussian_filter
 
 from shipthermal.errors import InputError, require
@@ -62,7 +64,7 @@ from .terrain import slope_aspect
 
 __all__ = ["GroundCover", "PhysicalBackground", "build_physical_background",
            "ground_from_synthetic", "ground_from_overpass", "broadband_albedo",
-           "orientation_bins", "ALBEDO_SAMPLES", "SLOPE_EDGES_DEG", "RESIDUAL_MODES",
+           "orientation_bins", "ALBEDO_SAMPLES", "CONDUCTANCE_SAMPLES", "SLOPE_EDGES_DEG", "RESIDUAL_MODES",
            "MAX_SCENE_DAYS", "COLUMN_STEP_S"]
 
 WATER = 1
@@ -73,7 +75,21 @@ of 45 deg per bin. ASSUMPTION: the bins' spread of direct-beam incidence is meas
 tests (orientation-binning error)."""
 
 ALBEDO_SAMPLES = 5
-"""Albedos each (class, orientation) group is solved at, evenly spanning the class's range."""
+"""Albedos a class fitted on its albedo is solved at, evenly spanning its range."""
+
+ALBEDO_SAMPLES_WET = 3
+CONDUCTANCE_SAMPLES = 5
+"""A class fitted on its wetness: 3 albedos spanning its range (the pixel's own albedo is
+interpolated between them) x 5 surface conductances ``1/r_s`` evenly from its driest to its
+wettest."""
+
+DRY_RESISTANCE = 1.0e9
+"""Surface resistance of a dry surface in a class that may be wet [s m-1] (no evaporation)."""
+
+WATER_MISMATCH_K = 2.0
+"""A scene's median water this far from the weather's sea skin [K] is warned about:
+beyond the stated accuracy of Landsat's surface temperature (about 1.5 K) and a day's
+skin effects."""
 
 COLUMN_STEP_S = 300.0
 """Time step of the column solve [s] (the ship's default step)."""
@@ -310,13 +326,16 @@ def orientation_bins(slope_deg, aspect_deg):
 # ---------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class ClassFit:
-    """Anchoring of one class on the scene (albedos fitted to the LST at the overpass)."""
+    """Anchoring of one class on the scene: the fitted parameter's spread and what the fit
+    could not reach (the residual, LST minus the model at the overpass)."""
 
     name: str
     pixels: int
-    albedo_median: float
-    albedo_p05: float
-    albedo_p95: float
+    parameter: str
+    unit: str
+    median: float
+    p05: float
+    p95: float
     albedo_reflectance_median: float
     at_bound_fraction: float
     residual_median_K: float
@@ -340,10 +359,10 @@ class PhysicalBackground:
         Surface temperature of every solved column [K].
     land : ndarray int64
         Flat indices of the land pixels.
-    lower, upper : ndarray int32
-        The two columns each land pixel interpolates between.
-    weight : ndarray float32
-        Weight of ``upper`` [-].
+    corners : ndarray int32 (n_land, 4)
+        The four columns each land pixel interpolates between (albedo x wetness).
+    weights : ndarray float32 (n_land, 4)
+        Their bilinear weights [-].
     residual : ndarray float32
         Anchoring residual per land pixel [K] (zeros without a scene).
     residual_weight : ndarray (n_t,)
@@ -358,6 +377,9 @@ class PhysicalBackground:
         The weather's bulk sea temperature [K].
     albedo : ndarray float32 (rows, cols)
         Albedo of every land pixel as used (fitted with a scene) [-]; NaN on water.
+    fitted : ndarray float32 (n_land,)
+        The anchored parameter of every land pixel (albedo [-] or surface resistance
+        [s m-1], by class: :attr:`fits`); NaN without a scene.
     fits : list of ClassFit
     utc_offset_hours : float
     start : pandas.Timestamp
@@ -372,9 +394,8 @@ class PhysicalBackground:
     period_s: float | None
     column_temperature: np.ndarray
     land: np.ndarray
-    lower: np.ndarray
-    upper: np.ndarray
-    weight: np.ndarray
+    corners: np.ndarray
+    weights: np.ndarray
     residual: np.ndarray
     residual_weight: np.ndarray
     water: np.ndarray
@@ -387,6 +408,7 @@ class PhysicalBackground:
     start: pd.Timestamp
     residual_mode: str = "constant"
     column_info: pd.DataFrame | None = field(default=None, repr=False)
+    fitted: np.ndarray | None = field(default=None, repr=False)
     label: str = ""
     notes: list = field(default_factory=list)
     timings: dict = field(default_factory=dict)
@@ -429,8 +451,7 @@ class PhysicalBackground:
                + w * self.column_temperature[k1].astype(float))
         rw = (1.0 - w) * self.residual_weight[k0] + w * self.residual_weight[k1]
         out = np.empty(self.class_map.size, np.float32)
-        out[self.land] = ((1.0 - self.weight) * col[self.lower] + self.weight * col[self.upper]
-                          + rw * self.residual)
+        _land_frame(col, self.corners, self.weights, self.residual, float(rw), self.land, out)
         tw = (1.0 - w) * self.water_temperature[k0] + w * self.water_temperature[k1]
         out[self.water] = tw + self.water_anomaly
         return out.reshape(self.class_map.shape)
@@ -476,6 +497,22 @@ class PhysicalBackground:
         return out
 
 
+@njit(parallel=True, cache=True)
+def _land_frame(col, corners, weights, residual, rw, land, out):
+    """``out[land[i]] = Σ_k weights[i, k] col[corners[i, k]] + rw residual[i]`` (one pass over
+    the land pixels on the process's threads; :func:`_land_frame_reference` is the plain
+    form the tests compare with)."""
+    for i in prange(land.size):
+        v = 0.0
+        for k in range(4):
+            v += weights[i, k] * col[corners[i, k]]
+        out[land[i]] = v + rw * residual[i]
+
+
+def _land_frame_reference(col, corners, weights, residual, rw, land, out):
+    out[land] = (weights * col[corners]).sum(axis=1) + rw * residual
+
+
 # ---------------------------------------------------------------------------------------
 # Building it
 # ---------------------------------------------------------------------------------------
@@ -502,29 +539,28 @@ def _scene_seconds(obs: Observation, start: pd.Timestamp, end_s: float, periodic
     return clock, note
 
 
-def _fit_albedo(t_ov, lst, grid_albedo):
-    """Albedo in the sampled range that gives ``lst`` (piecewise-linear inverse of the
-    surface temperature at the overpass over the albedo samples).
+def _fit_position(t_ov, lst):
+    """Where along a pixel's samples the model gives ``lst`` (piecewise-linear inverse of the
+    surface temperature at the overpass over the samples of the fitted parameter).
 
     Parameters
     ----------
     t_ov : ndarray (n, K)
-        Modelled temperature at the overpass at each albedo sample [K].
+        Modelled temperature at the overpass at each sample [K] (falling with albedo and
+        with wetness).
     lst : ndarray (n,)
-    grid_albedo : ndarray (n, K)
-        The albedo samples of each pixel's class [-], increasing.
 
     Returns
     -------
     position : ndarray (n,)
-        Fractional sample index in [0, K - 1] of the fitted albedo.
+        Fractional sample index in [0, K - 1].
     residual : ndarray (n,)
-        ``lst`` minus the model at the fitted albedo [K] (non-zero only at the bounds).
+        ``lst`` minus the model at that position [K] (non-zero only beyond the samples).
     """
     n, k = t_ov.shape
     pos = np.full(n, np.nan)
-    # temperature falls with albedo (more reflected sun); a night scene may be flat: the
-    # bracketing segment nearest to the target is taken where none brackets it
+    # a night scene may be flat in the parameter: the nearest sample is taken where no
+    # segment brackets the target
     for j in range(k - 1):
         a, b = t_ov[:, j], t_ov[:, j + 1]
         lo, hi = np.minimum(a, b), np.maximum(a, b)
@@ -533,13 +569,50 @@ def _fit_albedo(t_ov, lst, grid_albedo):
         pos = np.where(inside, j + np.clip((lst - a) / d, 0.0, 1.0), pos)
     rest = np.isnan(pos)
     if rest.any():
-        nearest = np.argmin(np.abs(t_ov[rest] - lst[rest, None]), axis=1)
-        pos[rest] = nearest
+        pos[rest] = np.argmin(np.abs(t_ov[rest] - lst[rest, None]), axis=1)
     j0 = np.clip(np.floor(pos).astype(int), 0, k - 2)
     w = pos - j0
     rows = np.arange(n)
     model = (1.0 - w) * t_ov[rows, j0] + w * t_ov[rows, j0 + 1]
     return pos, lst - model
+
+
+def _class_grid(cls):
+    """The anchoring design of a class: ``(fit, albedos, conductances, default conductance)``.
+
+    A class with a ``surface_resistance_range`` is fitted on its surface conductance
+    ``g = 1/r_s`` [m s-1] (its wetness; the albedo is the pixel's own); a class without is
+    fitted on its albedo within ``albedo_range``. A class without latent heat by default but
+    with a range (paving that can be wet) starts dry (g = 0)."""
+    if cls.surface_resistance_range is not None:
+        r_lo, r_hi = cls.surface_resistance_range
+        wet = 1.0 / r_lo
+        dry = 1.0 / r_hi if cls.latent == "penman_monteith" and np.isfinite(r_hi) else 0.0
+        default = 1.0 / cls.surface_resistance if cls.latent == "penman_monteith" else 0.0
+        return ("surface_resistance", np.linspace(*cls.albedo_range, ALBEDO_SAMPLES_WET),
+                np.linspace(dry, wet, CONDUCTANCE_SAMPLES), default)
+    return ("albedo", np.linspace(*cls.albedo_range, ALBEDO_SAMPLES), np.array([-1.0]), -1.0)
+
+
+def _positions(samples, values):
+    """Fractional index of ``values`` in increasing ``samples`` (clipped to the ends)."""
+    if samples.size == 1:
+        return np.zeros(np.shape(values))
+    return np.interp(values, samples, np.arange(samples.size, dtype=float))
+
+
+def _corners(pos_a, pos_g, n_a, n_g, base):
+    """The 4 columns and bilinear weights of pixels at fractional positions."""
+    i0 = np.clip(np.floor(pos_a).astype(np.int64), 0, max(n_a - 2, 0))
+    wa = np.clip(pos_a - i0, 0.0, 1.0) if n_a > 1 else np.zeros_like(pos_a)
+    i1 = np.minimum(i0 + 1, n_a - 1)
+    j0 = np.clip(np.floor(pos_g).astype(np.int64), 0, max(n_g - 2, 0))
+    wg = np.clip(pos_g - j0, 0.0, 1.0) if n_g > 1 else np.zeros_like(pos_g)
+    j1 = np.minimum(j0 + 1, n_g - 1)
+    idx = np.stack([base + i0 * n_g + j0, base + i0 * n_g + j1, base + i1 * n_g + j0,
+                    base + i1 * n_g + j1], axis=1)
+    w = np.stack([(1 - wa) * (1 - wg), (1 - wa) * wg, wa * (1 - wg), wa * wg], axis=1)
+    return idx, w
 
 
 def build_physical_background(ground: GroundCover, environment, *, end_s: float | None = None,
@@ -565,7 +638,7 @@ def build_physical_background(ground: GroundCover, environment, *, end_s: float 
     step_s : float
         Column time step [s].
     progress : bool
-        Progress bar of the column solve.
+        Unused (the column solve takes about a second).
 
     Returns
     -------
@@ -597,53 +670,58 @@ def build_physical_background(ground: GroundCover, environment, *, end_s: float 
             raise InputError(f"background.classes.{name}", None, "needs its surface properties "
                              f"(class {code} is in the scene)", f"Add [background.classes.{name}]"
                              f" (built-in classes: {', '.join(sorted(table))})")
+    design = {c: _class_grid(table[n]) for c, n in names.items()}
 
-    # groups of (class, orientation) over the land pixels, each solved at K albedos
+    # groups of (class, orientation), each solved on its class's (albedo x conductance) grid
+    t1 = _time.perf_counter()
     obin, b_slope, b_aspect = orientation_bins(ground.slope_deg, ground.aspect_deg)
     key = flat[land].astype(np.int64) * 1000 + obin.ravel()[land]
     groups, g_of_pixel = np.unique(key, return_inverse=True)
     g_class = (groups // 1000).astype(int)
     g_bin = (groups % 1000).astype(int)
-    k = ALBEDO_SAMPLES
-    samples = np.array([np.linspace(*table[names[c]].albedo_range, k) for c in g_class])
-    t1 = _time.perf_counter()
+    sizes = np.array([design[c][1].size * design[c][2].size for c in g_class])
+    base = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    col_class, col_albedo, col_g, col_bin = [], [], [], []
+    for g, c in enumerate(g_class):
+        _, alb, cond, _ = design[c]
+        aa, gg = np.meshgrid(alb, cond, indexing="ij")
+        col_albedo.append(aa.ravel())
+        col_g.append(gg.ravel())
+        col_bin.append(np.full(aa.size, g_bin[g]))
+        col_class += [table[names[c]]] * aa.size
+    col_albedo, col_g, col_bin = (np.concatenate(x) for x in (col_albedo, col_g, col_bin))
     poa = _plane_of_array(state, b_slope, b_aspect, np.unique(g_bin))
     svf = sky_view_factor(b_slope)
-    col_class = [table[names[c]] for c in np.repeat(g_class, k)]
-    col_albedo = samples.ravel()
-    col_bin = np.repeat(g_bin, k)
     sw = (1.0 - col_albedo)[None, :] * poa[:, col_bin]
     lw = longwave_incoming(np.asarray(state.longwave_down)[:, None], svf[col_bin],
                            np.asarray(state.temp_air)[:, None])
+    resistance = np.where(col_g > 0.0, 1.0 / np.where(col_g > 0.0, col_g, 1.0),
+                          np.where(col_g == 0.0, DRY_RESISTANCE, -1.0))
     timings["forcing"] = _time.perf_counter() - t1
     t1 = _time.perf_counter()
-    temp, solve = _column_temperatures(col_class, sw, lw, state, environment, times, periodic,
-                                       table)
+    temp, solve = _column_temperatures(col_class, resistance, sw, lw, state, environment,
+                                       times, periodic, table)
     timings["columns"] = _time.perf_counter() - t1
 
-    # each land pixel between two albedo samples of its group
+    # every land pixel: its albedo and wetness positions on its class's grid
+    t1 = _time.perf_counter()
     albedo_px = np.full(land.size, np.nan)
     if ground.albedo is not None:
         albedo_px = np.asarray(ground.albedo, dtype=float).ravel()[land]
-    lo_a, hi_a = samples[g_of_pixel, 0], samples[g_of_pixel, -1]
-    default = np.array([table[names[c]].albedo for c in g_class])[g_of_pixel]
-    albedo_px = np.where(np.isfinite(albedo_px), albedo_px, default)
+    pixel_class = flat[land]
+    default_a = np.array([table[names[int(c)]].albedo for c in pixel_class]) \
+        if land.size < 64 else np.vectorize(lambda c: table[names[int(c)]].albedo)(pixel_class)
+    albedo_px = np.where(np.isfinite(albedo_px), albedo_px, default_a)
     reflectance_albedo = albedo_px.copy()
-    notes = []
-    outside = (albedo_px < lo_a) | (albedo_px > hi_a)
-    if outside.any() and ground.observation is None:
-        notes.append(f"{int(outside.sum())} land pixels ({100 * outside.mean():.1f} %) have an "
-                     "albedo outside their class's range: clipped to it")
-    pos = (np.clip(albedo_px, lo_a, hi_a) - lo_a) / np.where(hi_a > lo_a, hi_a - lo_a, 1.0) * (k - 1)
-    res = np.zeros(land.size)
-    fits = []
     obs = ground.observation
+    notes = []
     utc_offset = environment.start.utcoffset().total_seconds() / HOUR
     rweight = np.ones(times.size)
-    water_anomaly = np.zeros(water.size, np.float32)
-    if ground.water_anomaly is not None:
-        water_anomaly = np.asarray(ground.water_anomaly, np.float32).ravel()[water]
-    skin = np.asarray(getattr(state, "temp_sea_skin", state.temp_sea), dtype=float)
+    idx = np.zeros((land.size, 4), np.int64)
+    wts = np.zeros((land.size, 4))
+    res = np.zeros(land.size)
+    fitted = np.full(land.size, np.nan)
+    fits = []
     if obs is not None:
         s_ov, note = _scene_seconds(obs, environment.start, span_end, periodic)
         if note:
@@ -651,65 +729,106 @@ def build_physical_background(ground: GroundCover, environment, *, end_s: float 
         k0 = int(np.clip(np.searchsorted(times, s_ov, side="right") - 1, 0, times.size - 2))
         wt = float(np.clip((s_ov - times[k0]) / (times[k0 + 1] - times[k0]), 0.0, 1.0))
         t_col = (1.0 - wt) * temp[k0] + wt * temp[k0 + 1]
-        idx = g_of_pixel[:, None] * k + np.arange(k)[None, :]
-        lst = np.asarray(obs.lst, dtype=float).ravel()[land]
-        pos, res = _fit_albedo(t_col[idx], lst, samples[g_of_pixel])
-        j0 = np.clip(np.floor(pos).astype(int), 0, k - 2)
-        albedo_px = samples[g_of_pixel, j0] + (pos - j0) * (samples[g_of_pixel, j0 + 1]
-                                                          - samples[g_of_pixel, j0])
+        lst_all = np.asarray(obs.lst, dtype=float).ravel()
         ghi_ov = (1.0 - wt) * state.ghi[k0] + wt * state.ghi[k0 + 1]
         if residual == "solar" and ghi_ov > 50.0:
             rweight = state.ghi / ghi_ov
         elif residual == "none":
             rweight = np.zeros(times.size)
-        for code, name in names.items():
-            m = flat[land] == code
-            if not m.any():
-                continue
-            a, r, a_lo, a_hi = albedo_px[m], res[m], lo_a[m], hi_a[m]
-            bound = (np.isclose(a, a_lo) | np.isclose(a, a_hi)) & (np.abs(r) > 1e-6)
+    outside = 0
+    for code, name in names.items():
+        m = pixel_class == code
+        fit, alb, cond, g_default = design[code]
+        n_a, n_g = alb.size, cond.size
+        a_p = albedo_px[m]
+        outside += int(((a_p < alb[0]) | (a_p > alb[-1])).sum())
+        pos_a = _positions(alb, a_p)
+        pos_g = np.full(a_p.size, float(_positions(cond, g_default)))
+        b = base[g_of_pixel[m]]
+        r = np.zeros(a_p.size)
+        if obs is not None:
+            lst = lst_all[land[m]]
+            if fit == "albedo":
+                prof = t_col[b[:, None] + np.arange(n_a)[None, :] * n_g]
+                pos_a, r = _fit_position(prof, lst)
+                fitted[m] = np.interp(pos_a, np.arange(n_a), alb)
+            else:
+                i0 = np.clip(np.floor(pos_a).astype(np.int64), 0, n_a - 2)
+                wa = (pos_a - i0)[:, None]
+                j = np.arange(n_g)[None, :]
+                prof = ((1 - wa) * t_col[b[:, None] + i0[:, None] * n_g + j]
+                        + wa * t_col[b[:, None] + (i0[:, None] + 1) * n_g + j])
+                pos_g, r = _fit_position(prof, lst)
+                gs = np.interp(pos_g, np.arange(n_g), cond)
+                fitted[m] = np.where(gs > 0.0, 1.0 / np.where(gs > 0.0, gs, 1.0), np.inf)
+            at_bound = (((pos_a <= 0.0) | (pos_a >= n_a - 1)) if fit == "albedo" else
+                        ((pos_g <= 0.0) | (pos_g >= n_g - 1))) & (np.abs(r) > 1e-6)
+            v = fitted[m]
+            fin = v[np.isfinite(v)]
             fits.append(ClassFit(
-                name=name, pixels=int(m.sum()), albedo_median=float(np.median(a)),
-                albedo_p05=float(np.percentile(a, 5)), albedo_p95=float(np.percentile(a, 95)),
-                albedo_reflectance_median=float(np.nanmedian(reflectance_albedo[m])),
-                at_bound_fraction=float(bound.mean()), residual_median_K=float(np.median(r)),
-                residual_p05_K=float(np.percentile(r, 5)),
+                name=name, pixels=int(m.sum()), parameter=fit,
+                unit="-" if fit == "albedo" else "s m-1",
+                median=float(np.median(v)),
+                p05=float(np.percentile(fin, 5)) if fin.size else float("inf"),
+                p95=float(np.percentile(v, 95)),
+                albedo_reflectance_median=float(np.median(reflectance_albedo[m])),
+                at_bound_fraction=float(at_bound.mean()),
+                residual_median_K=float(np.median(r)), residual_p05_K=float(np.percentile(r, 5)),
                 residual_p95_K=float(np.percentile(r, 95)),
                 residual_rms_K=float(np.sqrt(np.mean(r ** 2)))))
-        if water.size:
-            lst_w = np.asarray(obs.lst, dtype=float).ravel()[water]
-            median_w = float(np.nanmedian(lst_w))
-            water_anomaly = np.nan_to_num(lst_w - median_w).astype(np.float32)
-            model_w = (1.0 - wt) * skin[k0] + wt * skin[k0 + 1]
-            diff = median_w - model_w
-            notes.append(f"scene water median {median_w:.2f} K against the weather's sea skin "
-                         f"{model_w:.2f} K at the overpass ({diff:+.2f} K); the water keeps its "
-                         "observed pattern around the weather's sea")
-            if abs(diff) > 2.0:
-                notes.append(f"WARNING: the scene's water is {diff:+.1f} K from the weather's "
-                             "sea temperature: check weather.temp_sea / the weather file's SST")
-    notes.append(f"{temp.shape[1]} columns ({len(groups)} class x orientation groups x "
-                 f"{k} albedos), spin-up {solve.spinup_days} days (last day-to-day change "
+            f = fits[-1]
+            if f.at_bound_fraction > 0.5 and abs(f.residual_median_K) > WATER_MISMATCH_K:
+                notes.append(
+                    f"WARNING: {100 * f.at_bound_fraction:.0f} % of the {name} pixels are "
+                    f"{'colder' if f.residual_median_K < 0 else 'warmer'} at the overpass than "
+                    f"the model reaches at the end of its {fit.replace('_', ' ')} range (median "
+                    f"residual {f.residual_median_K:+.1f} K): the weather does not look like "
+                    "the scene's day (air temperature, wind, cloud), or the class table does "
+                    "not fit this surface; the residual is carried as background.residual "
+                    f"= '{residual}' says")
+        res[m] = r
+        idx[m], wts[m] = _corners(pos_a, pos_g, n_a, n_g, b)
+        if fit == "albedo":
+            albedo_px[m] = np.interp(pos_a, np.arange(n_a), alb)
+    if outside and obs is None:
+        notes.append(f"{outside} land pixels ({100 * outside / max(land.size, 1):.1f} %) have "
+                     "an albedo outside their class's range: clipped to it")
+    water_anomaly = np.zeros(water.size, np.float32)
+    if ground.water_anomaly is not None:
+        water_anomaly = np.asarray(ground.water_anomaly, np.float32).ravel()[water]
+    skin = np.asarray(getattr(state, "temp_sea_skin", state.temp_sea), dtype=float)
+    if obs is not None and water.size:
+        lst_w = lst_all[water]
+        median_w = float(np.nanmedian(lst_w))
+        water_anomaly = np.nan_to_num(lst_w - median_w).astype(np.float32)
+        model_w = (1.0 - wt) * skin[k0] + wt * skin[k0 + 1]
+        diff = median_w - model_w
+        notes.append(f"scene water median {median_w:.2f} K against the weather's sea skin "
+                     f"{model_w:.2f} K at the overpass ({diff:+.2f} K); the water keeps its "
+                     "observed pattern around the weather's sea")
+        if abs(diff) > WATER_MISMATCH_K:
+            notes.append(f"WARNING: the scene's water is {diff:+.1f} K from the weather's sea "
+                         "temperature: check weather.temp_sea or the weather file's SST")
+    notes.append(f"{temp.shape[1]} columns ({len(groups)} class x orientation groups), spin-up "
+                 f"{solve.spinup_days} days (last day-to-day change "
                  f"{float(np.max(solve.spinup_change)):.3g} K)")
-    j0 = np.clip(np.floor(pos).astype(int), 0, k - 2)
-    w = pos - j0
-    lower = (g_of_pixel * k + j0).astype(np.int32)
     albedo_map = np.full(flat.size, np.nan, np.float32)
     albedo_map[land] = albedo_px
-    info = pd.DataFrame({"class": [names[c] for c in np.repeat(g_class, k)],
+    info = pd.DataFrame({"class": [c.name for c in col_class],
                          "slope_deg": b_slope[col_bin], "aspect_deg": b_aspect[col_bin],
-                         "albedo": col_albedo})
+                         "albedo": col_albedo, "surface_resistance_s_m": resistance})
+    timings["pixels"] = _time.perf_counter() - t1
     timings["total"] = _time.perf_counter() - t0
     return PhysicalBackground(
         ground=ground, times_s=times, period_s=DAY if periodic else None,
-        column_temperature=temp.astype(np.float32), land=land, lower=lower, upper=lower + 1,
-        weight=w.astype(np.float32), residual=res.astype(np.float32),
+        column_temperature=temp.astype(np.float32), land=land, corners=idx.astype(np.int32),
+        weights=wts.astype(np.float32), residual=res.astype(np.float32),
         residual_weight=np.asarray(rweight, dtype=float), water=water,
         water_temperature=skin, water_anomaly=water_anomaly,
         sea_bulk=np.asarray(state.temp_sea, dtype=float),
         albedo=albedo_map.reshape(cm.shape), fits=fits, utc_offset_hours=utc_offset,
         start=environment.start, residual_mode=residual, column_info=info,
-        label=ground.label, notes=notes, timings=timings)
+        fitted=fitted.astype(np.float32), label=ground.label, notes=notes, timings=timings)
 
 
 def _plane_of_array(state, slope, aspect, used_bins):
@@ -730,7 +849,8 @@ GROUND_ALBEDO = 0.2
 """Albedo of the terrain a tilted pixel sees (pvlib's default, a generic ground). ASSUMPTION."""
 
 
-def _column_temperatures(col_class, sw, lw, state, environment, times, periodic, classes):
+def _column_temperatures(col_class, resistance, sw, lw, state, environment, times, periodic,
+                         classes):
     """Surface temperature of every column [K], (n_t, n_columns), and the solve's report
     (:func:`.surface_energy.solve_surface_energy`).
 
@@ -738,7 +858,8 @@ def _column_temperatures(col_class, sw, lw, state, environment, times, periodic,
     temperature of the simulated span (ASSUMPTION: an unconditioned port warehouse; the deep
     ground of a periodic day in equilibrium with its air)."""
     bottom = float(np.mean(state.temp_air))
-    cols = build_columns(col_class, bottom, classes=classes)
+    cols = dataclasses.replace(build_columns(col_class, bottom, classes=classes),
+                               surface_resistance=np.asarray(resistance, dtype=float))
     pressure = 101325.0 * (1.0 - 2.25577e-5 * environment.altitude) ** 5.25588
     forcing = SurfaceForcing(time_step=float(times[1] - times[0]), shortwave_absorbed=sw,
                              longwave_down=lw, temp_air=np.asarray(state.temp_air, float),
