@@ -69,10 +69,13 @@ __all__ = ["GroundCover", "PhysicalBackground", "build_physical_background",
 
 WATER = 1
 
-SLOPE_EDGES_DEG = (0.0, 3.0, 8.0, 15.0, 25.0, 35.0, 90.0)
-"""Slope bins [deg]: below 3 deg a pixel is solved as level ground; above, 8 aspect sectors
-of 45 deg per bin. ASSUMPTION: the bins' spread of direct-beam incidence is measured in the
-tests (orientation-binning error)."""
+SLOPE_EDGES_DEG = (0.0, 2.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 50.0, 90.0)
+ASPECT_SECTORS = 24
+"""Orientation groups: below 2 deg of slope a pixel is solved as level ground; above, the
+slope bins [deg] times 24 aspect sectors of 15 deg. Solving a pixel at its group's mean
+orientation instead of its own (measured in the tests, slopes 0-40 deg at 50.9 N in July):
+0.11 K mean, 1.3 K at worst (steep slopes at peak sun); with 8 sectors and 6 slope bins
+it was 0.33 K and 3.1 K."""
 
 ALBEDO_SAMPLES = 5
 """Albedos a class fitted on its albedo is solved at, evenly spanning its range."""
@@ -305,8 +308,9 @@ def orientation_bins(slope_deg, aspect_deg):
     a = np.mod(np.nan_to_num(np.asarray(aspect_deg, dtype=float)), 360.0)   # level: no aspect
     sb = np.clip(np.searchsorted(SLOPE_EDGES_DEG, s, side="right") - 1, 0,
                  len(SLOPE_EDGES_DEG) - 2)
-    sector = np.floor(np.mod(a + 22.5, 360.0) / 45.0).astype(int) % 8
-    raw = np.where(sb == 0, 0, 1 + (sb - 1) * 8 + sector)
+    width = 360.0 / ASPECT_SECTORS
+    sector = np.floor(np.mod(a + 0.5 * width, 360.0) / width).astype(int) % ASPECT_SECTORS
+    raw = np.where(sb == 0, 0, 1 + (sb - 1) * ASPECT_SECTORS + sector)
     used, index = np.unique(raw, return_inverse=True)
     index = index.reshape(s.shape)
     n = used.size
