@@ -6,17 +6,18 @@
 * the warm layer of Zeng & Beljaars (2005): its exact limits (no sun, no warm layer; decay at
   night; the closed-form equilibrium; a spun-up day repeats), its time-step convergence, the
   diurnal amplitudes observed at sea, and a loose cross-check against the COARE warm layer
-  (Fairall et al. 1996b, a different model by design).
+  (Fairall et al. 1996b, a different model by design);
+* the :class:`~shipthermal.environment.Environment` wiring and the scenario key.
 """
 
 import numpy as np
 import pytest
 
-from shipthermal.environment import sea_skin as sk
-from shipthermal.units import DAY, HOUR, ZERO_CELSIUS
+from shipthermal.environment import Environment, Weather, climate_day, sea, sea_skin as sk
+from shipthermal.units import DAY, HOUR, SIGMA, ZERO_CELSIUS
 
 LAT = 0.0                      # equatorial test site (the calm sunny tropical day)
-STEP = 600.0                   # a 10 min grid [s]
+STEP = 600.0                   # the Environment's grid step [s]
 T_BULK = 302.15                # 29 degC, a warm-pool SST
 
 
@@ -275,7 +276,11 @@ def test_warm_layer_step_is_the_exact_exponential():
 
 @pytest.mark.parametrize("wind", [1.0, 4.0, 8.0])
 def test_time_step_convergence(wind):
-    """The warm layer on a 10 min grid against a 1 min grid: < 2e-3 K; hourly: < 0.05 K."""
+    """The warm layer on the Environment's 10 min grid against a 1 min grid: < 2e-3 K
+    (the value :data:`SEA_SKIN_STEP` is chosen for); hourly: < 0.05 K."""
+    from shipthermal.environment import SEA_SKIN_STEP
+
+    assert SEA_SKIN_STEP == STEP
     fine = sk.sea_skin_temperature(**_tropical_day(wind, step=60.0), tolerance=1e-6)
     for step, tol in ((STEP, 2e-3), (HOUR, 0.05)):
         r = sk.sea_skin_temperature(**_tropical_day(wind, step=step), tolerance=1e-6)
@@ -393,3 +398,103 @@ def test_loose_cross_check_against_the_coare_warm_layer(sunny_days):
     winds = sorted(f96)
     assert all(f96[a] > f96[b] for a, b in zip(winds, winds[1:]))
     assert zb[10.0] <= 0.3 and f96[10.0] <= 0.3
+
+
+# ---------------------------------------------------------------------------------------
+# Environment and scenario
+# ---------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def summer_env():
+    return Environment.from_climate_day(climate_day("summer"), ship_heading=90.0)
+
+
+def test_environment_skin_is_bulk_plus_warm_minus_cool(summer_env):
+    t = np.array([0.0, 1234.5, 9 * HOUR + 17.0, 13.6 * HOUR, 86399.0, 1.5 * DAY, 3 * DAY + 5.0])
+    st = summer_env.at(t)
+    np.testing.assert_array_equal(st.temp_sea_skin,
+                                  st.temp_sea + st.sea_warm_layer - st.sea_cool_skin)
+    assert np.all(st.sea_warm_layer >= 0.0) and np.all(st.sea_cool_skin > 0.0)
+    # the design day repeats: the skin one day later is the same
+    np.testing.assert_allclose(summer_env.at(t + DAY).temp_sea_skin, st.temp_sea_skin,
+                               rtol=0, atol=1e-12)
+    # interpolated from the cached 10-min table, which is the integrated series itself
+    tab = summer_env.sea_skin_series()
+    on_grid = summer_env.at(tab.seconds)
+    np.testing.assert_allclose(on_grid.sea_warm_layer, tab.delta_warm, atol=1e-12)
+    np.testing.assert_allclose(on_grid.sea_cool_skin, tab.delta_cool, atol=1e-12)
+    assert summer_env.sea_skin_series() is tab          # computed once
+    # with the warm layer the built-in day's SST is its daily mean (no prescribed cycle)
+    np.testing.assert_array_equal(st.temp_sea, climate_day("summer").temp_sea_mean)
+
+
+def test_sea_longwave_up_is_emitted_by_the_skin(summer_env):
+    st = summer_env.at(np.arange(0.0, DAY, HOUR))
+    eps = st.sea_emissivity
+    np.testing.assert_allclose(st.sea_longwave_up,
+                               eps * SIGMA * st.temp_sea_skin ** 4
+                               + (1 - eps) * st.longwave_down, rtol=1e-14)
+    bulk = sea.sea_longwave_up(st.temp_sea, st.longwave_down, eps)
+    assert np.max(np.abs(st.sea_longwave_up - bulk)) > 5.0   # the afternoon warm layer
+
+
+def test_switching_the_skin_off_gives_the_bulk_exactly():
+    day = climate_day("summer")
+    t = np.arange(0.0, DAY, HOUR)
+    for off in ("none", False):
+        st = Environment.from_climate_day(day, sea_skin=off).at(t)
+        np.testing.assert_array_equal(st.temp_sea_skin, st.temp_sea)
+        assert not st.sea_warm_layer.any() and not st.sea_cool_skin.any()
+        np.testing.assert_array_equal(st.sea_longwave_up,
+                                      sea.sea_longwave_up(st.temp_sea, st.longwave_down,
+                                                          st.sea_emissivity))
+        # and the design day keeps its prescribed SST cycle
+        np.testing.assert_allclose(st.temp_sea, day.temp_sea(t / HOUR), atol=1e-12)
+    with pytest.raises(Exception, match="sea_skin"):
+        Environment.from_climate_day(day, sea_skin="fairall")
+
+
+def test_record_weather_integrates_from_its_start():
+    """A two-day record: the warm layer starts at 0 at the first instant and the table
+    spans the record; its first day as a spin-up day (first_day) gets its own periodic
+    table."""
+    day = climate_day("summer")
+    one = day.weather(60, sst_cycle=False)
+    time = one.time.append(one.time + np.timedelta64(1, "D"))
+    rec = Weather(time=time, **{k: np.tile(getattr(one, k), 2) for k in
+                                ("temp_air", "relative_humidity", "wind_speed",
+                                 "wind_direction", "cloud_cover", "temp_sea")},
+                  periodic=False)
+    env = Environment(day.latitude, day.longitude, rec, altitude=day.altitude)
+    tab = env.sea_skin_series()
+    assert not tab.periodic and tab.seconds[0] == 0.0
+    assert tab.seconds[-1] == pytest.approx((time[-1] - time[0]).total_seconds())
+    assert tab.delta_warm[0] == 0.0
+    spin = env.first_day()
+    ptab = spin.sea_skin_series()
+    assert ptab.periodic and ptab is not tab
+    # the second day of the record has forgotten the zero start: it is the spun-up day,
+    # but under the sun of the next date (16 July: noon irradiance 0.3 % lower, the
+    # declination 0.3 deg further from the site's latitude), so to 1 % of the warm layer
+    h = tab.seconds / HOUR
+    sel = (h >= 24.0) & (h < 48.0)
+    np.testing.assert_allclose(tab.delta_warm[sel],
+                               np.interp(tab.seconds[sel] - DAY, ptab.seconds, ptab.delta_warm),
+                               atol=0.01 * ptab.delta_warm.max())
+    # and its first hour does not: the record starts without the night's residual layer
+    assert ptab.delta_warm[0] > 0.0 == tab.delta_warm[0]
+
+
+def test_scenario_key_switches_the_skin():
+    from shipthermal.app.scenario import default_scenario
+
+    sc = default_scenario("summer")
+    assert sc.weather.sea_skin == "zeng_beljaars"
+    assert sc.environment().sea_skin == "zeng_beljaars"
+    off = sc.updated({"weather.sea_skin": "none"})
+    env = off.environment()
+    st = env.at(np.arange(0.0, DAY, 3 * HOUR))
+    assert env.sea_skin == "none"
+    np.testing.assert_array_equal(st.temp_sea_skin, st.temp_sea)
+    # the built-in day: a prescribed SST cycle without the skin model, its mean with it
+    assert np.ptp(st.temp_sea) > 0.2
+    assert np.ptp(sc.environment().at(np.arange(0.0, DAY, 3 * HOUR)).temp_sea) == 0.0

@@ -199,6 +199,7 @@ CASES = {
     "weather.decomposition": ("epw", "dirint", {T}),
     "weather.linke_turbidity": ("builtin", 5.0, {T}),
     "weather.sea_emissivity": ("builtin", 0.95, {T}),
+    "weather.sea_skin": ("builtin", "none", {T}),          # the imaging: via the history
     "weather.wind_speed_offset": ("builtin", 2.0, {T, I}),
     "weather.temp_air_offset": ("builtin", 1.0, {T, I}),
     "weather.cloud_cover_offset": ("builtin", 0.2, {T, I}),
