@@ -76,8 +76,9 @@ class ShipThermalHistory:
     temp_air : (nt,) float array or None
         Air temperature at the same times [K] (kept for plots and checks).
     temp_sea : (nt,) float array or None
-        Sea surface temperature [K]; the ship's hull sees the sea with it. None: the
-        imaging stage uses the background water temperature.
+        Sea skin temperature [K] (the thermal run's ``temp_sea_skin``: bulk SST + warm layer
+        − cool skin); the ship's hull sees the sea with it. None: the imaging stage uses the
+        background water temperature.
     period_s : float or None
         Period [s] for times outside ``times_s`` (default one day: a spun-up diurnal run is
         periodic); None: times outside ``[times_s[0], times_s[-1]]`` are an error.

@@ -233,8 +233,8 @@ class DiurnalResult:
     results : Results
         The recorded day with ``times`` in seconds after local midnight [s].
     part_means : pandas.DataFrame
-        Area-mean outer-surface temperature per reporting part, plus ``temp_air`` and
-        ``temp_sea``, indexed by local hour [K].
+        Area-mean outer-surface temperature per reporting part, plus ``temp_air``,
+        ``temp_sea`` (bulk) and ``temp_sea_skin``, indexed by local hour [K].
     days : int
         Days simulated (spin-up included).
     day_changes : list of float
@@ -396,8 +396,10 @@ def plot_part_means(part_means: pd.DataFrame, path, title: str = "") -> Path:
     fig, ax = plt.subplots(figsize=(9, 5), dpi=110)
     styles = {"hull": ("#7a8590", "-"), "deck": ("#3c4247", "-"),
               "superstructure": ("#d9a441", "-"), "hull_wetted": ("#8b2d2d", ":"),
-              "temp_air": ("#2b7bba", "--"), "temp_sea": ("#1b9e77", "--")}
-    labels = {"temp_air": "air", "temp_sea": "sea surface", "hull": "hull (dry)",
+              "temp_air": ("#2b7bba", "--"), "temp_sea": ("#1b9e77", ":"),
+              "temp_sea_skin": ("#1b9e77", "--")}
+    labels = {"temp_air": "air", "temp_sea": "sea (bulk)", "temp_sea_skin": "sea skin",
+              "hull": "hull (dry)",
               "hull_wetted": "hull (wetted)"}
     for col in part_means.columns:
         colour, ls = styles.get(col, (None, "-"))
@@ -607,6 +609,7 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
     pm = means(rec)
     pm["temp_air"] = env.temp_air
     pm["temp_sea"] = env.temp_sea
+    pm["temp_sea_skin"] = env.temp_sea_skin
     pm.index = pd.Index(rec.times / HOUR, name="hour")
     timings["total"] = _time.perf_counter() - t_total
     energy = _concat_energy(energy_parts)
@@ -691,6 +694,7 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
     env = environment.at(res.times)
     pm["temp_air"] = env.temp_air
     pm["temp_sea"] = env.temp_sea
+    pm["temp_sea_skin"] = env.temp_sea_skin
     pm.index = pd.Index(res.times / HOUR, name="hour")
     timings = dict(spin.timings)
     timings["spinup_total"] = timings.pop("total")

@@ -29,6 +29,7 @@ __all__ = [
     "BANDS", "BAND_ALIASES", "ATMOSPHERE_WAVELENGTH_UM", "parse_band",
     "WIND_SPEED_MAX", "check_wind_speed", "part_default", "DEFAULT_CONVECTION_MODEL",
     "CONVECTION_MODEL_SOURCES", "CLEAR_SKY_MODEL_NAMES", "CLOUD_MODEL_NAMES", "DECOMPOSITIONS",
+    "SEA_SKIN_MODEL_NAMES", "DEFAULT_SEA_SKIN_MODEL",
     "STATION_FORMATS", "STATION_SUFFIXES", "MAX_GAP_HOURS", "TEMP_UNITS", "CLOUD_COVER_SCALE",
     "SEASONS", "DALIAN", "DESIGN_DAY_DATES", "LATITUDE_MAX", "SHIP_SPEED_MAX",
 ]
@@ -162,6 +163,14 @@ CLEAR_SKY_MODEL_NAMES = ("brutsaert", "prata", "swinbank")
 CLOUD_MODEL_NAMES = ("unsworth_monteith", "crawford_duchon")
 """Cloud corrections of the sky emissivity by name; the functions (with their sources) are
 :data:`shipthermal.environment.sky.CLOUD_MODELS`."""
+
+SEA_SKIN_MODEL_NAMES = ("zeng_beljaars", "none")
+"""Models of the sea's skin temperature by name: ``zeng_beljaars`` (bulk SST + diurnal warm
+layer of Zeng & Beljaars 2005 − cool skin of Fairall et al. 1996, with COARE 3.6 fluxes;
+:mod:`shipthermal.environment.sea_skin`) or ``none`` (the skin is the bulk SST)."""
+
+DEFAULT_SEA_SKIN_MODEL = "zeng_beljaars"
+"""Sea skin model when none is chosen."""
 
 DECOMPOSITIONS = ("erbs", "dirint")
 """Splits of global horizontal irradiance into direct and diffuse that

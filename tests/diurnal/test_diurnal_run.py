@@ -83,6 +83,12 @@ def test_outputs_written_atomically(summer_run, tmp_path):
 
     hist = ship_thermal_history(summer_run)
     np.testing.assert_allclose(hist.at(12 * HOUR), summer_run.face_temperature_at(12.0))
+    # the imaging's sea is the skin the thermal run's hull saw (bulk + warm layer - cool skin)
+    pm = summer_run.part_means
+    np.testing.assert_array_equal(hist.temp_sea, pm["temp_sea_skin"].to_numpy())
+    st = summer_run.environment.at(summer_run.results.times)
+    np.testing.assert_array_equal(pm["temp_sea_skin"], st.temp_sea_skin)
+    np.testing.assert_array_equal(pm["temp_sea"], st.temp_sea)
 
 
 #: Area-mean deck temperature [K] of `validate(quick=True)` at the four reference moments.

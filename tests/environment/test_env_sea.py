@@ -71,8 +71,9 @@ def test_environment_sea_follows_the_wind_by_default():
     want = sea.sea_emissivity_rough(st.wind_speed)
     np.testing.assert_allclose(st.sea_emissivity, want, rtol=1e-12)
     assert np.all((want > 0.947) & (want < 0.967))   # the table's calm and 20 m/s ends
+    # the sea radiates from its skin (bulk SST + warm layer - cool skin)
     np.testing.assert_allclose(st.sea_longwave_up,
-                               sea.sea_longwave_up(st.temp_sea, st.longwave_down, want))
+                               sea.sea_longwave_up(st.temp_sea_skin, st.longwave_down, want))
     fixed = Environment.from_climate_day(day, sea_emissivity=0.984).at([0.0])
     assert fixed.sea_emissivity == 0.984
 

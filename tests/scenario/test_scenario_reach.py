@@ -205,6 +205,7 @@ CASES = {
     "weather.decomposition": ("epw", "dirint", {T, B}),
     "weather.linke_turbidity": ("builtin", 5.0, {T, B}),
     "weather.sea_emissivity": ("builtin", 0.95, {T}),
+    "weather.sea_skin": ("builtin", "none", {T, B}),       # the imaging: via the history
     "weather.wind_speed_offset": ("builtin", 2.0, {T, B, I}),
     "weather.temp_air_offset": ("builtin", 1.0, {T, B, I}),
     "weather.cloud_cover_offset": ("builtin", 0.2, {T, B, I}),

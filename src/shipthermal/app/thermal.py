@@ -63,14 +63,15 @@ def run_scenario_thermal(scenario, *, ship=None, progress: bool = True, checkpoi
 def ship_thermal_history(result: DiurnalResult):
     """The imaging stage's input (:class:`imaging.thermal_history.ShipThermalHistory`) from
     a diurnal run: outer-surface temperature of every ship triangle over the recorded day
-    (or the whole weather record), with the air and sea temperatures."""
+    (or the whole weather record), with the air temperature and the sea's skin temperature
+    (what the hull sees and reflects, and what the image's water radiates from)."""
     from imaging.thermal_history import ShipThermalHistory
 
     s = result.ship
     return ShipThermalHistory(s.vertices, s.faces, s.face_part, s.part_names,
                               result.results.times, result.outer_face_temperature(),
                               temp_air=result.part_means["temp_air"].to_numpy(),
-                              temp_sea=result.part_means["temp_sea"].to_numpy(),
+                              temp_sea=result.part_means["temp_sea_skin"].to_numpy(),
                               label=f"diurnal thermal run ({s.name})",
                               # a weather record is not periodic: no wrap past its end
                               period_s=None if result.is_record else DAY)

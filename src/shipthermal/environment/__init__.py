@@ -7,12 +7,13 @@ Modules (one physical process each):
 * :mod:`.climatology` — built-in Dalian summer and winter design days, sourced;
 * :mod:`.sky`         — sky emissivity, long-wave down, sky temperature;
 * :mod:`.sea`         — SST diurnal cycle, sea emissivity, sea-leaving radiation, albedo;
+* :mod:`.sea_skin`    — the sea's skin temperature: COARE 3.6 fluxes, cool skin, warm layer;
 * :mod:`.convection`  — forced / natural / mixed convection in air and sea water.
 
 :class:`Environment` wires them: for any array of times it returns the sun vector
-(East-North-Up), DNI, DHI, air temperature, long-wave down, SST and the wind relative
-to the moving ship (:class:`EnvironmentState`). It does no ray tracing: shadows and
-view factors belong to the ship/tracing stage.
+(East-North-Up), DNI, DHI, air temperature, long-wave down, the bulk and skin sea
+temperatures and the wind relative to the moving ship (:class:`EnvironmentState`). It
+does no ray tracing: shadows and view factors belong to the ship/tracing stage.
 
 Example
 -------
@@ -30,11 +31,12 @@ import numpy as np
 import pandas as pd
 
 from shipthermal.errors import InputError, check_range, require
-from shipthermal.parameters import DECOMPOSITIONS, LATITUDE_MAX, SHIP_SPEED_MAX
+from shipthermal.parameters import (DECOMPOSITIONS, DEFAULT_SEA_SKIN_MODEL, LATITUDE_MAX,
+                                    SEA_SKIN_MODEL_NAMES, SHIP_SPEED_MAX)
 from shipthermal.units import DAY as DAY_SECONDS
 from shipthermal.units import ZERO_CELSIUS
 
-from . import climatology, convection, sea, sky, sun, weather
+from . import climatology, convection, sea, sea_skin, sky, sun, weather
 from .climatology import ClimateDay, climate_day, dalian_summer, dalian_winter
 from .weather import Weather, read_weather_csv, read_weather_epw, read_weather_tmy3
 
@@ -55,8 +57,15 @@ __all__ = [
     "climatology",
     "sky",
     "sea",
+    "sea_skin",
     "convection",
+    "SEA_SKIN_STEP",
 ]
+
+SEA_SKIN_STEP = 600.0
+"""Longest step [s] of the grid on which an :class:`Environment` integrates the sea's warm
+layer once (then interpolated to any time): 10 min keeps the time error of ΔT_warm below
+2e-3 K (``tests/environment/test_env_sea_skin.py``) and matches the forcing tables."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -87,11 +96,18 @@ class EnvironmentState:
     temp_sky : numpy.ndarray
         Effective sky temperature ``(L_down / σ)^(1/4)`` [K].
     temp_sea : numpy.ndarray
-        Sea surface temperature [K].
+        Bulk sea temperature [K]: the weather's SST, taken at the base of the warm layer
+        (what the wetted hull is in contact with).
+    temp_sea_skin : numpy.ndarray
+        Skin temperature of the sea [K], ``temp_sea + sea_warm_layer − sea_cool_skin``: what
+        radiates (what an infrared sensor sees, what the hull sees and reflects).
+    sea_warm_layer, sea_cool_skin : numpy.ndarray
+        ΔT_warm ≥ 0 and ΔT_cool [K] (:mod:`.sea_skin`; both 0 with ``sea_skin='none'``).
     sea_emissivity : float or numpy.ndarray
         Hemispherical sea emissivity [-] (per time when it follows the wind).
     sea_longwave_up : numpy.ndarray
-        Long-wave leaving the sea (emitted + reflected sky) [W m-2].
+        Long-wave leaving the sea (emitted at the skin temperature + reflected sky)
+        [W m-2].
     sea_shortwave_up : numpy.ndarray
         Short-wave reflected by the sea (albedo direct + diffuse) [W m-2].
     wind_speed, wind_direction : numpy.ndarray
@@ -118,6 +134,9 @@ class EnvironmentState:
     longwave_down: np.ndarray
     temp_sky: np.ndarray
     temp_sea: np.ndarray
+    temp_sea_skin: np.ndarray
+    sea_warm_layer: np.ndarray
+    sea_cool_skin: np.ndarray
     sea_emissivity: float | np.ndarray
     sea_longwave_up: np.ndarray
     sea_shortwave_up: np.ndarray
@@ -167,6 +186,11 @@ class Environment:
         Hemispherical sea emissivity [-]; None (default): the rough-sea model of the imaging
         at each time's wind speed (:func:`.sea.sea_emissivity_rough`), so both stages see
         the same sea.
+    sea_skin : {'zeng_beljaars', 'none'} or bool
+        Model of the sea's skin temperature (:mod:`.sea_skin`): ``'zeng_beljaars'``
+        (default, also ``True``) adds the diurnal warm layer of Zeng & Beljaars (2005) to
+        the weather's bulk SST and subtracts the cool skin of Fairall et al. (1996);
+        ``'none'`` (also ``False``) takes the bulk SST as the skin.
 
     Notes
     -----
@@ -174,6 +198,11 @@ class Environment:
     midnight of ``date`` for periodic weather, else the first weather instant); for
     periodic weather they are folded into the design day, so the sun and the weather
     repeat exactly each day of a spin-up.
+
+    The skin temperature is integrated once per environment, on a grid of at most
+    :data:`SEA_SKIN_STEP` over the weather's span (a periodic day spun up until it
+    repeats; a record from its first instant with no warm layer), and interpolated to the
+    times :meth:`at` is asked for.
     """
 
     def __init__(self, latitude: float, longitude: float, weather: Weather,
@@ -181,7 +210,8 @@ class Environment:
                  date: Optional[str] = None, clear_sky_model: str = "brutsaert",
                  cloud_model: str = "unsworth_monteith", decomposition: str = "erbs",
                  linke_turbidity: Optional[float] = None,
-                 sea_emissivity: Optional[float] = None):
+                 sea_emissivity: Optional[float] = None,
+                 sea_skin: str | bool = DEFAULT_SEA_SKIN_MODEL):
         check_range("environment.latitude", latitude, -LATITUDE_MAX, LATITUDE_MAX, "deg")
         check_range("environment.longitude", longitude, -180.0, 360.0, "deg")
         check_range("environment.ship_heading", ship_heading, -360.0, 720.0, "deg")
@@ -206,6 +236,8 @@ class Environment:
         self.cloud_model = cloud_model
         self.decomposition = decomposition
         self.sea_emissivity = None if sea_emissivity is None else float(sea_emissivity)
+        self.sea_skin = sea_skin_model(sea_skin)
+        self._skin_table = None
         tz = weather.tz
         if date is not None:
             require(weather.periodic, "environment.date", date,
@@ -230,8 +262,14 @@ class Environment:
     @classmethod
     def from_climate_day(cls, day: ClimateDay, ship_heading: float = 0.0,
                          ship_speed: float = 0.0, step_minutes: int = 60, **kwargs):
-        """Environment of a built-in climatological design day (periodic)."""
-        return cls(day.latitude, day.longitude, day.weather(step_minutes),
+        """Environment of a built-in climatological design day (periodic).
+
+        With a skin model the day's SST is its daily mean (the warm layer's base) and the
+        warm layer makes the diurnal cycle; without, the design day's prescribed cycle
+        (:meth:`ClimateDay.weather`)."""
+        skin = sea_skin_model(kwargs.get("sea_skin", DEFAULT_SEA_SKIN_MODEL))
+        return cls(day.latitude, day.longitude,
+                   day.weather(step_minutes, sst_cycle=skin == "none"),
                    ship_heading=ship_heading, ship_speed=ship_speed, altitude=day.altitude,
                    **kwargs)
 
@@ -257,6 +295,7 @@ class Environment:
         env = copy.copy(self)
         env.weather = day
         env.start = w.start
+        env._skin_table = None      # the periodic day's own warm layer
         return env
 
     def _seconds(self, times) -> np.ndarray:
@@ -284,6 +323,26 @@ class Environment:
         EnvironmentState
         """
         s = self._seconds(times)
+        ws, instants, zen, azi, dni, dhi, ghi, lw = self._sample(s)
+        eps_sea = (sea.sea_emissivity_rough(ws.wind_speed) if self.sea_emissivity is None
+                   else self.sea_emissivity)
+        warm, cool = self.sea_skin_deltas(s)
+        skin = ws.temp_sea + warm - cool
+        return EnvironmentState(
+            times=instants, seconds=s, sun_vector=sun.sun_vector(zen, azi), zenith=zen,
+            azimuth=azi, dni=dni, dhi=dhi, ghi=ghi, temp_air=ws.temp_air,
+            relative_humidity=ws.relative_humidity, cloud_cover=ws.cloud_cover,
+            longwave_down=lw, temp_sky=sky.sky_temperature(lw), temp_sea=ws.temp_sea,
+            temp_sea_skin=skin, sea_warm_layer=warm, sea_cool_skin=cool,
+            sea_emissivity=eps_sea,
+            sea_longwave_up=sea.sea_longwave_up(skin, lw, eps_sea),
+            sea_shortwave_up=sea.sea_reflected_shortwave(dni, dhi, zen),
+            wind_speed=ws.wind_speed, wind_direction=ws.wind_direction,
+            ship_speed=self.ship_speed, ship_heading=self.ship_heading)
+
+    def _sample(self, s):
+        """Weather, sun and sky at ``s`` [s after :attr:`start`]: ``(WeatherSample,
+        instants, zenith, azimuth, dni, dhi, ghi, longwave_down)``."""
         w = self.weather
         if w.periodic:
             period = len(w.time) * w.step
@@ -314,18 +373,69 @@ class Environment:
         lw = sky.longwave_down(ws.temp_air, ws.relative_humidity, ws.cloud_cover,
                                measured=ws.longwave_down, clear_model=self.clear_sky_model,
                                cloud_model=self.cloud_model)
-        eps_sea = (sea.sea_emissivity_rough(ws.wind_speed) if self.sea_emissivity is None
-                   else self.sea_emissivity)
-        return EnvironmentState(
-            times=instants, seconds=s, sun_vector=sun.sun_vector(zen, azi), zenith=zen,
-            azimuth=azi, dni=dni, dhi=dhi, ghi=ghi, temp_air=ws.temp_air,
-            relative_humidity=ws.relative_humidity, cloud_cover=ws.cloud_cover,
-            longwave_down=lw, temp_sky=sky.sky_temperature(lw), temp_sea=ws.temp_sea,
-            sea_emissivity=eps_sea,
-            sea_longwave_up=sea.sea_longwave_up(ws.temp_sea, lw, eps_sea),
-            sea_shortwave_up=sea.sea_reflected_shortwave(dni, dhi, zen),
-            wind_speed=ws.wind_speed, wind_direction=ws.wind_direction,
-            ship_speed=self.ship_speed, ship_heading=self.ship_heading)
+        return ws, instants, zen, azi, dni, dhi, ghi, lw
+
+    def sea_skin_series(self) -> Optional[sea_skin.SeaSkin]:
+        """The sea's skin temperature on the environment's own grid (computed once, then
+        cached): :class:`~.sea_skin.SeaSkin` with ``seconds`` after :attr:`start` — one
+        period of a periodic weather (spun up), or the whole record. None with
+        ``sea_skin='none'``.
+
+        The forcing comes from the same place as :meth:`at`'s: the weather's bulk SST
+        (taken at the warm layer's base), 10 m wind, air temperature and humidity (at
+        screen height, ASSUMPTION 2 m), the global horizontal irradiance with the sea's
+        albedo of :func:`.sea.sea_reflected_shortwave` (direct and diffuse), the long-wave
+        down of the sky model (or measured), standard pressure
+        (:data:`.sea_skin.STANDARD_PRESSURE`: the weather carries none).
+        """
+        if self.sea_skin == "none":
+            return None
+        if self._skin_table is None:
+            w = self.weather
+            if w.periodic:
+                period = len(w.time) * w.step
+                n = max(int(np.ceil(period / SEA_SKIN_STEP - 1e-9)), 2)
+                grid = np.arange(n) * (period / n)
+            else:
+                period = None
+                span = (w.time[-1] - self.start).total_seconds()
+                n = max(int(np.ceil(span / SEA_SKIN_STEP - 1e-9)), 1) + 1
+                grid = np.linspace(0.0, span, n)
+            ws, _, zen, _, dni, dhi, ghi, lw = self._sample(grid)
+            up = sea.sea_reflected_shortwave(dni, dhi, zen)
+            albedo = np.divide(up, ghi, out=np.full_like(ghi, sea.SEA_ALBEDO_DIFFUSE),
+                               where=ghi > 0.0)
+            self._skin_table = sea_skin.sea_skin_temperature(
+                grid, ws.temp_sea, ws.wind_speed, ws.temp_air, ws.relative_humidity, ghi,
+                lw, np.clip(albedo, 0.0, 1.0), period=period, latitude=self.latitude)
+        return self._skin_table
+
+    def sea_skin_deltas(self, seconds):
+        """ΔT_warm and ΔT_cool [K] at ``seconds`` after :attr:`start` (interpolated
+        linearly from :meth:`sea_skin_series`; periodic weather folded into its period;
+        zeros with ``sea_skin='none'``)."""
+        s = np.atleast_1d(np.asarray(seconds, dtype=float))
+        table = self.sea_skin_series()
+        if table is None:
+            return np.zeros_like(s), np.zeros_like(s)
+        g, warm, cool = table.seconds, table.delta_warm, table.delta_cool
+        if table.periodic:
+            period = len(self.weather.time) * self.weather.step
+            s = np.mod(s, period)
+            g = np.append(g, g[0] + period)
+            warm, cool = np.append(warm, warm[0]), np.append(cool, cool[0])
+        return np.interp(s, g, warm), np.interp(s, g, cool)
+
+
+def sea_skin_model(value) -> str:
+    """The sea skin model's name from a name or a switch (True: the default model)."""
+    if value is True:
+        return DEFAULT_SEA_SKIN_MODEL
+    if value is False or value is None:
+        return "none"
+    require(value in SEA_SKIN_MODEL_NAMES, "environment.sea_skin", value,
+            "must be " + " or ".join(repr(m) for m in SEA_SKIN_MODEL_NAMES) + " (or a bool)")
+    return str(value)
 
 
 def to_ship_frame(vectors_enu, ship_heading):

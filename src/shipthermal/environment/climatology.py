@@ -225,8 +225,19 @@ class ClimateDay:
         """SST [K] with its diurnal cycle peaking at 14:00 local [G]."""
         return sst_diurnal(hour, self.temp_sea_mean, self.sst_amplitude, 14.0)
 
-    def weather(self, step_minutes: int = 60) -> Weather:
-        """The design day as a periodic :class:`Weather` record starting 00:00 local."""
+    def weather(self, step_minutes: int = 60, sst_cycle: bool = True) -> Weather:
+        """The design day as a periodic :class:`Weather` record starting 00:00 local.
+
+        Parameters
+        ----------
+        step_minutes : int
+            Time step [min] (divides 1440).
+        sst_cycle : bool
+            True: the SST with the design day's prescribed diurnal cycle
+            (:meth:`temp_sea`); False: its daily mean all day, the bulk temperature at the
+            base of the warm layer when a skin model makes the diurnal warming
+            (:mod:`.sea_skin`; a prescribed cycle on top would count the warming twice).
+        """
         n = int(round(24 * 60 / step_minutes))
         require_ok = 24 * 60 % step_minutes == 0
         if not require_ok:
@@ -239,7 +250,8 @@ class ClimateDay:
                        wind_speed=np.full(n, self.wind_speed),
                        wind_direction=np.full(n, self.wind_direction),
                        cloud_cover=np.full(n, self.cloud_cover),
-                       temp_sea=self.temp_sea(hours), periodic=True,
+                       temp_sea=(self.temp_sea(hours) if sst_cycle
+                                 else np.full(n, self.temp_sea_mean)), periodic=True,
                        source=f"climatology:{self.name}")
 
     def source_table(self) -> str:

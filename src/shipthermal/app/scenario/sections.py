@@ -25,7 +25,8 @@ from .values import (ATMOSPHERE_BACKENDS, BACKGROUND_MODELS, RESIDUAL_MODES, BAN
                      LONGWAVE_EMISSIVITY, MAX_GAP_HOURS, MAX_RECORD_DAYS, MAX_REPAIR_CHANGE,
                      MAX_VIEW_ZENITH, MESH_EXTENSIONS, MESH_WITH_PART_ARRAY,
                      MESH_WITH_PART_NAMES, MET_UNITS, OUTPUT_FORMATS, PAPER_IMAGE_TIMES,
-                     PAPER_SENSOR, ROI_SPLITS, SEASONS, SHIP_LENGTH_RANGE, SHIP_SPEED_MAX,
+                     PAPER_SENSOR, ROI_SPLITS, SEA_SKIN_MODELS, SEASONS, SHIP_LENGTH_RANGE,
+                     SHIP_SPEED_MAX,
                      SOLAR_ABSORPTIVITY, SYNTHETIC_PIXEL_M, TEMP_UNITS, UNITS, VALIDATION_TIMES,
                      VARIOGRAM_MODELS, WEATHER_FORMATS, WEATHER_SUFFIXES)
 
@@ -146,6 +147,12 @@ class WeatherSettings:
                                            "0.956 at 5 m/s); measured broadband: 0.984 "
                                            "(Konda et al. 1994)", lo=0.5, hi=1.0,
                                            optional=True)
+    sea_skin: str = _opt(SEA_SKIN_MODELS[0], "choice", "Sea skin temperature (what the hull "
+                         "and the sensor see): 'zeng_beljaars' = the SST (taken at 3 m) plus "
+                         "the diurnal warm layer of Zeng & Beljaars (2005) minus the cool skin "
+                         "of Fairall et al. (1996), with COARE 3.6 fluxes; the built-in day's "
+                         "SST is then its daily mean. 'none' = the SST itself (and the "
+                         "built-in day's prescribed 0.3 K cycle)", choices=SEA_SKIN_MODELS)
     wind_speed_offset: float = _opt(0.0, "float", "Added to the wind speed (clipped at 0), "
                                     "for sensitivity runs and sweeps", unit="m/s",
                                     lo=-20.0, hi=20.0)

@@ -36,6 +36,7 @@ from ...parameters import (  # noqa: F401
     LATITUDE_MAX,
     LONGWAVE_EMISSIVITY,
     MAX_GAP_HOURS,
+    SEA_SKIN_MODEL_NAMES,
     SHIP_SPEED_MAX,
     SEASONS,
     SOLAR_ABSORPTIVITY,
@@ -51,6 +52,7 @@ from ...units import DAY  # noqa: F401
 # ---------------------------------------------------------------------------------------
 CLEAR_SKY_MODELS = tuple(sorted(CLEAR_SKY_MODEL_NAMES))
 CLOUD_MODELS = tuple(sorted(CLOUD_MODEL_NAMES))
+SEA_SKIN_MODELS = tuple(SEA_SKIN_MODEL_NAMES)
 DECOMPOSITIONS = tuple(sorted(_DECOMPOSITIONS))
 WEATHER_FORMATS = ("auto",) + tuple(sorted(STATION_FORMATS))
 """'auto' (the format from the file name, :data:`WEATHER_SUFFIXES`) and the readable ones."""

@@ -199,7 +199,8 @@ class Scenario:
         Offsets (``*_offset``) are applied here, the same way to the built-in day and to a
         file: air temperature and wind speed shifted (wind clipped at 0), cloud cover
         shifted and clipped to [0, 1]; humidity, sea temperature and irradiance unchanged.
-        Files are read here, not at load.
+        Files are read here, not at load. The built-in day's SST is its daily mean when
+        ``weather.sea_skin`` models the warm layer, else its prescribed cycle.
         """
         import numpy as np
         from shipthermal.environment import Weather, climate_day
@@ -209,7 +210,9 @@ class Scenario:
             day = dataclasses.replace(climate_day(self.time.season), date=self.time.date,
                                       latitude=loc.latitude, longitude=loc.longitude,
                                       altitude=loc.altitude, tz=loc.time_zone)
-            weather, periodic, source = day.weather(60), True, None
+            # with a skin model the warm layer makes the SST's diurnal cycle
+            weather = day.weather(60, sst_cycle=w.sea_skin == "none")
+            periodic, source = True, None
         else:
             weather, _ = self._file_weather()
             periodic, source = w.day == "periodic", f"{weather.source} from {self.time.date}"
@@ -300,7 +303,8 @@ class Scenario:
                           ship_heading=self.ship.heading, ship_speed=self.ship.speed,
                           altitude=loc.altitude, clear_sky_model=w.clear_sky_model,
                           cloud_model=w.cloud_model, decomposition=w.decomposition,
-                          linke_turbidity=w.linke_turbidity, sea_emissivity=w.sea_emissivity)
+                          linke_turbidity=w.linke_turbidity, sea_emissivity=w.sea_emissivity,
+                          sea_skin=w.sea_skin)
         object.__setattr__(self, "_environment", env)      # frozen: a cache, not a field
         return env
 
