@@ -252,6 +252,7 @@ CASES = {
     "background.source": ("builtin", "files", {B}),
     "background.model": ("builtin", "paper", {B}),
     "background.residual": ("bg_physical", "solar", {B}),
+    "background.classes.<class>.<property>": ("builtin", {"land": {"albedo": 0.15}}, {B}),
     "background.seed": ("builtin", 5, {B}),
     "background.size_px": ("builtin", 120, {B}),
     "background.mtl": ("bg_files", None, {B}),

@@ -313,11 +313,13 @@ _LAYER_FIELDS = ("thickness", "conductivity", "density", "specific_heat")
 
 def _number(field: str, value, key: str) -> float:
     low, high, unit = PHYSICAL_RANGES[key]
+    unit = "" if unit == "-" else f" {unit}"
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise InputError(field, value, f"must be a finite number in [{low:g}, {high:g}] {unit}")
+        raise InputError(field, value, f"must be a finite number in [{low:g}, {high:g}]{unit}")
     if not low <= value <= high:
-        raise InputError(field, value, f"must lie in [{low:g}, {high:g}] {unit}",
-                         "Check the unit (SI: m, W m-1 K-1, kg m-3, J kg-1 K-1, s m-1)")
+        raise InputError(field, value, f"must lie in [{low:g}, {high:g}]{unit}",
+                         "Check the unit (SI: m, W m-1 K-1, kg m-3, J kg-1 K-1, s m-1)"
+                         if unit else "")
     return float(value)
 
 

@@ -194,7 +194,7 @@ def background_inputs(scenario) -> tuple[str, dict]:
             ground = dict(kind="files", mtl=bgs.mtl, roi=bgs.roi, dem=bgs.dem,
                           band_files=bgs.band_files, use_qa=bgs.qa_mask, seed=bgs.seed,
                           n_splits=bgs.roi_splits, dem_nodata=bgs.dem_nodata)
-        return "physical", dict(ground=ground, residual=bgs.residual,
+        return "physical", dict(ground=ground, residual=bgs.residual, classes=_plain(bgs.classes),
                                 end_s=record_span_s(scenario),
                                 environment=scenario.environment())
     if bgs.source == "builtin":
@@ -218,6 +218,15 @@ def background_inputs(scenario) -> tuple[str, dict]:
                          n_splits=bgs.roi_splits, met_variable=bgs.met_variable,
                          met_units=bgs.met_units, met_margin_cells=bgs.met_margin_cells,
                          krige_statistics=bgs.krige_statistics, dem_nodata=bgs.dem_nodata)
+
+
+def _plain(mapping) -> dict:
+    """A scenario's read-only table as plain nested dicts and lists."""
+    if hasattr(mapping, "items"):
+        return {k: _plain(v) for k, v in mapping.items()}
+    if isinstance(mapping, tuple):
+        return [_plain(v) for v in mapping]
+    return mapping
 
 
 def record_span_s(scenario) -> float | None:
@@ -264,9 +273,12 @@ def build_background(scenario, progress: bool = False):
     if kind == "physical":
         from imaging.background.physical import build_physical_background
 
+        from imaging.background.surface_classes import apply_overrides
+
         return _reading_rasters(scenario, lambda: build_physical_background(
             _ground(kwargs["ground"], progress), kwargs["environment"],
-            end_s=kwargs["end_s"], residual=kwargs["residual"], progress=progress))
+            end_s=kwargs["end_s"], residual=kwargs["residual"],
+            classes=apply_overrides(kwargs["classes"]), progress=progress))
     if kind == "builtin":
         from imaging.background import build_port_background
 

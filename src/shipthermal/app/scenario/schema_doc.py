@@ -22,7 +22,7 @@ _TYPE_TEXT = {"float": "float", "int": "int", "bool": "bool", "choice": "string"
               "part_map": 'path or "auto"',
               "weather_source": "string", "part_table": "float per part",
               "part_bands": "float per part and band", "layups": "list of layers per part",
-              "part_files": "path per part"}
+              "part_files": "path per part", "surface_classes": "table per class"}
 
 
 def _default_text(f: dataclasses.Field) -> str:
@@ -68,6 +68,8 @@ def _rows(cls, prefix: str):
             key += ".<part>.<band>"
         elif spec.kind in ("part_files", "layups"):
             key += ".<part>"
+        elif spec.kind == "surface_classes":
+            key += ".<class>.<property>"
         allowed = spec.allowed()
         if spec.kind in ("part_table", "part_bands"):
             allowed = spec.range_text()

@@ -687,6 +687,14 @@ class BackgroundSettings:
                       "a met grid; with source = 'builtin' only on the built-in design days). "
                       "Default 'physical', or 'paper' when [background] gives a met grid",
                       choices=BACKGROUND_MODELS)
+    classes: Mapping = _opt({}, "surface_classes", "model = 'physical': change a surface "
+                            "class's properties (albedo, albedo_range, emissivity, layers = "
+                            "[{thickness, conductivity, density, specific_heat}], bottom, "
+                            "room_film_coefficient, latent, surface_resistance, "
+                            "surface_resistance_range, roughness_length, ...) of vegetation, "
+                            "land or building (imaging.background.surface_classes), each value "
+                            "checked against its physical range",
+                            allowed_text="see imaging.background.surface_classes.PHYSICAL_RANGES")
     residual: str = _opt("constant", "choice", "model = 'physical' with a scene: how the part of "
                          "the overpass LST the fitted model cannot reach is carried through the "
                          "day: 'constant', 'solar' (scaled by the global irradiance), 'none'",

@@ -455,6 +455,35 @@ def _bool(raw, path, spec, ctx):
 _CONVERTERS["bool"] = _bool
 
 
+def _surface_classes(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
+    """``{class: {property: value}}``: the port background's surface classes changed or
+    added, validated by the class table's own rules
+    (:func:`imaging.background.surface_classes.apply_overrides`)."""
+    if not isinstance(raw, Mapping) or not all(isinstance(v, Mapping) for v in raw.values()):
+        ctx.err(path, raw, "must be tables of class properties",
+                "e.g. [background.classes.land] albedo = 0.15")
+        return _BAD
+    # imported here: the background package costs ~2 s to import (scikit-learn, rasterio),
+    # and only scenarios that change a class need it
+    from imaging.background.surface_classes import SURFACE_CLASSES, apply_overrides
+
+    new = [name for name in raw if name not in SURFACE_CLASSES and name != "water"]
+    if new:
+        ctx.err(f"{path}.{new[0]}", dict(raw[new[0]]), "is not a class of the port's class "
+                f"maps ({', '.join(SURFACE_CLASSES)}; water is the sea skin model's)",
+                _suggest(new[0], SURFACE_CLASSES) or "Change one of those classes' properties")
+        return _BAD
+    try:
+        apply_overrides(raw, field=path)
+    except InputError as exc:
+        ctx.errors.append(exc)
+        return _BAD
+    return _freeze(raw)
+
+
+_CONVERTERS["surface_classes"] = _surface_classes
+
+
 def _convert(f: dataclasses.Field, raw: Any, path: str, ctx: _Context) -> Any:
     spec: _Spec = f.metadata["spec"]
     if spec.kind == "section":
