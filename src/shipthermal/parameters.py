@@ -31,7 +31,7 @@ __all__ = [
     "CONVECTION_MODEL_SOURCES", "CLEAR_SKY_MODEL_NAMES", "CLOUD_MODEL_NAMES", "DECOMPOSITIONS",
     "SEA_SKIN_MODEL_NAMES", "DEFAULT_SEA_SKIN_MODEL",
     "STATION_FORMATS", "STATION_SUFFIXES", "MAX_GAP_HOURS", "TEMP_UNITS", "CLOUD_COVER_SCALE",
-    "SEASONS", "DALIAN", "DESIGN_DAY_DATES", "LATITUDE_MAX", "SHIP_SPEED_MAX",
+    "SEASONS", "DALIAN", "DESIGN_DAY_DATES", "season_of_date", "LATITUDE_MAX", "SHIP_SPEED_MAX",
 ]
 
 # ---------------------------------------------------------------------------------------
@@ -214,6 +214,15 @@ altitude is used only for the clear-sky air mass (negligible effect)."""
 DESIGN_DAY_DATES = {"summer": "2023-07-15", "winter": "2023-01-15"}
 """Dates of the built-in design days at :data:`DALIAN`: mid-July and mid-January, the
 months of the climate normals they are built from."""
+
+
+def season_of_date(month: int, latitude: float) -> str:
+    """The half of the year a month falls in at a latitude: ``"summer"`` for April to
+    September in the northern hemisphere and October to March in the southern, else
+    ``"winter"``. It picks the season defaults (compartment air, map and image times) of a
+    scenario whose weather comes from a file; the physics follows the weather itself."""
+    warm_north = 4 <= int(month) <= 9
+    return "summer" if warm_north == (float(latitude) >= 0.0) else "winter"
 
 # ---------------------------------------------------------------------------------------
 # Time stepping of a diurnal run

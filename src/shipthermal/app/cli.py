@@ -190,7 +190,10 @@ def _print_crossovers(run_path: Path, con: Console, as_csv: bool = False) -> int
             continue
         con.out(f"thermal crossover moments ({rel}):")
         if len(df):
-            show = df[[c for c in ("season", "band", "time_local", "direction") if c in df]]
+            cols = ("season", "band", "time_local", "direction")
+            if "date_local" in df and df["date_local"].nunique() > 1:     # a weather record
+                cols = ("season", "band", "date_local", "time_local", "direction")
+            show = df[[c for c in cols if c in df]]
             con.out(show.to_string(index=False))
         else:
             con.out("  none found")

@@ -54,9 +54,13 @@ class Location:
 class Time:
     """[time]: the day that is simulated and how often the thermal stage records it."""
 
-    season: str = _opt("summer", "choice", "Season: picks the built-in design day, the "
-                       "atmosphere model, the synthetic port and season defaults",
-                       choices=SEASONS)
+    season: str = _opt("summer", "choice", "Season: with weather.source = 'builtin' the Dalian "
+                       "design day (and its mid-latitude atmosphere); always the season "
+                       "defaults (date, compartment air, map and image times). The physics "
+                       "of a weather file follows the file, not this key",
+                       choices=SEASONS, dynamic=lambda ctx: ctx.season,
+                       default_text="summer; with a weather file the half of the year of "
+                                    "time.date at the site (April-September north = summer)")
     date: str = _opt(None, "date", "Local date of the simulated day (YYYY-MM-DD)",
                      season=CLIMATE_DATES, allowed_text="YYYY-MM-DD, 1950-2100")
     output_interval: float = _opt(1800.0, "float", "Thermal output interval over the "

@@ -17,6 +17,7 @@ from .sections import (_RECORD_HINT, BackgroundSettings, ConvectionSettings, Ima
                        Location, OutputSettings, ShipSettings, SolverSettings, Time,
                        WeatherSettings, _is_leap)
 from .spec import _BAD, ScenarioError, _Context, _opt, _section, _thaw, clock_seconds
+from ...parameters import season_of_date
 from .values import CLIMATE_MONTHS, CLIMATE_RADIUS_DEG, DALIAN, DAY, MAX_RECORD_DAYS, SEASONS
 from .writing import _dump_toml
 
@@ -380,9 +381,26 @@ def _multiple(x: float, step: float) -> bool:
 # Loading
 # ---------------------------------------------------------------------------------------
 def _peek_season(raw: Mapping) -> str:
+    """The season of the defaults: ``time.season`` if given; with a weather file, the half of
+    the year of ``time.date`` at the site (:func:`shipthermal.parameters.season_of_date`);
+    else summer."""
     t = raw.get("time") if isinstance(raw, Mapping) else None
     s = t.get("season") if isinstance(t, Mapping) else None
-    return s if s in SEASONS else "summer"
+    if s in SEASONS:
+        return s
+    w = raw.get("weather")
+    source = w.get("source") if isinstance(w, Mapping) else None
+    date = t.get("date") if isinstance(t, Mapping) else None
+    if isinstance(source, str) and source != "builtin" and date is not None:
+        try:
+            month = (date if isinstance(date, _dt.date) else _dt.date.fromisoformat(str(date))).month
+            loc = raw.get("location")
+            lat = loc.get("latitude", DALIAN["latitude"]) if isinstance(loc, Mapping) else \
+                DALIAN["latitude"]
+            return season_of_date(month, float(lat))
+        except (ValueError, TypeError):
+            pass                 # the date or latitude is reported by their own checks
+    return "summer"
 
 
 def _load(raw: Any, base_dir: Path, source: str) -> Scenario:
