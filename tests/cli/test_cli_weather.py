@@ -110,11 +110,30 @@ def test_validate_lists_every_weather_problem_at_once(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == before
 
 
-def test_record_with_imaging_is_refused_up_front(tmp_path, capsys):
+def test_record_is_imaged_over_its_span(tmp_path, capsys):
+    # Two days of the buoy, imaged every 30 min over both: the port background follows the
+    # record (its water is the buoy's sea at every frame, the ship's own), the crossovers carry
+    # their dates, and the paper's chain (here also of another climate) is refused.
     shutil.copy(NDBC, tmp_path / "buoy.txt")
     sc = _with(write_tiny(tmp_path, name="buoy", season="winter"), BUOY, "2013-03-04")
-    before = sorted(p.name for p in tmp_path.iterdir())
-    assert main(["-q", "run", str(sc), "--out", str(tmp_path / "run"), "--image"]) == 2
+    assert main(["-q", "run", str(sc), "--out", str(tmp_path / "run"), "--image"]) == 0
+    run = tmp_path / "run"
+    m = pd.read_csv(run / "imaging" / "metrics_winter_8-14.csv")
+    assert m["time_h"].iloc[0] == 0.0 and m["time_h"].iloc[-1] == 48.0
+    pm = pd.read_csv(run / "thermal" / "buoy" / "part_means.csv", index_col=0)
+    sea = pm["temp_sea_skin"] if "temp_sea_skin" in pm else pm["temp_sea"]
+    on = np.isin(m["time_h"], pm.index)
+    # the synthetic port's water pattern has zero mean over the water (part_means: 4 decimals)
+    np.testing.assert_allclose(m["water_mean_temp"][on], np.interp(m["time_h"][on], pm.index,
+                                                                    sea), atol=2e-4)
+    cross = pd.read_csv(run / "imaging" / "crossovers.csv")
+    assert set(cross["date_local"]) <= {"2013-03-04", "2013-03-05", "2013-03-06"}
+    paper = _with(write_tiny(tmp_path / "p", name="buoy", season="winter"), BUOY, "2013-03-04")
+    paper.write_text(paper.read_text().replace("[background]\n", "[background]\nmodel = \"paper\"\n"))
+    shutil.copy(NDBC, tmp_path / "p" / "buoy.txt")
+    before = sorted(p.name for p in (tmp_path / "p").iterdir())
+    assert main(["-q", "run", str(paper), "--out", str(tmp_path / "p" / "run"), "--image"]) == 2
     err = capsys.readouterr().err
-    assert "weather.day = 'record': the imaging stage renders one periodic day" in err
-    assert sorted(p.name for p in tmp_path.iterdir()) == before
+    # the paper's chain on the synthetic port is the Dalian design day: another climate
+    assert "background.model = 'paper'" in err and "another climate" in err
+    assert sorted(p.name for p in (tmp_path / "p").iterdir()) == before

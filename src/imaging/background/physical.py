@@ -105,8 +105,8 @@ surface patterns change over weeks; further apart, choose a closer scene."""
 SYNTHETIC_WATER_STD_K = 0.24
 SYNTHETIC_WATER_SMOOTHING_PX = 5.0
 """The synthetic port's water pattern: a Gaussian random field smoothed over 5 pixels
-(150 m) with a standard deviation of 0.24 K, fixed through the day around the weather's
-sea. DERIVED: the water of the real Landsat-8 scene of ``examples/real_port`` (Mersey,
+(150 m) with a standard deviation of 0.24 K and zero mean over the water, fixed through the
+day around the weather's sea. DERIVED: the water of the real Landsat-8 scene of ``examples/real_port`` (Mersey,
 2020-09-27, ST_B10) has a scene-wide standard deviation of 0.24 K and a median local
 (9 x 9 pixels) standard deviation of 0.09 K; this field gives 0.24 K and about 0.1 K. Real
 harbour water is never uniform, and the local SCR divides by the background's spread."""
@@ -230,6 +230,8 @@ def ground_from_synthetic(latitude: float, longitude: float, size_px: int = 334,
     rng = np.random.default_rng([seed, 2])
     field_ = gaussian_filter(rng.standard_normal(s["class_map"].shape),
                              SYNTHETIC_WATER_SMOOTHING_PX, mode="wrap")
+    sea = s["class_map"] == WATER
+    field_ = field_ - (field_[sea].mean() if sea.any() else 0.0)   # the sea's mean is the weather's
     water = (field_ / field_.std() * SYNTHETIC_WATER_STD_K).astype(np.float32)
     lat = f"{abs(latitude):.2f} {'N' if latitude >= 0 else 'S'}"
     lon = f"{abs(longitude):.2f} {'E' if longitude >= 0 else 'W'}"
