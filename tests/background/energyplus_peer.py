@@ -302,73 +302,90 @@ class CaseResult:
     surface: str
     eplus: dict          # name → (n,) arrays on the 5-minute steps (end of step)
     ours: dict
-    wall_ours: float
+    wall_ours: float     # [s] our solver's wall time, the call's share of this surface
 
 
-def compare(climate: str, df: pd.DataFrame, weeks=("july", "january"), convection=None,
+EPLUS_TERMS = ("Temperature", "Convection Heat Transfer Coefficient",
+               "Convection Heat Gain Rate per Area",
+               "Net Thermal Radiation Heat Gain Rate per Area",
+               "Solar Radiation Heat Gain Rate per Area",
+               "Conduction Heat Transfer Rate per Area",
+               "Incident Solar Radiation Rate per Area")
+
+
+def per_column_convection(user_curve: np.ndarray, default=None):
+    """``h = a + b v`` on the columns that had EnergyPlus's user curve, ``default`` (our
+    default correlation when None) on the others."""
+    user = np.asarray(user_curve, dtype=bool)
+    linear = se.convection_linear(*USER_CURVE)
+    default = default or se.convection_correlation()
+
+    def h(temp_surface, temp_air, wind_speed):
+        out = np.empty(np.shape(temp_surface))
+        ts, ta, v = (np.broadcast_to(x, out.shape) for x in (temp_surface, temp_air,
+                                                             wind_speed))
+        out[user] = linear(ts[user], ta[user], v[user])
+        out[~user] = default(ts[~user], ta[~user], v[~user])
+        return out
+
+    return h
+
+
+def compare(climate: str, df: pd.DataFrame, weeks=("july", "january"),
             h_from_eplus: bool = False, sun_shift_minutes: float = 0.0,
             scheme: str = "backward_euler", substeps: int = 1) -> list:
-    """Our solver on each peer surface and week with the weather EnergyPlus used.
+    """Our solver on the peer surfaces (the four as four columns of one call per week) with
+    the weather EnergyPlus used.
 
-    ``convection`` None: the matched model (``h = a + b v`` where EnergyPlus had the user
-    curve, our default correlation where it had DOE-2); ``h_from_eplus``: EnergyPlus's
-    reported h on every step (closes the convection term)."""
+    Convection: ``h = a + b v`` where EnergyPlus had the user curve, our default correlation
+    where it had DOE-2; with ``h_from_eplus`` EnergyPlus's reported h of every step instead
+    (the convection term made equal)."""
     epw, loc = read_epw(weather_file(climate))
     months = df["Date/Time"].str.strip().str.slice(0, 2).astype(int).to_numpy()
+    surfaces = peer_surfaces()
+    classes = {s.name.lower(): _peer_class(s) for s in surfaces}
     out = []
     for week in weeks:
         month, day = WEEKS[week]
         rows = np.nonzero(months == month)[0]
         wx = forcing_on_steps(epw, loc, month, day, 7)
-        zen, azi = sun_position(wx.index, loc, sun_shift_minutes)
+        zen, _ = sun_position(wx.index, loc, sun_shift_minutes)
         cosz = np.clip(np.cos(np.radians(zen)), 0.0, None)
-        beam = wx["dni"].to_numpy() * cosz
-        incident = beam + wx["dhi"].to_numpy()
-        for s in peer_surfaces():
-            eplus = {v: eplus_column(df, s.name, f"Surface Outside Face {v}")[rows] for v in
-                     ("Temperature", "Convection Heat Transfer Coefficient",
-                      "Convection Heat Gain Rate per Area",
-                      "Net Thermal Radiation Heat Gain Rate per Area",
-                      "Solar Radiation Heat Gain Rate per Area",
-                      "Conduction Heat Transfer Rate per Area",
-                      "Incident Solar Radiation Rate per Area")}
-            room = eplus_column(df, s.name, "Zone Mean Air Temperature")[rows] + 273.15
-            cls = _peer_class(s)
-            cols = se.build_columns([cls], float(np.mean(room)), classes={cls.name: cls})
-            n_t = len(wx)
-            f = lambda v: np.asarray(v, float).reshape(n_t, 1)  # noqa: E731
-            wind = wx["wind_speed"].to_numpy()
-            if h_from_eplus:
-                # the wind input carries EnergyPlus's h of each step, and h = 0 + 1·"wind"
-                # replays it (row 0, 00:00, takes the first step's value)
-                h_ep = eplus["Convection Heat Transfer Coefficient"]
-                wind = np.concatenate([[h_ep[0]], h_ep])
-                conv = se.convection_linear(0.0, 1.0)
-            forcing = se.SurfaceForcing(
-                3600.0 / TIMESTEPS_PER_HOUR, f(s.solar_absorptance * incident), f(wx["longwave_down"]),
-                wx["temp_air"].to_numpy(), wx["relative_humidity"].to_numpy(), wind,
-                wx["pressure"].to_numpy())
-            if h_from_eplus:
-                pass
-            elif convection is not None:
-                conv = convection
-            elif s.user_curve:
-                conv = se.convection_linear(*USER_CURVE)
-            else:
-                conv = None
-            t0 = time.perf_counter()
-            res = se.solve_surface_energy(forcing, cols, convection=conv, scheme=scheme,
-                                          substeps=substeps)
-            wall = time.perf_counter() - t0
-            ours = {"Temperature": res.temp_surface[1:, 0] - 273.15,
-                    "Convection Heat Transfer Coefficient": res.h_convection[1:, 0],
-                    "Convection Heat Gain Rate per Area": -res.sensible[1:, 0],
-                    "Net Thermal Radiation Heat Gain Rate per Area": res.longwave_net[1:, 0],
-                    "Solar Radiation Heat Gain Rate per Area": res.shortwave_net[1:, 0],
+        incident = wx["dni"].to_numpy() * cosz + wx["dhi"].to_numpy()
+        eplus = [{v: eplus_column(df, s.name, f"Surface Outside Face {v}")[rows]
+                  for v in EPLUS_TERMS} for s in surfaces]
+        room = [np.mean(eplus_column(df, s.name, "Zone Mean Air Temperature")[rows]) + 273.15
+                for s in surfaces]
+        cols = se.build_columns(list(classes), room, classes=classes)
+        n_t = len(wx)
+        absorptance = np.array([s.solar_absorptance for s in surfaces])
+        wind = np.repeat(wx["wind_speed"].to_numpy()[:, None], len(surfaces), axis=1)
+        conv = per_column_convection([s.user_curve for s in surfaces])
+        if h_from_eplus:
+            # the wind input carries EnergyPlus's h of each step and h = 0 + 1·"wind" replays
+            # it (row 0, 00:00, takes the first step's value)
+            h_ep = np.stack([e["Convection Heat Transfer Coefficient"] for e in eplus], axis=1)
+            wind = np.concatenate([h_ep[:1], h_ep])
+            conv = se.convection_linear(0.0, 1.0)
+        forcing = se.SurfaceForcing(
+            3600.0 / TIMESTEPS_PER_HOUR, incident[:, None] * absorptance,
+            np.repeat(wx["longwave_down"].to_numpy()[:, None], len(surfaces), axis=1),
+            wx["temp_air"].to_numpy(), wx["relative_humidity"].to_numpy(), wind,
+            wx["pressure"].to_numpy())
+        t0 = time.perf_counter()
+        res = se.solve_surface_energy(forcing, cols, convection=conv, scheme=scheme,
+                                      substeps=substeps)
+        wall = time.perf_counter() - t0
+        for j, s in enumerate(surfaces):
+            ours = {"Temperature": res.temp_surface[1:, j] - 273.15,
+                    "Convection Heat Transfer Coefficient": res.h_convection[1:, j],
+                    "Convection Heat Gain Rate per Area": -res.sensible[1:, j],
+                    "Net Thermal Radiation Heat Gain Rate per Area": res.longwave_net[1:, j],
+                    "Solar Radiation Heat Gain Rate per Area": res.shortwave_net[1:, j],
                     # EnergyPlus: conduction heat gain of the outer face (= −G)
-                    "Conduction Heat Transfer Rate per Area": -res.ground[1:, 0],
+                    "Conduction Heat Transfer Rate per Area": -res.ground[1:, j],
                     "Incident Solar Radiation Rate per Area": incident[1:]}
-            out.append(CaseResult(climate, week, s.name, eplus, ours, wall))
+            out.append(CaseResult(climate, week, s.name, eplus[j], ours, wall / len(surfaces)))
     return out
 
 

@@ -37,10 +37,10 @@ convective coefficient is evaluated with the surface temperature at the start of
 from __future__ import annotations
 
 import dataclasses
+import types
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 import pvlib
 from numba import njit, prange
@@ -803,8 +803,7 @@ def _blocks(class_index: np.ndarray, block: int = BLOCK) -> tuple:
     return order.astype(np.int64), np.array(rows, dtype=np.int64).reshape(-1, 3)
 
 
-@njit(parallel=True, cache=True)
-def _step_numba(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, emis, rs, tbot,
+def _step_blocks(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, emis, rs, tbot,
                 sw, lw, ta, rh, pres, h, dt, out, sb_old, acc, acc_abs, imbalance, work):
     """One step of every column, blocks in parallel; the arithmetic of
     :func:`_step_reference`. ``temp`` (M + 1, N): surface node then cells, columns in the
@@ -1029,6 +1028,22 @@ def _step_reference(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, thet
         imbalance[col] = np.maximum(imbalance[col], np.abs(s - g))
 
 
+def _renamed(func, name: str):
+    """A copy of a plain function under another name (numba caches compiled code per
+    qualified name: the parallel and the serial build must not share an entry)."""
+    copy = types.FunctionType(func.__code__, func.__globals__, name, func.__defaults__,
+                              func.__closure__)
+    copy.__qualname__ = name
+    copy.__doc__ = func.__doc__
+    return copy
+
+
+_step_numba = njit(parallel=True, cache=True)(_renamed(_step_blocks, "_step_numba"))
+_step_numba_serial = njit(cache=True)(_renamed(_step_blocks, "_step_numba_serial"))
+"""The kernel of :func:`_step_blocks` compiled twice: blocks on numba's threads, and on the
+calling thread alone for small problems (a parallel launch costs tens of µs per step, far
+more while other processes hold the cores; same blocks, same arithmetic, same results)."""
+
 _KERNELS = {"numba": _step_numba, "reference": _step_reference}
 
 
@@ -1061,9 +1076,8 @@ class _Stepper:
         self.out = np.zeros((6, n))
         self.work = np.zeros((11, n))
         self.order, self.blocks = _blocks(np.asarray(columns.class_index))
-        # a parallel launch costs tens of µs, and far more when the other cores are busy:
-        # small problems run on the calling thread alone (same blocks, same results)
-        self.serial = len(self.blocks) < _PARALLEL_MIN_BLOCKS
+        if kernel is _step_numba and len(self.blocks) < _PARALLEL_MIN_BLOCKS:
+            self.kernel = _step_numba_serial
         self.emis = np.ascontiguousarray(columns.emissivity)
         self.rs = np.ascontiguousarray(columns.surface_resistance)
         self.tbot = np.ascontiguousarray(columns.bottom_temperature)
@@ -1077,17 +1091,10 @@ class _Stepper:
     def step(self, state: _State, sw, lw, ta, rh, pres, wind) -> np.ndarray:
         h = np.ascontiguousarray(np.broadcast_to(
             self.convection(self.surface(state), ta, wind), ta.shape), dtype=float)
-        threads = numba.get_num_threads()
-        if self.serial and threads > 1:
-            numba.set_num_threads(1)
-        try:
-            self.kernel(state.temp, self.order, self.blocks, self.n_cells, self.cap_dt,
-                        self.cond, self.q, self.inv_den, self.theta, self.emis, self.rs,
-                        self.tbot, sw, lw, ta, rh, pres, h, self.dt, self.out, state.sb_old,
-                        state.acc, state.acc_abs, state.imbalance, self.work)
-        finally:
-            if self.serial and threads > 1:
-                numba.set_num_threads(threads)
+        self.kernel(state.temp, self.order, self.blocks, self.n_cells, self.cap_dt, self.cond,
+                    self.q, self.inv_den, self.theta, self.emis, self.rs, self.tbot, sw, lw, ta,
+                    rh, pres, h, self.dt, self.out, state.sb_old, state.acc, state.acc_abs,
+                    state.imbalance, self.work)
         return h
 
     def stored_energy(self, temp: np.ndarray) -> np.ndarray:
