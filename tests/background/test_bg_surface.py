@@ -426,6 +426,45 @@ def test_tilted_beam_by_hand_at_50N_in_winter():
     np.testing.assert_allclose(lw[0], svf * 300 + (1 - svf) * SIGMA * 290.0 ** 4)
 
 
+def test_diffuse_models_broadcast_like_one_pixel_at_a_time():
+    zen, azi = np.array([30.0, 60.0, 95.0]), np.array([150.0, 200.0, 250.0])
+    dni, dhi = np.array([800.0, 500.0, 0.0]), np.array([100.0, 120.0, 0.0])
+    ghi = dni * np.clip(np.cos(np.radians(zen)), 0, None) + dhi
+    tilt, aspect = np.array([0.0, 10.0, 30.0, 45.0]), np.array([180.0, 90.0, 0.0, 270.0])
+    extra, am = np.full(3, 1360.0), pvlib.atmosphere.get_relative_airmass(zen)
+    for model in ("isotropic", "haydavies", "perez"):
+        out = se.shortwave_on_tilted(tilt, aspect, zen, azi, dni, ghi, dhi, model=model,
+                                     dni_extra=extra, airmass=am)["poa_global"]
+        for j in range(4):
+            one = pvlib.irradiance.get_total_irradiance(
+                tilt[j], aspect[j], zen, azi, dni, ghi, dhi, dni_extra=extra, airmass=am,
+                albedo=0.2, model=model)["poa_global"]
+            np.testing.assert_allclose(out[:, j], np.nan_to_num(one), rtol=1e-12, err_msg=model)
+
+
+def test_forcing_from_the_ship_environment_runs_a_design_day():
+    from shipthermal.environment import Environment, climate_day
+
+    env = Environment.from_climate_day(climate_day("summer"))
+    state = env.at(np.arange(0.0, DAY, 300.0))
+    names = ["land", "building", "vegetation", "land"]
+    albedo = [SURFACE_CLASSES[n].albedo for n in names]
+    forcing = se.forcing_from_environment(state, 300.0, albedo, surface_tilt=[0, 0, 0, 20],
+                                          surface_azimuth=[180, 180, 180, 180])
+    # flat pixels: absorbed = (1 − albedo) GHI; sky view 1: L↓ of the environment
+    np.testing.assert_allclose(forcing.shortwave_absorbed[:, 0], (1 - albedo[0]) * state.ghi,
+                               rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(forcing.longwave_down[:, 1], state.longwave_down, rtol=1e-12)
+    cols = se.build_columns(names, float(np.mean(state.temp_air)))
+    res = se.solve_surface_energy(forcing, cols, mode="periodic")
+    assert res.spinup_change.max() < 0.01
+    assert (np.abs(res.energy_residual) < 1e-12 * res.energy_scale).all()
+    noon = np.argmax(state.ghi)
+    # sunlit dry paving runs hotter than the air and than the transpiring grass at noon
+    assert res.temp_surface[noon, 0] > state.temp_air[noon] + 5.0
+    assert res.temp_surface[noon, 2] < res.temp_surface[noon, 0]
+
+
 def test_forcing_errors_name_the_field():
     cols = se.build_columns(["land"], 290.0)
     bad = constant_forcing(1, ta=500.0)

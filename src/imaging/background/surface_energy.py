@@ -76,6 +76,7 @@ __all__ = [
     "sky_view_factor",
     "shortwave_on_tilted",
     "longwave_incoming",
+    "forcing_from_environment",
     "solve_surface_energy",
 ]
 
@@ -749,6 +750,67 @@ def longwave_incoming(longwave_sky, sky_view, temp_surroundings, emissivity_surr
     v = np.asarray(sky_view, dtype=float)
     ts = np.asarray(temp_surroundings, dtype=float)
     return v * np.asarray(longwave_sky) + (1.0 - v) * emissivity_surroundings * SIGMA * ts ** 4
+
+
+def forcing_from_environment(state, time_step: float, albedo, surface_tilt=0.0,
+                             surface_azimuth=180.0, sky_view=None, temp_surroundings=None,
+                             albedo_ground: float = 0.2, diffuse_model: str = "isotropic",
+                             pressure=101325.0) -> SurfaceForcing:
+    """Forcing of N land pixels from the environment the ship sees.
+
+    Parameters
+    ----------
+    state : shipthermal.environment.EnvironmentState
+        The environment at the n_t instants of a uniform grid (``env.at(times)``).
+    time_step : float
+        Spacing of those instants [s].
+    albedo : float or array_like
+        (N,) short-wave albedo of each pixel [-] (the class's, or fitted per pixel).
+    surface_tilt, surface_azimuth : float or array_like
+        (N,) terrain slope and aspect (downslope compass azimuth) [deg].
+    sky_view : array_like, optional
+        (N,) sky-view factor [-]; default that of the tilted plane alone
+        (:func:`sky_view_factor`); pass a smaller one where buildings hide the sky.
+    temp_surroundings : float or array_like, optional
+        Temperature of what fills the rest of the view [K]; default the air temperature.
+    albedo_ground : float
+        Albedo of the surroundings for the ground-reflected short-wave [-].
+    diffuse_model : str
+        pvlib sky-diffuse model (:func:`shortwave_on_tilted`); ``haydavies``/``perez`` get
+        pvlib's extraterrestrial DNI and air mass at the state's times.
+    pressure : float or array_like
+        Air pressure [Pa].
+
+    Returns
+    -------
+    SurfaceForcing
+        Absorbed short-wave ``(1 − albedo) · poa_global``, incoming long-wave
+        ``V L↓ + (1 − V) σ T_surr⁴`` (:func:`longwave_incoming`, surroundings black), air
+        temperature, humidity and the 10 m wind of the state.
+    """
+    tilt = np.atleast_1d(np.asarray(surface_tilt, dtype=float))
+    azim = np.atleast_1d(np.asarray(surface_azimuth, dtype=float))
+    alb = np.atleast_1d(np.asarray(albedo, dtype=float))
+    n = max(tilt.size, azim.size, alb.size, 1 if sky_view is None else np.size(sky_view))
+    tilt, azim, alb = (np.broadcast_to(x, (n,)) for x in (tilt, azim, alb))
+    check_range("forcing.albedo", alb, 0.0, 1.0)
+    check_range("forcing.surface_tilt", tilt, 0.0, 90.0, "deg")
+    extra = airmass = None
+    if diffuse_model != "isotropic":
+        extra = pvlib.irradiance.get_extra_radiation(state.times).to_numpy()
+        airmass = pvlib.atmosphere.get_relative_airmass(np.asarray(state.zenith))
+    sw = shortwave_on_tilted(tilt, azim, state.zenith, state.azimuth, state.dni, state.ghi,
+                             state.dhi, albedo_ground, diffuse_model, extra, airmass)
+    view = sky_view_factor(tilt) if sky_view is None else np.broadcast_to(
+        np.asarray(sky_view, dtype=float), (n,))
+    t_surr = (np.asarray(state.temp_air)[:, None] if temp_surroundings is None
+              else np.asarray(temp_surroundings, dtype=float))
+    lw = longwave_incoming(np.asarray(state.longwave_down)[:, None], view, t_surr, 1.0)
+    return SurfaceForcing(float(time_step), (1.0 - alb) * sw["poa_global"],
+                          np.ascontiguousarray(np.broadcast_to(lw, sw["poa_global"].shape)),
+                          np.asarray(state.temp_air, dtype=float),
+                          np.asarray(state.relative_humidity, dtype=float),
+                          np.asarray(state.wind_speed, dtype=float), pressure)
 
 
 # ---------------------------------------------------------------------------------------------
