@@ -14,9 +14,11 @@ Euler: the spin-up loop forced to run exactly 4 days (``tolerance`` tiny, ``min_
   system per step (the linear solve alone, without the Newton iterations: a lower bound of the
   per-column route), timed on 200 columns × 48 steps and scaled.
 
-Printed: seconds, column-steps per second, and the ratios peer / ours. Run:
-``python benchmarks/bench_surface_energy.py [--columns 10000] [--days 4]``. Other jobs share
-the 2 cores of this machine: wall times vary by ±30 % (more under load); compare the ratios.
+Printed: wall and CPU seconds, column-steps per CPU second, and the ratios peer / ours (CPU
+time for the one-thread runs: on a shared machine it is what the run takes on an idle core).
+Run: ``python benchmarks/bench_surface_energy.py [--columns 10000] [--days 4]``. Other jobs
+share the 2 cores of this machine: wall times vary by ±30 %, and far more for the threaded
+run while the other core is busy (a parallel launch per step then waits for it).
 """
 
 from __future__ import annotations
@@ -48,12 +50,16 @@ def problem(n: int, seed: int = 0):
     return cols, forcing
 
 
-def run(cols, forcing, days, convection, backend="numba"):
+def run(cols, forcing, days, convection, backend="numba", cpu=False):
+    """Wall time [s] (``cpu``: also the process's CPU time, which on one thread is the wall
+    time the run would take on an idle core)."""
     t0 = time.perf_counter()
+    c0 = time.process_time()
     se.solve_surface_energy(forcing, cols, convection=convection, mode="periodic",
                             tolerance=1e-12, max_days=days, min_days=max(days, 2),
                             backend=backend)
-    return time.perf_counter() - t0
+    wall = time.perf_counter() - t0
+    return (wall, time.process_time() - c0) if cpu else wall
 
 
 def banded_peer(cols, n_columns=200, n_steps=48):
@@ -97,23 +103,27 @@ def main() -> None:
     rows = []
     for label, conv in (("h = 4 + 4v", linear), ("flat_plate_mixed", correlation)):
         numba.set_num_threads(1)
-        t1 = run(cols, forcing, days, conv)
+        t1, c1 = run(cols, forcing, days, conv, cpu=True)
         numba.set_num_threads(threads)
         tn = run(cols, forcing, days, conv)
-        rows.append((label, t1, tn))
-    t_ref = run(cols, forcing, 2, linear, backend="reference") / 2 * days   # 2 days, scaled
+        rows.append((label, t1, c1, tn))
+    numba.set_num_threads(1)
+    t_ref = run(cols, forcing, 2, linear, backend="reference", cpu=True)[1] / 2 * days
+    numba.set_num_threads(threads)
+    c0 = time.process_time()
     t_band = banded_peer(cols) * n * steps
-    print(f"{'convection':18s} {'1 thread [s]':>13s} {f'{threads} threads [s]':>14s} "
-          f"{'col-steps/s (1 thr)':>20s}")
-    for label, t1, tn in rows:
-        print(f"{label:18s} {t1:13.2f} {tn:14.2f} {n * steps / t1:20.3g}")
-    base = rows[0][1]
-    print(f"peer 1, numpy reference (2 days scaled): {t_ref:8.2f} s   reference / ours (1 "
-          f"thread, h = 4 + 4v): {t_ref / base:6.1f}")
-    print(f"peer 2, solve_banded per column (scaled): {t_band:7.2f} s   solve_banded / ours: "
-          f"{t_band / base:6.1f}")
-    print(f"convection by the default correlation costs {rows[1][1] - rows[0][1]:.2f} s of "
-          f"the 1-thread run (numpy, every step)")
+    print(f"{'convection':18s} {'1 thread wall [s]':>18s} {'CPU [s]':>8s} "
+          f"{f'{threads} threads wall [s]':>20s} {'col-steps/CPU s':>16s}")
+    for label, t1, c1, tn in rows:
+        print(f"{label:18s} {t1:18.2f} {c1:8.2f} {tn:20.2f} {n * steps / c1:16.3g}")
+    base = rows[0][2]
+    print(f"peer 1, numpy reference (CPU, 2 days scaled): {t_ref:8.2f} s   reference / ours "
+          f"(CPU, h = 4 + 4v): {t_ref / base:6.1f}")
+    print(f"peer 2, solve_banded per column (wall, scaled): {t_band:7.2f} s   solve_banded / "
+          f"ours: {t_band / base:6.1f}")
+    print(f"the default correlation (numpy, every step) adds {rows[1][2] - rows[0][2]:.2f} s "
+          f"CPU to the 1-thread run")
+    del c0
 
 
 if __name__ == "__main__":
