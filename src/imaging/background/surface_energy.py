@@ -1182,7 +1182,7 @@ def _forcing_rows(forcing: SurfaceForcing):
 
 def _initial_state(columns: Columns, stepper_steady: _Stepper, rows, day_index) -> _State:
     """Steady column under the day-mean forcing (backward Euler with Δt → ∞, i.e. no
-    storage), the convective coefficient refreshed three times."""
+    storage): four steady solves, the convective coefficient refreshed between them."""
     n = columns.n_columns
     m_max = columns.n_cells_max
     means = [np.ascontiguousarray(r[day_index].mean(axis=0)) for r in rows]
@@ -1196,6 +1196,114 @@ def _initial_state(columns: Columns, stepper_steady: _Stepper, rows, day_index) 
     for _ in range(4):
         stepper_steady.step(state, *means)
     return state
+
+
+_OUTPUTS = ("temp_surface", "shortwave_net", "longwave_net", "sensible", "latent", "ground",
+            "h_convection")
+
+
+class _Run:
+    """The time loop's pieces over one forcing: an interval of substeps, a periodic day,
+    the energy accounting; the outputs on the forcing grid."""
+
+    def __init__(self, stepper: _Stepper, forcing: SurfaceForcing, substeps: int):
+        self.stepper = stepper
+        self.rows = _forcing_rows(forcing)
+        self.substeps = substeps
+        self.n_day = int(round(DAY / forcing.time_step))
+        self.outputs = {name: np.empty((forcing.n_times, forcing.n_columns))
+                        for name in _OUTPUTS}
+
+    def interval(self, state: _State, k_from: int, k_to: int) -> None:
+        """Substeps from forcing index ``k_from`` to ``k_to`` (forcing linear in between);
+        the end values are stored at ``k_to``."""
+        r0 = [r[k_from] for r in self.rows]
+        r1 = [r[k_to] for r in self.rows]
+        for s in range(1, self.substeps + 1):
+            w = s / self.substeps
+            now = [np.ascontiguousarray(b if w == 1.0 else a + w * (b - a))
+                   for a, b in zip(r0, r1)]
+            h = self.stepper.step(state, *now)
+        out, o = self.stepper.out, self.outputs
+        o["temp_surface"][k_to] = out[5]
+        o["shortwave_net"][k_to] = now[0]
+        o["longwave_net"][k_to] = out[0]
+        o["sensible"][k_to] = out[1]
+        o["latent"][k_to] = out[2]
+        o["ground"][k_to] = out[3]
+        o["h_convection"][k_to] = h
+
+    def periodic_day(self, state: _State) -> np.ndarray:
+        """The first day of the forcing once, wrapping onto index 0; its surface temperature
+        (n_day, N)."""
+        for k in range(1, self.n_day + 1):
+            self.interval(state, k - 1, k % self.n_day)
+        return self.outputs["temp_surface"][:self.n_day].copy()
+
+    def record(self, state: _State) -> None:
+        """The whole forcing from index 0 (the state at index 0 given)."""
+        for k in range(1, len(self.rows[0])):
+            self.interval(state, k - 1, k)
+
+    def start_accounting(self, state: _State) -> np.ndarray:
+        """Zero the flux integrals; the stored energy now [J m-2]."""
+        state.acc[:] = 0.0
+        state.acc_abs[:] = 0.0
+        state.imbalance[:] = 0.0
+        return self.stepper.stored_energy(state.temp)
+
+
+def _spin_up(run: _Run, state: _State, tolerance: float, min_days: int, max_days: int):
+    """Periodic days until the largest day-to-day change of any column's surface temperature
+    is below ``tolerance`` (and at least ``min_days``); returns (days, change (N,), stored
+    energy at the start of the last day)."""
+    previous = None
+    change = np.full(state.temp.shape[1], np.inf)
+    days = 0
+    while days < max_days:
+        energy_start = run.start_accounting(state)     # the last day's books: periodic mode
+        day = run.periodic_day(state)
+        days += 1
+        if previous is not None:
+            change = np.max(np.abs(day - previous), axis=0)
+            if np.max(change) < tolerance and days >= min_days:
+                break
+        previous = day
+    return days, change, energy_start
+
+
+def _check_run(forcing: SurfaceForcing, columns: Columns, scheme: str, mode: str, backend: str,
+               substeps, tolerance: float, min_days: int, max_days: int) -> None:
+    forcing.validate()
+    require(scheme in SCHEMES, "surface_energy.scheme", scheme,
+            f"must be one of {', '.join(SCHEMES)}")
+    require(mode in ("record", "periodic"), "surface_energy.mode", mode,
+            "must be 'record' or 'periodic'")
+    require(backend in _KERNELS, "surface_energy.backend", backend,
+            f"must be one of {', '.join(_KERNELS)}")
+    require(isinstance(substeps, (int, np.integer)) and substeps >= 1, "surface_energy.substeps",
+            substeps, "must be an integer >= 1")
+    check_range("surface_energy.tolerance", tolerance, 0.0, 10.0, "K", low_open=True)
+    require(2 <= min_days <= max_days, "surface_energy.min_days", min_days,
+            f"must lie in [2, max_days = {max_days}]")
+    require(forcing.n_columns == columns.n_columns, "forcing.shortwave_absorbed",
+            forcing.shortwave_absorbed.shape,
+            f"must have one column per column ({columns.n_columns})")
+    per_day = DAY / forcing.time_step
+    require(abs(per_day - round(per_day)) < 1e-9, "forcing.time_step", forcing.time_step,
+            "must divide a day (86400 s) into a whole number of steps")
+    n_day = int(round(per_day))
+    if mode == "periodic":
+        require(forcing.n_times == n_day, "forcing.shortwave_absorbed",
+                forcing.shortwave_absorbed.shape,
+                f"must hold one day ({n_day} instants of {forcing.time_step:g} s) in "
+                "periodic mode")
+    else:
+        require(forcing.n_times >= n_day, "forcing.shortwave_absorbed",
+                forcing.shortwave_absorbed.shape,
+                f"must hold at least one day ({n_day} instants) for the spin-up")
+    for name in ("shortwave_absorbed", "longwave_down"):
+        check_finite(f"forcing.{name}", getattr(forcing, name))
 
 
 def solve_surface_energy(forcing: SurfaceForcing, columns: Columns,
@@ -1245,103 +1353,28 @@ def solve_surface_energy(forcing: SurfaceForcing, columns: Columns,
     Notes
     -----
     The spin-up starts from the steady column under the day-mean forcing, so only the
-    diurnal wave and the nonlinearity's offset have to settle.
+    diurnal wave and the nonlinearity's offset have to settle. In record mode index 0 of the
+    result is the end of the spin-up (its periodic day wraps onto the record's first instant).
     """
-    forcing.validate()
-    require(scheme in SCHEMES, "surface_energy.scheme", scheme,
-            f"must be one of {', '.join(SCHEMES)}")
-    require(mode in ("record", "periodic"), "surface_energy.mode", mode,
-            "must be 'record' or 'periodic'")
-    require(backend in _KERNELS, "surface_energy.backend", backend,
-            f"must be one of {', '.join(_KERNELS)}")
-    require(isinstance(substeps, (int, np.integer)) and substeps >= 1, "surface_energy.substeps",
-            substeps, "must be an integer >= 1")
-    check_range("surface_energy.tolerance", tolerance, 0.0, 10.0, "K", low_open=True)
-    require(2 <= min_days <= max_days, "surface_energy.min_days", min_days,
-            f"must lie in [2, max_days = {max_days}]")
-    require(forcing.n_columns == columns.n_columns, "forcing.shortwave_absorbed",
-            forcing.shortwave_absorbed.shape,
-            f"must have one column per column ({columns.n_columns})")
-    per_day = DAY / forcing.time_step
-    require(abs(per_day - round(per_day)) < 1e-9, "forcing.time_step", forcing.time_step,
-            "must divide a day (86400 s) into a whole number of steps")
-    n_day = int(round(per_day))
-    nt = forcing.n_times
-    if mode == "periodic":
-        require(nt == n_day, "forcing.shortwave_absorbed", forcing.shortwave_absorbed.shape,
-                f"must hold one day ({n_day} instants of {forcing.time_step:g} s) in "
-                "periodic mode")
-    else:
-        require(nt >= n_day, "forcing.shortwave_absorbed", forcing.shortwave_absorbed.shape,
-                f"must hold at least one day ({n_day} instants) for the spin-up")
+    _check_run(forcing, columns, scheme, mode, backend, substeps, tolerance, min_days,
+               max_days)
     if convection is None or isinstance(convection, str):
         convection = convection_correlation(convection or DEFAULT_CONVECTION_MODEL)
     require(callable(convection), "surface_energy.convection", type(convection).__name__,
             "must be a callable h(temp_surface, temp_air, wind_speed), a model name or None")
-    for name in ("shortwave_absorbed", "longwave_down"):
-        check_finite(f"forcing.{name}", getattr(forcing, name))
-
     kernel = _KERNELS[backend]
-    theta = SCHEMES[scheme]
-    dt = forcing.time_step / substeps
-    stepper = _Stepper(columns, convection, theta, dt, kernel)
-    rows = _forcing_rows(forcing)
-    n = columns.n_columns
-    outputs = {name: np.empty((nt, n)) for name in
-               ("temp_surface", "shortwave_net", "longwave_net", "sensible", "latent",
-                "ground", "h_convection")}
-
-    def run_interval(state, k_from, k_to, store_at):
-        """Substeps from forcing index k_from to k_to; store the end values at store_at."""
-        r0 = [r[k_from] for r in rows]
-        r1 = [r[k_to] for r in rows]
-        for s in range(1, substeps + 1):
-            w = s / substeps
-            now = [np.ascontiguousarray(a if w == 1.0 else a0 + w * (a - a0))
-                   for a0, a in zip(r0, r1)]
-            h = stepper.step(state, *now)
-        if store_at is not None:
-            out = stepper.out
-            outputs["temp_surface"][store_at] = out[5]
-            outputs["shortwave_net"][store_at] = now[0]
-            outputs["longwave_net"][store_at] = out[0]
-            outputs["sensible"][store_at] = out[1]
-            outputs["latent"][store_at] = out[2]
-            outputs["ground"][store_at] = out[3]
-            outputs["h_convection"][store_at] = h
-
+    stepper = _Stepper(columns, convection, SCHEMES[scheme], forcing.time_step / substeps,
+                       kernel)
+    run = _Run(stepper, forcing, int(substeps))
     steady = _Stepper(columns, convection, 1.0, 1.0e30, kernel)
-    state = _initial_state(columns, steady, rows, np.arange(n_day))
-    day_prev = None
-    change = np.full(n, np.inf)
-    days = 0
-    while days < max_days:
-        # the accounting covers the last day run (the result in periodic mode)
-        state.acc[:] = 0.0
-        state.acc_abs[:] = 0.0
-        state.imbalance[:] = 0.0
-        energy_start = stepper.stored_energy(state.temp)
-        for k in range(1, n_day + 1):
-            run_interval(state, k - 1, k % n_day, k % n_day)
-        days += 1
-        day = outputs["temp_surface"][:n_day].copy()
-        if day_prev is not None:
-            change = np.max(np.abs(day - day_prev), axis=0)
-            if np.max(change) < tolerance and days >= min_days:
-                break
-        day_prev = day
+    state = _initial_state(columns, steady, run.rows, np.arange(run.n_day))
+    days, change, energy_start = _spin_up(run, state, tolerance, min_days, max_days)
     if mode == "record":
-        # index 0 keeps the end of the spin-up (the periodic day wraps onto it)
-        state.acc[:] = 0.0
-        state.acc_abs[:] = 0.0
-        state.imbalance[:] = 0.0
-        energy_start = stepper.stored_energy(state.temp)
-        for k in range(1, nt):
-            run_interval(state, k - 1, k, k)
+        energy_start = run.start_accounting(state)
+        run.record(state)
     energy_end = stepper.stored_energy(state.temp)
-    temp_cells = stepper.cells(state)
     return SurfaceEnergyResult(
-        **outputs, temp_cells=temp_cells,
+        **run.outputs, temp_cells=stepper.cells(state),
         energy_residual=energy_end - energy_start - state.acc, energy_scale=state.acc_abs,
         surface_imbalance=state.imbalance.copy(), spinup_days=days, spinup_change=change,
         scheme=scheme, substeps=int(substeps))
