@@ -25,6 +25,7 @@ from __future__ import annotations
 import argparse
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "background"))
@@ -51,11 +52,15 @@ def main() -> None:
     walls = []
     header = "  ".join(f"{label:>15s}" for _, label in TERMS)
     for climate in climates:
+        c0 = time.process_time()
         df, wall_ep, _ = ep.run_energyplus(climate, workdir=tempfile.mkdtemp(prefix="eplus_"))
+        cpu_ep = time.process_time() - c0
+        c0 = time.process_time()
         plain = ep.compare(climate, df)
+        cpu_ours = time.process_time() - c0
         replay = {(c.week, c.surface): c for c in ep.compare(climate, df, h_from_eplus=True)}
         wall_ours = sum(c.wall_ours for c in plain)
-        walls.append((climate, wall_ep, wall_ours))
+        walls.append((climate, wall_ep, wall_ours, cpu_ep, cpu_ours))
         print(f"== {climate} ==")
         print(f"{'week':8s} {'surface':13s} {'rms K':>7s} {'max K':>7s} {'rms, EnergyPlus h':>18s}"
               f"   noon (ours / EnergyPlus): {header}")
@@ -69,9 +74,10 @@ def main() -> None:
         print()
     print("wall times (EnergyPlus: one run, 4 surfaces x 2 weeks with warm-up; ours: the "
           "same 8 cases, spin-up included)")
-    for climate, wall_ep, wall_ours in walls:
-        print(f"  {climate:14s} EnergyPlus {wall_ep:6.2f} s   ours {wall_ours:6.2f} s   "
-              f"EnergyPlus / ours {wall_ep / wall_ours:5.1f}")
+    for climate, wall_ep, wall_ours, cpu_ep, cpu_ours in walls:
+        print(f"  {climate:14s} EnergyPlus {wall_ep:6.2f} s (CPU {cpu_ep:5.2f} s)   ours "
+              f"{wall_ours:6.2f} s (CPU, with the forcing: {cpu_ours:5.2f} s)   "
+              f"EnergyPlus / ours {wall_ep / wall_ours:5.1f} (CPU {cpu_ep / cpu_ours:4.1f})")
 
 
 if __name__ == "__main__":
