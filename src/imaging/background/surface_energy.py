@@ -619,11 +619,13 @@ def convection_aerodynamic(roughness_length, roughness_length_heat=None,
     Notes
     -----
     FAO-56 eq. 4: ``r_a = ln((z_m − d)/z_0m) ln((z_h − d)/z_0h) / (k² u_z)``, k = 0.41 (with
-    z_m = z_h = 2 m and the grass of FAO-56 this is r_a = 208/u_2). Calm air gives h → 0:
+    z_m = z_h = 2 m and the grass of FAO-56 this is r_a = 208/u_2). Calm air would give h → 0:
     the wind is floored at 0.5 m s-1 (ASSUMPTION: free convection keeps a minimum exchange;
-    FAO-56 recommends u_2 ≥ 0.5 m s-1 in its eq. 47 discussion). Stability factors: Dyer
-    (1974) unstable and Webb (1970) stable forms in bulk-Richardson number, as tabulated by
-    Oke (1987) Appendix A2 (Ri = g z (T_air − T_s) / (T_air u²)).
+    the floor FAO-56 advises for very low measured winds). Stability (optional, ASSUMPTION:
+    the usual bulk-Richardson shortcut, ζ ≈ Ri): unstable, Dyer's (1974) φ_m = (1 − 16ζ)^-1/4
+    and φ_h = (1 − 16ζ)^-1/2 give the factor (1 − 16 Ri)^3/4; stable, Webb's (1970)
+    φ = 1 + 5ζ with ζ = Ri/(1 − 5 Ri) gives (1 − 5 Ri)²; Ri = g z (T_air − T_s) /
+    (T_air u²), evaluated with the surface temperature at the start of the step.
     """
     z0m = np.asarray(roughness_length, dtype=float)
     z0h = z0m / 10.0 if roughness_length_heat is None else np.asarray(roughness_length_heat,
