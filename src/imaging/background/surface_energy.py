@@ -1014,6 +1014,9 @@ def _step_reference(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, thet
     Eliminating from the bottom, T'_i = P_i + Q_i T'_{i−1}; the surface balance
     ``S(T_s) − K_0 (T_s − P_1 − Q_1 T_s) = 0`` is solved by Newton (all columns of a block
     iterate until the largest update is below :data:`_NEWTON_TOL`), then T' follows downward.
+    Every term of that balance is concave and decreasing in T_s (−εσT⁴, −h T, −λE with e°
+    convex, the linear conduction), so Newton converges from any start, monotonically from
+    above after its first step.
     """
     for c, j0, j1 in blocks:
         sl = slice(j0, j1)
