@@ -312,10 +312,15 @@ def test_energy_conserved_to_round_off_over_days(scheme):
     assert (res.latent[:, 2::3] != 0).any() and (res.latent[:, 0::3] == 0).all()
 
 
+@pytest.mark.parametrize("parallel", [False, True])
 @pytest.mark.parametrize("scheme", ["backward_euler", "crank_nicolson"])
-def test_numba_kernel_equals_reference(scheme):
-    names = NAMES * 30                           # several blocks per class
+def test_numba_kernel_equals_reference(scheme, parallel, monkeypatch):
+    names = NAMES * 22                           # two blocks per class
+    # small batches run the serial build; lower the threshold to run the parallel one too
+    monkeypatch.setattr(se, "_PARALLEL_MIN_BLOCKS", 1 if parallel else 10 ** 9)
     cols = se.build_columns(names, 290.0)
+    stepper = se._Stepper(cols, se.convection_linear(1.0, 1.0), 1.0, 1.0, se._step_numba)
+    assert stepper.kernel is (se._step_numba if parallel else se._step_numba_serial)
     forcing = diurnal_forcing(names, days=2, n_per_day=48)
     kw = dict(scheme=scheme, substeps=2, convection=se.convection_correlation())
     a = se.solve_surface_energy(forcing, cols, backend="numba", **kw)
