@@ -17,6 +17,7 @@ from imaging.background import surface_energy as se
 from imaging.background.classify import CLASS_NAMES
 from imaging.background.surface_classes import (LABELS, SURFACE_CLASSES, Layer, SurfaceClass,
                                                 apply_overrides)
+from shipthermal.environment import Environment, climate_day
 from shipthermal.environment.convection import CONVECTION_MODELS
 from shipthermal.errors import InputError
 from shipthermal.units import SIGMA
@@ -454,8 +455,6 @@ def test_diffuse_models_broadcast_like_one_pixel_at_a_time():
 
 
 def test_forcing_from_the_ship_environment_runs_a_design_day():
-    from shipthermal.environment import Environment, climate_day
-
     env = Environment.from_climate_day(climate_day("summer"))
     state = env.at(np.arange(0.0, DAY, 300.0))
     names = ["land", "building", "vegetation", "land"]

@@ -36,7 +36,6 @@ convective coefficient is evaluated with the surface temperature at the start of
 
 from __future__ import annotations
 
-import dataclasses
 import types
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -45,7 +44,7 @@ import numpy as np
 import pvlib
 from numba import njit, prange
 
-from shipthermal.environment.convection import CONVECTION_MODELS, convection_model
+from shipthermal.environment.convection import convection_model
 from shipthermal.errors import InputError, check_finite, check_range, require
 from shipthermal.parameters import DEFAULT_CONVECTION_MODEL
 from shipthermal.units import DAY, SIGMA, ZERO_CELSIUS
