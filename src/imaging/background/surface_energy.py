@@ -895,19 +895,21 @@ def _step_blocks(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, 
             idn = inv_den[c, i - 1]
             c_bot = theta * k_dn if i == m else 0.0
             c_p = 0.0 if i == m else theta * k_dn
+            row = temp[i, j0:j0 + nb]        # 1-D views: plain non-negative indices
             if theta < 1.0:
+                above = temp[i - 1, j0:j0 + nb]
                 for jj in range(nb):
-                    ti = temp[i, j0 + jj]
-                    rhs = cd * ti + (1.0 - theta) * (k_up * (temp[i - 1, j0 + jj] - ti)
+                    ti = row[jj]
+                    rhs = cd * ti + (1.0 - theta) * (k_up * (above[jj] - ti)
                                                      - k_dn * (ti - t_below_old[jj]))
                     p = (rhs + c_bot * tb[jj] + c_p * p_below[jj]) * idn
-                    temp[i, j0 + jj] = p
+                    row[jj] = p
                     p_below[jj] = p
                     t_below_old[jj] = ti
             else:
                 for jj in range(nb):
-                    p = (cd * temp[i, j0 + jj] + c_bot * tb[jj] + c_p * p_below[jj]) * idn
-                    temp[i, j0 + jj] = p
+                    p = (cd * row[jj] + c_bot * tb[jj] + c_p * p_below[jj]) * idn
+                    row[jj] = p
                     p_below[jj] = p
         # surface node: G(x) = k0 (x − P_1 − Q_1 x) = a x − b; Newton on the block together
         k0 = cond[c, 0]
@@ -921,6 +923,8 @@ def _step_blocks(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, 
         ce = work[8, j0:j0 + nb]
         ea = work[9, j0:j0 + nb]
         x = work[10, j0:j0 + nb]
+        surface = temp[0, j0:j0 + nb]
+        t1 = temp[1, j0:j0 + nb]
         for jj in range(nb):
             ce[jj] = 0.0
             ea[jj] = 0.0
@@ -930,7 +934,7 @@ def _step_blocks(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, 
             tab[jj] = ta[j]
             hb[jj] = h[j]
             eb[jj] = emis[j]
-            x[jj] = temp[0, j0 + jj]
+            x[jj] = surface[jj]
             if latent:
                 rho_cp = 1013.0 * pres[j] / (1.01 * 287.0 * ta[j])
                 gamma = 1013.0 * pres[j] / (0.622 * 2.45e6)
@@ -946,7 +950,7 @@ def _step_blocks(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, 
                     tc = xj - 273.15
                     es = 610.8 * np.exp(17.27 * tc / (tc + 237.3))
                     f = (swb[jj] + eb[jj] * (lwb[jj] - 5.670374419e-8 * x3 * xj)
-                         - hb[jj] * (xj - tab[jj]) - (a * xj - k0 * temp[1, j0 + jj])
+                         - hb[jj] * (xj - tab[jj]) - (a * xj - k0 * t1[jj])
                          - ce[jj] * (es - ea[jj]))
                     df = (-4.0 * eb[jj] * 5.670374419e-8 * x3 - hb[jj] - a
                           - ce[jj] * es * (17.27 * 237.3) / ((tc + 237.3) * (tc + 237.3)))
@@ -958,7 +962,7 @@ def _step_blocks(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, 
                     xj = x[jj]
                     x3 = xj * xj * xj
                     f = (swb[jj] + eb[jj] * (lwb[jj] - 5.670374419e-8 * x3 * xj)
-                         - hb[jj] * (xj - tab[jj]) - (a * xj - k0 * temp[1, j0 + jj]))
+                         - hb[jj] * (xj - tab[jj]) - (a * xj - k0 * t1[jj]))
                     df = -4.0 * eb[jj] * 5.670374419e-8 * x3 - hb[jj] - a
                     dx = -f / df
                     x[jj] = xj + dx
@@ -968,12 +972,15 @@ def _step_blocks(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, 
         # back substitution (temp[0] holds the new surface temperature, then each row the new
         # cell temperature: T_i = P_i + Q_i T_{i−1})
         for jj in range(nb):
-            temp[0, j0 + jj] = x[jj]
+            surface[jj] = x[jj]
         for i in range(1, m + 1):
             qi = q[c, i - 1]
+            row = temp[i, j0:j0 + nb]
+            above = temp[i - 1, j0:j0 + nb]
             for jj in range(nb):
-                temp[i, j0 + jj] = temp[i, j0 + jj] + qi * temp[i - 1, j0 + jj]
+                row[jj] = row[jj] + qi * above[jj]
         k_bot = cond[c, m]
+        bottom = temp[m, j0:j0 + nb]
         for jj in range(nb):
             j = col[jj]
             xj = x[jj]
@@ -984,8 +991,8 @@ def _step_blocks(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, 
             if latent:
                 tc = xj - 273.15
                 lat = ce[jj] * (610.8 * np.exp(17.27 * tc / (tc + 237.3)) - ea[jj])
-            g = k0 * (xj - temp[1, j0 + jj])
-            bot = k_bot * (temp[m, j0 + jj] - tb[jj])
+            g = k0 * (xj - t1[jj])
+            bot = k_bot * (bottom[jj] - tb[jj])
             s = swb[jj] + lwn - sens - lat
             out[0, j] = lwn
             out[1, j] = sens
