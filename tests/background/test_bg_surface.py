@@ -17,6 +17,7 @@ from imaging.background import surface_energy as se
 from imaging.background.classify import CLASS_NAMES
 from imaging.background.surface_classes import (LABELS, SURFACE_CLASSES, Layer, SurfaceClass,
                                                 apply_overrides)
+from shipthermal.environment import Environment, climate_day
 from shipthermal.environment.convection import CONVECTION_MODELS
 from shipthermal.errors import InputError
 from shipthermal.units import SIGMA
@@ -248,11 +249,17 @@ def test_steady_layered_column_is_series_resistance(name):
     np.testing.assert_allclose(res.temp_cells[0, :mesh.n_cells], ts - q * faces_r, atol=1e-9)
 
 
-@pytest.mark.parametrize("name", ["land", "building", "vegetation"])
+@pytest.mark.parametrize("name", ["insulated", "land", "building", "vegetation"])
 def test_steady_surface_balance_equals_scalar_root(name):
-    cls = SURFACE_CLASSES[name]
+    if name == "insulated":
+        # the balance αS + εL↓ = εσT⁴ + h(T − T_air) alone: a roof over a room through a film
+        # of 1e-9 W m-2 K-1 (G ≈ 1e-7 W m-2, kept in the root below all the same)
+        cls = dataclasses.replace(SURFACE_CLASSES["building"], name=name,
+                                  room_film_coefficient=1e-9)
+    else:
+        cls = SURFACE_CLASSES[name]
     tb = 288.0
-    cols = se.build_columns([name], tb)
+    cols = se.build_columns([name], tb, classes={name: cls})
     sw, lw, ta, rh, wind, p = 600.0, 340.0, 300.0, 55.0, 3.0, 101325.0
     conv = se.convection_linear(5.0, 3.0)
     h = 5.0 + 3.0 * wind
@@ -306,12 +313,17 @@ def test_energy_conserved_to_round_off_over_days(scheme):
     assert (res.latent[:, 2::3] != 0).any() and (res.latent[:, 0::3] == 0).all()
 
 
+@pytest.mark.parametrize("parallel", [False, True])
 @pytest.mark.parametrize("scheme", ["backward_euler", "crank_nicolson"])
-def test_numba_kernel_equals_reference(scheme):
-    names = NAMES * 30                           # several blocks per class
+def test_numba_kernel_equals_reference(scheme, parallel, monkeypatch):
+    names = NAMES * 22                           # two blocks per class
+    # small batches run the serial build; lower the threshold to run the parallel one too
+    monkeypatch.setattr(se, "_PARALLEL_MIN_BLOCKS", 1 if parallel else 10 ** 9)
     cols = se.build_columns(names, 290.0)
+    stepper = se._Stepper(cols, se.convection_linear(1.0, 1.0), 1.0, 1.0, se._step_numba)
+    assert stepper.kernel is (se._step_numba if parallel else se._step_numba_serial)
     forcing = diurnal_forcing(names, days=2, n_per_day=48)
-    kw = dict(scheme=scheme, substeps=2, convection=se.convection_correlation())
+    kw = dict(scheme=scheme, substeps=2, convection=se.convection_correlation(), max_days=3)
     a = se.solve_surface_energy(forcing, cols, backend="numba", **kw)
     b = se.solve_surface_energy(forcing, cols, backend="reference", **kw)
     # same operations in the same order; exp() of numba (LLVM) and numpy may differ in the
@@ -424,6 +436,43 @@ def test_tilted_beam_by_hand_at_50N_in_winter():
                                rtol=1e-12, atol=1e-12)
     lw = se.longwave_incoming(np.array([[300.0]]), svf, 290.0, 1.0)
     np.testing.assert_allclose(lw[0], svf * 300 + (1 - svf) * SIGMA * 290.0 ** 4)
+
+
+def test_diffuse_models_broadcast_like_one_pixel_at_a_time():
+    zen, azi = np.array([30.0, 60.0, 95.0]), np.array([150.0, 200.0, 250.0])
+    dni, dhi = np.array([800.0, 500.0, 0.0]), np.array([100.0, 120.0, 0.0])
+    ghi = dni * np.clip(np.cos(np.radians(zen)), 0, None) + dhi
+    tilt, aspect = np.array([0.0, 10.0, 30.0, 45.0]), np.array([180.0, 90.0, 0.0, 270.0])
+    extra, am = np.full(3, 1360.0), pvlib.atmosphere.get_relative_airmass(zen)
+    for model in ("isotropic", "haydavies", "perez"):
+        out = se.shortwave_on_tilted(tilt, aspect, zen, azi, dni, ghi, dhi, model=model,
+                                     dni_extra=extra, airmass=am)["poa_global"]
+        for j in range(4):
+            one = pvlib.irradiance.get_total_irradiance(
+                tilt[j], aspect[j], zen, azi, dni, ghi, dhi, dni_extra=extra, airmass=am,
+                albedo=0.2, model=model)["poa_global"]
+            np.testing.assert_allclose(out[:, j], np.nan_to_num(one), rtol=1e-12, err_msg=model)
+
+
+def test_forcing_from_the_ship_environment_runs_a_design_day():
+    env = Environment.from_climate_day(climate_day("summer"))
+    state = env.at(np.arange(0.0, DAY, 300.0))
+    names = ["land", "building", "vegetation", "land"]
+    albedo = [SURFACE_CLASSES[n].albedo for n in names]
+    forcing = se.forcing_from_environment(state, 300.0, albedo, surface_tilt=[0, 0, 0, 20],
+                                          surface_azimuth=[180, 180, 180, 180])
+    # flat pixels: absorbed = (1 − albedo) GHI; sky view 1: L↓ of the environment
+    np.testing.assert_allclose(forcing.shortwave_absorbed[:, 0], (1 - albedo[0]) * state.ghi,
+                               rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(forcing.longwave_down[:, 1], state.longwave_down, rtol=1e-12)
+    cols = se.build_columns(names, float(np.mean(state.temp_air)))
+    res = se.solve_surface_energy(forcing, cols, mode="periodic")
+    assert res.spinup_change.max() < 0.01
+    assert (np.abs(res.energy_residual) < 1e-12 * res.energy_scale).all()
+    noon = np.argmax(state.ghi)
+    # sunlit dry paving runs hotter than the air and than the transpiring grass at noon
+    assert res.temp_surface[noon, 0] > state.temp_air[noon] + 5.0
+    assert res.temp_surface[noon, 2] < res.temp_surface[noon, 0]
 
 
 def test_forcing_errors_name_the_field():

@@ -218,8 +218,8 @@ _MEMBRANE = Layer("roof membrane", 0.0095, 0.16, 1121.29, 1460.0,
 _DECK = Layer("concrete deck", 0.1016, 1.311, 2240.0, 836.8,
               "SOURCED: [3] record 'MAT-CC05 4 HW CONCRETE'")
 _INSULATION = Layer("roof insulation", 0.127, 0.049, 265.0, 836.8,
-                    "SOURCED: [3] record 'IEAD NonRes Roof Insulation' (thickness of the "
-                    "Chicago 2004 model)")
+                    "SOURCED: [3] record 'IEAD NonRes Roof Insulation' (k, ρ, c; thickness "
+                    "0.1273 m in the Chicago 2004 model, rounded)")
 
 SURFACE_CLASSES: Mapping[str, SurfaceClass] = MappingProxyType({
     "vegetation": SurfaceClass(

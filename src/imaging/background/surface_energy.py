@@ -36,16 +36,15 @@ convective coefficient is evaluated with the surface temperature at the start of
 
 from __future__ import annotations
 
-import dataclasses
+import types
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 import pvlib
 from numba import njit, prange
 
-from shipthermal.environment.convection import CONVECTION_MODELS, convection_model
+from shipthermal.environment.convection import convection_model
 from shipthermal.errors import InputError, check_finite, check_range, require
 from shipthermal.parameters import DEFAULT_CONVECTION_MODEL
 from shipthermal.units import DAY, SIGMA, ZERO_CELSIUS
@@ -76,6 +75,7 @@ __all__ = [
     "sky_view_factor",
     "shortwave_on_tilted",
     "longwave_incoming",
+    "forcing_from_environment",
     "solve_surface_energy",
 ]
 
@@ -618,11 +618,13 @@ def convection_aerodynamic(roughness_length, roughness_length_heat=None,
     Notes
     -----
     FAO-56 eq. 4: ``r_a = ln((z_m − d)/z_0m) ln((z_h − d)/z_0h) / (k² u_z)``, k = 0.41 (with
-    z_m = z_h = 2 m and the grass of FAO-56 this is r_a = 208/u_2). Calm air gives h → 0:
+    z_m = z_h = 2 m and the grass of FAO-56 this is r_a = 208/u_2). Calm air would give h → 0:
     the wind is floored at 0.5 m s-1 (ASSUMPTION: free convection keeps a minimum exchange;
-    FAO-56 recommends u_2 ≥ 0.5 m s-1 in its eq. 47 discussion). Stability factors: Dyer
-    (1974) unstable and Webb (1970) stable forms in bulk-Richardson number, as tabulated by
-    Oke (1987) Appendix A2 (Ri = g z (T_air − T_s) / (T_air u²)).
+    the floor FAO-56 advises for very low measured winds). Stability (optional, ASSUMPTION:
+    the usual bulk-Richardson shortcut, ζ ≈ Ri): unstable, Dyer's (1974) φ_m = (1 − 16ζ)^-1/4
+    and φ_h = (1 − 16ζ)^-1/2 give the factor (1 − 16 Ri)^3/4; stable, Webb's (1970)
+    φ = 1 + 5ζ with ζ = Ri/(1 − 5 Ri) gives (1 − 5 Ri)²; Ri = g z (T_air − T_s) /
+    (T_air u²), evaluated with the surface temperature at the start of the step.
     """
     z0m = np.asarray(roughness_length, dtype=float)
     z0h = z0m / 10.0 if roughness_length_heat is None else np.asarray(roughness_length_heat,
@@ -751,6 +753,67 @@ def longwave_incoming(longwave_sky, sky_view, temp_surroundings, emissivity_surr
     return v * np.asarray(longwave_sky) + (1.0 - v) * emissivity_surroundings * SIGMA * ts ** 4
 
 
+def forcing_from_environment(state, time_step: float, albedo, surface_tilt=0.0,
+                             surface_azimuth=180.0, sky_view=None, temp_surroundings=None,
+                             albedo_ground: float = 0.2, diffuse_model: str = "isotropic",
+                             pressure=101325.0) -> SurfaceForcing:
+    """Forcing of N land pixels from the environment the ship sees.
+
+    Parameters
+    ----------
+    state : shipthermal.environment.EnvironmentState
+        The environment at the n_t instants of a uniform grid (``env.at(times)``).
+    time_step : float
+        Spacing of those instants [s].
+    albedo : float or array_like
+        (N,) short-wave albedo of each pixel [-] (the class's, or fitted per pixel).
+    surface_tilt, surface_azimuth : float or array_like
+        (N,) terrain slope and aspect (downslope compass azimuth) [deg].
+    sky_view : array_like, optional
+        (N,) sky-view factor [-]; default that of the tilted plane alone
+        (:func:`sky_view_factor`); pass a smaller one where buildings hide the sky.
+    temp_surroundings : float or array_like, optional
+        Temperature of what fills the rest of the view [K]; default the air temperature.
+    albedo_ground : float
+        Albedo of the surroundings for the ground-reflected short-wave [-].
+    diffuse_model : str
+        pvlib sky-diffuse model (:func:`shortwave_on_tilted`); ``haydavies``/``perez`` get
+        pvlib's extraterrestrial DNI and air mass at the state's times.
+    pressure : float or array_like
+        Air pressure [Pa].
+
+    Returns
+    -------
+    SurfaceForcing
+        Absorbed short-wave ``(1 − albedo) · poa_global``, incoming long-wave
+        ``V L↓ + (1 − V) σ T_surr⁴`` (:func:`longwave_incoming`, surroundings black), air
+        temperature, humidity and the 10 m wind of the state.
+    """
+    tilt = np.atleast_1d(np.asarray(surface_tilt, dtype=float))
+    azim = np.atleast_1d(np.asarray(surface_azimuth, dtype=float))
+    alb = np.atleast_1d(np.asarray(albedo, dtype=float))
+    n = max(tilt.size, azim.size, alb.size, 1 if sky_view is None else np.size(sky_view))
+    tilt, azim, alb = (np.broadcast_to(x, (n,)) for x in (tilt, azim, alb))
+    check_range("forcing.albedo", alb, 0.0, 1.0)
+    check_range("forcing.surface_tilt", tilt, 0.0, 90.0, "deg")
+    extra = airmass = None
+    if diffuse_model != "isotropic":
+        extra = pvlib.irradiance.get_extra_radiation(state.times).to_numpy()
+        airmass = pvlib.atmosphere.get_relative_airmass(np.asarray(state.zenith))
+    sw = shortwave_on_tilted(tilt, azim, state.zenith, state.azimuth, state.dni, state.ghi,
+                             state.dhi, albedo_ground, diffuse_model, extra, airmass)
+    view = sky_view_factor(tilt) if sky_view is None else np.broadcast_to(
+        np.asarray(sky_view, dtype=float), (n,))
+    t_surr = (np.asarray(state.temp_air)[:, None] if temp_surroundings is None
+              else np.asarray(temp_surroundings, dtype=float))
+    lw = longwave_incoming(np.asarray(state.longwave_down)[:, None], view, t_surr, 1.0)
+    return SurfaceForcing(float(time_step), (1.0 - alb) * sw["poa_global"],
+                          np.ascontiguousarray(np.broadcast_to(lw, sw["poa_global"].shape)),
+                          np.asarray(state.temp_air, dtype=float),
+                          np.asarray(state.relative_humidity, dtype=float),
+                          np.asarray(state.wind_speed, dtype=float), pressure)
+
+
 # ---------------------------------------------------------------------------------------------
 # Step kernels
 # ---------------------------------------------------------------------------------------------
@@ -803,8 +866,7 @@ def _blocks(class_index: np.ndarray, block: int = BLOCK) -> tuple:
     return order.astype(np.int64), np.array(rows, dtype=np.int64).reshape(-1, 3)
 
 
-@njit(parallel=True, cache=True)
-def _step_numba(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, emis, rs, tbot,
+def _step_blocks(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, emis, rs, tbot,
                 sw, lw, ta, rh, pres, h, dt, out, sb_old, acc, acc_abs, imbalance, work):
     """One step of every column, blocks in parallel; the arithmetic of
     :func:`_step_reference`. ``temp`` (M + 1, N): surface node then cells, columns in the
@@ -833,19 +895,21 @@ def _step_numba(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, e
             idn = inv_den[c, i - 1]
             c_bot = theta * k_dn if i == m else 0.0
             c_p = 0.0 if i == m else theta * k_dn
+            row = temp[i, j0:j0 + nb]        # 1-D views: plain non-negative indices
             if theta < 1.0:
+                above = temp[i - 1, j0:j0 + nb]
                 for jj in range(nb):
-                    ti = temp[i, j0 + jj]
-                    rhs = cd * ti + (1.0 - theta) * (k_up * (temp[i - 1, j0 + jj] - ti)
+                    ti = row[jj]
+                    rhs = cd * ti + (1.0 - theta) * (k_up * (above[jj] - ti)
                                                      - k_dn * (ti - t_below_old[jj]))
                     p = (rhs + c_bot * tb[jj] + c_p * p_below[jj]) * idn
-                    temp[i, j0 + jj] = p
+                    row[jj] = p
                     p_below[jj] = p
                     t_below_old[jj] = ti
             else:
                 for jj in range(nb):
-                    p = (cd * temp[i, j0 + jj] + c_bot * tb[jj] + c_p * p_below[jj]) * idn
-                    temp[i, j0 + jj] = p
+                    p = (cd * row[jj] + c_bot * tb[jj] + c_p * p_below[jj]) * idn
+                    row[jj] = p
                     p_below[jj] = p
         # surface node: G(x) = k0 (x − P_1 − Q_1 x) = a x − b; Newton on the block together
         k0 = cond[c, 0]
@@ -859,6 +923,8 @@ def _step_numba(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, e
         ce = work[8, j0:j0 + nb]
         ea = work[9, j0:j0 + nb]
         x = work[10, j0:j0 + nb]
+        surface = temp[0, j0:j0 + nb]
+        t1 = temp[1, j0:j0 + nb]
         for jj in range(nb):
             ce[jj] = 0.0
             ea[jj] = 0.0
@@ -868,7 +934,7 @@ def _step_numba(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, e
             tab[jj] = ta[j]
             hb[jj] = h[j]
             eb[jj] = emis[j]
-            x[jj] = temp[0, j0 + jj]
+            x[jj] = surface[jj]
             if latent:
                 rho_cp = 1013.0 * pres[j] / (1.01 * 287.0 * ta[j])
                 gamma = 1013.0 * pres[j] / (0.622 * 2.45e6)
@@ -884,7 +950,7 @@ def _step_numba(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, e
                     tc = xj - 273.15
                     es = 610.8 * np.exp(17.27 * tc / (tc + 237.3))
                     f = (swb[jj] + eb[jj] * (lwb[jj] - 5.670374419e-8 * x3 * xj)
-                         - hb[jj] * (xj - tab[jj]) - (a * xj - k0 * temp[1, j0 + jj])
+                         - hb[jj] * (xj - tab[jj]) - (a * xj - k0 * t1[jj])
                          - ce[jj] * (es - ea[jj]))
                     df = (-4.0 * eb[jj] * 5.670374419e-8 * x3 - hb[jj] - a
                           - ce[jj] * es * (17.27 * 237.3) / ((tc + 237.3) * (tc + 237.3)))
@@ -896,7 +962,7 @@ def _step_numba(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, e
                     xj = x[jj]
                     x3 = xj * xj * xj
                     f = (swb[jj] + eb[jj] * (lwb[jj] - 5.670374419e-8 * x3 * xj)
-                         - hb[jj] * (xj - tab[jj]) - (a * xj - k0 * temp[1, j0 + jj]))
+                         - hb[jj] * (xj - tab[jj]) - (a * xj - k0 * t1[jj]))
                     df = -4.0 * eb[jj] * 5.670374419e-8 * x3 - hb[jj] - a
                     dx = -f / df
                     x[jj] = xj + dx
@@ -906,12 +972,15 @@ def _step_numba(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, e
         # back substitution (temp[0] holds the new surface temperature, then each row the new
         # cell temperature: T_i = P_i + Q_i T_{i−1})
         for jj in range(nb):
-            temp[0, j0 + jj] = x[jj]
+            surface[jj] = x[jj]
         for i in range(1, m + 1):
             qi = q[c, i - 1]
+            row = temp[i, j0:j0 + nb]
+            above = temp[i - 1, j0:j0 + nb]
             for jj in range(nb):
-                temp[i, j0 + jj] = temp[i, j0 + jj] + qi * temp[i - 1, j0 + jj]
+                row[jj] = row[jj] + qi * above[jj]
         k_bot = cond[c, m]
+        bottom = temp[m, j0:j0 + nb]
         for jj in range(nb):
             j = col[jj]
             xj = x[jj]
@@ -922,8 +991,8 @@ def _step_numba(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, theta, e
             if latent:
                 tc = xj - 273.15
                 lat = ce[jj] * (610.8 * np.exp(17.27 * tc / (tc + 237.3)) - ea[jj])
-            g = k0 * (xj - temp[1, j0 + jj])
-            bot = k_bot * (temp[m, j0 + jj] - tb[jj])
+            g = k0 * (xj - t1[jj])
+            bot = k_bot * (bottom[jj] - tb[jj])
             s = swb[jj] + lwn - sens - lat
             out[0, j] = lwn
             out[1, j] = sens
@@ -951,6 +1020,9 @@ def _step_reference(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, thet
     Eliminating from the bottom, T'_i = P_i + Q_i T'_{i−1}; the surface balance
     ``S(T_s) − K_0 (T_s − P_1 − Q_1 T_s) = 0`` is solved by Newton (all columns of a block
     iterate until the largest update is below :data:`_NEWTON_TOL`), then T' follows downward.
+    Every term of that balance is concave and decreasing in T_s (−εσT⁴, −h T, −λE with e°
+    convex, the linear conduction), so Newton converges from any start, monotonically from
+    above after its first step.
     """
     for c, j0, j1 in blocks:
         sl = slice(j0, j1)
@@ -1029,6 +1101,22 @@ def _step_reference(temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, thet
         imbalance[col] = np.maximum(imbalance[col], np.abs(s - g))
 
 
+def _renamed(func, name: str):
+    """A copy of a plain function under another name (numba caches compiled code per
+    qualified name: the parallel and the serial build must not share an entry)."""
+    copy = types.FunctionType(func.__code__, func.__globals__, name, func.__defaults__,
+                              func.__closure__)
+    copy.__qualname__ = name
+    copy.__doc__ = func.__doc__
+    return copy
+
+
+_step_numba = njit(parallel=True, cache=True)(_renamed(_step_blocks, "_step_numba"))
+_step_numba_serial = njit(cache=True)(_renamed(_step_blocks, "_step_numba_serial"))
+"""The kernel of :func:`_step_blocks` compiled twice: blocks on numba's threads, and on the
+calling thread alone for small problems (a parallel launch costs tens of µs per step, far
+more while other processes hold the cores; same blocks, same arithmetic, same results)."""
+
 _KERNELS = {"numba": _step_numba, "reference": _step_reference}
 
 
@@ -1061,9 +1149,8 @@ class _Stepper:
         self.out = np.zeros((6, n))
         self.work = np.zeros((11, n))
         self.order, self.blocks = _blocks(np.asarray(columns.class_index))
-        # a parallel launch costs tens of µs, and far more when the other cores are busy:
-        # small problems run on the calling thread alone (same blocks, same results)
-        self.serial = len(self.blocks) < _PARALLEL_MIN_BLOCKS
+        if kernel is _step_numba and len(self.blocks) < _PARALLEL_MIN_BLOCKS:
+            self.kernel = _step_numba_serial
         self.emis = np.ascontiguousarray(columns.emissivity)
         self.rs = np.ascontiguousarray(columns.surface_resistance)
         self.tbot = np.ascontiguousarray(columns.bottom_temperature)
@@ -1077,17 +1164,10 @@ class _Stepper:
     def step(self, state: _State, sw, lw, ta, rh, pres, wind) -> np.ndarray:
         h = np.ascontiguousarray(np.broadcast_to(
             self.convection(self.surface(state), ta, wind), ta.shape), dtype=float)
-        threads = numba.get_num_threads()
-        if self.serial and threads > 1:
-            numba.set_num_threads(1)
-        try:
-            self.kernel(state.temp, self.order, self.blocks, self.n_cells, self.cap_dt,
-                        self.cond, self.q, self.inv_den, self.theta, self.emis, self.rs,
-                        self.tbot, sw, lw, ta, rh, pres, h, self.dt, self.out, state.sb_old,
-                        state.acc, state.acc_abs, state.imbalance, self.work)
-        finally:
-            if self.serial and threads > 1:
-                numba.set_num_threads(threads)
+        self.kernel(state.temp, self.order, self.blocks, self.n_cells, self.cap_dt, self.cond,
+                    self.q, self.inv_den, self.theta, self.emis, self.rs, self.tbot, sw, lw, ta,
+                    rh, pres, h, self.dt, self.out, state.sb_old, state.acc, state.acc_abs,
+                    state.imbalance, self.work)
         return h
 
     def stored_energy(self, temp: np.ndarray) -> np.ndarray:
@@ -1113,7 +1193,7 @@ def _forcing_rows(forcing: SurfaceForcing):
 
 def _initial_state(columns: Columns, stepper_steady: _Stepper, rows, day_index) -> _State:
     """Steady column under the day-mean forcing (backward Euler with Δt → ∞, i.e. no
-    storage), the convective coefficient refreshed three times."""
+    storage): four steady solves, the convective coefficient refreshed between them."""
     n = columns.n_columns
     m_max = columns.n_cells_max
     means = [np.ascontiguousarray(r[day_index].mean(axis=0)) for r in rows]
@@ -1127,6 +1207,114 @@ def _initial_state(columns: Columns, stepper_steady: _Stepper, rows, day_index) 
     for _ in range(4):
         stepper_steady.step(state, *means)
     return state
+
+
+_OUTPUTS = ("temp_surface", "shortwave_net", "longwave_net", "sensible", "latent", "ground",
+            "h_convection")
+
+
+class _Run:
+    """The time loop's pieces over one forcing: an interval of substeps, a periodic day,
+    the energy accounting; the outputs on the forcing grid."""
+
+    def __init__(self, stepper: _Stepper, forcing: SurfaceForcing, substeps: int):
+        self.stepper = stepper
+        self.rows = _forcing_rows(forcing)
+        self.substeps = substeps
+        self.n_day = int(round(DAY / forcing.time_step))
+        self.outputs = {name: np.empty((forcing.n_times, forcing.n_columns))
+                        for name in _OUTPUTS}
+
+    def interval(self, state: _State, k_from: int, k_to: int) -> None:
+        """Substeps from forcing index ``k_from`` to ``k_to`` (forcing linear in between);
+        the end values are stored at ``k_to``."""
+        r0 = [r[k_from] for r in self.rows]
+        r1 = [r[k_to] for r in self.rows]
+        for s in range(1, self.substeps + 1):
+            w = s / self.substeps
+            now = [np.ascontiguousarray(b if w == 1.0 else a + w * (b - a))
+                   for a, b in zip(r0, r1)]
+            h = self.stepper.step(state, *now)
+        out, o = self.stepper.out, self.outputs
+        o["temp_surface"][k_to] = out[5]
+        o["shortwave_net"][k_to] = now[0]
+        o["longwave_net"][k_to] = out[0]
+        o["sensible"][k_to] = out[1]
+        o["latent"][k_to] = out[2]
+        o["ground"][k_to] = out[3]
+        o["h_convection"][k_to] = h
+
+    def periodic_day(self, state: _State) -> np.ndarray:
+        """The first day of the forcing once, wrapping onto index 0; its surface temperature
+        (n_day, N)."""
+        for k in range(1, self.n_day + 1):
+            self.interval(state, k - 1, k % self.n_day)
+        return self.outputs["temp_surface"][:self.n_day].copy()
+
+    def record(self, state: _State) -> None:
+        """The whole forcing from index 0 (the state at index 0 given)."""
+        for k in range(1, len(self.rows[0])):
+            self.interval(state, k - 1, k)
+
+    def start_accounting(self, state: _State) -> np.ndarray:
+        """Zero the flux integrals; the stored energy now [J m-2]."""
+        state.acc[:] = 0.0
+        state.acc_abs[:] = 0.0
+        state.imbalance[:] = 0.0
+        return self.stepper.stored_energy(state.temp)
+
+
+def _spin_up(run: _Run, state: _State, tolerance: float, min_days: int, max_days: int):
+    """Periodic days until the largest day-to-day change of any column's surface temperature
+    is below ``tolerance`` (and at least ``min_days``); returns (days, change (N,), stored
+    energy at the start of the last day)."""
+    previous = None
+    change = np.full(state.temp.shape[1], np.inf)
+    days = 0
+    while days < max_days:
+        energy_start = run.start_accounting(state)     # the last day's books: periodic mode
+        day = run.periodic_day(state)
+        days += 1
+        if previous is not None:
+            change = np.max(np.abs(day - previous), axis=0)
+            if np.max(change) < tolerance and days >= min_days:
+                break
+        previous = day
+    return days, change, energy_start
+
+
+def _check_run(forcing: SurfaceForcing, columns: Columns, scheme: str, mode: str, backend: str,
+               substeps, tolerance: float, min_days: int, max_days: int) -> None:
+    forcing.validate()
+    require(scheme in SCHEMES, "surface_energy.scheme", scheme,
+            f"must be one of {', '.join(SCHEMES)}")
+    require(mode in ("record", "periodic"), "surface_energy.mode", mode,
+            "must be 'record' or 'periodic'")
+    require(backend in _KERNELS, "surface_energy.backend", backend,
+            f"must be one of {', '.join(_KERNELS)}")
+    require(isinstance(substeps, (int, np.integer)) and substeps >= 1, "surface_energy.substeps",
+            substeps, "must be an integer >= 1")
+    check_range("surface_energy.tolerance", tolerance, 0.0, 10.0, "K", low_open=True)
+    require(2 <= min_days <= max_days, "surface_energy.min_days", min_days,
+            f"must lie in [2, max_days = {max_days}]")
+    require(forcing.n_columns == columns.n_columns, "forcing.shortwave_absorbed",
+            forcing.shortwave_absorbed.shape,
+            f"must have one column per column ({columns.n_columns})")
+    per_day = DAY / forcing.time_step
+    require(abs(per_day - round(per_day)) < 1e-9, "forcing.time_step", forcing.time_step,
+            "must divide a day (86400 s) into a whole number of steps")
+    n_day = int(round(per_day))
+    if mode == "periodic":
+        require(forcing.n_times == n_day, "forcing.shortwave_absorbed",
+                forcing.shortwave_absorbed.shape,
+                f"must hold one day ({n_day} instants of {forcing.time_step:g} s) in "
+                "periodic mode")
+    else:
+        require(forcing.n_times >= n_day, "forcing.shortwave_absorbed",
+                forcing.shortwave_absorbed.shape,
+                f"must hold at least one day ({n_day} instants) for the spin-up")
+    for name in ("shortwave_absorbed", "longwave_down"):
+        check_finite(f"forcing.{name}", getattr(forcing, name))
 
 
 def solve_surface_energy(forcing: SurfaceForcing, columns: Columns,
@@ -1176,103 +1364,28 @@ def solve_surface_energy(forcing: SurfaceForcing, columns: Columns,
     Notes
     -----
     The spin-up starts from the steady column under the day-mean forcing, so only the
-    diurnal wave and the nonlinearity's offset have to settle.
+    diurnal wave and the nonlinearity's offset have to settle. In record mode index 0 of the
+    result is the end of the spin-up (its periodic day wraps onto the record's first instant).
     """
-    forcing.validate()
-    require(scheme in SCHEMES, "surface_energy.scheme", scheme,
-            f"must be one of {', '.join(SCHEMES)}")
-    require(mode in ("record", "periodic"), "surface_energy.mode", mode,
-            "must be 'record' or 'periodic'")
-    require(backend in _KERNELS, "surface_energy.backend", backend,
-            f"must be one of {', '.join(_KERNELS)}")
-    require(isinstance(substeps, (int, np.integer)) and substeps >= 1, "surface_energy.substeps",
-            substeps, "must be an integer >= 1")
-    check_range("surface_energy.tolerance", tolerance, 0.0, 10.0, "K", low_open=True)
-    require(2 <= min_days <= max_days, "surface_energy.min_days", min_days,
-            f"must lie in [2, max_days = {max_days}]")
-    require(forcing.n_columns == columns.n_columns, "forcing.shortwave_absorbed",
-            forcing.shortwave_absorbed.shape,
-            f"must have one column per column ({columns.n_columns})")
-    per_day = DAY / forcing.time_step
-    require(abs(per_day - round(per_day)) < 1e-9, "forcing.time_step", forcing.time_step,
-            "must divide a day (86400 s) into a whole number of steps")
-    n_day = int(round(per_day))
-    nt = forcing.n_times
-    if mode == "periodic":
-        require(nt == n_day, "forcing.shortwave_absorbed", forcing.shortwave_absorbed.shape,
-                f"must hold one day ({n_day} instants of {forcing.time_step:g} s) in "
-                "periodic mode")
-    else:
-        require(nt >= n_day, "forcing.shortwave_absorbed", forcing.shortwave_absorbed.shape,
-                f"must hold at least one day ({n_day} instants) for the spin-up")
+    _check_run(forcing, columns, scheme, mode, backend, substeps, tolerance, min_days,
+               max_days)
     if convection is None or isinstance(convection, str):
         convection = convection_correlation(convection or DEFAULT_CONVECTION_MODEL)
     require(callable(convection), "surface_energy.convection", type(convection).__name__,
             "must be a callable h(temp_surface, temp_air, wind_speed), a model name or None")
-    for name in ("shortwave_absorbed", "longwave_down"):
-        check_finite(f"forcing.{name}", getattr(forcing, name))
-
     kernel = _KERNELS[backend]
-    theta = SCHEMES[scheme]
-    dt = forcing.time_step / substeps
-    stepper = _Stepper(columns, convection, theta, dt, kernel)
-    rows = _forcing_rows(forcing)
-    n = columns.n_columns
-    outputs = {name: np.empty((nt, n)) for name in
-               ("temp_surface", "shortwave_net", "longwave_net", "sensible", "latent",
-                "ground", "h_convection")}
-
-    def run_interval(state, k_from, k_to, store_at):
-        """Substeps from forcing index k_from to k_to; store the end values at store_at."""
-        r0 = [r[k_from] for r in rows]
-        r1 = [r[k_to] for r in rows]
-        for s in range(1, substeps + 1):
-            w = s / substeps
-            now = [np.ascontiguousarray(a if w == 1.0 else a0 + w * (a - a0))
-                   for a0, a in zip(r0, r1)]
-            h = stepper.step(state, *now)
-        if store_at is not None:
-            out = stepper.out
-            outputs["temp_surface"][store_at] = out[5]
-            outputs["shortwave_net"][store_at] = now[0]
-            outputs["longwave_net"][store_at] = out[0]
-            outputs["sensible"][store_at] = out[1]
-            outputs["latent"][store_at] = out[2]
-            outputs["ground"][store_at] = out[3]
-            outputs["h_convection"][store_at] = h
-
+    stepper = _Stepper(columns, convection, SCHEMES[scheme], forcing.time_step / substeps,
+                       kernel)
+    run = _Run(stepper, forcing, int(substeps))
     steady = _Stepper(columns, convection, 1.0, 1.0e30, kernel)
-    state = _initial_state(columns, steady, rows, np.arange(n_day))
-    day_prev = None
-    change = np.full(n, np.inf)
-    days = 0
-    while days < max_days:
-        # the accounting covers the last day run (the result in periodic mode)
-        state.acc[:] = 0.0
-        state.acc_abs[:] = 0.0
-        state.imbalance[:] = 0.0
-        energy_start = stepper.stored_energy(state.temp)
-        for k in range(1, n_day + 1):
-            run_interval(state, k - 1, k % n_day, k % n_day)
-        days += 1
-        day = outputs["temp_surface"][:n_day].copy()
-        if day_prev is not None:
-            change = np.max(np.abs(day - day_prev), axis=0)
-            if np.max(change) < tolerance and days >= min_days:
-                break
-        day_prev = day
+    state = _initial_state(columns, steady, run.rows, np.arange(run.n_day))
+    days, change, energy_start = _spin_up(run, state, tolerance, min_days, max_days)
     if mode == "record":
-        # index 0 keeps the end of the spin-up (the periodic day wraps onto it)
-        state.acc[:] = 0.0
-        state.acc_abs[:] = 0.0
-        state.imbalance[:] = 0.0
-        energy_start = stepper.stored_energy(state.temp)
-        for k in range(1, nt):
-            run_interval(state, k - 1, k, k)
+        energy_start = run.start_accounting(state)
+        run.record(state)
     energy_end = stepper.stored_energy(state.temp)
-    temp_cells = stepper.cells(state)
     return SurfaceEnergyResult(
-        **outputs, temp_cells=temp_cells,
+        **run.outputs, temp_cells=stepper.cells(state),
         energy_residual=energy_end - energy_start - state.acc, energy_scale=state.acc_abs,
         surface_imbalance=state.imbalance.copy(), spinup_days=days, spinup_change=change,
         scheme=scheme, substeps=int(substeps))
