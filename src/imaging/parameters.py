@@ -62,8 +62,11 @@ BACKGROUND_MODELS = ("physical", "paper")
 run's environment, :mod:`imaging.background.physical`) and ``paper`` (the paper's Landsat
 LST + kriged met grid + terrain regression, :mod:`imaging.background.background`)."""
 
-RESIDUAL_MODES = ("constant", "solar", "none")
+RESIDUAL_MODES = ("solar", "constant", "none")
 """How the physical background carries the part of a scene's LST its fitted model cannot
-reach through the day (:mod:`imaging.background.physical`): ``constant`` (``T(t_ov) = LST``
-exactly), ``solar`` (scaled by the global irradiance relative to the overpass; a night
-overpass keeps it constant), ``none`` (the model alone)."""
+reach through the day (:mod:`imaging.background.physical`): ``solar`` (default: scaled by
+the global irradiance relative to the overpass, so a daytime misfit — a weather that does
+not match the scene's day, a surface the class table does not describe — fades at night; a
+night overpass keeps it constant), ``constant`` (the observed detail the model cannot
+explain stays all day), ``none`` (the model alone, ``T(t_ov) = LST - residual``). With
+``solar`` and ``constant``, ``T(t_ov) = LST`` exactly."""

@@ -115,7 +115,7 @@ def test_anchoring_reproduces_its_own_scene_exactly(soton):
 
 def test_anchoring_reports_what_it_cannot_reach(soton):
     # A scene 8 K hotter than the darkest, driest surface the classes allow: the fit stops at
-    # the bound, the residual is the rest (reported per class, carried as 'constant').
+    # the bound, the residual is the rest (reported per class; at the overpass T = LST).
     sc, env, ground, bg = soton
     when = pd.Timestamp("2023-07-15 11:00", tz="UTC")
     hour = (when.tz_convert("Europe/London") - bg.start).total_seconds() / 3600.0

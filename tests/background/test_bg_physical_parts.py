@@ -41,15 +41,16 @@ def test_liang_albedo_coefficients():
 
 
 def test_orientation_bins_means():
-    slope = np.array([[0.0, 2.9, 5.0, 6.0], [20.0, 20.0, 40.0, 10.0]])
-    aspect = np.array([[0.0, 90.0, 350.0, 10.0], [180.0, 190.0, 270.0, 135.0]])
+    # level ground below 2 deg; 15-deg aspect sectors centred on north; circular means
+    slope = np.array([[0.0, 1.9, 5.0, 6.0], [20.0, 20.0, 40.0, 10.0]])
+    aspect = np.array([[0.0, 90.0, 355.0, 5.0], [180.0, 185.0, 270.0, 135.0]])
     idx, s, a = orientation_bins(slope, aspect)
     assert idx[0, 0] == idx[0, 1] == 0 and s[0] == 0.0          # level ground
     k = idx[0, 2]
     assert idx[0, 3] == k and s[k] == pytest.approx(5.5)        # one north-facing bin
-    assert min(abs(a[k] - 0.0), abs(a[k] - 360.0)) < 1e-9         # circular mean of 350, 10
+    assert min(abs(a[k] - 0.0), abs(a[k] - 360.0)) < 1e-9         # circular mean of 355, 5
     j = idx[1, 0]
-    assert idx[1, 1] == j and a[j] == pytest.approx(185.0)
+    assert idx[1, 1] == j and a[j] == pytest.approx(182.5)
     assert len(s) == 5
 
 

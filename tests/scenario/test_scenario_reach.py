@@ -251,7 +251,7 @@ CASES = {
     "convection.model": ("builtin", "iso6946", {T}),
     "background.source": ("builtin", "files", {B}),
     "background.model": ("builtin", "paper", {B}),
-    "background.residual": ("bg_physical", "solar", {B}),
+    "background.residual": ("bg_physical", "constant", {B}),
     "background.classes.<class>.<property>": ("builtin", {"land": {"albedo": 0.15}}, {B}),
     "background.seed": ("builtin", 5, {B}),
     "background.size_px": ("builtin", 120, {B}),

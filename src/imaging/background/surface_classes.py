@@ -248,9 +248,15 @@ SURFACE_CLASSES: Mapping[str, SurfaceClass] = MappingProxyType({
         code=3, name="land", albedo=0.12, albedo_range=(0.05, 0.35), emissivity=0.95,
         layers=(_ASPHALT, _CONCRETE_BASE, _SOIL_MOIST), bottom="deep",
         room_film_coefficient=None, latent="none", surface_resistance=None,
-        surface_resistance_range=None, roughness_length=0.005, roughness_length_heat=0.0005,
-        displacement_height=0.0,
+        surface_resistance_range=(50.0, 5000.0), roughness_length=0.005,
+        roughness_length_heat=0.0005, displacement_height=0.0,
         sources=MappingProxyType({
+            "surface_resistance_range": "ASSUMPTION: dry by default; a scene may show it "
+                                        "damp (wet paving after rain, wet intertidal sand "
+                                        "classed as land): fitted between 50 s m-1 (between "
+                                        "a wet bare soil's ~10 s m-1, van de Griend & Owe "
+                                        "1994, and grass's 70) and 5000 s m-1 (about 1 % of "
+                                        "the potential evaporation: dry)",
             "albedo": "ASSUMPTION: weathered asphalt, inside [1] asphalt 0.05-0.20",
             "albedo_range": "SOURCED: [1] asphalt 0.05-0.20 and concrete 0.10-0.35 (paved "
                             "yards of either)",

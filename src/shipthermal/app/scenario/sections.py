@@ -699,9 +699,10 @@ class BackgroundSettings:
                             "land or building (imaging.background.surface_classes), each value "
                             "checked against its physical range",
                             allowed_text="see imaging.background.surface_classes.PHYSICAL_RANGES")
-    residual: str = _opt("constant", "choice", "model = 'physical' with a scene: how the part of "
+    residual: str = _opt("solar", "choice", "model = 'physical' with a scene: how the part of "
                          "the overpass LST the fitted model cannot reach is carried through the "
-                         "day: 'constant', 'solar' (scaled by the global irradiance), 'none'",
+                         "day: 'solar' (scaled by the global irradiance: a daytime misfit fades "
+                         "at night), 'constant', 'none'",
                          choices=RESIDUAL_MODES)
     seed: int = _opt(2026, "int", "Seed of the synthetic port and of the train/test split",
                      lo=0, hi=2 ** 32 - 1)
