@@ -33,7 +33,8 @@ SST of the overpass time plus a little texture.
 
 Climatological numbers (illustrative of the Bohai/Yellow Sea coast, rounded): July mean air
 temperature near Dalian about 24 C, January about -4 C (China Meteorological Administration
-1991–2020 normals); August SST about 25 C, January 3–4 C; column water vapour of the
+1991–2020 normals); the sea is the built-in design day's own
+(:func:`shipthermal.environment.climate_day`); column water vapour of the
 mid-latitude summer / winter standard atmospheres 2.9 / 0.85 g cm-2 (AFGL, Anderson et al.
 1986). Land-surface diurnal amplitudes and class offsets are plausible values, not data.
 """
@@ -53,7 +54,9 @@ from rasterio.crs import CRS
 from rasterio.warp import transform as warp_transform
 from scipy.ndimage import binary_erosion, gaussian_filter
 
+from shipthermal.environment.climatology import climate_day
 from shipthermal.errors import InputError
+from shipthermal.parameters import DESIGN_DAY_DATES
 
 from ..parameters import SYNTHETIC_PIXEL_M
 from .landsat import REFLECTIVE_BANDS, THERMAL_BAND, SceneGrid, north_up_transform
@@ -93,13 +96,12 @@ class SeasonSpec:
     Attributes
     ----------
     date_local : str
-        Local date of the day (YYYY-MM-DD).
+        Local date of the day (YYYY-MM-DD): the built-in design day's
+        (:data:`shipthermal.parameters.DESIGN_DAY_DATES`).
     overpass_utc : str
         Landsat scene centre time (HH:MM:SS, UTC).
     temp_land_mean, temp_land_amplitude : float
         Met land-surface temperature daily mean and half-range [K]; peak at 13:00 local.
-    temp_sst_mean, temp_sst_amplitude : float
-        SST daily mean and half-range [K]; peak at 15:00 local.
     water_vapour : float
         Total column water vapour [g cm-2].
     class_offsets : dict[int, float]
@@ -114,8 +116,6 @@ class SeasonSpec:
     overpass_utc: str
     temp_land_mean: float
     temp_land_amplitude: float
-    temp_sst_mean: float
-    temp_sst_amplitude: float
     water_vapour: float
     class_offsets: dict
     beta: tuple
@@ -123,11 +123,14 @@ class SeasonSpec:
 
 
 SEASONS = {
-    "summer": SeasonSpec("2023-07-28", "02:36:12.5000000", 300.0, 7.0, 297.6, 0.4, 2.9,
+    "summer": SeasonSpec(DESIGN_DAY_DATES["summer"], "02:36:12.5000000", 300.0, 7.0, 2.9,
                          {2: -2.0, 3: 3.0, 4: 5.0}, (-0.0060, -0.050, 1.0), 0.3),
-    "winter": SeasonSpec("2023-01-19", "02:36:15.2500000", 271.0, 5.0, 276.6, 0.2, 0.85,
+    "winter": SeasonSpec(DESIGN_DAY_DATES["winter"], "02:36:15.2500000", 271.0, 5.0, 0.85,
                          {2: -0.5, 3: 1.5, 4: 2.5}, (-0.0050, -0.040, 2.0), -0.1),
 }
+"""The synthetic scene of each built-in design day: its date is the design day's, its sea
+the design day's sea (:func:`_temp_sst`), so the paper's chain on the synthetic port and
+the ship see one sea."""
 
 UTC_OFFSET_HOURS = 8.0
 """China Standard Time (UTC+8)."""
@@ -200,7 +203,10 @@ def _temp_met(season: SeasonSpec, x_km, y_km, hour_local):
 
 
 def _temp_sst(season: SeasonSpec, hour_local):
-    return season.temp_sst_mean + season.temp_sst_amplitude * np.cos(2 * np.pi * (np.asarray(hour_local) - 15.0) / 24.0)
+    """The design day's sea temperature [K] at local hours (the ship's bulk sea of the same
+    day, :func:`shipthermal.environment.climate_day`)."""
+    name = next(k for k, v in SEASONS.items() if v is season)
+    return climate_day(name).temp_sea(np.asarray(hour_local, dtype=float))
 
 
 def _atomic_geotiff(path, array, **profile):
