@@ -548,15 +548,31 @@ class ShipSettings:
         it. Returns ``(ShipGeometry, report)``."""
         from shipthermal.geometry import read_ship
 
+        from shipthermal.geometry.limits import check_surface_size
+        from shipthermal.geometry.outside import SLIVER_ANGLE_DEG, SLIVER_WARN_SHARE
+        from shipthermal.geometry.parts import face_areas
+
         f = self.files
         source = dict(f.parts) if f.parts else f.mesh
-        return read_ship(
+        ship, report = read_ship(
             source, units=f.units, part_map=f.part_map, draught=f.draught,
             waterline_z=f.waterline_z, layups=self._layup_overrides(),
             compartment_temperature=self._compartment_overrides(), clean=f.clean,
             fix_normals=f.fix_normals, repair=None if f.repair == "none" else f.repair,
             check_scale=f.check_scale, max_repair_change=f.max_repair_change,
             repair_edge_length=f.repair_edge_length)
+        if self.edge_length is not None:
+            check_surface_size(float(face_areas(ship.vertices, ship.faces).sum()),
+                               self.edge_length)
+        share = report.get("sliver_share", 0.0)
+        if share > SLIVER_WARN_SHARE and self.edge_length is None:
+            report["warnings"].append(
+                f"{100 * share:.0f} % of the triangles are slivers (smallest angle below "
+                f"{SLIVER_ANGLE_DEG:g} deg): their view factors and heat fluxes are poorly "
+                f"resolved. Set ship.edge_length (e.g. {report['equilateral_edge_m']:.2g} m, "
+                "the same resolution) to remesh the ship with well-shaped triangles")
+        report.setdefault("repairs", []).extend(f"warning: {w}" for w in report["warnings"])
+        return ship, report
 
     def __call__(self, return_report: bool = False):
         """Build the ship geometry (slow: meshing / reading files).
@@ -611,10 +627,19 @@ def _check_particulars(obj: ShipSettings, path: str, ctx: _Context) -> Optional[
         ctx.err(where, exc.value, f"{exc.allowed} (for a {obj.builtin})", exc.fix)
         return None
     if obj.edge_length is not None:
+        from shipthermal.geometry.limits import builtin_area_bound, check_surface_size
+
         lo, hi = 1e-4 * params.length, 0.1 * params.length
         if not lo <= obj.edge_length <= hi:
             ctx.err(f"{path}.edge_length", obj.edge_length, f"must lie in [{lo:.3g}, {hi:.3g}] m "
                     f"for a {params.length:g} m ship (1e-4 to 0.1 of its length)")
+        else:
+            try:
+                check_surface_size(builtin_area_bound(params.length, params.beam,
+                                                      params.draught, params.freeboard),
+                                   obj.edge_length, f"{path}.edge_length")
+            except InputError as exc:
+                ctx.err(exc.field, exc.value, exc.allowed, exc.fix)
     return _builtin_part_names(obj.builtin, dims)
 
 

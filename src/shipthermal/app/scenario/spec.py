@@ -39,7 +39,10 @@ class ScenarioError(InputError):
         self.field, self.value, self.allowed, self.fix = (first.field, first.value,
                                                           first.allowed, first.fix)
         n = len(self.errors)
-        head = f"{source}: {n} problem{'s' if n > 1 else ''} (all listed; fix them and load again)"
+        if n == 1:                     # one problem: one line
+            ValueError.__init__(self, f"{source}: {first}")
+            return
+        head = f"{source}: {n} problems (all listed; fix them and load again)"
         ValueError.__init__(self, "\n".join([head] + [f"  - {e}" for e in self.errors]))
 
 
