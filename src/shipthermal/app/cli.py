@@ -295,6 +295,11 @@ def cmd_run(args, con: Console) -> int:
     RunDir.check_target(out, resume=args.resume, force=args.force, scenario=sc)
     con.debug("reading the inputs (ship, weather" + (", background)" if args.image else ")"))
     ship, background = prepare(sc, imaging=args.image, progress=con.progress, log=con.info)
+    if args.image:                      # the ship must float where the images put it
+        from .mooring import check_mooring_on
+
+        for line in check_mooring_on(sc, ship, background):
+            con.error(f"warning: {line}")
     for line in sc.check_weather():     # gaps interpolated, constants used, wind height
         con.info(f"  {line}")
     with RunDir(out, resume=args.resume, force=args.force, command=args.argv, kind="run",
@@ -342,6 +347,13 @@ def cmd_image(args, con: Console) -> int:
         frame_times(sc, step)
         check_imaging_bands(sc)
     backgrounds = {c: build_background(sc, progress=con.progress) for c, sc in cases.items()}
+    from .mooring import check_mooring_on
+    from .pipeline import load_history
+
+    for c, sc in cases.items():             # the ship must float where the images put it
+        hist = load_history(path / "thermal" / c / "history.npz")
+        for line in check_mooring_on(sc, hist, backgrounds[c]):
+            con.error(f"warning: {c}: {line}")
     with RunDir(path, command=args.argv, kind="image", amend=True) as run:
         _imaging(run, cases, con, step, backgrounds)
         _report(run, con)
@@ -397,6 +409,8 @@ def cmd_background(args, con: Console) -> int:
             raise InputError("background.source", bgs.source, "must be 'files' for `shipthermal background`")
         for k in ("mtl", "roi", "dem", "met", "band_files"):
             opts[k] = opts[k] or getattr(bgs, k, None)
+        if args.water_vapour is None:
+            args.water_vapour = bgs.water_vapour
         offset = sc.start.utcoffset().total_seconds() / 3600.0
     for k in ("mtl", "roi"):
         if not opts[k]:

@@ -315,13 +315,16 @@ def _first_bad(time, mask):
     return f"{time[i]} -> {time[i + 1]}"
 
 
-_TEMP_UNIT_ALIASES = {"degC": "C", "celsius": "C", "kelvin": "K"}
+_TEMP_UNIT_ALIASES = {"degC": "C", "celsius": "C", "kelvin": "K", "degF": "F",
+                      "fahrenheit": "F"}
 
 
 def _temperature(values, unit: str, field: str):
     unit = _TEMP_UNIT_ALIASES.get(unit, unit)
     if unit not in TEMP_UNITS:
         raise InputError(field, unit, "must be " + " or ".join(repr(u) for u in TEMP_UNITS))
+    if unit == "F":
+        return (values - 32.0) / 1.8 + ZERO_CELSIUS
     return values + ZERO_CELSIUS if unit == "C" else values
 
 
@@ -344,7 +347,7 @@ def read_weather_csv(path, tz: Optional[str] = None, temp_unit: str = "C",
     tz : str, optional
         Time zone for naive time strings, e.g. ``'Etc/GMT-8'`` (UTC+8; note the
         POSIX sign) or ``'Asia/Shanghai'``. Times with an offset are converted to it.
-    temp_unit : {'C', 'K'}
+    temp_unit : {'C', 'K', 'F'}
         Unit of temp_air, temp_dew and temp_sea in the file.
     cloud_unit : {'fraction', 'percent', 'tenths', 'oktas'}
         Unit of cloud_cover in the file.

@@ -23,11 +23,13 @@ from .values import (ATMOSPHERE_BACKENDS, BAND_EMISSIVITY, BUILTIN_SHIP_NAMES, C
                      CLIMATE_DATES, CLOUD_MODELS, CLOUD_UNITS, CONVECTION_MODEL_SOURCES, DALIAN,
                      DAY, DECOMPOSITIONS, DEFAULT_CONVECTION_MODEL, DEM_NODATA, LATITUDE_MAX,
                      LONGWAVE_EMISSIVITY, MAX_GAP_HOURS, MAX_RECORD_DAYS, MAX_REPAIR_CHANGE,
+                     MAX_SITE_DISTANCE_KM,
                      MAX_VIEW_ZENITH, MESH_EXTENSIONS, MESH_WITH_PART_ARRAY,
                      MESH_WITH_PART_NAMES, MET_UNITS, OUTPUT_FORMATS, PAPER_IMAGE_TIMES,
                      PAPER_SENSOR, ROI_SPLITS, SEASONS, SHIP_LENGTH_RANGE, SHIP_SPEED_MAX,
                      SOLAR_ABSORPTIVITY, SYNTHETIC_PIXEL_M, TEMP_UNITS, UNITS, VALIDATION_TIMES,
-                     VARIOGRAM_MODELS, WEATHER_FORMATS, WEATHER_SUFFIXES)
+                     VARIOGRAM_MODELS, WATER_VAPOUR_RANGE, WEATHER_FORMATS,
+                     WEATHER_SUFFIXES)
 
 
 # ---------------------------------------------------------------------------------------
@@ -119,13 +121,17 @@ class WeatherSettings:
                                            "from, clockwise from north) where the file has "
                                            "none over the simulated span", unit="deg",
                                            lo=0.0, hi=360.0, optional=True)
-    temp_unit: str = _opt("C", "choice", "CSV only: unit of temperatures in the file",
-                          choices=TEMP_UNITS)
+    temp_unit: str = _opt("C", "choice", "CSV only: unit of temperatures in the file "
+                          "(degC, kelvin or degF)", choices=TEMP_UNITS)
     cloud_unit: str = _opt("fraction", "choice", "CSV only: unit of cloud_cover in the file",
                            choices=CLOUD_UNITS)
     year: Optional[int] = _opt(None, "int", "EPW / TMY2 / TMY3: coerce the typical year's "
                                "rows to this year (default: the year of time.date; TMY2 / "
                                "TMY3: not a leap year)", lo=1950, hi=2100, optional=True)
+    max_site_distance: float = _opt(MAX_SITE_DISTANCE_KM, "float", "EPW / TMY2 / TMY3: "
+                                    "largest distance between the station in the file's "
+                                    "header and [location] (a file of another city is "
+                                    "refused)", unit="km", lo=0.0, hi=20100.0, lo_open=True)
     use_measured_irradiance: bool = _opt(True, "bool", "Files: use the file's global "
                                          "irradiance (split by 'decomposition') instead of "
                                          "clear sky + cloud")
@@ -156,15 +162,17 @@ class WeatherSettings:
 
     _FILE_ONLY = ("format", "temp_sea", "temp_unit", "cloud_unit", "year",
                   "use_measured_irradiance", "use_measured_longwave", "day", "days",
-                  "wind_height", "max_gap_hours", "cloud_cover", "wind_direction")
+                  "wind_height", "max_gap_hours", "cloud_cover", "wind_direction",
+                  "max_site_distance")
 
     def _omit(self) -> tuple:
         fmt = self.file_format
         if fmt is None:
             return self._FILE_ONLY
-        omit = {"csv": ("year", "use_measured_longwave"),
+        omit = {"csv": ("year", "use_measured_longwave", "max_site_distance"),
                 "epw": ("temp_unit", "cloud_unit"),
-                "ndbc": ("temp_unit", "cloud_unit", "year", "use_measured_longwave"),
+                "ndbc": ("temp_unit", "cloud_unit", "year", "use_measured_longwave",
+                         "max_site_distance"),
                 "tmy2": ("temp_unit", "cloud_unit", "use_measured_longwave"),
                 "tmy3": ("temp_unit", "cloud_unit", "use_measured_longwave")}[fmt]
         return omit + (("days",) if self.day != "record" else ())
@@ -210,6 +218,9 @@ class WeatherSettings:
                     ctx.err(f"{path}.{key}", raw[key], "only applies to CSV weather files")
         if fmt == "csv" and "year" in raw:
             ctx.err(f"{path}.year", raw["year"], "only applies to EPW / TMY2 / TMY3 files")
+        if fmt in ("csv", "ndbc") and "max_site_distance" in raw:
+            ctx.err(f"{path}.max_site_distance", raw["max_site_distance"], "only applies to "
+                    "EPW / TMY2 / TMY3 files (their header names the station)")
         if fmt != "epw" and "use_measured_longwave" in raw:
             ctx.err(f"{path}.use_measured_longwave", raw["use_measured_longwave"],
                     "only applies to EPW files (TMY3 has no long-wave; a CSV's "
@@ -743,6 +754,12 @@ class BackgroundSettings:
     dem_nodata: str = _opt("error", "choice", "files: DEM voids over land: refuse, mask (no "
                            "terrain term there) or fill from the surrounding elevations; "
                            "the count is reported", choices=DEM_NODATA)
+    water_vapour: Optional[float] = _opt(None, "float", "files, a Level-1 scene without a "
+                                         "met grid: column water vapour at the overpass for "
+                                         "the single-channel LST of `shipthermal background` "
+                                         "(with a met grid its water vapour is used)",
+                                         unit="g cm-2", lo=WATER_VAPOUR_RANGE[0],
+                                         hi=WATER_VAPOUR_RANGE[1], optional=True)
 
     _FILES = ("mtl", "dem", "met", "roi")
 
@@ -767,7 +784,7 @@ class BackgroundSettings:
             ctx.err(f"{path}.band_files", raw["band_files"], "only applies with source = 'files'")
         return obj
 
-    _FILES_ONLY = ("met_variable", "met_units", "met_margin_cells", "dem_nodata")
+    _FILES_ONLY = ("met_variable", "met_units", "met_margin_cells", "dem_nodata", "water_vapour")
 
     def _omit(self) -> tuple:
         return ("size_px",) if self.source == "files" else BackgroundSettings._FILES_ONLY
