@@ -415,6 +415,7 @@ def cmd_background(args, con: Console) -> int:
     for k in ("mtl", "roi"):
         if not opts[k]:
             raise InputError(f"--{k}", None, "is required (or a scenario whose [background] names it)")
+    _check_background_files(opts, args)
     res = run_background(args.out, **opts, bounds=args.bounds, use_qa=not args.no_qa,
                          n_splits=args.splits, seed=args.seed, utc_offset_hours=offset,
                          water_vapour=args.water_vapour, force=args.force, log=con.info,
@@ -425,6 +426,23 @@ def cmd_background(args, con: Console) -> int:
                 f"{res['summary']['accuracy_over_splits']['n_splits']} held-out ROI splits")
     con.out(f"background: {len(res['files'])} files in {args.out} ({res['seconds']:.1f} s)")
     return EXIT_OK
+
+
+def _check_background_files(opts: dict, args) -> None:
+    """Open the DEM and the met grid before anything is built (a file that is no raster
+    or no met grid is the user's, named by the flag or key that gave it)."""
+    from imaging.background.checks import check_dem_file, check_met_file
+
+    problems = []
+    if opts.get("dem"):
+        problems += check_dem_file(opts["dem"])
+    if opts.get("met"):
+        problems += check_met_file(opts["met"])
+    if problems:
+        e = problems[0]
+        key = e.field.split(".")[1] if e.field.startswith("background.") else e.field
+        flag = f"--{key}" if getattr(args, key, None) else e.field
+        raise InputError(flag, e.value, e.allowed, e.fix)
 
 
 def cmd_sweep(args, con: Console) -> int:

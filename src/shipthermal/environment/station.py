@@ -282,15 +282,17 @@ def _ndbc_frame(path):
     # files before 2007 name two columns differently and have no units line
     names = [_NDBC_ALIASES.get(n, n) for n in head[0].lstrip("#").split()]
     require(len(names) >= 5 and names[0] in ("YY", "YYYY") and "MM" in names,
-            "weather.source", head[0].strip(), "must start with the NDBC column names "
-            "(#YY MM DD hh [mm] WDIR WSPD ... ATMP WTMP DEWP ...)")
+            "weather.source", os.path.basename(str(path)), "must start with the NDBC column "
+            "names (#YY MM DD hh [mm] WDIR WSPD ... ATMP WTMP DEWP ...)",
+            "Check weather.format, or download the 'Standard meteorological data' file")
     skip = sum(1 for line in head if line.startswith("#")) or 1
     try:
         df = pd.read_csv(path, sep=r"\s+", skiprows=skip, header=None, na_values=["MM"],
                          comment=None, dtype=float)
-    except (ValueError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
-        raise InputError("weather.source", str(path), f"must hold NDBC data rows of numbers "
-                         f"({exc})") from None
+    except (ValueError, pd.errors.ParserError, pd.errors.EmptyDataError):
+        raise InputError("weather.source", os.path.basename(str(path)), "must hold NDBC data "
+                         "rows of numbers ('MM' for a missing value), one per line, as many "
+                         "as the header's columns") from None
     require(df.shape[1] == len(names), "weather.source", str(path),
             f"rows must have {len(names)} columns like the header ({df.shape[1]} found)")
     require(len(df) > 0, "weather.source", str(path), "holds no data rows")
@@ -338,9 +340,10 @@ def _typical_year_frame(path, fmt, year):
         else:
             data, meta = pvlib.iotools.read_tmy3(path, coerce_year=year or 2001,
                                                  map_variables=True)
-    except Exception as exc:  # pvlib raises assorted parser errors
-        raise InputError("weather.source", str(path), f"must be a valid {fmt.upper()} file "
-                         f"({type(exc).__name__}: {exc})", "Check weather.format") from None
+    except Exception:  # pvlib raises assorted parser errors (their text quotes the file)
+        raise InputError("weather.source", os.path.basename(str(path)), f"must be a valid "
+                         f"{fmt.upper()} file (its header or rows do not parse as "
+                         f"{fmt.upper()})", "Check weather.format, or the file") from None
     notes = []
     if fmt == "tmy2":
         # typical months come from different years: put every row into one year (pvlib's

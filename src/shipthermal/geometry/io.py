@@ -827,6 +827,13 @@ def write_ship(ship: ShipGeometry, directory, stem: str | None = None) -> dict[s
 
 def _atomic(path: Path, writer) -> Path:
     tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
-    writer(str(tmp))
-    os.replace(tmp, path)
+    try:
+        writer(str(tmp))
+        os.replace(tmp, path)
+    except OSError as exc:
+        if tmp.exists():
+            tmp.unlink()
+        if exc.errno is None or exc.filename not in (None, str(tmp)):
+            raise
+        raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from exc
     return path

@@ -246,6 +246,9 @@ def _clock_list(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
     if not isinstance(raw, list) or not raw:
         ctx.err(path, raw, allowed, 'e.g. ["07:00", "12:00"]')
         return _BAD
+    if len(raw) > 1440:
+        ctx.err(path, f"{len(raw)} times", allowed + ", at most 1440 (one per minute)")
+        return _BAD
     out, ok = [], True
     for i, item in enumerate(raw):
         if isinstance(item, _dt.time):
@@ -260,7 +263,8 @@ def _clock_list(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
             continue
         h, m = item.split(":")
         out.append(f"{int(h):02d}:{m}")
-    dup = sorted({t for t in out if out.count(t) > 1})
+    seen: set = set()
+    dup = sorted({t for t in out if t in seen or seen.add(t)})
     if dup:
         ctx.err(path, raw, allowed, f"{dup} appear more than once")
         ok = False
