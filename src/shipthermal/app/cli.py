@@ -736,7 +736,7 @@ def main(argv=None) -> int:
     try:
         code = args.func(args, con)
     except InputError as exc:
-        con.error(f"error: {exc}")
+        con.error(f"error: {_in_user_words(exc, args)}")
         return EXIT_USER
     except KeyboardInterrupt as exc:
         con.error("interrupted (an unfinished run resumes with --resume)")
@@ -758,6 +758,42 @@ def main(argv=None) -> int:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
     return code
+
+
+#: Argument names of the library's functions that a user never typed, and the scenario key
+#: (``[background]``) or command-line flag (``shipthermal background``) that carries them
+_BACKGROUND_WORDS = {"mtl_path": "mtl", "mtl": "mtl", "roi_path": "roi", "roi": "roi",
+                     "dem_path": "dem", "dem": "dem", "met_path": "met", "met": "met",
+                     "water_vapour": "water_vapour", "band_files": "band_files",
+                     "--dem/--met": "dem/met"}
+
+
+def _in_user_words(exc: InputError, args) -> InputError:
+    """The error with its field named as the user gave it: a ``[background]`` key for a
+    scenario, the flag for ``shipthermal background`` options given on the command line."""
+    import re
+
+    from .scenario import ScenarioError
+
+    if isinstance(exc, ScenarioError):
+        return exc
+    m = re.match(r"^(--dem/--met|[A-Za-z_]+)(.*)$", str(exc.field), re.S)
+    if not m or m.group(1) not in _BACKGROUND_WORDS:
+        return exc
+    key, rest = _BACKGROUND_WORDS[m.group(1)], m.group(2)
+    if args.command == "background":
+        flags = {k: getattr(args, k.replace("/", "_"), None) for k in key.split("/")}
+        from_flags = all(flags.values()) or not getattr(args, "scenario", None)
+        if from_flags:
+            name = "/".join(f"--{k.replace('_', '-')}" for k in key.split("/"))
+        else:
+            name = "/".join(f"background.{k}" for k in key.split("/"))
+    elif args.command in ("run", "image", "check", "sweep", "ensemble", "calibrate", "demo",
+                          "validate", "mesh"):
+        name = "/".join(f"background.{k}" for k in key.split("/"))
+    else:
+        return exc
+    return InputError(name + rest, exc.value, exc.allowed, exc.fix)
 
 
 def _on_sigterm(signum, frame):
