@@ -300,7 +300,8 @@ def test_fahrenheit_read_as_celsius_is_refused(tmp_path):
     # 1.1 degC: +13.9 K): the fix is the unit key
     grid = pd.date_range("2023-01-15", periods=24, freq="h", tz="Etc/GMT-8")
     problems, _ = weather_sense({"temp_air": np.full(24, 59.0 + 273.15),
-                                 "temp_sea": np.full(24, 34.0 + 273.15)}, grid, "csv:a.csv")
+                                 "temp_sea": np.full(24, 34.0 + 273.15)}, grid, "csv:a.csv",
+                                maybe_fahrenheit=True)
     assert len(problems) == 1 and "(+25.0 K)" in str(problems[0])
     assert 'look like degrees Fahrenheit: set weather.temp_unit = "F"' in str(problems[0])
 

@@ -556,10 +556,17 @@ def _common(p: argparse.ArgumentParser, top: bool) -> None:
                    "of internal failures", **d)
 
 
+class _Parser(argparse.ArgumentParser):
+    """Command-line misuse on one line (the usage is one ``--help`` away), exit 2."""
+
+    def error(self, message):
+        self.exit(EXIT_USER, f"error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .pipeline import QUICK_EDGE_LENGTH
 
-    p = argparse.ArgumentParser(
+    p = _Parser(
         prog="shipthermal", description="Ship infrared signature in a port: thermal runs, "
         "imaging, SCR and crossover times from one scenario file.",
         epilog="Exit codes: 0 ok, 2 user error, 1 internal failure (or failed sweep cases), "

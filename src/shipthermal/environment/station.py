@@ -126,6 +126,8 @@ class StationRecord:
         What the reader did (codes mapped to missing, conventions applied).
     site : (latitude, longitude, name) or None
         The station of a typical-year file's header [deg, deg north and east].
+    temp_unit : str or None
+        The temperature unit a CSV file was read in ('C', 'K', 'F').
     """
 
     frame: pd.DataFrame
@@ -133,6 +135,7 @@ class StationRecord:
     format: str
     notes: tuple = ()
     site: Optional[tuple] = None
+    temp_unit: Optional[str] = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -248,7 +251,8 @@ def read_station(path, format: str, *, tz: Optional[str] = None, temp_unit: str 
         notes = list(notes) + ["rows were not in time order: sorted"]
         frame = frame.sort_index()
     return StationRecord(frame=frame, source=f"{format}:{name}", format=format,
-                         notes=tuple(notes), site=site)
+                         notes=tuple(notes), site=site,
+                         temp_unit=temp_unit if format == "csv" else None)
 
 
 def read_ndbc(path, tz: Optional[str] = None) -> StationRecord:
@@ -476,6 +480,17 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
     grid = pd.date_range(start, end, freq=pd.Timedelta(seconds=step))
     if len(frame) == 0:
         return None, WeatherReport(), [InputError("weather.source", src, "holds no rows")]
+    if site is not None and record.site is not None:
+        # a file of another place: its other problems would only be noise
+        km = great_circle_km(site[0], site[1], record.site[0], record.site[1])
+        if km > max_site_distance_km:
+            return None, WeatherReport(notes=record.notes), [InputError(
+                "weather.source", src, f"is the record of {record.site[2] or 'a station'} at "
+                f"{record.site[0]:.2f} N, {record.site[1]:.2f} E (its header), {km:,.0f} km from "
+                f"the site [location] {site[0]:.2f} N, {site[1]:.2f} E; at most "
+                f"{max_site_distance_km:g} km (weather.max_site_distance) is accepted",
+                "Give the weather file of the site, set [location] to the station's, or raise "
+                "weather.max_site_distance for a deliberate stand-in")]
     first, last = frame.index[0], frame.index[-1]
     if first > start + pd.Timedelta(seconds=EDGE_HOLD_S) or \
             last < end - pd.Timedelta(seconds=EDGE_HOLD_S):
@@ -594,19 +609,9 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
                                        f"must lie in [{lo:g}, {hi:g}] {unit} ({bad.size} "
                                        f"value(s) outside, first at {grid[k]:%Y-%m-%d %H:%M %Z})",
                                        f"Check {hint}"))
-    if site is not None and record.site is not None:
-        km = great_circle_km(site[0], site[1], record.site[0], record.site[1])
-        if km > max_site_distance_km:
-            problems.append(InputError(
-                "weather.source", src, f"is the record of {record.site[2] or 'a station'} at "
-                f"{record.site[0]:.2f} N, {record.site[1]:.2f} E (its header), {km:,.0f} km from "
-                f"the site [location] {site[0]:.2f} N, {site[1]:.2f} E; at most "
-                f"{max_site_distance_km:g} km (weather.max_site_distance) is accepted",
-                "Give the weather file of the site, set [location] to the station's, or raise "
-                "weather.max_site_distance for a deliberate stand-in"))
     if not problems:
         sense_problems, sense_notes = weather_sense(
-            values, grid, src, record.format, from_file={
+            values, grid, src, maybe_fahrenheit=record.temp_unit == "C", from_file={
                 f for f in ("temp_sea",) if f not in constants})
         problems += sense_problems
         notes += sense_notes
@@ -632,7 +637,7 @@ def great_circle_km(lat1, lon1, lat2, lon2) -> float:
     return float(2 * 6371.0 * np.arcsin(np.sqrt(np.clip(a, 0.0, 1.0))))
 
 
-def weather_sense(values: Mapping, grid, source: str, file_format: str = "csv",
+def weather_sense(values: Mapping, grid, source: str, maybe_fahrenheit: bool = False,
                   from_file=frozenset({"temp_sea"})) -> tuple[list, list]:
     """Days of a weather record that make no physical sense, though every value lies in
     its range.
@@ -645,8 +650,9 @@ def weather_sense(values: Mapping, grid, source: str, file_format: str = "csv",
         Times of the values.
     source : str
         Named in the messages.
-    file_format : str
-        The file's format ('csv' may carry degrees Fahrenheit).
+    maybe_fahrenheit : bool
+        The temperatures were read as degrees Celsius from a CSV, so they may be degrees
+        Fahrenheit: a message then says when they look like it.
     from_file : set of str
         Fields read from the file (a constant ``temp_sea`` from the scenario is not in the
         file's unit).
@@ -678,7 +684,7 @@ def weather_sense(values: Mapping, grid, source: str, file_format: str = "csv",
             c = np.mean(air[sel]) - ZERO_CELSIUS
             s_c = np.mean(sea[sel]) - ZERO_CELSIUS
             fix = "Check the file's temperature unit (weather.temp_unit) and columns"
-            if file_format == "csv":
+            if maybe_fahrenheit:
                 air_f = (c - 32.0) / 1.8
                 sea_f = (s_c - 32.0) / 1.8 if "temp_sea" in from_file else s_c
                 if lo <= air_f - sea_f <= hi:

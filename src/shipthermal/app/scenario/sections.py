@@ -18,7 +18,7 @@ from ...geometry.parts import MAIN_PARTS, main_part
 from ...materials import MATERIALS
 from ...parameters import NIGHT_SETTLE, NIGHT_STEP
 from ...units import ZERO_CELSIUS
-from .spec import _Context, _opt, _part_key, _suggest, parse_band
+from .spec import _Context, _default, _opt, _part_key, _suggest, _thaw, parse_band
 from .values import (ATMOSPHERE_BACKENDS, BAND_EMISSIVITY, BUILTIN_SHIP_NAMES, CLEAR_SKY_MODELS,
                      CLIMATE_DATES, CLOUD_MODELS, CLOUD_UNITS, CONVECTION_MODEL_SOURCES, DALIAN,
                      DAY, DECOMPOSITIONS, DEFAULT_CONVECTION_MODEL, DEM_NODATA, LATITUDE_MAX,
@@ -478,7 +478,12 @@ class ShipSettings:
                     pass
             for key in ("layups", "compartment_temperature", "solar_absorptivity",
                         "longwave_emissivity", "band_emissivity"):
+                f = ShipSettings.__dataclass_fields__[key]
+                default = _thaw(_default(f, ctx, f"{path}.{key}")) if key != "layups" else {}
                 for part in raw.get(key, {}) if isinstance(raw.get(key), dict) else ():
+                    # a default entry written back by Scenario.to_dict is not the user's
+                    if part in default and raw[key][part] == default[part]:
+                        continue
                     if part not in valid and key not in bad:
                         ctx.err(f"{path}.{key}.{part}", part, "is not a part of this ship; "
                                 f"parts: {', '.join(sorted(valid))}", _suggest(part, valid))

@@ -39,8 +39,9 @@ class ScenarioError(InputError):
         self.field, self.value, self.allowed, self.fix = (first.field, first.value,
                                                           first.allowed, first.fix)
         n = len(self.errors)
-        if n == 1:                     # one problem: one line
-            ValueError.__init__(self, f"{source}: {first}")
+        if n == 1:                     # one problem: one line (the file named once)
+            ValueError.__init__(self, str(first) if str(first.value) == source
+                                else f"{source}: {first}")
             return
         head = f"{source}: {n} problems (all listed; fix them and load again)"
         ValueError.__init__(self, "\n".join([head] + [f"  - {e}" for e in self.errors]))
