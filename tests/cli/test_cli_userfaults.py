@@ -825,3 +825,33 @@ def test_repaired_mesh_is_the_same_in_mesh_and_run(tmp_path, capsys):
         assert (a / name).read_bytes() == (b / name).read_bytes(), name
     rep = json.loads((b / "mesh_report.json").read_text())["read_report"]
     assert rep["repair"]["reused"] is True and rep["outside"]["interior_pieces"] == 1
+
+
+def test_two_runs_after_a_repair_are_identical(tmp_path, capsys):
+    """A box barge with a crack along its deck repaired with tetwild, run twice: the same surface and the same
+    surface temperatures to the last bit (the repair comes from the cache the second time;
+    the thermal run is seeded)."""
+    from shipthermal.app.pipeline import load_history
+
+    d = tmp_path
+    m = trimesh.creation.box((100.0, 12.0, 10.0))
+    v, f = np.asarray(m.vertices) + [0.0, 0.0, 1.0], np.array(m.faces)
+    top = m.face_normals[:, 2] > 0.5                   # the deck lifted 1 mm: a crack
+    used = np.unique(f[top])
+    remap = np.arange(len(v))
+    remap[used] = len(v) + np.arange(len(used))
+    f[top] = remap[f[top]]
+    v = np.vstack([v, v[used] + [0.0, 0.0, 0.001]])
+    trimesh.Trimesh(v, f, process=False).export(d / "open.stl")
+    sc = write_tiny(d, name="barge")
+    sc.write_text(sc.read_text().replace(
+        '[ship]\nbuiltin = "patrol_boat"\nedge_length = 5.6\nmooring_position = [90.0, 30.0]\n',
+        '[ship]\nmooring_position = [90.0, 30.0]\n[ship.files]\nmesh = "open.stl"\n'
+        'units = "m"\npart_map = "auto"\ndraught = 4.0\nrepair = "tetwild"\n'))
+    hist = []
+    for out in ("a", "b"):
+        assert main(["-q", "run", str(sc), "--out", str(d / out)]) == 0, capsys.readouterr().err
+        hist.append(load_history(d / out / "thermal" / "barge" / "history.npz"))
+    a, b = hist
+    assert a.vertices.tobytes() == b.vertices.tobytes() and a.faces.tobytes() == b.faces.tobytes()
+    assert a.face_temperature.tobytes() == b.face_temperature.tobytes()
