@@ -138,7 +138,8 @@ class ThermalModel:
             require(isinstance(exchange, RadiativeExchange), "exchange", type(exchange).__name__,
                     "must be a RadiativeExchange")
             require(exchange.bfaces.max(initial=-1) < graph.n_bfaces and exchange.bfaces.min(initial=0) >= 0,
-                    "exchange.bfaces", (int(exchange.bfaces.min()), int(exchange.bfaces.max())),
+                    "exchange.bfaces", (int(exchange.bfaces.min(initial=0)),
+                                        int(exchange.bfaces.max(initial=-1))),
                     f"must index boundary faces 0..{graph.n_bfaces - 1}")
         self.graph = graph
         self.heat_source = heat_source

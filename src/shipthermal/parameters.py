@@ -31,6 +31,8 @@ __all__ = [
     "CONVECTION_MODEL_SOURCES", "CLEAR_SKY_MODEL_NAMES", "CLOUD_MODEL_NAMES", "DECOMPOSITIONS",
     "SEA_SKIN_MODEL_NAMES", "DEFAULT_SEA_SKIN_MODEL",
     "STATION_FORMATS", "STATION_SUFFIXES", "MAX_GAP_HOURS", "TEMP_UNITS", "CLOUD_COVER_SCALE",
+    "AIR_SEA_DIFFERENCE_K", "AIR_SEA_WARN_K", "HUMIDITY_FRACTION_MAX", "WIND_SPEED_WARN",
+    "MAX_SITE_DISTANCE_KM",
     "SEASONS", "DALIAN", "DESIGN_DAY_DATES", "season_of_date", "LATITUDE_MAX", "SHIP_SPEED_MAX",
 ]
 
@@ -192,8 +194,35 @@ interpolation [h]. A quarter of the diurnal cycle: linear interpolation of a dai
 sinusoid across 6 h misses at most 1 − cos(π/4) ≈ 29 % of its amplitude at the gap's
 centre (1.7 % across 1 h); longer gaps would invent a day's weather."""
 
-TEMP_UNITS = ("C", "K")
-"""Temperature units of a weather CSV (degrees Celsius or kelvin)."""
+TEMP_UNITS = ("C", "K", "F")
+"""Temperature units of a weather CSV (degrees Celsius, kelvin or degrees Fahrenheit)."""
+
+AIR_SEA_DIFFERENCE_K = (-30.0, 15.0)
+"""Refused daily-mean air minus sea surface temperature [K] beyond these bounds.
+ASSUMPTION from the marine boundary layer's extremes: in cold-air outbreaks off sea ice the
+air is 20-30 K colder than the open water (Brümmer 1996, Boundary-Layer Meteorol. 80,
+109-125: up to about 30 K); warm air over cold water (advection fog) is a few kelvin warmer,
+rarely 10 K. A day outside is a unit mistake (degF read as degC: +40 K over a 10 degC sea),
+a wrong column or a station far inland."""
+
+AIR_SEA_WARN_K = (-20.0, 10.0)
+"""Daily-mean air minus sea temperature [K] beyond which a run is warned (a real but rare
+day: check the record)."""
+
+HUMIDITY_FRACTION_MAX = 1.5
+"""A span whose largest relative humidity is at most this [%] is refused as a fraction
+written instead of percent (0.86 for 86 %). ASSUMPTION: the marine air's relative
+humidity does not stay below 1.5 % for a day (the driest offshore desert winds keep
+10-20 %)."""
+
+WIND_SPEED_WARN = 25.0
+"""Daily-mean wind speed [m s-1] above which a run is warned (storm force 10: km/h or knots
+read as m/s?)."""
+
+MAX_SITE_DISTANCE_KM = 150.0
+"""Default largest distance between a typical-year file's station (its header) and
+``[location]`` [km]: about the spacing of the typical-year stations along a coast, so the
+nearest one is accepted and a file of another city is not."""
 
 CLOUD_COVER_SCALE = {"fraction": 1.0, "percent": 100.0, "tenths": 10.0, "oktas": 8.0}
 """Cloud cover units of a weather CSV, each with the value that means overcast."""

@@ -43,8 +43,13 @@ class atomic_path:
             os.umask(umask)
             os.chmod(self.tmp, 0o666 & ~umask)
             os.replace(self.tmp, self.path)
-        elif self.tmp.exists():
-            self.tmp.unlink()
+        else:
+            if self.tmp.exists():
+                self.tmp.unlink()
+            if isinstance(exc, OSError) and exc.errno is not None and (
+                    exc.filename is None or str(exc.filename) == str(self.tmp)):
+                # the user's file, not the temporary name (disk full, quota, ...)
+                raise OSError(exc.errno, exc.strerror or str(exc), str(self.path)) from exc
         return False
 
 

@@ -908,6 +908,11 @@ class Simulation:
         try:
             np.savez(tmp, **arrays)
             os.replace(tmp, path)
+        except OSError as exc:
+            if exc.errno is None or exc.filename not in (None, tmp):
+                raise
+            # name the checkpoint, not its temporary file (disk full, quota, ...)
+            raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from exc
         finally:
             if os.path.exists(tmp):
                 os.remove(tmp)

@@ -150,8 +150,8 @@ CASES = [
      ["part_map['deck'] = [10, 12]", "overlaps part 'hull' at face 10"]),
     ("mesh-partmap-uncovered", "mesh", M("a", part_map="short.json"),
      ["1 faces without a part", "first uncovered: face 9"]),
-    ("mesh-no-triangles", "mesh", M("a", mesh="garbage.stl"),
-     ["garbage.stl", "holds no triangles"]),
+    ("mesh-not-stl", "mesh", M("a", mesh="garbage.stl"),
+     ["garbage.stl", "is not an STL file", "does not start with 'solid'"]),
     ("mesh-draught-too-deep", "mesh", M("a", draught=40.0),
      ["draught = 40.0", "between 0 and the height of the mesh (10.000 m)"]),
     ("mesh-partmap-missing", "mesh", M("a", part_map=None),
@@ -191,7 +191,7 @@ CASES = [
     ("weather-kelvin-as-celsius", "weather", W("w_kelvin"), ["temperature unit"]),
     ("weather-epw-needs-sea", "weather", W("w_epw"), ["weather.temp_sea", "required"]),
     # ---- background rasters (read before the thermal stage with --image) ------------------
-    ("raster-mtl-json", "raster", None, ["mtl_path", "must be valid JSON"]),
+    ("raster-mtl-json", "raster", None, ["background.mtl = ", "must be valid JSON"]),
     ("raster-mtl-time", "raster", None, ["SCENE_CENTER_TIME", "HH:MM:SS"]),
     ("raster-dem-not-geotiff", "raster", None,
      ["background.dem", "must be a readable raster", "not recognized"]),
@@ -199,8 +199,10 @@ CASES = [
      ["land pixels without elevation", "dem_nodata='mask'"]),
     ("raster-met-variable", "raster", None,
      ["met[temperature] = 'missing'", "Variables present"]),
-    ("raster-met-not-netcdf", "raster", None, ["met_path", "must be a readable NetCDF file"]),
-    ("raster-roi-grid", "raster", None, ["roi_path", "must be on the scene grid", "Rasterise"]),
+    ("raster-met-not-netcdf", "raster", None, ["background.met = ",
+                                              "must be a readable NetCDF file"]),
+    ("raster-roi-grid", "raster", None, ["background.roi = ", "must be on the scene grid",
+                                        "Rasterise"]),
     ("raster-files-incomplete", "raster", None,
      ["background.roi = None", "is required with source = 'files'"]),
     # ---- sweep files ----------------------------------------------------------------------
@@ -484,13 +486,13 @@ def _bg_case(d, case, port):
 BACKGROUND_CASES = [
     ("bg-truncated-tiff", ["FILE_NAME_BAND_5", "must be a readable GeoTIFF"]),
     ("bg-mtl-missing-key", ["TEMPERATURE_ADD_BAND_ST_B10", "Level-2 MTL must contain"]),
-    ("bg-rois-outside", ["roi_path", "polygons lie outside the scene"]),
+    ("bg-rois-outside", ["--roi = ", "polygons lie outside the scene"]),
     ("bg-met-misses-scene", ["met.extent", "misses the scene entirely", "around the port"]),
     ("bg-met-misses-overpass", ["met.time", "must contain the Landsat overpass",
                                 "Use met data of the overpass day"]),
     ("bg-dem-without-met", ["--dem/--met", "go together"]),
     ("bg-band-files", ["FILE_NAME_BAND_2", "must be an existing GeoTIFF file"]),
-    ("bg-level1-no-water-vapour", ["water_vapour", "column water vapour", "ST_B10"]),
+    ("bg-level1-no-water-vapour", ["--water-vapour = None", "column water vapour", "ST_B10"]),
     ("bg-out-not-empty", ["--out", "exists and is not empty", "--force"]),
     ("bg-no-roi", ["--roi = None", "is required"]),
 ]
@@ -539,11 +541,12 @@ _ERA5 = Path(__file__).resolve().parents[1] / "data" / "met" / "era5_t2m_2019-03
 
 MET_DEM_CASES = [
     ("met-grib-no-time-axis", ["met[t2m].time = 'no time axis (one time step)'", "24 hourly fields"]),
-    ("met-grib-truncated", ["met_path", "truncated or damaged GRIB file", "Download it again"]),
+    ("met-grib-truncated", ["background.met = ", "truncated or damaged GRIB file",
+                            "Download it again"]),
     ("met-misses-scene", ["met.extent", "misses the scene entirely"]),
     ("met-kelvin-labelled-celsius", ["met[temperature].units = '[C]'", "are kelvin",
                                      "met_units = 'K'"]),
-    ("dem-no-overlap", ["dem_path.extent", "does not overlap the scene"]),
+    ("dem-no-overlap", ["background.dem.extent", "does not overlap the scene"]),
     ("dem-truncated", ["dem", "readable"]),
 ]
 

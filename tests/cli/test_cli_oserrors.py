@@ -95,9 +95,10 @@ def test_binary_scenario_file(tmp_path, capsys):
     f.write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR\xff\xfe")
     before = _tree(tmp_path)
     code, err = _run(["-q", "run", str(f), "--out", str(tmp_path / "run")], capsys)
-    # the scenario's usual form: a head line, then one line per problem
-    _check(code, err, ["scenario = ", "must be a UTF-8 text TOML file (byte 0 is not text)",
-                       "not a binary file"], lines=2)
+    # one problem: one line, naming the file once
+    _check(code, err, ["scenario = ", "must be UTF-8 text (byte 0 is not UTF-8)",
+                       "not a binary one"], lines=1)
+    assert err.count("picture.toml") == 1
     assert _tree(tmp_path) == before
 
 

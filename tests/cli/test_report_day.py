@@ -57,3 +57,29 @@ def test_first_screen_warns_when_the_spin_up_did_not_converge(tmp_path):
     summary["converged"] = True
     (th / "thermal_summary.json").write_text(json.dumps(summary))
     assert "did not converge" not in first_screen(tmp_path)
+
+
+def test_crossover_between_frames_is_a_zero_of_the_scr(tmp_path):
+    """Frames every 10 min with SCR 3 on either side of a sign change of the contrast:
+    the frames never show an SCR below 1, but the contrast passes through zero between
+    them. Linear in between, the signed SCR goes from +3 to -3 over 10 min: zero at
+    the middle, below 1 for 10 min x 2 / 6 = 3.33 min."""
+    img = tmp_path / "imaging"
+    img.mkdir()
+    n = 145
+    t = np.arange(n) * (10 / 60)
+    contrast = np.where(t < 6.05, 3.0, -3.0)                          # sign change 06:00 -> 06:10
+    pd.DataFrame({"time_s": t * 3600, "time_h": t, "scr": np.abs(contrast),
+                  "contrast": contrast}).to_csv(img / "metrics_summer_8-14.csv", index=False)
+    pd.DataFrame([dict(season="summer", band="8-14", time_h=6.0 + 4 / 60, time_local="06:04",
+                       direction="bright->dark")]).to_csv(img / "crossovers.csv", index=False)
+    df = hardest_to_see(img).set_index("band")
+    assert df.loc["8-14", "scr_min"] == 0.0 and df.loc["8-14", "time_min"] == "06:04"
+    assert df.loc["8-14", "low_periods"] == "06:04"
+    assert df.loc["8-14", "low_hours"] == pytest.approx(10 / 60 * 2 / 6, rel=1e-12)
+    html = unescape(first_screen(tmp_path))
+    assert "never falls below" not in html and "above the background clutter all day" not in html
+    assert "hardest at <b>06:04</b>" in html and "SCR below 1" in html
+    # without the crossovers file the zero is placed by the linear signed SCR: 06:05
+    (img / "crossovers.csv").unlink()
+    assert hardest_to_see(img).loc[0, "time_min"] == "06:05"

@@ -13,7 +13,8 @@ import pytest
 
 from shipthermal.environment import convection
 from shipthermal.environment.station import (MAX_GAP_HOURS, check_weather, read_ndbc,
-                                             read_station, to_weather, wind_speed_at_10m)
+                                             read_station, to_weather, weather_sense,
+                                             wind_speed_at_10m)
 from shipthermal.errors import InputError
 from shipthermal.app.scenario import load_scenario
 
@@ -263,3 +264,94 @@ def test_ndbc_old_and_realtime_layouts(tmp_path):
     rec = read_station(tmp_path / "rt.txt", "ndbc")
     assert rec.frame.index.is_monotonic_increasing and "sorted" in " ".join(rec.notes)
     assert np.isnan(rec.frame["temp_air"].iloc[0]) and rec.frame["temp_air"].iloc[1] == pytest.approx(285.25)
+
+
+# ---------------------------------------------------------------------------------------
+# physical sense: values in range, a day that cannot be
+# ---------------------------------------------------------------------------------------
+def _sense_csv(path, air_c, rh=80.0, sea_c=10.0, wind=4.0):
+    """A day of hourly rows: air (scalar or 24 values), humidity, wind; SST column."""
+    air = np.broadcast_to(np.asarray(air_c, float), (25,))
+    rows = [f"2023-07-15T{h:02d}:00:00+08:00,{air[h]:.2f},{rh},{wind},180,0.3,{sea_c}"
+            for h in range(24)] + [f"2023-07-16T00:00:00+08:00,{air[24]:.2f},{rh},{wind},"
+                                   f"180,0.3,{sea_c}"]
+    path.write_text("time,temp_air,relative_humidity,wind_speed,wind_direction,cloud_cover,"
+                    "temp_sea\n" + "\n".join(rows) + "\n")
+    return path
+
+
+def _day(path, **read):
+    rec = read_station(path, "csv", tz="Etc/GMT-8", **read)
+    start = pd.Timestamp("2023-07-15", tz="Etc/GMT-8")
+    return check_weather(rec, start, start + pd.Timedelta(hours=23))
+
+
+def test_fahrenheit_read_as_celsius_is_refused(tmp_path):
+    """41-59 'degC' air over a 10 degC sea (a cool day's air written in degF): +40 K over
+    the water. The message names the unit: as degF the air is 5-15 degC."""
+    air_f = 50.0 + 9.0 * np.sin(2 * np.pi * (np.arange(25) - 9) / 24)        # 41-59 degF
+    w, _, problems = _day(_sense_csv(tmp_path / "f.csv", air_f, sea_c=10.0))
+    assert w is None and len(problems) == 1
+    msg = str(problems[0])
+    assert "weather.source[temp_air]" in msg and "50.0 degC over a 10.0 degC sea" in msg
+    assert "(+40.0 K)" in msg and "within -30 to +15 K" in msg
+    assert "air temperatures look like degrees Fahrenheit" in msg
+    # the whole file in degF (air 59, SST 34 degF read as degC: +25 K; as degF 15.0 and
+    # 1.1 degC: +13.9 K): the fix is the unit key
+    grid = pd.date_range("2023-01-15", periods=24, freq="h", tz="Etc/GMT-8")
+    problems, _ = weather_sense({"temp_air": np.full(24, 59.0 + 273.15),
+                                 "temp_sea": np.full(24, 34.0 + 273.15)}, grid, "csv:a.csv",
+                                maybe_fahrenheit=True)
+    assert len(problems) == 1 and "(+25.0 K)" in str(problems[0])
+    assert 'look like degrees Fahrenheit: set weather.temp_unit = "F"' in str(problems[0])
+
+
+def test_fahrenheit_file_read_as_fahrenheit(tmp_path):
+    air_f = 50.0 + 9.0 * np.sin(2 * np.pi * (np.arange(25) - 9) / 24)
+    path = _sense_csv(tmp_path / "f.csv", air_f, sea_c=50.0)      # SST 50 degF = 10 degC
+    w, _, problems = _day(path, temp_unit="F")
+    assert problems == []
+    np.testing.assert_allclose(w.temp_air, (np.round(air_f[:24], 2) - 32) / 1.8 + 273.15,
+                               atol=1e-9)
+    np.testing.assert_allclose(w.temp_sea, 283.15, atol=1e-9)
+
+
+def test_air_far_above_the_sea_is_refused_and_a_cold_outbreak_warned(tmp_path):
+    w, _, problems = _day(_sense_csv(tmp_path / "hot.csv", 52.0, sea_c=12.0))
+    assert w is None and "(+40.0 K)" in str(problems[0])
+    # -25 K: a cold-air outbreak over open water, rare but real: run, with a warning
+    w, rep, problems = _day(_sense_csv(tmp_path / "cold.csv", -23.0, sea_c=2.0))
+    assert problems == [] and w is not None
+    assert any("the air is -25.0 K from the sea" in n for n in rep.notes)
+
+
+def test_humidity_written_as_a_fraction_is_refused(tmp_path):
+    w, _, problems = _day(_sense_csv(tmp_path / "rh.csv", 20.0, rh=0.86, sea_c=19.0))
+    assert w is None and len(problems) == 1
+    msg = str(problems[0])
+    assert "weather.source[relative_humidity]" in msg and "never exceeds 0.86 %" in msg
+    assert "Multiply the column by 100" in msg
+
+
+def test_storm_force_mean_wind_is_warned(tmp_path):
+    w, rep, problems = _day(_sense_csv(tmp_path / "kmh.csv", 20.0, sea_c=19.0, wind=36.0))
+    assert problems == [] and any("km/h or knots" in n for n in rep.notes)
+
+
+def test_typical_year_file_of_another_site_is_refused():
+    """pvlib's Miami TMY2 file (25.80 N, 80.27 W in its header) run for San Francisco:
+    4 161 km away on the great circle (haversine, mean Earth radius)."""
+    import pvlib
+
+    from shipthermal.app.scenario import ScenarioError
+
+    src = Path(pvlib.__file__).parent / "data" / "12839.tm2"
+    sf = {"location": {"latitude": 37.77, "longitude": -122.42, "time_zone": "Etc/GMT+8"},
+          "time": {"date": "2023-07-01"}, "weather": {"source": str(src), "temp_sea": 290.0}}
+    with pytest.raises(ScenarioError) as err:
+        load_scenario(sf).check_weather()
+    msg = str(err.value)
+    assert "is the record of MIAMI at 25.80 N, -80.27 E (its header), 4,161 km from" in msg
+    assert "weather.max_site_distance" in msg
+    sf["weather"]["max_site_distance"] = 5000.0            # a deliberate stand-in
+    assert load_scenario(sf).check_weather()[0].startswith("weather tmy2:12839.tm2")

@@ -243,3 +243,13 @@ thickness = "10 mm"
     assert msg.startswith("case.toml: 2 problems")
     assert "ship.speed = -1.5: must lie in [0, 30] m/s" in msg
     assert "ship.layups.deck[1].thickness = '10 mm': must be a number in (0, 1] m" in msg
+
+
+def test_water_vapour_range_is_the_retrievals():
+    """The scenario's copy of the single-channel LST's water-vapour range (written in the
+    scenario values so that loading stays light) equals the retrieval's own."""
+    from imaging.background.lst import WATER_VAPOUR_RANGE
+
+    from shipthermal.app.scenario.values import WATER_VAPOUR_RANGE as copy
+
+    assert copy == WATER_VAPOUR_RANGE

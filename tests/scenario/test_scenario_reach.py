@@ -198,6 +198,7 @@ CASES = {
     "weather.temp_unit": ("csv", "K", {T, B, I}),             # 24 K air: refused
     "weather.cloud_unit": ("csv_cloud", "percent", {T, B, I}),
     "weather.year": ("builtin", None, set()),
+    "weather.max_site_distance": ("epw", 500.0, set()),
     "weather.use_measured_irradiance": ("epw", False, {T, B}),
     "weather.use_measured_longwave": ("epw", False, {T, B, I}),
     "weather.clear_sky_model": ("builtin", "prata", {T, B, I}),
@@ -269,6 +270,7 @@ CASES = {
     "background.met_margin_cells": ("bg_files", 3, {B}),
     "background.krige_statistics": ("paper", True, {B}),
     "background.dem_nodata": ("bg_files", "fill", {B}),
+    "background.water_vapour": ("bg_files", 2.0, set()),
     "imaging.bands": ("builtin", ["8-14"], {I}),
     "imaging.times": ("builtin", ["10:00"], {I}),
     "imaging.scr_interval": ("builtin", 300.0, {I}),
@@ -302,6 +304,11 @@ REACHES_NO_STAGE = {
     "ship.files.repair_edge_length": "mesh reading: only with a repair",
     "ship.files.max_repair_change": "mesh reading: a check on a repair's change",
     "ship.files.check_scale": "mesh reading: a check on the length (units)",
+    "weather.max_site_distance": "a check of a typical-year file's station against "
+                                 "[location]; the record it lets through is unchanged",
+    "background.water_vapour": "the overpass LST of `shipthermal background` for a Level-1 "
+                               "scene without a met grid; the hourly background takes the met "
+                               "grid's water vapour",
 }
 
 

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import time as _time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -111,17 +112,23 @@ def parse_unknown(text: str) -> Unknown:
                    case.strip() if case else None)
 
 
+_CLOCK = re.compile(r"^(\d{1,3}):([0-5]\d)(?::([0-5]\d))?$")
+
+
 def _hour(value, row) -> float:
     text = str(value).strip()
+    allowed = ("must be HH:MM[:SS] local time (minutes and seconds 00-59) or decimal hours "
+               "after local midnight of the scenario's day")
     try:
         if ":" in text:
-            hh, mm = text.split(":")[:2]
-            h = int(hh) + int(mm) / 60.0
+            m = _CLOCK.match(text)
+            if m is None:
+                raise ValueError(text)
+            h = int(m.group(1)) + int(m.group(2)) / 60.0 + int(m.group(3) or 0) / 3600.0
         else:
             h = float(text)
     except ValueError:
-        raise InputError(f"measurements row {row}: time", text, "must be HH:MM local time or "
-                         "decimal hours after local midnight of the scenario's day")
+        raise InputError(f"measurements row {row}: time", text, allowed) from None
     require(math.isfinite(h) and h >= 0.0, f"measurements row {row}: time", text,
             "must be ≥ 00:00 (hours after local midnight)")
     return h

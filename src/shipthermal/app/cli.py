@@ -327,6 +327,11 @@ def cmd_run(args, con: Console) -> int:
     case = sc.name
     con.debug("reading the inputs (ship, weather" + (", background)" if args.image else ")"))
     ship, background = prepare(sc, imaging=args.image, progress=con.progress, log=con.info)
+    if args.image:                      # the ship must float where the images put it
+        from .mooring import check_mooring_on
+
+        for line in check_mooring_on(sc, ship, background):
+            con.error(f"warning: {line}")
     for line in sc.check_weather():     # gaps interpolated, constants used, wind height
         con.info(f"  {line}")
     with RunDir(out, resume=args.resume, force=args.force, command=args.argv, kind="run",
@@ -374,6 +379,13 @@ def cmd_image(args, con: Console) -> int:
         frame_times(sc, step)
         check_imaging_bands(sc)
     backgrounds = {c: build_background(sc, progress=con.progress) for c, sc in cases.items()}
+    from .mooring import check_mooring_on
+    from .pipeline import load_history
+
+    for c, sc in cases.items():             # the ship must float where the images put it
+        hist = load_history(path / "thermal" / c / "history.npz")
+        for line in check_mooring_on(sc, hist, backgrounds[c]):
+            con.error(f"warning: {c}: {line}")
     with RunDir(path, command=args.argv, kind="image", amend=True) as run:
         _imaging(run, cases, con, step, backgrounds)
         _report(run, con)
@@ -432,10 +444,13 @@ def cmd_background(args, con: Console) -> int:
             raise InputError("background.source", bgs.source, "must be 'files' for `shipthermal background`")
         for k in ("mtl", "roi", "dem", "met", "band_files"):
             opts[k] = opts[k] or getattr(bgs, k, None)
+        if args.water_vapour is None:
+            args.water_vapour = bgs.water_vapour
         offset = sc.start.utcoffset().total_seconds() / 3600.0
     for k in ("mtl", "roi"):
         if not opts[k]:
             raise InputError(f"--{k}", None, "is required (or a scenario whose [background] names it)")
+    _check_background_files(opts, args)
     res = run_background(args.out, **opts, bounds=args.bounds, use_qa=not args.no_qa,
                          n_splits=args.splits, seed=args.seed, utc_offset_hours=offset,
                          water_vapour=args.water_vapour, force=args.force, log=con.info,
@@ -446,6 +461,23 @@ def cmd_background(args, con: Console) -> int:
                 f"{res['summary']['accuracy_over_splits']['n_splits']} held-out ROI splits")
     con.out(f"background: {len(res['files'])} files in {args.out} ({res['seconds']:.1f} s)")
     return EXIT_OK
+
+
+def _check_background_files(opts: dict, args) -> None:
+    """Open the DEM and the met grid before anything is built (a file that is no raster
+    or no met grid is the user's, named by the flag or key that gave it)."""
+    from imaging.background.checks import check_dem_file, check_met_file
+
+    problems = []
+    if opts.get("dem"):
+        problems += check_dem_file(opts["dem"])
+    if opts.get("met"):
+        problems += check_met_file(opts["met"])
+    if problems:
+        e = problems[0]
+        key = e.field.split(".")[1] if e.field.startswith("background.") else e.field
+        flag = f"--{key}" if getattr(args, key, None) else e.field
+        raise InputError(flag, e.value, e.allowed, e.fix)
 
 
 def cmd_sweep(args, con: Console) -> int:
@@ -566,10 +598,17 @@ def _common(p: argparse.ArgumentParser, top: bool) -> None:
                    "of internal failures", **d)
 
 
+class _Parser(argparse.ArgumentParser):
+    """Command-line misuse on one line (the usage is one ``--help`` away), exit 2."""
+
+    def error(self, message):
+        self.exit(EXIT_USER, f"error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .pipeline import QUICK_EDGE_LENGTH
 
-    p = argparse.ArgumentParser(
+    p = _Parser(
         prog="shipthermal", description="Ship infrared signature in a port: thermal runs, "
         "imaging, SCR and crossover times from one scenario file.",
         epilog="Exit codes: 0 ok, 2 user error, 1 internal failure (or failed sweep cases), "
@@ -754,7 +793,7 @@ def main(argv=None) -> int:
     try:
         code = args.func(args, con)
     except InputError as exc:
-        con.error(f"error: {exc}")
+        con.error(f"error: {_in_user_words(exc, args)}")
         return EXIT_USER
     except KeyboardInterrupt as exc:
         con.error("interrupted (an unfinished run resumes with --resume)")
@@ -776,6 +815,42 @@ def main(argv=None) -> int:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
     return code
+
+
+#: Argument names of the library's functions that a user never typed, and the scenario key
+#: (``[background]``) or command-line flag (``shipthermal background``) that carries them
+_BACKGROUND_WORDS = {"mtl_path": "mtl", "mtl": "mtl", "roi_path": "roi", "roi": "roi",
+                     "dem_path": "dem", "dem": "dem", "met_path": "met", "met": "met",
+                     "water_vapour": "water_vapour", "band_files": "band_files",
+                     "--dem/--met": "dem/met"}
+
+
+def _in_user_words(exc: InputError, args) -> InputError:
+    """The error with its field named as the user gave it: a ``[background]`` key for a
+    scenario, the flag for ``shipthermal background`` options given on the command line."""
+    import re
+
+    from .scenario import ScenarioError
+
+    if isinstance(exc, ScenarioError):
+        return exc
+    m = re.match(r"^(--dem/--met|[A-Za-z_]+)(.*)$", str(exc.field), re.S)
+    if not m or m.group(1) not in _BACKGROUND_WORDS:
+        return exc
+    key, rest = _BACKGROUND_WORDS[m.group(1)], m.group(2)
+    if args.command == "background":
+        flags = {k: getattr(args, k.replace("/", "_"), None) for k in key.split("/")}
+        from_flags = all(flags.values()) or not getattr(args, "scenario", None)
+        if from_flags:
+            name = "/".join(f"--{k.replace('_', '-')}" for k in key.split("/"))
+        else:
+            name = "/".join(f"background.{k}" for k in key.split("/"))
+    elif args.command in ("run", "image", "check", "sweep", "ensemble", "calibrate", "demo",
+                          "validate", "mesh"):
+        name = "/".join(f"background.{k}" for k in key.split("/"))
+    else:
+        return exc
+    return InputError(name + rest, exc.value, exc.allowed, exc.fix)
 
 
 def _on_sigterm(signum, frame):

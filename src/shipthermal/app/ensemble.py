@@ -126,6 +126,11 @@ def parse_distribution(text: str) -> Distribution:
     return Distribution(name, d.key, kind, a, b, d.unit, "given on the command line")
 
 
+MAX_MEMBERS = 1000
+"""Most members of an ensemble (a 5-95 % range is stable to a few percent with 100; a
+thousand members is days of runs)."""
+
+
 def draw_members(dists, members: int, seed: int = 0) -> pd.DataFrame:
     """``members`` draws of every distribution: a Latin hypercube (scipy.stats.qmc, fixed
     ``seed``) mapped through each quantile function; values rounded to 4 decimals (they
@@ -135,6 +140,9 @@ def draw_members(dists, members: int, seed: int = 0) -> pd.DataFrame:
     if not isinstance(members, int) or members < 2:
         raise InputError("--members", members, "must be an integer >= 2 (a range needs "
                          "several members)", "e.g. --members 8")
+    if members > MAX_MEMBERS:
+        raise InputError("--members", members, f"must be at most {MAX_MEMBERS} (each member "
+                         "is a thermal and an imaging run per season)", "e.g. --members 8")
     if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool) \
             or not 0 <= seed <= 2 ** 32 - 1:
         raise InputError("--seed", seed, "must be an integer in [0, 4294967295]",
@@ -171,12 +179,19 @@ def ensemble_sweep_text(base: str, draws: pd.DataFrame, seasons=None, fixed=None
 def load_ensemble_sweep(text: str):
     """Validate the ensemble's sweep (every case's scenario) without writing anything
     beside the inputs: the text goes through a temporary file."""
+    from .scenario import ScenarioError
     from .sweep import load_sweep
 
     with tempfile.TemporaryDirectory(prefix="shipthermal-ensemble-") as tmp:
         path = Path(tmp) / "ensemble.toml"
         path.write_text(text, encoding="utf-8")
-        return load_sweep(path)
+        try:
+            return load_sweep(path)
+        except ScenarioError as exc:        # the members, not the temporary file
+            raise ScenarioError(exc.errors, "ensemble members") from None
+        except InputError as exc:
+            value = "the ensemble" if str(exc.value) == str(path) else exc.value
+            raise InputError(exc.field, value, exc.allowed, exc.fix) from None
 
 
 def _hhmm(h: float) -> str:

@@ -83,6 +83,32 @@ def _low_periods(t_h: np.ndarray, scr: np.ndarray, limit: float) -> list[tuple[f
     return runs
 
 
+def _between_frames(t_h, scr, contrast, cross_h) -> list[tuple[float, float]]:
+    """Zero crossings of the contrast between two frames: ``(time [h], hours below the
+    clutter limit)`` per sign change of ``contrast`` from one frame to the next.
+
+    Between the frames the signed SCR (``scr`` with the contrast's sign) is taken as
+    linear, so it passes through zero at ``t_k + dt |s_k| / (|s_k| + |s_k+1|)`` (or at the
+    crossover of ``cross_h`` found in that interval, the imaging's interpolant) and stays
+    below :data:`SCR_CLUTTER_LIMIT` for ``dt · 2 / (|s_k| + |s_k+1|)`` (at most ``dt``)
+    where both frames lie above it.
+    """
+    out = []
+    sign = np.sign(contrast)
+    for k in np.flatnonzero(sign[:-1] * sign[1:] < 0):
+        a, b = float(abs(scr[k])), float(abs(scr[k + 1]))
+        dt = float(t_h[k + 1] - t_h[k])
+        t0 = float(t_h[k]) + dt * a / (a + b) if a + b > 0 else float(t_h[k])
+        inside = [c for c in cross_h if t_h[k] <= c <= t_h[k + 1]]
+        if inside:
+            t0 = float(inside[0])
+        below = 0.0
+        if a >= SCR_CLUTTER_LIMIT and b >= SCR_CLUTTER_LIMIT:
+            below = min(dt, dt * 2.0 * SCR_CLUTTER_LIMIT / (a + b))
+        out.append((t0, below))
+    return out
+
+
 def hardest_to_see(imaging: Path) -> pd.DataFrame:
     """Per season and band: the lowest SCR and its time, the low-SCR periods, the frame step.
 
@@ -90,6 +116,11 @@ def hardest_to_see(imaging: Path) -> pd.DataFrame:
     ``step_min`` (frame interval [min]), ``low_periods`` (HH:MM-HH:MM list where SCR <
     :data:`SCR_CLUTTER_LIMIT`), ``low_hours`` (their total length [h], counted as frames x
     frame interval), ``crossovers`` (HH:MM list of the contrast's zero crossings).
+
+    A crossover between two frames is a moment of zero contrast, hence of zero SCR, that
+    the frames do not show (:func:`_between_frames`): it is the lowest SCR (0 at its time),
+    a low period of its own when the frames around it lie above the limit, and its time
+    below the limit is added to ``low_hours``.
     """
     cross = pd.DataFrame()
     if (imaging / "crossovers.csv").is_file():
@@ -107,15 +138,27 @@ def hardest_to_see(imaging: Path) -> pd.DataFrame:
         step = float(np.median(np.diff(t))) if t.size > 1 else float("nan")
         runs = _low_periods(t, scr, SCR_CLUTTER_LIMIT)
         n_low = int(np.sum(scr < SCR_CLUTTER_LIMIT))
-        cx = []
+        cx, cx_h = [], []
         if len(cross):
             sel = cross[(cross["season"] == season) & (cross["band"].astype(str) == band)]
             cx = list(sel["time_local"])
-        rows.append(dict(season=season, band=band, scr_min=float(scr[k]),
-                         time_min_h=float(t[k]), time_min=_hhmm(t[k]), step_min=step * 60.0,
+            cx_h = list(sel["time_h"]) if "time_h" in sel else []
+        scr_min, t_min = float(scr[k]), float(t[k])
+        low_hours = n_low * step
+        if "contrast" in m:
+            zeros = _between_frames(t, scr, m["contrast"].to_numpy(float), cx_h)
+            for t0, below in zeros:
+                low_hours += below
+                if not any(a - step <= t0 <= b + step for a, b in runs):
+                    runs.append((t0, t0))
+            if zeros:
+                scr_min, t_min = 0.0, zeros[0][0]
+            runs.sort()
+        rows.append(dict(season=season, band=band, scr_min=scr_min,
+                         time_min_h=t_min, time_min=_hhmm(t_min), step_min=step * 60.0,
                          low_periods=", ".join(_hhmm(a) if a == b else f"{_hhmm(a)}–{_hhmm(b)}"
                                               for a, b in runs)
-                         or "none", low_hours=n_low * step, crossovers=", ".join(cx) or "none"))
+                         or "none", low_hours=low_hours, crossovers=", ".join(cx) or "none"))
     return pd.DataFrame(rows)
 
 

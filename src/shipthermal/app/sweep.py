@@ -54,7 +54,6 @@ import math
 import os
 import socket
 import time as _time
-import tomllib
 import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -140,6 +139,17 @@ def _digest(text: str) -> str:
     return hashlib.sha1(text.encode("utf-8")).hexdigest()[:12]
 
 
+def _first_error(reader, path, field):
+    """A reader's :class:`ScenarioError` of one problem as a plain one-line InputError."""
+    from .scenario import ScenarioError
+
+    try:
+        return reader(path, field)
+    except ScenarioError as exc:
+        e = exc.errors[0]
+        raise InputError(e.field, e.value, e.allowed, e.fix) from None
+
+
 def load_sweep(path) -> SweepSpec:
     """Read and validate a sweep file (every case's scenario is validated here).
 
@@ -151,15 +161,10 @@ def load_sweep(path) -> SweepSpec:
         problem of its scenario.
     """
     from .scenario import SEASONS, ScenarioError, load_scenario
+    from .scenario.reading import read_toml
 
     path = Path(path)
-    if not path.is_file():
-        raise InputError("sweep", str(path), "must be an existing TOML file", "Check the path")
-    text = path.read_text(encoding="utf-8")
-    try:
-        raw = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError("sweep", str(path), f"must be valid TOML ({exc})") from None
+    text, raw = _first_error(read_toml, path, "sweep")
     for k in raw:
         if k not in _TOP_KEYS:
             raise InputError(f"sweep.{k}", raw[k], f"unknown key; allowed: {', '.join(_TOP_KEYS)}")
@@ -183,10 +188,7 @@ def load_sweep(path) -> SweepSpec:
         if not bp.is_file():
             raise InputError("sweep.base", base, "must be 'summer', 'winter' or an existing "
                              "scenario file", f"Not found: {bp} (relative to the sweep file)")
-        try:
-            base_raw = tomllib.loads(bp.read_text(encoding="utf-8"))
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError("sweep.base", base, f"must be valid TOML ({exc})") from None
+        _, base_raw = _first_error(read_toml, bp, "sweep.base")
         base_dir = bp.parent.resolve()
     fixed: dict = {}
     if "set" in raw:
@@ -218,6 +220,26 @@ def load_sweep(path) -> SweepSpec:
                              "tables (a grouped axis), not both")
         else:
             axes[key] = [{key: v} for v in values]
+        seen: dict = {}
+        for i, g in enumerate(axes[key]):
+            sig = json.dumps(g, sort_keys=True)
+            if sig in seen:
+                raise InputError(f"sweep.axes.{key}", values, f"must not repeat a value: "
+                                 f"entries {seen[sig]} and {i} are the same case",
+                                 "Remove the repeated value")
+            seen[sig] = i
+    owner: dict = {}
+    for axis, groups in axes.items():            # a key is an axis or fixed, once
+        for k in dict.fromkeys(k for g in groups for k in g):
+            if k in fixed:
+                raise InputError(f"sweep.axes.{axis}", k, "is also fixed in [set]: a key is "
+                                 "either fixed for every case or an axis, not both",
+                                 f"Remove \"{k}\" from [set] or from [axes]")
+            if k in owner:
+                raise InputError(f"sweep.axes.{axis}", k, f"is also changed by the axis "
+                                 f"{owner[k]!r}: each key may belong to one axis",
+                                 "Merge the two axes into one grouped axis")
+            owner[k] = axis
     n = math.prod(len(v) for v in axes.values())
     if n > 10000:
         raise InputError("sweep.axes", f"{n} cases", "must give at most 10000 cases")

@@ -33,7 +33,9 @@ import numpy as np
 import pandas as pd
 
 from shipthermal.errors import InputError, require
-from shipthermal.parameters import MAX_GAP_HOURS, STATION_FORMATS, STATION_SUFFIXES
+from shipthermal.parameters import (AIR_SEA_DIFFERENCE_K, AIR_SEA_WARN_K, HUMIDITY_FRACTION_MAX,
+                                    MAX_GAP_HOURS, MAX_SITE_DISTANCE_KM, STATION_FORMATS,
+                                    STATION_SUFFIXES, WIND_SPEED_WARN)
 from shipthermal.units import ZERO_CELSIUS
 
 from .convection import SEA_ROUGHNESS_LENGTH
@@ -42,7 +44,8 @@ from .weather import _LIMITS, Weather, read_csv_frame
 
 __all__ = ["STATION_FORMATS", "FIELDS", "REQUIRED_FIELDS", "MAX_GAP_HOURS", "EDGE_HOLD_S",
            "NDBC_MISSING", "StationRecord", "WeatherReport", "read_station", "read_ndbc",
-           "to_weather", "check_weather", "wind_speed_at_10m", "guess_format"]
+           "to_weather", "check_weather", "weather_sense", "great_circle_km",
+           "wind_speed_at_10m", "guess_format"]
 
 FIELDS = ("temp_air", "relative_humidity", "wind_speed", "wind_direction", "cloud_cover",
           "temp_sea", "ghi", "longwave_down")
@@ -121,12 +124,18 @@ class StationRecord:
         One of :data:`STATION_FORMATS`.
     notes : tuple of str
         What the reader did (codes mapped to missing, conventions applied).
+    site : (latitude, longitude, name) or None
+        The station of a typical-year file's header [deg, deg north and east].
+    temp_unit : str or None
+        The temperature unit a CSV file was read in ('C', 'K', 'F').
     """
 
     frame: pd.DataFrame
     source: str
     format: str
     notes: tuple = ()
+    site: Optional[tuple] = None
+    temp_unit: Optional[str] = None
 
 
 @dataclasses.dataclass(frozen=True)
@@ -219,12 +228,13 @@ def read_station(path, format: str, *, tz: Optional[str] = None, temp_unit: str 
     require(os.path.isfile(path), "weather.source", str(path), "must be an existing file")
     name = os.path.basename(str(path))
     notes: list = []
+    site = None
     if format == "csv":
         frame = read_csv_frame(path, tz=tz, temp_unit=temp_unit, cloud_unit=cloud_unit)
     elif format == "ndbc":
         frame, notes = _ndbc_frame(path)
     else:
-        frame, notes = _typical_year_frame(path, format, year)
+        frame, notes, site = _typical_year_frame(path, format, year)
     if not use_measured_irradiance and "ghi" in frame:
         frame = frame.drop(columns="ghi")
     if not use_measured_longwave and "longwave_down" in frame:
@@ -241,7 +251,8 @@ def read_station(path, format: str, *, tz: Optional[str] = None, temp_unit: str 
         notes = list(notes) + ["rows were not in time order: sorted"]
         frame = frame.sort_index()
     return StationRecord(frame=frame, source=f"{format}:{name}", format=format,
-                         notes=tuple(notes))
+                         notes=tuple(notes), site=site,
+                         temp_unit=temp_unit if format == "csv" else None)
 
 
 def read_ndbc(path, tz: Optional[str] = None) -> StationRecord:
@@ -275,15 +286,17 @@ def _ndbc_frame(path):
     # files before 2007 name two columns differently and have no units line
     names = [_NDBC_ALIASES.get(n, n) for n in head[0].lstrip("#").split()]
     require(len(names) >= 5 and names[0] in ("YY", "YYYY") and "MM" in names,
-            "weather.source", head[0].strip(), "must start with the NDBC column names "
-            "(#YY MM DD hh [mm] WDIR WSPD ... ATMP WTMP DEWP ...)")
+            "weather.source", os.path.basename(str(path)), "must start with the NDBC column "
+            "names (#YY MM DD hh [mm] WDIR WSPD ... ATMP WTMP DEWP ...)",
+            "Check weather.format, or download the 'Standard meteorological data' file")
     skip = sum(1 for line in head if line.startswith("#")) or 1
     try:
         df = pd.read_csv(path, sep=r"\s+", skiprows=skip, header=None, na_values=["MM"],
                          comment=None, dtype=float)
-    except (ValueError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
-        raise InputError("weather.source", str(path), f"must hold NDBC data rows of numbers "
-                         f"({exc})") from None
+    except (ValueError, pd.errors.ParserError, pd.errors.EmptyDataError):
+        raise InputError("weather.source", os.path.basename(str(path)), "must hold NDBC data "
+                         "rows of numbers ('MM' for a missing value), one per line, as many "
+                         "as the header's columns") from None
     require(df.shape[1] == len(names), "weather.source", str(path),
             f"rows must have {len(names)} columns like the header ({df.shape[1]} found)")
     require(len(df) > 0, "weather.source", str(path), "holds no data rows")
@@ -331,9 +344,10 @@ def _typical_year_frame(path, fmt, year):
         else:
             data, meta = pvlib.iotools.read_tmy3(path, coerce_year=year or 2001,
                                                  map_variables=True)
-    except Exception as exc:  # pvlib raises assorted parser errors
-        raise InputError("weather.source", str(path), f"must be a valid {fmt.upper()} file "
-                         f"({type(exc).__name__}: {exc})", "Check weather.format") from None
+    except Exception:  # pvlib raises assorted parser errors (their text quotes the file)
+        raise InputError("weather.source", os.path.basename(str(path)), f"must be a valid "
+                         f"{fmt.upper()} file (its header or rows do not parse as "
+                         f"{fmt.upper()})", "Check weather.format, or the file") from None
     notes = []
     if fmt == "tmy2":
         # typical months come from different years: put every row into one year (pvlib's
@@ -383,7 +397,15 @@ def _typical_year_frame(path, fmt, year):
         notes.append("TMY3: irradiance (hour-ending means) re-centred on the hours")
     cols["temp_air"] = cols["temp_air"] + ZERO_CELSIUS
     cols["wind_direction"] = cols["wind_direction"] % 360.0
-    return pd.DataFrame(cols, index=pd.DatetimeIndex(idx, name="time")), notes
+    site = None
+    try:
+        lat, lon = float(meta["latitude"]), float(meta["longitude"])
+        name = str(meta.get("city") or meta.get("City") or meta.get("Name") or "").strip('" ')
+        if np.isfinite(lat) and np.isfinite(lon):
+            site = (lat, lon, name)
+    except (KeyError, TypeError, ValueError):
+        pass
+    return pd.DataFrame(cols, index=pd.DatetimeIndex(idx, name="time")), notes, site
 
 
 def _hour_ending_centred(v):
@@ -410,7 +432,9 @@ def _spans(mask):
 
 def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
                   max_gap_hours: float = MAX_GAP_HOURS, wind_height: float = 10.0,
-                  fallback: Optional[Mapping] = None, periodic: bool = False):
+                  fallback: Optional[Mapping] = None, periodic: bool = False,
+                  site: Optional[tuple] = None,
+                  max_site_distance_km: float = MAX_SITE_DISTANCE_KM):
     """Put a record onto a regular axis over ``[start, end]``, collecting every problem.
 
     Parameters
@@ -430,6 +454,13 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
         the file has no valid value of that field in the span.
     periodic : bool
         Flag of the returned Weather.
+    site : (latitude, longitude), optional
+        The run's site [deg]: a typical-year file whose header names a station farther
+        than ``max_site_distance_km`` [km] is refused.
+
+    Besides the ranges, every day of the span is checked for physical sense
+    (:func:`weather_sense`: air against sea temperature, humidity written as a fraction,
+    a storm-force mean wind).
 
     Returns
     -------
@@ -449,6 +480,17 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
     grid = pd.date_range(start, end, freq=pd.Timedelta(seconds=step))
     if len(frame) == 0:
         return None, WeatherReport(), [InputError("weather.source", src, "holds no rows")]
+    if site is not None and record.site is not None:
+        # a file of another place: its other problems would only be noise
+        km = great_circle_km(site[0], site[1], record.site[0], record.site[1])
+        if km > max_site_distance_km:
+            return None, WeatherReport(notes=record.notes), [InputError(
+                "weather.source", src, f"is the record of {record.site[2] or 'a station'} at "
+                f"{record.site[0]:.2f} N, {record.site[1]:.2f} E (its header), {km:,.0f} km from "
+                f"the site [location] {site[0]:.2f} N, {site[1]:.2f} E; at most "
+                f"{max_site_distance_km:g} km (weather.max_site_distance) is accepted",
+                "Give the weather file of the site, set [location] to the station's, or raise "
+                "weather.max_site_distance for a deliberate stand-in")]
     first, last = frame.index[0], frame.index[-1]
     if first > start + pd.Timedelta(seconds=EDGE_HOLD_S) or \
             last < end - pd.Timedelta(seconds=EDGE_HOLD_S):
@@ -567,6 +609,12 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
                                        f"must lie in [{lo:g}, {hi:g}] {unit} ({bad.size} "
                                        f"value(s) outside, first at {grid[k]:%Y-%m-%d %H:%M %Z})",
                                        f"Check {hint}"))
+    if not problems:
+        sense_problems, sense_notes = weather_sense(
+            values, grid, src, maybe_fahrenheit=record.temp_unit == "C", from_file={
+                f for f in ("temp_sea",) if f not in constants})
+        problems += sense_problems
+        notes += sense_notes
     report = WeatherReport(interpolated=tuple(interpolated), held=tuple(held),
                            constants=constants, notes=tuple(notes))
     if problems:
@@ -578,6 +626,97 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
                       ghi=values.get("ghi"), longwave_down=values.get("longwave_down"),
                       periodic=periodic, source=src)
     return weather, report, []
+
+
+def great_circle_km(lat1, lon1, lat2, lon2) -> float:
+    """Great-circle distance [km] between two points [deg] (haversine, mean Earth radius
+    6371.0 km)."""
+    p1, p2 = np.radians(lat1), np.radians(lat2)
+    dp, dl = p2 - p1, np.radians(lon2 - lon1)
+    a = np.sin(dp / 2) ** 2 + np.cos(p1) * np.cos(p2) * np.sin(dl / 2) ** 2
+    return float(2 * 6371.0 * np.arcsin(np.sqrt(np.clip(a, 0.0, 1.0))))
+
+
+def weather_sense(values: Mapping, grid, source: str, maybe_fahrenheit: bool = False,
+                  from_file=frozenset({"temp_sea"})) -> tuple[list, list]:
+    """Days of a weather record that make no physical sense, though every value lies in
+    its range.
+
+    Parameters
+    ----------
+    values : mapping field -> (n,) array
+        The record on ``grid`` (SI units, kelvin; relative humidity in %).
+    grid : pandas.DatetimeIndex
+        Times of the values.
+    source : str
+        Named in the messages.
+    maybe_fahrenheit : bool
+        The temperatures were read as degrees Celsius from a CSV, so they may be degrees
+        Fahrenheit: a message then says when they look like it.
+    from_file : set of str
+        Fields read from the file (a constant ``temp_sea`` from the scenario is not in the
+        file's unit).
+
+    Returns
+    -------
+    problems : list of InputError
+        Per day: air minus sea temperature outside :data:`AIR_SEA_DIFFERENCE_K`; a span
+        whose relative humidity never exceeds :data:`HUMIDITY_FRACTION_MAX` %.
+    notes : list of str
+        Warnings: air minus sea outside :data:`AIR_SEA_WARN_K`, a daily-mean wind above
+        :data:`WIND_SPEED_WARN`.
+    """
+    problems, notes = [], []
+    day = np.asarray((grid - grid[0]).total_seconds() // 86400.0, dtype=int)
+    air, sea = values.get("temp_air"), values.get("temp_sea")
+    lo, hi = AIR_SEA_DIFFERENCE_K
+    wlo, whi = AIR_SEA_WARN_K
+    if air is not None and sea is not None:
+        for d in np.unique(day):
+            sel = day == d
+            diff = float(np.mean(air[sel]) - np.mean(sea[sel]))
+            when = f"{grid[sel][0]:%Y-%m-%d}"
+            if lo <= diff <= hi:
+                if not wlo <= diff <= whi:
+                    notes.append(f"warning: on {when} the air is {diff:+.1f} K from the sea "
+                                 "(daily means): a rare day; check the record")
+                continue
+            c = np.mean(air[sel]) - ZERO_CELSIUS
+            s_c = np.mean(sea[sel]) - ZERO_CELSIUS
+            fix = "Check the file's temperature unit (weather.temp_unit) and columns"
+            if maybe_fahrenheit:
+                air_f = (c - 32.0) / 1.8
+                sea_f = (s_c - 32.0) / 1.8 if "temp_sea" in from_file else s_c
+                if lo <= air_f - sea_f <= hi:
+                    fix = ("The temperatures look like degrees Fahrenheit: set "
+                           "weather.temp_unit = \"F\"")
+                elif lo <= air_f - s_c <= hi:
+                    fix = ("The air temperatures look like degrees Fahrenheit, the sea's like "
+                           "degrees Celsius: convert the temp_air column ((F - 32) / 1.8) so "
+                           "that every temperature has the unit weather.temp_unit says")
+            problems.append(InputError(
+                "weather.source[temp_air]", source,
+                f"has a daily-mean air temperature of {c:.1f} degC over a {s_c:.1f} degC sea on "
+                f"{when} ({diff:+.1f} K): the air over the sea stays within {lo:g} to "
+                f"{hi:+g} K of the water", fix))
+            break
+    rh = values.get("relative_humidity")
+    if rh is not None and len(rh) and 0.0 < float(np.max(rh)) <= HUMIDITY_FRACTION_MAX:
+        problems.append(InputError(
+            "weather.source[relative_humidity]", source,
+            f"never exceeds {float(np.max(rh)):.2g} % over the span: relative humidity is in "
+            "percent (0-100); these look like fractions",
+            "Multiply the column by 100 (0.86 is 86 %)"))
+    wind = values.get("wind_speed")
+    if wind is not None:
+        for d in np.unique(day):
+            mean = float(np.mean(wind[day == d]))
+            if mean > WIND_SPEED_WARN:
+                notes.append(f"warning: on {grid[day == d][0]:%Y-%m-%d} the mean wind is "
+                             f"{mean:.1f} m/s (storm force): is the file's wind in km/h or "
+                             "knots? (docs/WEATHER.md: m/s)")
+                break
+    return problems, notes
 
 
 def to_weather(record: StationRecord, start, end, **kwargs):

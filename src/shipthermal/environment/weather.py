@@ -50,6 +50,7 @@ from __future__ import annotations
 import calendar
 import dataclasses
 import os
+import re
 from typing import Optional
 
 import numpy as np
@@ -315,13 +316,16 @@ def _first_bad(time, mask):
     return f"{time[i]} -> {time[i + 1]}"
 
 
-_TEMP_UNIT_ALIASES = {"degC": "C", "celsius": "C", "kelvin": "K"}
+_TEMP_UNIT_ALIASES = {"degC": "C", "celsius": "C", "kelvin": "K", "degF": "F",
+                      "fahrenheit": "F"}
 
 
 def _temperature(values, unit: str, field: str):
     unit = _TEMP_UNIT_ALIASES.get(unit, unit)
     if unit not in TEMP_UNITS:
         raise InputError(field, unit, "must be " + " or ".join(repr(u) for u in TEMP_UNITS))
+    if unit == "F":
+        return (values - 32.0) / 1.8 + ZERO_CELSIUS
     return values + ZERO_CELSIUS if unit == "C" else values
 
 
@@ -344,7 +348,7 @@ def read_weather_csv(path, tz: Optional[str] = None, temp_unit: str = "C",
     tz : str, optional
         Time zone for naive time strings, e.g. ``'Etc/GMT-8'`` (UTC+8; note the
         POSIX sign) or ``'Asia/Shanghai'``. Times with an offset are converted to it.
-    temp_unit : {'C', 'K'}
+    temp_unit : {'C', 'K', 'F'}
         Unit of temp_air, temp_dew and temp_sea in the file.
     cloud_unit : {'fraction', 'percent', 'tenths', 'oktas'}
         Unit of cloud_cover in the file.
@@ -393,21 +397,32 @@ def read_csv_frame(path, tz: Optional[str] = None, temp_unit: str = "C",
     cells are NaN; text in a number column, unknown or repeated columns, a missing
     ``time`` / ``temp_air`` column, or neither humidity nor dew point are refused.
     """
-    require(os.path.isfile(path), "weather.path", str(path), "must be an existing file")
+    require(os.path.isfile(path), "weather.source", str(path), "must be an existing file")
+    name = os.path.basename(str(path))
+    _sniff_csv(path, name)
     try:
         df = pd.read_csv(path, comment="#", skipinitialspace=True)
-    except (pd.errors.ParserError, UnicodeDecodeError, pd.errors.EmptyDataError) as exc:
-        raise InputError("weather.path", str(path), f"must be a readable CSV file ({exc})")
+    except UnicodeDecodeError as exc:
+        raise InputError("weather.source", name, f"must be UTF-8 text (byte {exc.start} is "
+                         "not)", "Save the file as UTF-8 CSV") from None
+    except pd.errors.EmptyDataError:
+        raise InputError("weather.source", name, "is empty", "Give the weather CSV "
+                         "(docs/WEATHER.md)") from None
+    except pd.errors.ParserError:
+        raise InputError("weather.source", name, f"is not a readable CSV file "
+                         f"({_ragged_line(path) or 'rows do not match the header'})",
+                         "Every row needs one value per header column, separated by "
+                         "commas") from None
     rename = {}
-    for col in df.columns:
+    for k, col in enumerate(df.columns):
         key = str(col).strip()
         if key.upper() in RADTHERM_ALIASES:
             rename[col] = RADTHERM_ALIASES[key.upper()]
         elif key.lower() in CSV_COLUMNS:
             rename[col] = key.lower()
         else:
-            raise InputError(f"weather.columns[{key!r}]", key,
-                             f"unknown column; allowed: {', '.join(CSV_COLUMNS)} or "
+            raise InputError(f"weather.source ({name}) column {k + 1}", _shown(key),
+                             f"is an unknown column; allowed: {', '.join(CSV_COLUMNS)} or "
                              f"{', '.join(RADTHERM_ALIASES)}",
                              "See docs/WEATHER.md for the columns and their units")
     df = df.rename(columns=rename)
@@ -420,11 +435,20 @@ def read_csv_frame(path, tz: Optional[str] = None, temp_unit: str = "C",
             "weather.columns", list(df.columns),
             "missing required column 'relative_humidity' (HUMID) or 'temp_dew' (DEWPT)",
             "Add one of them (docs/WEATHER.md)")
-    require(len(df) > 0, "weather.path", str(path), "holds no data rows")
+    require(len(df) > 0, "weather.source", name, "holds no data rows")
+    time = pd.to_datetime(df["time"].astype(str), format="ISO8601", errors="coerce")
+    if time.isna().any():
+        i = int(np.flatnonzero(time.isna().to_numpy())[0])
+        raise InputError(f"weather.source ({name}) row {i + 2}: time",
+                         _shown(str(df["time"].iloc[i])), "must be an ISO 8601 instant",
+                         "e.g. 2023-07-15T00:00:00+08:00, or 2023-07-15 00:00 with "
+                         "[location] time_zone for local times")
     try:
-        time = pd.DatetimeIndex(pd.to_datetime(df["time"].astype(str), format="ISO8601"))
-    except (ValueError, TypeError) as exc:
-        raise InputError("weather.time", df["time"].iloc[0], f"must be ISO 8601 times ({exc})")
+        time = pd.DatetimeIndex(time)
+    except (ValueError, TypeError):
+        raise InputError(f"weather.source ({name}): time", None, "must give every row the "
+                         "same UTC offset, or none", "Write offsets in every row, or none "
+                         "(local times in [location] time_zone)") from None
     if time.tz is None:
         require(tz is not None, "weather.time", str(df["time"].iloc[0]),
                 "has no UTC offset", "Pass tz='Etc/GMT-8' (UTC+8) or write offsets in the file")
@@ -437,7 +461,9 @@ def read_csv_frame(path, tz: Optional[str] = None, temp_unit: str = "C",
         text_bad = df[col].notna().to_numpy() & ~np.isfinite(vals)
         if text_bad.any():
             i = int(np.flatnonzero(text_bad)[0])
-            raise InputError(f"weather.{col}[{time[i]}]", df[col].iloc[i], "must be a number")
+            raise InputError(f"weather.source ({name}) row {i + 2}: {col}",
+                             _shown(str(df[col].iloc[i])), "must be a number",
+                             "Leave the cell empty for a missing value")
         return vals
 
     out = {"temp_air": _temperature(num("temp_air"), temp_unit, "temp_unit")}
@@ -457,6 +483,60 @@ def read_csv_frame(path, tz: Optional[str] = None, temp_unit: str = "C",
     if "cloud_cover" in df.columns:
         out["cloud_cover"] = _cloud(num("cloud_cover"), cloud_unit)
     return pd.DataFrame(out, index=pd.DatetimeIndex(time, name="time"))
+
+
+_SHOWN = re.compile(r"[A-Za-z0-9_ .,+%()\-]{1,24}")
+
+
+def _shown(text: str) -> str:
+    """A cell or column name of a user's file as it may appear in a message: short,
+    word-like text as it is; anything else only by its length (a path may point at a file
+    that must not be shown)."""
+    text = str(text)
+    return text if _SHOWN.fullmatch(text) else f"({len(text)} characters not shown)"
+
+
+def _sniff_csv(path, name: str) -> None:
+    """Refuse, with the format key, files that are another weather format named .csv,
+    and files separated by semicolons (the file's contents are not quoted)."""
+    with open(path, "rb") as fh:
+        head = fh.read(4096)
+    lines = head.decode("utf-8", "replace").splitlines()
+    first = lines[0].strip() if lines else ""
+    second = lines[1] if len(lines) > 1 else ""
+    if first.startswith("#YY") or first[:4] in ("YY M", "YYYY"):
+        raise InputError("weather.source", name, "looks like an NDBC standard meteorological "
+                         "file (first line '#YY MM DD hh ...'), not a weather CSV",
+                         'Set weather.format = "ndbc" (and weather.wind_height: the '
+                         "anemometer height)")
+    if "Date (MM/DD/YYYY)" in second:
+        raise InputError("weather.source", name, "looks like a TMY3 file (second line 'Date "
+                         "(MM/DD/YYYY),Time (HH:MM),...'), not a weather CSV",
+                         'Set weather.format = "tmy3" (and weather.temp_sea)')
+    if first.startswith("LOCATION,"):
+        raise InputError("weather.source", name, "looks like an EPW file (first line "
+                         "'LOCATION,...'), not a weather CSV", "Give it the suffix .epw "
+                         "(and set weather.temp_sea)")
+    if ";" in first and "," not in first.replace(";", ""):
+        raise InputError("weather.source", name, "is separated by semicolons; a weather CSV "
+                         "is separated by commas, with decimal points",
+                         "Save it as comma-separated CSV (decimal point '.')")
+
+
+def _ragged_line(path) -> str:
+    """``"line N has k fields, the header m"`` for the first row whose field count differs
+    from the header's (quotes not considered), or ""."""
+    with open(path, encoding="utf-8", errors="replace") as fh:
+        n = None
+        for k, line in enumerate(fh, start=1):
+            if not line.strip() or line.lstrip().startswith("#"):
+                continue
+            m = line.count(",") + 1
+            if n is None:
+                n = m
+            elif m != n:
+                return f"line {k} has {m} fields, the header {n}"
+    return ""
 
 
 def _hour_ending_to_instant(values):

@@ -97,9 +97,10 @@ def load_named_parts(path, scale: float = 1.0):
     try:
         scene = trimesh.load(path, force="scene", process=False, split_objects=True,
                              split_groups=True)
-    except Exception as exc:                       # a parser error: not a mesh file
-        raise InputError("ship.files.mesh", str(path), f"cannot be read as a mesh ({exc})",
-                         "Export the ship again as a triangle mesh") from exc
+    except Exception:                              # a parser error: not a mesh file
+        raise InputError("ship.files.mesh", path.name, f"cannot be read as "
+                         f"{path.suffix[1:].upper()} (damaged, truncated or another format)",
+                         "Export the ship again as a triangle mesh") from None
     items = []                                     # (names, vertices, faces)
     for node in scene.graph.nodes_geometry:
         transform, gname = scene.graph[node]

@@ -36,6 +36,8 @@ import numpy as np
 from ..errors import InputError, check_finite, require
 from .cad import SHIP_LENGTH_RANGE
 from .layups import compartment_temperatures, default_layups, outer_media
+from .meshfiles import ascii_stl_problem, sniff_mesh_file
+from .outside import classify_pieces, part_sense, sliver_share
 from .parts import (MAIN_PARTS, boundary_edges, face_areas, main_part, signed_volume,
                     split_at_waterline)
 from .ship import ShipGeometry
@@ -59,51 +61,88 @@ MESH_EXTENSIONS = tuple(sorted(TRIMESH_EXTENSIONS | PYVISTA_EXTENSIONS))
 # ---------------------------------------------------------------------------------------
 # Loading
 # ---------------------------------------------------------------------------------------
-def load_surface(path, units: str):
+def load_surface(path, units: str, field: str = "ship.files.mesh"):
     """Read a triangulated surface (STL/OBJ/PLY/OFF via trimesh, VTK/VTP/VTU via pyvista).
 
     Triangles keep the file's order (polygons are triangulated in place), so face ranges
     in a part map refer to triangles as loaded. Coincident vertices (STL stores none
-    shared) are merged.
+    shared) are merged. The file's header is checked first
+    (:func:`.meshfiles.sniff_mesh_file`: size limits, declared triangle count, format);
+    a file the parser cannot read is an :class:`InputError` naming ``field``.
 
     Returns
     -------
     vertices (N, 3) [m], faces (M, 3), cell_part (M,) or None, part_names or None
     """
-    require(units in UNITS, "units", units, "must be declared: 'm' or 'mm'",
-            "Pass units='m' or units='mm' (the unit the file's coordinates are in)")
+    require(units in UNITS, "ship.files.units", units, "must be declared: 'm' or 'mm'",
+            'Set ship.files.units = "m" or "mm" (the unit the file\'s coordinates are in)')
     path = Path(path)
-    require(path.exists(), "path", str(path), "file not found")
+    require(path.is_file(), field, str(path), "must be an existing file", "Check the path")
     ext = path.suffix.lower()
-    cell_part = part_names = None
-    if ext in TRIMESH_EXTENSIONS:
-        import trimesh
-
-        mesh = trimesh.load(path, force="mesh", process=False)
-        v = np.asarray(mesh.vertices, float)
-        f = np.asarray(mesh.faces, np.int64)
-    elif ext in PYVISTA_EXTENSIONS:
-        import pyvista as pv
-
-        data = pv.read(path)
-        if not isinstance(data, pv.PolyData):
-            data = data.extract_surface(pass_cellid=False, algorithm="dataset_surface")
-        tri = data.triangulate()
-        require(tri.is_all_triangles, "file", str(path), "must contain polygons")
-        v = np.asarray(tri.points, float)
-        f = np.asarray(tri.faces).reshape(-1, 4)[:, 1:].astype(np.int64)
-        if "part" in tri.cell_data:
-            cell_part = np.asarray(tri.cell_data["part"]).astype(np.int64)
-        if "part_names" in tri.field_data:
-            part_names = tuple(str(x) for x in tri.field_data["part_names"])
-    else:
-        raise InputError("path", str(path), "unsupported file type",
+    if ext not in TRIMESH_EXTENSIONS | PYVISTA_EXTENSIONS:
+        raise InputError(field, str(path), "unsupported file type",
                          f"Use one of {', '.join(MESH_EXTENSIONS)}")
-    require(len(f) > 0, "file", str(path), "holds no triangles")
-    check_finite(f"{path.name}.vertices", v)
+    info = sniff_mesh_file(path, field)
+    cell_part = part_names = None
+    try:
+        if ext in TRIMESH_EXTENSIONS:
+            import trimesh
+
+            mesh = trimesh.load(path, force="mesh", process=False)
+            v = np.asarray(mesh.vertices, float)
+            f = np.asarray(getattr(mesh, "faces", np.zeros((0, 3))), np.int64)
+        else:
+            import pyvista as pv
+
+            data = pv.read(path)
+            if not isinstance(data, pv.PolyData):
+                data = data.extract_surface(pass_cellid=False, algorithm="dataset_surface")
+            tri = data.triangulate()
+            require(tri.is_all_triangles, field, path.name, "must contain polygons")
+            v = np.asarray(tri.points, float)
+            f = np.asarray(tri.faces).reshape(-1, 4)[:, 1:].astype(np.int64)
+            if "part" in tri.cell_data:
+                cell_part = np.asarray(tri.cell_data["part"]).astype(np.int64)
+            if "part_names" in tri.field_data:
+                part_names = tuple(str(x) for x in tri.field_data["part_names"])
+    except InputError:
+        raise
+    except MemoryError:
+        raise InputError(field, path.name, f"is too large to read here ({info['bytes']:,} "
+                         "bytes)", "Export the ship coarser") from None
+    except Exception:                      # a parser's complaint: the file is damaged
+        raise _unreadable(path, info, field) from None
+    fmt = {"stl_binary": "STL", "stl_ascii": "STL"}.get(info["format"], ext[1:].upper())
+    require(len(f) > 0, field, path.name, f"holds no triangles (read as {fmt})",
+            "Export the ship surface as triangles (not points, lines or an empty scene)")
+    bad = ~np.isfinite(v)
+    if bad.any():
+        raise InputError(field, path.name, f"has {int(bad.any(axis=1).sum())} vertices whose "
+                         "coordinates are not finite numbers (NaN or inf)",
+                         "Export the ship again; check the CAD model for broken geometry")
     v = v * UNITS[units]
     v, f = _weld(v, f)
     return v, f, cell_part, part_names
+
+
+def _unreadable(path: Path, info: dict, field: str) -> InputError:
+    """The message for a file its parser refused (the file's contents are not quoted)."""
+    fmt = info["format"]
+    if fmt == "stl_ascii":
+        where = ascii_stl_problem(path)
+        if where:
+            return InputError(field, path.name, f"is not a readable ASCII STL ({where})",
+                              "Fix that line or export the ship again")
+    if fmt == "ply":
+        n = info["triangles"]
+        return InputError(field, path.name, "is not a readable PLY file: its body does not "
+                          f"hold what its header declares ({n:,} faces)" if n is not None else
+                          "is not a readable PLY file", "The file is truncated or damaged: "
+                          "export the ship again")
+    name = {"stl_binary": "STL", "stl_ascii": "ASCII STL"}.get(fmt, fmt.upper())
+    return InputError(field, path.name, f"cannot be read as {name} (damaged, "
+                      "truncated or another format)", "Export the ship again, or give the "
+                      "file the suffix of its format")
 
 
 def _weld(v: np.ndarray, f: np.ndarray, rel_tol: float = 1e-9):
@@ -469,10 +508,10 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
                       diagnose_surface, load_named_parts, part_ranges, problems_message,
                       repair_change_check, union_repair)
 
-    require(units in UNITS, "units", units, "must be declared: 'm' or 'mm'",
-            "Pass units='m' or units='mm' (the unit the file's coordinates are in)")
-    require(repair in (None, "union", "tetwild"), "repair", repair,
-            "must be None, 'union' or 'tetwild'")
+    require(units in UNITS, "ship.files.units", units, "must be declared: 'm' or 'mm'",
+            'Set ship.files.units = "m" or "mm" (the unit the file\'s coordinates are in)')
+    require(repair in (None, "union", "tetwild"), "ship.files.repair", repair,
+            "must be 'none', 'union' or 'tetwild'")
     max_change = MAX_REPAIR_CHANGE if max_repair_change is None else float(max_repair_change)
     auto = isinstance(part_map, str) and part_map == "auto"
     report: dict = {"units": units}
@@ -480,7 +519,7 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
         vs, fs, labs, names = [], [], [], []
         off = 0
         for k, (pname, path) in enumerate(source.items()):
-            v, f, _, _ = load_surface(path, units)
+            v, f, _, _ = load_surface(path, units, f"ship.files.parts.{pname}")
             vs.append(v)
             fs.append(f + off)
             labs.append(np.full(len(f), k))
@@ -491,8 +530,9 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
         names = tuple(names)
         src_name = name or "user_ship"
     elif (part_map is None and Path(source).suffix.lower() in SCENE_EXTENSIONS
+          and sniff_mesh_file(source) is not None
           and (named := load_named_parts(source, UNITS[units])) is not None):
-        check_finite(f"{Path(source).name}.vertices", named[0])
+        check_finite(f"ship.files.mesh ({Path(source).name}) vertices", named[0])
         v, f = _weld(named[0], named[1])
         labels, names = named[2], named[3]
         src_name = name or Path(source).stem
@@ -503,10 +543,11 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
     else:
         v, f, cell_part, file_names = load_surface(source, units)
         if part_map is None:
-            require(cell_part is not None, "part_map", None,
-                    "is required: give a per-face array, a JSON/dict of face ranges, 'auto' "
-                    "(parts by rules), or one file per part",
-                    "e.g. part_map={'hull': [[0, 5000]], 'deck': [[5000, 6200]], 'superstructure': [[6200, 9000]]}")
+            require(cell_part is not None, "ship.files.part_map", None,
+                    "is required: a JSON file of face ranges, \"auto\" (parts by rules), or "
+                    "one file per part (ship.files.parts)",
+                    'e.g. part_map = "ship_parts.json" holding {"hull": [[0, 5000]], '
+                    '"deck": [[5000, 6200]], "superstructure": [[6200, 9000]]}')
             labels, names = read_part_map(cell_part, len(f), part_names or file_names)
         else:
             labels, names = read_part_map(part_map, len(f), part_names)
@@ -533,6 +574,7 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
         raise problems_message(source if not isinstance(source, Mapping) else
                                ", ".join(str(x) for x in source.values()), left)
     lines = report["repairs"] = []
+    report["warnings"] = []
     n_file_faces = len(f)
     if repair is not None and any(p.kind in ("open", "nonmanifold", "intersecting")
                                   for p in problems):
@@ -541,13 +583,7 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
             v, f, labels, pre = check_surface(v, f, units, check_scale=False, clean=True,
                                               fix_normals=True, face_part=labels,
                                               require_closed=False)
-        if repair == "union":
-            v, f, labels, rep = union_repair(v, f, labels)
-        else:
-            from .remesh import tetwild_surface
-
-            v, f, labels, rep = tetwild_surface(v, f, labels, edge_length=repair_edge_length)
-            rep["method"] = "tetwild"
+        v, f, labels, rep = _repair_once(v, f, labels, repair, repair_edge_length, lines)
         report["repair"] = rep
         lines.append(f"repair ({rep['method']}, {rep['seconds']:.1f} s): area "
                      f"{rep['area_before']:.6g} -> {rep['area_after']:.6g} m2 "
@@ -568,18 +604,27 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
         lines.append(f"fix_normals: {chk['flipped_faces']} triangles re-oriented (area and "
                      f"volume unchanged, volume {chk['signed_volume']:.6g} m3)")
 
+    # The outside, by ray casting: interior shells removed, inside-out pieces turned.
+    v, f, labels, outside = _outside_checked(v, f, labels, fix_normals, source, lines)
+    report["outside"] = outside
+
     # Position: waterline at z = 0, origin amidships on the centreline.
+    height = float(np.ptp(v[:, 2]))
     if draught is not None:
-        require(0 < draught < np.ptp(v[:, 2]), "draught", draught,
-                f"must lie between 0 and the height of the mesh ({np.ptp(v[:, 2]):.3f} m)")
+        require(0 < draught < height, "ship.files.draught", draught,
+                f"must lie between 0 and the height of the mesh ({height:.3f} m)",
+                "It is the keel depth below the waterline")
         z_wl = float(v[:, 2].min() + draught)
     elif waterline_z is not None:
         z_wl = float(waterline_z)
     else:
         z_wl = 0.0
-    require(v[:, 2].min() < z_wl < v[:, 2].max(), "waterline", z_wl,
-            f"must cut the ship (z from {v[:, 2].min():.3f} to {v[:, 2].max():.3f} m)",
-            "Pass draught=... (keel depth below the waterline) or waterline_z=...")
+    if not v[:, 2].min() < z_wl < v[:, 2].max():
+        key = "ship.files.waterline_z" if waterline_z is not None and draught is None else \
+            "waterline (z = 0 of the file)" if draught is None else "ship.files.draught"
+        raise InputError(key, z_wl, f"must cut the ship (z from {v[:, 2].min():.3f} to "
+                         f"{v[:, 2].max():.3f} m)", "Set ship.files.draught (keel depth "
+                         "below the waterline) or ship.files.waterline_z")
     shift = np.array([0.0, 0.0, -z_wl])
     if recentre:
         mid = 0.5 * (v.min(axis=0) + v.max(axis=0))
@@ -620,6 +665,20 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
     deck_z = v[f[np.isin(face_part, deck_k)]].reshape(-1, 3)
     mid = np.abs(deck_z[:, 0]) < 0.1 * length
     freeboard = float(np.median(deck_z[mid, 2])) if mid.any() else float("nan")
+    refusals, warnings = part_sense(v, f, face_part, keep, freeboard)
+    if refusals:
+        fix = ("The parts were assigned by rules (part_map = \"auto\"): check the mesh "
+               "(ship.files.draught, inside shells) or give ship.files.part_map"
+               if auto else "Check ship.files.part_map (or the part names in the file) and "
+               "ship.files.draught / waterline_z")
+        raise InputError("ship.files.part_map" if not isinstance(source, Mapping)
+                         else "ship.files.parts", "auto" if auto else "as given",
+                         "; ".join(refusals), fix)
+    for w in warnings:
+        report["warnings"].append(f"{w} (check ship.files.part_map)")
+    share, edge = sliver_share(v, f)
+    report["sliver_share"] = share
+    report["equilateral_edge_m"] = edge
     hull_k = [k for k, n in enumerate(keep) if main_part(n) in ("hull_wetted", "hull_dry")]
     hull_v = v[f[np.isin(face_part, hull_k)]].reshape(-1, 3) if hull_k else v
     ship = ShipGeometry(
@@ -630,6 +689,94 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
         freeboard=freeboard, name=src_name, provenance=f"user mesh ({units})",
         edge_length=float(np.median(np.linalg.norm(v[f[:, 0]] - v[f[:, 1]], axis=1))))
     return ship, report
+
+
+def _repair_once(v, f, labels, method: str, edge_length, lines: list):
+    """A repair (:func:`.cad.union_repair` or :func:`.remesh.tetwild_surface`), computed
+    once per input and settings and reused from the cache afterwards
+    (:mod:`.repair_cache`: fTetWild is not deterministic, so every read of the same file
+    must get the first repair's surface)."""
+    from .cad import union_repair
+    from .repair_cache import load_repaired, repair_key, save_repaired
+
+    key = repair_key(v, f, labels, method, edge_length=edge_length)
+    cached = load_repaired(key)
+    if cached is not None:
+        nv, nf, nl, rep, path = cached
+        rep = dict(rep, cache=str(path), reused=True)
+        lines.append(f"repair ({method}): the repaired surface of this file computed before, "
+                     f"reused from the cache ({path.name})")
+        return nv, nf, nl, rep
+    if method == "union":
+        nv, nf, nl, rep = union_repair(v, f, labels)
+    else:
+        from .remesh import tetwild_surface
+
+        nv, nf, nl, rep = tetwild_surface(v, f, labels, edge_length=edge_length)
+        rep["method"] = "tetwild"
+    path, why = save_repaired(key, nv, nf, nl, rep)
+    rep = dict(rep, cache=str(path) if path else None, reused=False)
+    if path is None:
+        lines.append(f"repair ({method}): the repaired surface could not be cached ({why}); "
+                     "another read of this file may repair it differently")
+    return nv, nf, nl, rep
+
+
+def _outside_checked(v, f, labels, fix_normals: bool, source, lines: list):
+    """Ray-cast outside test (:func:`.outside.classify_pieces`): interior shells are
+    removed (reported), inside-out pieces are turned with ``fix_normals`` or refused,
+    stray inward or enclosed triangles above 1 % of the area are refused."""
+    from .cad import Problem, problems_message
+
+    rep = classify_pieces(v, f)
+    area = face_areas(v, f)
+    total = float(area.sum())
+    out = {"pieces": int(rep.piece.max()) + 1 if len(rep.piece) else 0,
+           "interior_pieces": len(rep.interior_pieces),
+           "inverted_pieces": len(rep.inverted_pieces),
+           "stray_inward_faces": rep.stray_inward, "stray_enclosed_faces": rep.stray_enclosed}
+    where = source if not isinstance(source, Mapping) else ", ".join(
+        str(x) for x in source.values())
+    inverted = rep.inverted_faces
+    if inverted.any():
+        if not fix_normals:
+            c = v[f[np.flatnonzero(inverted)[0]]].mean(axis=0)
+            raise problems_message(where, [Problem(
+                "inverted_piece", f"{len(rep.inverted_pieces)} separate piece(s) "
+                f"({int(inverted.sum())} triangles, {100 * area[inverted].sum() / total:.1f} % "
+                f"of the area; first near ({c[0]:.3f}, {c[1]:.3f}, {c[2]:.3f}) m) are "
+                "inside-out: their normals point into themselves (ray casting: only the back "
+                "of their triangles sees the outside)", "ship.files.fix_normals = true")])
+        f = f.copy()
+        f[inverted] = f[inverted][:, ::-1]
+        lines.append(f"fix_normals: {len(rep.inverted_pieces)} inside-out piece(s) turned "
+                     f"({int(inverted.sum())} triangles; ray casting)")
+        out["inverted_faces_turned"] = int(inverted.sum())
+    interior = rep.interior_faces
+    if interior.any():
+        if interior.all():
+            raise InputError("ship.files.mesh", str(where), "has no outer surface: no "
+                             "triangle sees the outside (ray casting)", "Check the file")
+        a_int = float(area[interior].sum())
+        lines.append(f"interior shells removed: {len(rep.interior_pieces)} closed piece(s) "
+                     f"inside the ship ({int(interior.sum())} triangles, {a_int:.6g} m2 = "
+                     f"{100 * a_int / total:.1f} % of the area; no ray from either side of "
+                     "them reaches the outside)")
+        out["interior_faces_removed"] = int(interior.sum())
+        out["interior_area_removed_m2"] = a_int
+        keep = ~interior
+        f, labels = f[keep], np.asarray(labels)[keep]
+        used, inv = np.unique(f, return_inverse=True)
+        v, f = v[used], inv.reshape(-1, 3)
+    stray = ~rep.interior_faces & ~rep.inverted_faces & (rep.inward | rep.enclosed)
+    a_stray = float(area[stray].sum()) / total if stray.any() else 0.0
+    out["stray_area_share"] = a_stray
+    if a_stray > 0.01:
+        raise problems_message(where, [Problem(
+            "inward", f"{int(stray.sum())} triangles ({100 * a_stray:.1f} % of the area) of the "
+            "outer surface face into the ship or see the outside from neither side (ray "
+            "casting)", 'ship.files.repair = "tetwild", or fix the normals in CAD')])
+    return v, f, labels, out
 
 
 # ---------------------------------------------------------------------------------------
@@ -680,6 +827,13 @@ def write_ship(ship: ShipGeometry, directory, stem: str | None = None) -> dict[s
 
 def _atomic(path: Path, writer) -> Path:
     tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
-    writer(str(tmp))
-    os.replace(tmp, path)
+    try:
+        writer(str(tmp))
+        os.replace(tmp, path)
+    except OSError as exc:
+        if tmp.exists():
+            tmp.unlink()
+        if exc.errno is None or exc.filename not in (None, str(tmp)):
+            raise
+        raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from exc
     return path

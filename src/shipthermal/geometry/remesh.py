@@ -26,6 +26,7 @@ from typing import Sequence
 import numpy as np
 
 from ..errors import InputError, check_positive, require
+from .limits import check_surface_size
 from .parts import face_areas, signed_volume, split_at_waterline
 from .surface_ops import collapse_short_edges, flip_coplanar_edges, surface_quality
 
@@ -117,7 +118,7 @@ def remesh_ship(ship, edge_length: float, improve: bool = True, return_report: b
     With ``return_report`` returns ``(ship, report)`` (``{}`` unless remeshed
     isotropically).
     """
-    check_positive("edge_length", edge_length, "m")
+    check_positive("ship.edge_length", edge_length, "m")
     if ship.parameters is not None:
         from .ship import build_ship
 
@@ -128,6 +129,7 @@ def remesh_ship(ship, edge_length: float, improve: bool = True, return_report: b
                       compartment_temperature=dict(ship.compartment_temperature),
                       outer_medium=dict(ship.outer_medium))
         return (new, {}) if return_report else new
+    check_surface_size(float(face_areas(ship.vertices, ship.faces).sum()), edge_length)
     from .isoremesh import have_remesher, isotropic_remesh
 
     if have_remesher():

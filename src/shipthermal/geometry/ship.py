@@ -33,6 +33,7 @@ import numpy as np
 from ..errors import InputError, check_positive, check_range, require
 from ..materials import Layup
 from .layups import compartment_temperatures, default_layups, outer_media
+from .limits import builtin_area_bound, check_surface_size
 from .parts import (MAIN_PARTS, boundary_edges, face_areas, main_part, part_areas,
                     signed_volume, split_at_waterline)
 
@@ -727,7 +728,9 @@ def build_ship(params: ShipParameters, edge_length: float | None = None,
     params.validate()
     if edge_length is None:
         edge_length = DEFAULT_EDGE_LENGTH * params.length / 132.0
-    check_range("edge_length", edge_length, 1e-4 * params.length, 0.1 * params.length, "m")
+    check_range("ship.edge_length", edge_length, 1e-4 * params.length, 0.1 * params.length, "m")
+    check_surface_size(builtin_area_bound(params.length, params.beam, params.draught,
+                                          params.freeboard), edge_length)
     form = _HullForm(params)
     hv, hf, is_deck = _hull_surface(form, edge_length)
 

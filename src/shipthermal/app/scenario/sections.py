@@ -18,17 +18,19 @@ from ...geometry.parts import MAIN_PARTS, main_part
 from ...materials import MATERIALS
 from ...parameters import NIGHT_SETTLE, NIGHT_STEP
 from ...units import ZERO_CELSIUS
-from .spec import _Context, _opt, _part_key, _suggest, parse_band
+from .spec import _Context, _default, _opt, _part_key, _suggest, _thaw, parse_band
 from .values import (ATMOSPHERE_BACKENDS, BACKGROUND_MODELS, RESIDUAL_MODES, BAND_EMISSIVITY, BUILTIN_SHIP_NAMES, CLEAR_SKY_MODELS,
                      CLIMATE_DATES, CLOUD_MODELS, CLOUD_UNITS, CONVECTION_MODEL_SOURCES, DALIAN,
                      DAY, DECOMPOSITIONS, DEFAULT_CONVECTION_MODEL, DEM_NODATA, LATITUDE_MAX,
                      LONGWAVE_EMISSIVITY, MAX_GAP_HOURS, MAX_RECORD_DAYS, MAX_REPAIR_CHANGE,
+                     MAX_SITE_DISTANCE_KM,
                      MAX_VIEW_ZENITH, MESH_EXTENSIONS, MESH_WITH_PART_ARRAY,
                      MESH_WITH_PART_NAMES, MET_UNITS, OUTPUT_FORMATS, PAPER_IMAGE_TIMES,
                      PAPER_SENSOR, ROI_SPLITS, SEA_SKIN_MODELS, SEASONS, SHIP_LENGTH_RANGE,
                      SHIP_SPEED_MAX,
                      SOLAR_ABSORPTIVITY, SYNTHETIC_PIXEL_M, TEMP_UNITS, UNITS, VALIDATION_TIMES,
-                     VARIOGRAM_MODELS, WEATHER_FORMATS, WEATHER_SUFFIXES)
+                     VARIOGRAM_MODELS, WATER_VAPOUR_RANGE, WEATHER_FORMATS,
+                     WEATHER_SUFFIXES)
 
 
 # ---------------------------------------------------------------------------------------
@@ -124,13 +126,17 @@ class WeatherSettings:
                                            "from, clockwise from north) where the file has "
                                            "none over the simulated span", unit="deg",
                                            lo=0.0, hi=360.0, optional=True)
-    temp_unit: str = _opt("C", "choice", "CSV only: unit of temperatures in the file",
-                          choices=TEMP_UNITS)
+    temp_unit: str = _opt("C", "choice", "CSV only: unit of temperatures in the file "
+                          "(degC, kelvin or degF)", choices=TEMP_UNITS)
     cloud_unit: str = _opt("fraction", "choice", "CSV only: unit of cloud_cover in the file",
                            choices=CLOUD_UNITS)
     year: Optional[int] = _opt(None, "int", "EPW / TMY2 / TMY3: coerce the typical year's "
                                "rows to this year (default: the year of time.date; TMY2 / "
                                "TMY3: not a leap year)", lo=1950, hi=2100, optional=True)
+    max_site_distance: float = _opt(MAX_SITE_DISTANCE_KM, "float", "EPW / TMY2 / TMY3: "
+                                    "largest distance between the station in the file's "
+                                    "header and [location] (a file of another city is "
+                                    "refused)", unit="km", lo=0.0, hi=20100.0, lo_open=True)
     use_measured_irradiance: bool = _opt(True, "bool", "Files: use the file's global "
                                          "irradiance (split by 'decomposition') instead of "
                                          "clear sky + cloud")
@@ -167,15 +173,17 @@ class WeatherSettings:
 
     _FILE_ONLY = ("format", "temp_sea", "temp_unit", "cloud_unit", "year",
                   "use_measured_irradiance", "use_measured_longwave", "day", "days",
-                  "wind_height", "max_gap_hours", "cloud_cover", "wind_direction")
+                  "wind_height", "max_gap_hours", "cloud_cover", "wind_direction",
+                  "max_site_distance")
 
     def _omit(self) -> tuple:
         fmt = self.file_format
         if fmt is None:
             return self._FILE_ONLY
-        omit = {"csv": ("year", "use_measured_longwave"),
+        omit = {"csv": ("year", "use_measured_longwave", "max_site_distance"),
                 "epw": ("temp_unit", "cloud_unit"),
-                "ndbc": ("temp_unit", "cloud_unit", "year", "use_measured_longwave"),
+                "ndbc": ("temp_unit", "cloud_unit", "year", "use_measured_longwave",
+                         "max_site_distance"),
                 "tmy2": ("temp_unit", "cloud_unit", "use_measured_longwave"),
                 "tmy3": ("temp_unit", "cloud_unit", "use_measured_longwave")}[fmt]
         return omit + (("days",) if self.day != "record" else ())
@@ -221,6 +229,9 @@ class WeatherSettings:
                     ctx.err(f"{path}.{key}", raw[key], "only applies to CSV weather files")
         if fmt == "csv" and "year" in raw:
             ctx.err(f"{path}.year", raw["year"], "only applies to EPW / TMY2 / TMY3 files")
+        if fmt in ("csv", "ndbc") and "max_site_distance" in raw:
+            ctx.err(f"{path}.max_site_distance", raw["max_site_distance"], "only applies to "
+                    "EPW / TMY2 / TMY3 files (their header names the station)")
         if fmt != "epw" and "use_measured_longwave" in raw:
             ctx.err(f"{path}.use_measured_longwave", raw["use_measured_longwave"],
                     "only applies to EPW files (TMY3 has no long-wave; a CSV's "
@@ -478,7 +489,12 @@ class ShipSettings:
                     pass
             for key in ("layups", "compartment_temperature", "solar_absorptivity",
                         "longwave_emissivity", "band_emissivity"):
+                f = ShipSettings.__dataclass_fields__[key]
+                default = _thaw(_default(f, ctx, f"{path}.{key}")) if key != "layups" else {}
                 for part in raw.get(key, {}) if isinstance(raw.get(key), dict) else ():
+                    # a default entry written back by Scenario.to_dict is not the user's
+                    if part in default and raw[key][part] == default[part]:
+                        continue
                     if part not in valid and key not in bad:
                         ctx.err(f"{path}.{key}.{part}", part, "is not a part of this ship; "
                                 f"parts: {', '.join(sorted(valid))}", _suggest(part, valid))
@@ -559,15 +575,31 @@ class ShipSettings:
         it. Returns ``(ShipGeometry, report)``."""
         from shipthermal.geometry import read_ship
 
+        from shipthermal.geometry.limits import check_surface_size
+        from shipthermal.geometry.outside import SLIVER_ANGLE_DEG, SLIVER_WARN_SHARE
+        from shipthermal.geometry.parts import face_areas
+
         f = self.files
         source = dict(f.parts) if f.parts else f.mesh
-        return read_ship(
+        ship, report = read_ship(
             source, units=f.units, part_map=f.part_map, draught=f.draught,
             waterline_z=f.waterline_z, layups=self._layup_overrides(),
             compartment_temperature=self._compartment_overrides(), clean=f.clean,
             fix_normals=f.fix_normals, repair=None if f.repair == "none" else f.repair,
             check_scale=f.check_scale, max_repair_change=f.max_repair_change,
             repair_edge_length=f.repair_edge_length)
+        if self.edge_length is not None:
+            check_surface_size(float(face_areas(ship.vertices, ship.faces).sum()),
+                               self.edge_length)
+        share = report.get("sliver_share", 0.0)
+        if share > SLIVER_WARN_SHARE and self.edge_length is None:
+            report["warnings"].append(
+                f"{100 * share:.0f} % of the triangles are slivers (smallest angle below "
+                f"{SLIVER_ANGLE_DEG:g} deg): their view factors and heat fluxes are poorly "
+                f"resolved. Set ship.edge_length (e.g. {report['equilateral_edge_m']:.2g} m, "
+                "the same resolution) to remesh the ship with well-shaped triangles")
+        report.setdefault("repairs", []).extend(f"warning: {w}" for w in report["warnings"])
+        return ship, report
 
     def __call__(self, return_report: bool = False):
         """Build the ship geometry (slow: meshing / reading files).
@@ -622,10 +654,19 @@ def _check_particulars(obj: ShipSettings, path: str, ctx: _Context) -> Optional[
         ctx.err(where, exc.value, f"{exc.allowed} (for a {obj.builtin})", exc.fix)
         return None
     if obj.edge_length is not None:
+        from shipthermal.geometry.limits import builtin_area_bound, check_surface_size
+
         lo, hi = 1e-4 * params.length, 0.1 * params.length
         if not lo <= obj.edge_length <= hi:
             ctx.err(f"{path}.edge_length", obj.edge_length, f"must lie in [{lo:.3g}, {hi:.3g}] m "
                     f"for a {params.length:g} m ship (1e-4 to 0.1 of its length)")
+        else:
+            try:
+                check_surface_size(builtin_area_bound(params.length, params.beam,
+                                                      params.draught, params.freeboard),
+                                   obj.edge_length, f"{path}.edge_length")
+            except InputError as exc:
+                ctx.err(exc.field, exc.value, exc.allowed, exc.fix)
     return _builtin_part_names(obj.builtin, dims)
 
 
@@ -749,6 +790,12 @@ class BackgroundSettings:
     dem_nodata: str = _opt("error", "choice", "files: DEM voids over land: refuse, mask (no "
                            "terrain term there) or fill from the surrounding elevations; "
                            "the count is reported", choices=DEM_NODATA)
+    water_vapour: Optional[float] = _opt(None, "float", "files, a Level-1 scene without a "
+                                         "met grid: column water vapour at the overpass for "
+                                         "the single-channel LST of `shipthermal background` "
+                                         "(with a met grid its water vapour is used)",
+                                         unit="g cm-2", lo=WATER_VAPOUR_RANGE[0],
+                                         hi=WATER_VAPOUR_RANGE[1], optional=True)
 
     _FILES = ("mtl", "dem", "met", "roi")
 
@@ -781,7 +828,7 @@ class BackgroundSettings:
             ctx.err(f"{path}.band_files", raw["band_files"], "only applies with source = 'files'")
         return obj
 
-    _FILES_ONLY = ("met_variable", "met_units", "met_margin_cells", "dem_nodata")
+    _FILES_ONLY = ("met_variable", "met_units", "met_margin_cells", "dem_nodata", "water_vapour")
 
     def _omit(self) -> tuple:
         return ("size_px",) if self.source == "files" else BackgroundSettings._FILES_ONLY

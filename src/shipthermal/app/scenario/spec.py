@@ -39,7 +39,11 @@ class ScenarioError(InputError):
         self.field, self.value, self.allowed, self.fix = (first.field, first.value,
                                                           first.allowed, first.fix)
         n = len(self.errors)
-        head = f"{source}: {n} problem{'s' if n > 1 else ''} (all listed; fix them and load again)"
+        if n == 1:                     # one problem: one line (the file named once)
+            ValueError.__init__(self, str(first) if str(first.value) == source
+                                else f"{source}: {first}")
+            return
+        head = f"{source}: {n} problems (all listed; fix them and load again)"
         ValueError.__init__(self, "\n".join([head] + [f"  - {e}" for e in self.errors]))
 
 
@@ -243,6 +247,9 @@ def _clock_list(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
     if not isinstance(raw, list) or not raw:
         ctx.err(path, raw, allowed, 'e.g. ["07:00", "12:00"]')
         return _BAD
+    if len(raw) > 1440:
+        ctx.err(path, f"{len(raw)} times", allowed + ", at most 1440 (one per minute)")
+        return _BAD
     out, ok = [], True
     for i, item in enumerate(raw):
         if isinstance(item, _dt.time):
@@ -257,7 +264,8 @@ def _clock_list(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
             continue
         h, m = item.split(":")
         out.append(f"{int(h):02d}:{m}")
-    dup = sorted({t for t in out if out.count(t) > 1})
+    seen: set = set()
+    dup = sorted({t for t in out if t in seen or seen.add(t)})
     if dup:
         ctx.err(path, raw, allowed, f"{dup} appear more than once")
         ok = False

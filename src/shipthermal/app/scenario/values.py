@@ -37,6 +37,7 @@ from ...parameters import (  # noqa: F401
     LONGWAVE_EMISSIVITY,
     MAX_GAP_HOURS,
     SEA_SKIN_MODEL_NAMES,
+    MAX_SITE_DISTANCE_KM,
     SHIP_SPEED_MAX,
     SEASONS,
     SOLAR_ABSORPTIVITY,
@@ -73,6 +74,10 @@ Bohai coast: Qingdao is 2.8 deg away)."""
 
 ATMOSPHERE_BACKENDS = tuple(MAX_VIEW_ZENITH)
 VARIOGRAM_MODELS = tuple(sorted(_VARIOGRAM_MODELS))
+WATER_VAPOUR_RANGE = (0.2, 6.0)
+"""Column water vapour accepted by the single-channel LST [g cm-2]: the range of
+``imaging.background.lst.WATER_VAPOUR_RANGE`` (written here because that module's package
+is heavy to import; a test keeps the two equal)."""
 
 BUILTIN_SHIP_NAMES = tuple(sorted(BUILTIN_SHIPS))
 MESH_WITH_PART_ARRAY = tuple(sorted(PYVISTA_EXTENSIONS))

@@ -268,7 +268,9 @@ class Scenario:
             rec, first, last, max_gap_hours=w.max_gap_hours, wind_height=w.wind_height,
             fallback={"temp_sea": w.temp_sea, "cloud_cover": w.cloud_cover,
                       "wind_direction": w.wind_direction},
-            periodic=w.day == "periodic")
+            periodic=w.day == "periodic",
+            site=(self.location.latitude, self.location.longitude),
+            max_site_distance_km=w.max_site_distance)
         if problems:
             raise ScenarioError(problems, f"weather file {Path(w.source).name}")
         return weather, report
