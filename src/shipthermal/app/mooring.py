@@ -98,19 +98,9 @@ def check_mooring_on(scenario, ship, background) -> list:
 
 @functools.lru_cache(maxsize=4)
 def _synthetic_classes(seed: int, size_px: int, lat: float, lon: float) -> np.ndarray:
-    try:
-        from imaging.background.synthetic import synthetic_surface
-    except ImportError:
-        synthetic_surface = None
-    if synthetic_surface is not None:
-        return np.asarray(synthetic_surface(seed, size_px, lat, lon)["class_map"])
-    import tempfile
+    from imaging.background.synthetic import synthetic_surface
 
-    from imaging.background.synthetic import write_synthetic_port
-
-    with tempfile.TemporaryDirectory() as d:
-        port = write_synthetic_port(d, "summer", seed=seed, size_px=size_px, lat=lat, lon=lon)
-        return np.asarray(port.truth["class_map"])
+    return np.asarray(synthetic_surface(seed, size_px, lat, lon)["class_map"])
 
 
 def builtin_class_map(scenario):
