@@ -10,7 +10,8 @@
 * the warm layer of Zeng & Beljaars (2005): its exact limits (no sun, no warm layer; decay at
   night; the closed-form equilibrium; a spun-up day repeats), its time-step convergence;
 * both against the diurnal amplitudes observed at sea, and against each other (printed);
-* the :class:`~shipthermal.environment.Environment` wiring and the scenario key.
+* the :class:`~shipthermal.environment.Environment` wiring, its default (COARE) and the
+  scenario key.
 """
 
 from pathlib import Path
@@ -770,14 +771,50 @@ def test_record_weather_integrates_from_its_start(model):
         assert ptab.delta_warm[0] == 0.0 < ptab.delta_warm.max()
 
 
+def test_environment_default_is_the_coare_warm_layer():
+    """Environment and the sea_skin switch default to the COARE warm layer; it is reset at
+    local solar midnight (UTC + longitude/15 h: 23:54 clock time at Dalian, 121.63 E,
+    UTC+8), between the 23:50 and 00:00 samples of the design day. The built-in Dalian
+    days (printed, both models): summer (4 m/s, 7.4 h of sun) COARE peaks near 1 K, well
+    below Z&B's ~3 K; winter (5 m/s, sea 4 degC, air −5 degC) has no warm layer to speak
+    of and a 0.4–0.5 K cool skin."""
+    from shipthermal.environment import sea_skin_model
+
+    assert sea_skin_model(True) == COARE == sk.DEFAULT_WARM_LAYER
+    peaks = {}
+    for season in ("summer", "winter"):
+        for model in (COARE, ZB):
+            kw = {} if model == COARE else dict(sea_skin=model)
+            env = Environment.from_climate_day(climate_day(season), **kw)
+            assert env.sea_skin == model
+            tab = env.sea_skin_series()
+            assert tab.warm_layer == model
+            skin = tab.temp_skin - tab.temp_bulk
+            h = tab.seconds / HOUR
+            peaks[season, model] = (tab.delta_warm.max(), tab.delta_cool.max(), skin.max())
+            print(f"Dalian {season}, {model}: ΔT_warm peak {tab.delta_warm.max():.2f} K at "
+                  f"{h[np.argmax(tab.delta_warm)]:.1f} h; ΔT_cool {tab.delta_cool.min():+.2f}"
+                  f"…{tab.delta_cool.max():+.2f} K; skin − bulk {skin.min():+.2f}…"
+                  f"{skin.max():+.2f} K (at {h[np.argmax(skin)]:.1f} h)")
+            if model == COARE and season == "summer":
+                solar = np.mod(h - 8.0 + 121.63 / 15.0, 24.0)
+                k = int(np.flatnonzero(solar < np.roll(solar, 1))[0])
+                assert h[k] == 0.0 and h[k - 1] == pytest.approx(23 + 50 / 60)
+                assert tab.layer_warming[k] == 0.0 < tab.layer_warming[k - 1]
+                assert tab.day_change == tab.delta_warm[k - 1]
+    assert 0.5 < peaks["summer", COARE][0] < 1.5 < 2.5 < peaks["summer", ZB][0]
+    assert peaks["winter", COARE][0] < 0.05 and peaks["winter", ZB][0] < 0.05
+    assert 0.3 < peaks["winter", COARE][1] < 0.6
+
+
 def test_scenario_key_switches_the_skin():
     from shipthermal.app.scenario import default_scenario
 
     sc = default_scenario("summer")
-    assert sc.weather.sea_skin == "zeng_beljaars"
-    assert sc.environment().sea_skin == "zeng_beljaars"
-    co = sc.updated({"weather.sea_skin": "fairall_coare"}).environment()
-    assert co.sea_skin == "fairall_coare" and co.sea_skin_series().warm_layer == "fairall_coare"
+    assert sc.weather.sea_skin == "fairall_coare"
+    assert sc.environment().sea_skin == "fairall_coare"
+    zb = sc.updated({"weather.sea_skin": "zeng_beljaars"}).environment()
+    assert zb.sea_skin == "zeng_beljaars" and zb.sea_skin_series().warm_layer == "zeng_beljaars"
     off = sc.updated({"weather.sea_skin": "none"})
     env = off.environment()
     st = env.at(np.arange(0.0, DAY, 3 * HOUR))
