@@ -158,11 +158,14 @@ class WeatherSettings:
                                            "(Konda et al. 1994)", lo=0.5, hi=1.0,
                                            optional=True)
     sea_skin: str = _opt(SEA_SKIN_MODELS[0], "choice", "Sea skin temperature (what the hull "
-                         "and the sensor see): 'zeng_beljaars' = the SST (taken at 3 m) plus "
-                         "the diurnal warm layer of Zeng & Beljaars (2005) minus the cool skin "
-                         "of Fairall et al. (1996), with COARE 3.6 fluxes; the built-in day's "
-                         "SST is then its daily mean. 'none' = the SST itself (and the "
-                         "built-in day's prescribed 0.3 K cycle)", choices=SEA_SKIN_MODELS)
+                         "and the sensor see): the SST (taken at 3 m) plus a diurnal warm "
+                         "layer minus the cool skin of Fairall et al. (1996), with COARE 3.6 "
+                         "fluxes; the built-in day's SST is then its daily mean. Warm layer: "
+                         "'fairall_coare' = COARE's (Fairall et al. 1996; peaks 0.6 K on a "
+                         "clear tropical day at 3 m/s), 'zeng_beljaars' = Zeng & Beljaars "
+                         "(2005), the ECMWF model's, warmer at moderate winds (2.4 K at 3 "
+                         "m/s). 'none' = the SST itself (and the built-in day's prescribed "
+                         "0.3 K cycle)", choices=SEA_SKIN_MODELS)
     wind_speed_offset: float = _opt(0.0, "float", "Added to the wind speed (clipped at 0), "
                                     "for sensitivity runs and sweeps", unit="m/s",
                                     lo=-20.0, hi=20.0)
