@@ -87,7 +87,7 @@ def test_quiet_prints_results_only(imaged_run, capsys):
 def test_options_after_the_subcommand(imaged_run, capsys):
     assert main(["crossover", str(imaged_run), "--csv", "-q"]) == 0
     out = capsys.readouterr().out
-    assert out.splitlines()[0] == "season,band,time_h,time_local,direction"
+    assert out.splitlines()[0] == "season,band,time_h,date_local,time_local,direction"
 
 
 def test_run_directory_of_a_run_with_imaging(imaged_run):

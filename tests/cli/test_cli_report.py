@@ -228,7 +228,10 @@ def test_run_writes_the_port_background(imaged_run):
     from imaging.background.classify import CLASS_CODES
 
     assert set(classes) - {0} and set(classes) <= {0, *CLASS_CODES}
-    assert (bg / "lst_K.tif").is_file() and (bg / "class_map.png").is_file()
+    assert (bg / "albedo.tif").is_file() and (bg / "class_map.png").is_file()
+    assert (bg / "sea.csv").is_file() and (bg / "background_hours.png").is_file()
+    with rasterio.open(bg / "background_K.tif") as src:       # every band says what it is
+        assert all("synthetic port" in d for d in src.descriptions)
 
 
 def test_mesh_report_is_tables_not_json(imaged_run, tmp_path):

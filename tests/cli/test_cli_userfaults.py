@@ -707,10 +707,14 @@ case("background-scenario-builtin", lambda d: (write_tiny(d, name="t"), [
 # ---- run directories: image, crossover, report, validate, demo -----------------------------
 
 
-def _fake_run(d, finished=True):
+def _fake_run(d, finished=True, kind="run"):
+    """A run folder as shipthermal signs it (tool, kind, the entries it wrote)."""
     r = d / "run"
     r.mkdir()
-    (r / "manifest.json").write_text(json.dumps({"cases": {}, "status": "running"}))
+    entries = ["manifest.json", "scenario.toml"] + (["COMPLETE"] if finished else [])
+    (r / "manifest.json").write_text(json.dumps({"tool": "shipthermal", "kind": kind,
+                                                 "entries": entries, "cases": {},
+                                                 "status": "running"}))
     (r / "scenario.toml").write_text("")
     if finished:
         (r / "COMPLETE").write_text("x")
@@ -739,7 +743,7 @@ case("run-out-foreign-folder", lambda d: ((d / "mine").mkdir(),
                                           (d / "mine" / "thesis.tex").write_text("precious"),
                                           ["run", "summer", "--out", str(d / "mine")])[-1],
      ["not a shipthermal run directory", "Choose a new or empty folder"])
-case("mesh-out-finished", lambda d: ["mesh", "summer", "--out", _fake_run(d)],
+case("mesh-out-finished", lambda d: ["mesh", "summer", "--out", _fake_run(d, kind="mesh")],
      ["is a finished run (COMPLETE exists)", "--force"])
 case("run-image-custom-band", lambda d: (
     write_tiny(d, name="c", extra='[imaging]\nbands = ["8-12"]\n'),

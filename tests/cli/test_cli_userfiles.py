@@ -440,7 +440,7 @@ def test_background_output_beside_the_scene(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(bgb, "build_overpass", fails)
     kept = snapshot(proj)
     code, err = _main(argv + ["--force"], proj, monkeypatch, capsys)
-    _one_line_error(code, err, "roi_path")
+    _one_line_error(code, err, "--roi")   # the flag the user typed
     assert snapshot(proj) == kept
     assert not [p for p in (proj / "scene").iterdir() if ".part-" in p.name]
 

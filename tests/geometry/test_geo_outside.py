@@ -81,9 +81,10 @@ def test_messy_export_without_repair(tmp_path):
     assert ship.n_faces == ref.n_faces + info["inside_out_faces"]
 
 
-def test_messy_export_repaired_once_and_identically(tmp_path):
+def test_messy_export_repaired_once_and_identically(tmp_path, monkeypatch):
     """The tetwild repair of the messy export: its cavity (the inside-out box) removed,
     the deck on the deck, and the same mesh on every read (the cache)."""
+    monkeypatch.setenv("SHIPTHERMAL_CACHE", str(tmp_path / "cache"))   # empty: a first repair
     path = tmp_path / "messy.stl"
     write_messy_cargo_ship(path, inside_out=False)
     kw = dict(units="m", part_map="auto", draught=DRAUGHT, clean=True, fix_normals=True,

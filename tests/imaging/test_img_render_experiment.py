@@ -141,7 +141,8 @@ def test_run_experiment_writes_every_product_atomically(tmp_path, frigate_coarse
         assert os.path.getsize(tmp_path / f"panels_{band}.png") > 10_000
         assert os.path.getsize(tmp_path / f"scr_{band}.png") > 10_000
     cross = pd.read_csv(tmp_path / "crossovers.csv")
-    assert list(cross.columns) == ["season", "band", "time_h", "time_local", "direction"]
+    assert list(cross.columns) == ["season", "band", "time_h", "date_local", "time_local",
+                                   "direction"]
     comp = pd.read_csv(tmp_path / "band_comparison.csv")
     assert len(comp) == 4 and {"scr_in_crossover_mean", "scr_out_crossover_mean"} <= set(comp)
     assert (tmp_path / "summary.json").exists()

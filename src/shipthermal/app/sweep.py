@@ -55,6 +55,7 @@ import os
 import socket
 import time as _time
 import traceback
+import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
