@@ -32,6 +32,7 @@ import pandas as pd
 import pvlib
 
 from imaging.background import surface_energy as se
+from imaging.background.physical import land_convection
 from imaging.background.surface_classes import SURFACE_CLASSES, Layer
 
 TIMESTEPS_PER_HOUR = 20
@@ -314,8 +315,9 @@ EPLUS_TERMS = ("Temperature", "Convection Heat Transfer Coefficient",
 
 
 def per_column_convection(user_curve: np.ndarray, default=None):
-    """``h = a + b v`` on the columns that had EnergyPlus's user curve, ``default`` (our
-    default correlation when None) on the others."""
+    """``h = a + b v`` on the columns that had EnergyPlus's user curve, ``default`` (the
+    project's flat-plate correlation when None; arrays of the other columns only) on the
+    others."""
     user = np.asarray(user_curve, dtype=bool)
     linear = se.convection_linear(*USER_CURVE)
     default = default or se.convection_correlation()
@@ -360,7 +362,11 @@ def compare(climate: str, df: pd.DataFrame, weeks=("july", "january"),
         n_t = len(wx)
         absorptance = np.array([s.solar_absorptance for s in surfaces])
         wind = np.repeat(wx["wind_speed"].to_numpy()[:, None], len(surfaces), axis=1)
-        conv = per_column_convection([s.user_curve for s in surfaces])
+        # our default: the port background's own (the surface layer's log law with
+        # stability, imaging.background.physical.land_convection)
+        conv = per_column_convection([s.user_curve for s in surfaces], default=land_convection(
+            [classes[s.name.lower()] for s in surfaces if not s.user_curve],
+            float(np.mean(wx["pressure"]))))
         if h_from_eplus:
             # the wind input carries EnergyPlus's h of each step and h = 0 + 1·"wind" replays
             # it (row 0, 00:00, takes the first step's value)

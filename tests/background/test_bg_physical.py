@@ -105,7 +105,8 @@ def test_anchoring_reproduces_its_own_scene_exactly(soton):
     obs = Observation(bg.temperature_at(hour), when, "model's own scene", 0.0)
     anchored = build_physical_background(
         GroundCover(**{**ground.__dict__, "observation": obs, "origin": "scene"}), env)
-    assert max(abs(f.residual_median_K) for f in anchored.fits) < 1e-6
+    # the scene and the column tables are float32: 3.05e-5 K apart at 300 K
+    assert max(abs(f.residual_median_K) for f in anchored.fits) < 3.1e-5
     assert max(f.residual_rms_K for f in anchored.fits) < 1e-3
     land = anchored.class_map != 1
     for h in (3.0, 9.0, 12.0, 15.0, 21.0):

@@ -8,8 +8,10 @@ each, one EnergyPlus run per climate (see ``energyplus_peer.py`` for the model).
 * matched: the same convection h = 4 + 4 v (EnergyPlus's user curve), the same sky
   (the EPW's horizontal infrared), the same beam and diffuse irradiance, materials and
   boundaries: hourly outer-surface temperature within 0.5 K RMS;
-* defaults: our flat-plate correlation against EnergyPlus's DOE-2: the difference is the
-  convection term, shown by replaying EnergyPlus's h in our solver, which closes the gap.
+* defaults: the port background's own convection (the surface layer's log law with
+  stability, :func:`imaging.background.physical.land_convection`) against EnergyPlus's
+  DOE-2: the difference is the convection term, shown by replaying EnergyPlus's h in our
+  solver, which closes the gap.
 """
 
 from __future__ import annotations

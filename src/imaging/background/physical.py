@@ -66,7 +66,7 @@ from .terrain import slope_aspect
 __all__ = ["GroundCover", "PhysicalBackground", "build_physical_background",
            "ground_from_synthetic", "ground_from_overpass", "broadband_albedo",
            "orientation_bins", "ALBEDO_SAMPLES", "CONDUCTANCE_SAMPLES", "SLOPE_EDGES_DEG", "RESIDUAL_MODES",
-           "MAX_SCENE_DAYS", "COLUMN_STEP_S"]
+           "MAX_SCENE_DAYS", "COLUMN_STEP_S", "land_convection"]
 
 WATER = 1
 
@@ -855,8 +855,25 @@ def _plane_of_array(state, slope, aspect, used_bins):
 WIND_HEIGHT_M = 10.0
 """Height of the environment's wind [m] (weather files are reduced to 10 m on reading)."""
 
+AIR_HEIGHT_M = 2.0
+"""Height of the weather's air temperature and humidity [m]: screen height (WMO standard
+1.25-2 m; EPW/TMY and buoy air temperatures are screen-level)."""
+
 GROUND_ALBEDO = 0.2
 """Albedo of the terrain a tilted pixel sees (pvlib's default, a generic ground). ASSUMPTION."""
+
+
+def land_convection(col_class, pressure=101325.0):
+    """The land columns' convection, ``h(T_s, T_air, wind)`` [W m-2 K-1] for columns of the
+    classes ``col_class``: the surface layer's log-law aerodynamic resistance between the
+    10 m wind (:data:`WIND_HEIGHT_M`), the screen-level air (:data:`AIR_HEIGHT_M`) and each
+    class's roughness lengths, with the bulk-Richardson stability factors
+    (:func:`.surface_energy.convection_aerodynamic`)."""
+    return convection_aerodynamic(np.array([c.roughness_length for c in col_class]),
+                                  np.array([c.roughness_length_heat for c in col_class]),
+                                  np.array([c.displacement_height for c in col_class]),
+                                  height_wind=WIND_HEIGHT_M, height_temp=AIR_HEIGHT_M,
+                                  stability=True, pressure=pressure)
 
 
 def _column_temperatures(col_class, resistance, sw, lw, state, environment, times, periodic,
@@ -883,10 +900,6 @@ def _column_temperatures(col_class, resistance, sw, lw, state, environment, time
                              longwave_down=lw, temp_air=np.asarray(state.temp_air, float),
                              relative_humidity=np.clip(state.relative_humidity, 0.0, 100.0),
                              wind_speed=np.asarray(state.wind_speed, float), pressure=pressure)
-    h = convection_aerodynamic(np.array([c.roughness_length for c in col_class]),
-                               np.array([c.roughness_length_heat for c in col_class]),
-                               np.array([c.displacement_height for c in col_class]),
-                               height_wind=WIND_HEIGHT_M, stability=True, pressure=pressure)
-    res = solve_surface_energy(forcing, cols, convection=h,
+    res = solve_surface_energy(forcing, cols, convection=land_convection(col_class, pressure),
                                mode="periodic" if periodic else "record")
     return res.temp_surface, res
