@@ -205,3 +205,64 @@ size_px = 80
     assert abs(day1 - day3) > 0.05                     # not the same day repeated
     with pytest.raises(InputError, match="simulated span"):
         bg.temperature_at(80.0)
+
+
+def test_real_scene_whole_day_without_a_met_grid():
+    # The Mersey example: a real Landsat-8 Level-2 scene + a weather file, no met grid: the
+    # whole day comes out, anchored on the scene (T = LST at the overpass for every land
+    # pixel, 'solar' residual), the fit reported per class, the water the weather's sea with
+    # the scene's pattern, and the scene named in every label.
+    from shipthermal.app.pipeline import build_background
+
+    root = Path(__file__).resolve().parents[2] / "examples" / "real_port"
+    sc = load_scenario(root / "ship_in_port.toml")
+    bg = build_background(sc)
+    assert not bg.synthetic and "Landsat" in bg.label and "ST_B10" in bg.label
+    assert {f.name for f in bg.fits} == {"vegetation", "land", "building"}
+    for f in bg.fits:
+        assert f.pixels > 1000 and np.isfinite(f.residual_rms_K)
+    obs = bg.ground.observation
+    hour = (obs.time_utc.tz_convert(sc.location.time_zone) - bg.start).total_seconds() / 3600
+    at = bg.temperature_at(hour)
+    land = bg.class_map != 1
+    np.testing.assert_allclose(at[land], obs.lst[land], atol=1e-3)
+    water = ~land
+    assert abs(np.median(at[water]) - bg.sea_temperature_at(hour)) < 1e-3
+    day = np.stack([bg.temperature_at(h) for h in range(24)])
+    assert np.isfinite(day).all() and 260.0 < day.min() and day.max() < 330.0
+    s = bg.summary()
+    assert s["anchored_on"].startswith("Landsat") and not s["synthetic"]
+    assert any("scene water median" in n for n in bg.notes)
+
+
+def test_bad_background_input_exit_2_and_nothing_written(tmp_path, capsys):
+    # a class property out of its range, an unknown class, and a scene three months from the
+    # date (with a weather file of that date): exit 2 with the key and the fix, no run folder
+    from shipthermal.app.cli import main
+
+    root = Path(__file__).resolve().parents[2] / "examples" / "real_port"
+    base = (root / "ship_in_port.toml").read_text().replace(
+        'source = "liverpool', f'source = "{root.as_posix()}/liverpool').replace(
+        '"data/', f'"{root.as_posix()}/data/')
+    cases = {
+        "albedo": (base + "\n[background.classes.land]\nalbedo = 1.5\n",
+                   "background.classes.land.albedo = 1.5: must lie in [0, 1]"),
+        "unknown": (base + "\n[background.classes.gravel]\nalbedo = 0.2\n",
+                    "background.classes.gravel"),
+        "far": (base.replace("date = 2020-09-27", "date = 2020-12-27").replace(
+                    f"{root.as_posix()}/liverpool_design_day_2020-09-27.csv",
+                    (tmp_path / "december.csv").as_posix()),
+                "days away"),
+    }
+    (tmp_path / "december.csv").write_text(
+        (root / "liverpool_design_day_2020-09-27.csv").read_text().replace("2020-09-27",
+                                                                            "2020-12-27"))
+    for name, (text, expect) in cases.items():
+        f = tmp_path / f"{name}.toml"
+        f.write_text(text)
+        out = tmp_path / f"out-{name}"
+        code = main(["-q", "run", str(f), "--image", "--out", str(out)])
+        err = capsys.readouterr().err
+        assert code == 2 and expect in err, err
+        assert err.startswith("error: ") and "Traceback" not in err
+        assert not out.exists()
