@@ -75,10 +75,16 @@ def main(argv=None) -> None:
           f"({', '.join(f'{k} {v:.2f}' for k, v in paper.timings.items() if k != 'total')})")
     print(f"                  145 frames {t_pframes:6.2f} s; total {peer:6.2f} s")
     print(f"  ratio peer / ours: {peer / ours:6.1f}")
-    water = bg.class_map == 1
-    print(f"  (water at 12:00: physical {np.median(bg.temperature_at(12.0)[water]):.2f} K, "
-          f"paper {np.median(paper.temperature_at(12.0)[water]):.2f} K; air "
-          f"{float(env.at(np.array([43200.0])).temp_air[0]):.2f} K)")
+    # the two side by side on the same port and day (the paper's chain: its generated Landsat
+    # scene and met grid of the design day; ours: the design day's weather through physics)
+    names = {1: "water", 2: "vegetation", 3: "land", 4: "building"}
+    st = env.at(np.arange(0.0, 86400.0, 6 * 3600.0))
+    print("  median per class [K]: physical / paper (air, sea skin)")
+    for k, h in enumerate((0.0, 6.0, 12.0, 18.0)):
+        a, b = bg.temperature_at(h), paper.temperature_at(h)
+        cells = "  ".join(f"{n} {np.median(a[bg.class_map == c]):.1f}/"
+                          f"{np.median(b[paper.class_map == c]):.1f}" for c, n in names.items())
+        print(f"    {h:04.1f} h  {cells}  (air {st.temp_air[k]:.1f}, sea {st.temp_sea_skin[k]:.1f})")
 
 
 if __name__ == "__main__":
