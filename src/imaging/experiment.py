@@ -270,8 +270,8 @@ def render_series(history, scenario: ImagingScenario, bands=("3-5", "8-14"),
     from tqdm.auto import tqdm
 
     t = np.asarray(times_s, dtype=float).reshape(-1)
-    require(t.size >= 2 and bool(np.all(np.diff(t) > 0)), "times_s", t,
-            "must hold >= 2 increasing times [s after local midnight]")
+    require(t.size >= 1 and bool(np.all(np.diff(t) > 0)), "times_s", t,
+            "must hold increasing times [s after local midnight]")
     bands = tuple(bands)
     require(len(bands) >= 1, "bands", bands, "must name at least one band")
     bg = as_scene_background(scenario.background)
@@ -335,7 +335,8 @@ def render_series(history, scenario: ImagingScenario, bands=("3-5", "8-14"),
     out = {}
     for b in bands:
         df = pd.DataFrame(rows[b])
-        cross = crossover_times(df["time_s"].to_numpy(), df["contrast"].to_numpy(), "pchip")
+        cross = (crossover_times(df["time_s"].to_numpy(), df["contrast"].to_numpy(), "pchip")
+                 if t.size >= 2 else [])
         out[b] = SeriesResult(scenario.season, b, t, df, cross, crop, stacks[b], leaves[b],
                               r.coverage.astype(np.float32), frames[b], seconds, rays,
                               r.placement, stack_times_s=t[stored])

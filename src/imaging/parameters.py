@@ -11,7 +11,8 @@ The band list, the surface optics and the other values both stages share live in
 from __future__ import annotations
 
 __all__ = ["PAPER_SENSOR_PARAMETERS", "MAX_VIEW_ZENITH", "VARIOGRAM_MODELS", "MET_UNITS",
-           "N_SPLITS", "DEM_NODATA", "SYNTHETIC_PIXEL_M", "BACKGROUND_MODELS", "RESIDUAL_MODES"]
+           "N_SPLITS", "DEM_NODATA", "SYNTHETIC_PIXEL_M", "BACKGROUND_MODELS", "RESIDUAL_MODES",
+           "SATELLITE_NAMES"]
 
 # ---------------------------------------------------------------------------------------
 # Sensor
@@ -70,3 +71,7 @@ not match the scene's day, a surface the class table does not describe — fades
 night overpass keeps it constant), ``constant`` (the observed detail the model cannot
 explain stays all day), ``none`` (the model alone, ``T(t_ov) = LST - residual``). With
 ``solar`` and ``constant``, ``T(t_ov) = LST`` exactly."""
+
+SATELLITE_NAMES = ("landsat8", "landsat9")
+"""Satellites the overpass calendar knows by name (:data:`imaging.overpass.SATELLITES`
+holds their orbits; the two lists are kept equal by a test)."""

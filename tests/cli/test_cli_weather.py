@@ -7,6 +7,7 @@ import shutil
 from pathlib import Path
 
 import numpy as np
+import pytest
 import pandas as pd
 from cli_helpers import write_tiny
 
@@ -137,3 +138,37 @@ def test_record_is_imaged_over_its_span(tmp_path, capsys):
     # the paper's chain on the synthetic port is the Dalian design day: another climate
     assert "background.model = 'paper'" in err and "another climate" in err
     assert sorted(p.name for p in (tmp_path / "p").iterdir()) == before
+
+
+def test_calendar_of_a_record(tmp_path, capsys):
+    # Three days of the buoy with a listed overpass beside Landsat 8's: one row per overpass
+    # and band, the monthly fraction is the overpasses' own, the dense series' crossovers
+    # are those of its contrast, and a time outside the record is refused (exit 2).
+    shutil.copy(NDBC, tmp_path / "buoy.txt")
+    text = BUOY.replace("days = 2", "days = 3") + (
+        "[calendar]\ntimes = ['2013-03-05T03:00:00Z']\ndense_step = 10800.0\n")
+    sc = _with(write_tiny(tmp_path, name="buoy", season="winter"), text, "2013-03-04")
+    assert main(["-q", "calendar", str(sc), "--out", str(tmp_path / "cal")]) == 0
+    out = capsys.readouterr().out
+    assert "overpasses; under the clutter" in out
+    d = tmp_path / "cal" / "calendar"
+    op = pd.read_csv(d / "overpasses.csv")
+    assert set(op["satellite"]) == {"Landsat 8", "listed"}
+    assert len(op) == 2 * op["time_utc"].nunique()                  # both bands
+    listed = op[op["satellite"] == "listed"]
+    assert set(listed["time_local"]) == {"22:00"} and not listed["daytime"].any()
+    m = pd.read_csv(d / "monthly.csv")
+    for band, g in op.groupby("band"):
+        row = m[m["band"] == band].iloc[0]
+        assert row["overpasses"] == len(g)
+        assert row["fraction_under"] == pytest.approx((g["scr"] < 1.0).mean())
+    assert (d / "calendar_8-14.png").is_file() and (d / "summary.json").is_file()
+    cross = pd.read_csv(d / "crossovers.csv")
+    assert set(cross["direction"]) <= {"dark->bright", "bright->dark"}
+    bad = sc.read_text().replace("2013-03-05T03:00:00Z", "2013-04-05T03:00:00Z")
+    sc2 = tmp_path / "bad.toml"
+    sc2.write_text(bad)
+    assert main(["-q", "calendar", str(sc2), "--out", str(tmp_path / "cal2")]) == 2
+    err = capsys.readouterr().err
+    assert "calendar.times" in err and "must lie within the record" in err
+    assert not (tmp_path / "cal2").exists()

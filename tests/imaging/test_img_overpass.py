@@ -90,3 +90,9 @@ def test_listed_instants_need_their_zone():
                                             "2020-09-27 11:10:50+00:00"]
     with pytest.raises(InputError, match="time zone"):
         listed_overpasses(["2020-09-27T11:10:50"])
+
+
+def test_the_scenario_knows_every_named_satellite():
+    from imaging.parameters import SATELLITE_NAMES
+
+    assert tuple(SATELLITES) == SATELLITE_NAMES

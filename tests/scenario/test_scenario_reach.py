@@ -31,6 +31,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from shipthermal.app.calendar import calendar_inputs
 from shipthermal.app.pipeline import (background_inputs, check_imaging_bands, experiment_inputs,
                                       imaging_scenario, output_inputs)
 from shipthermal.app.scenario import load_scenario, schema_keys
@@ -43,7 +44,7 @@ PORT = ROOT / "examples" / "real_port" / "data"
 DEM = ROOT / "tests" / "data" / "dem" / "srtm_N49W124_crop.tif"
 MET = ROOT / "tests" / "data" / "met" / "era5_t2m_2019-03-01_02_uk.grib"
 
-T, B, I, O = "thermal", "background", "imaging", "outputs"
+T, B, I, O, C = "thermal", "background", "imaging", "outputs", "calendar"
 
 # ---------------------------------------------------------------------------------------
 # base scenarios (small: a coarse patrol boat, a 100-pixel port)
@@ -117,6 +118,9 @@ def _write_csv(path, extra=()):
 def files(tmp_path_factory):
     d = tmp_path_factory.mktemp("reach")
     shutil.copy(NDBC, d / "buoy.txt")
+    from imaging.overpass import SATELLITES
+
+    (d / "sat.tle").write_text("LANDSAT 8\n" + "\n".join(SATELLITES["landsat8"].tle) + "\n")
     text = NDBC.read_text().splitlines()
     row = text[30].split()
     row[13] = f"{float(row[13]) + 2.0:.1f}"            # ATMP of one hour 2 K warmer
@@ -160,6 +164,7 @@ def bases(d: Path) -> dict:
         "ship_files": _merge(TINY, ship_files),
         "ship_parts": _merge(TINY, parts),
         "paper": _merge(TINY, {"background": {"model": "paper"}}),
+        "cal_swath": _merge(TINY, {"calendar": {"swath": 185000.0}}),
         "bg_physical": _merge(TINY, {"background": {
             "source": "files", "mtl": str(PORT / "LC08_L2SP_204023_20200927_20201006_02_T1_MTL.txt"),
             "roi": str(PORT / "mersey_rois.geojson"), "size_px": None}}),
@@ -288,6 +293,12 @@ CASES = {
     "imaging.sensor.quantisation_bits": ("builtin", 12, {I}),   # refused by the wiring
     "imaging.atmosphere.backend": ("builtin", "lowtran", {I}),
     "imaging.atmosphere.model": ("builtin", "winter", {I}),
+    "calendar.satellites": ("builtin", ["landsat9"], {C}),
+    "calendar.tle": ("cal_swath", "sat.tle", {C}),
+    "calendar.swath": ("builtin", 250000.0, {C}),
+    "calendar.times": ("builtin", ["2023-07-15T02:30:00Z"], {C}),
+    "calendar.threshold": ("builtin", 2.0, {C}),
+    "calendar.dense_step": ("builtin", 1800.0, {C}),
     "outputs.directory": ("builtin", "runs/elsewhere", {O}),
     "outputs.formats": ("builtin", ["csv"], {O}),
     "outputs.checkpoint_interval": ("builtin", 7200.0, {T}),
@@ -449,6 +460,7 @@ def stage_inputs(sc, background, ship) -> dict:
         return _plain({**fields, "experiment": experiment_inputs(sc)})
 
     return {T: _safe(thermal), B: _safe(lambda: _background(background_inputs(sc))),
+            C: _safe(lambda: _plain(calendar_inputs(sc))),
             I: _safe(imaging), O: _safe(lambda: _plain(output_inputs(sc)))}
 
 

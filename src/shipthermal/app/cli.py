@@ -7,6 +7,7 @@ Subcommands (``shipthermal <command> --help`` for each)::
     mesh       build the ship of a scenario: mesh files, part picture, mesh report
     run        thermal run of a scenario file (checkpointed; --resume continues)
     image      imaging stage on a finished thermal run directory
+    calendar   the ship's detectability at every overpass of a weather record
     crossover  print the crossover times of a run directory
     validate   deck temperatures vs the paper's reference, sensitivity table
     calibrate  fit unknown conditions to measured temperatures; held-out errors
@@ -357,6 +358,50 @@ def cmd_run(args, con: Console) -> int:
     return EXIT_OK
 
 
+def cmd_calendar(args, con: Console) -> int:
+    import pandas as pd
+
+    from .calendar import calendar_overpasses, calendar_span_s, run_calendar
+    from .pipeline import output_inputs, prepare
+    from .rundir import RunDir, scenario_inputs
+
+    sc = _load_scenario(args.scenario)
+    changes = {}
+    if args.satellites is not None:
+        changes["calendar.satellites"] = list(args.satellites)
+    if args.threshold is not None:
+        changes["calendar.threshold"] = args.threshold
+    if args.dense_step_min is not None:
+        changes["calendar.dense_step"] = 60.0 * args.dense_step_min
+    if changes:
+        sc = sc.updated(changes)
+    out = Path(args.out or f"{output_inputs(sc)['directory']}-calendar")
+    inputs = scenario_inputs(sc)
+    RunDir.check_target(out, force=args.force, scenario=sc, kind="calendar", inputs=inputs)
+    t0 = time.perf_counter()
+    overpasses = calendar_overpasses(sc, calendar_span_s(sc))     # every refusal up front
+    ship, _ = prepare(sc, progress=con.progress, log=con.info)
+    for line in sc.check_weather():
+        con.info(f"  {line}")
+    with RunDir(out, force=args.force, command=args.argv, kind="calendar", log=con.info,
+                scenario=sc, inputs=inputs) as run:
+        run.add_scenario(sc)
+        run.manifest["cases"][sc.name]["scenario"] = "scenario.toml"
+        res = run_calendar(sc, run, progress=con.progress, log=con.info, ship=ship,
+                           overpasses=overpasses)
+        if "html" in sc.outputs.formats:
+            _report(run, con, finishing=True)
+    con.info(f"finished in {time.perf_counter() - t0:.0f} s")
+    monthly = pd.read_csv(out / "calendar" / "monthly.csv")
+    con.out(f"{res['overpasses']} overpasses; under the clutter (SCR < "
+            f"{sc.calendar.threshold:g}) by month:")
+    if len(monthly):
+        con.out(monthly[["month", "band", "overpasses", "under_clutter", "fraction_under"]]
+                .to_string(index=False, float_format=lambda x: f"{x:.2f}"))
+    con.out(f"calendar: {out / 'calendar'}")
+    return EXIT_OK
+
+
 def cmd_image(args, con: Console) -> int:
     from .pipeline import build_background, check_imaging_bands, frame_times
     from .rundir import MARKER, RunDir
@@ -665,6 +710,20 @@ def build_parser() -> argparse.ArgumentParser:
     i.add_argument("--step-min", type=float, help="frame step of the SCR curves and "
                    "crossover search [min] (default the scenario's imaging.scr_interval)")
     i.add_argument("--bands", nargs="+", help="bands instead of the scenario's (e.g. 3-5 8-14)")
+
+    cl = add("calendar", "the ship's detectability at every overpass of a weather record "
+             "(named satellites, two-line elements or listed times): SCR and apparent "
+             "temperatures per overpass, the fraction under the clutter by month, crossover "
+             "times, a day x local-time picture", cmd_calendar)
+    cl.add_argument("scenario", help="scenario TOML file with weather.day = 'record'")
+    cl.add_argument("--satellites", nargs="+", metavar="NAME",
+                    help="named satellites instead of calendar.satellites (e.g. landsat8)")
+    cl.add_argument("--threshold", type=float, help="SCR under which an overpass counts as "
+                    "under the clutter (default calendar.threshold, 1)")
+    cl.add_argument("--dense-step-min", type=float, help="every-day imaging step [min] "
+                    "(0: overpasses only; default calendar.dense_step)")
+    cl.add_argument("--out", help="run directory (default <outputs.directory>-calendar)")
+    cl.add_argument("--force", action="store_true", help="replace a finished calendar folder")
 
     c = add("crossover", "print the thermal-crossover times of a run directory", cmd_crossover)
     c.add_argument("run_dir", help="run directory with imaging results")

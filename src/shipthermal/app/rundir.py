@@ -88,12 +88,13 @@ STAGE_PREFIX = ".stage-"
 #: The signature of a manifest this tool wrote (``"tool"``), and the word its locks end in
 TOOL = "shipthermal"
 #: Kinds of folders the commands write (``kind`` of the manifest)
-KINDS = ("demo", "run", "mesh", "validate", "calibrate", "sweep", "ensemble", "background")
+KINDS = ("demo", "run", "mesh", "validate", "calibrate", "sweep", "ensemble", "background",
+         "calendar")
 #: Top-level names this tool writes into a run folder: the entries of a folder written by an
 #: earlier version, whose manifest lists none (``scenario_<case>.toml`` as well)
 PRODUCTS = frozenset({MANIFEST, MARKER, "scenario.toml", "mesh", "thermal", "imaging",
                       "validation", "calibration", "report.html", "checkpoints", "sweep.toml",
-                      "cases", "table.csv", "table.png", "ensemble"})
+                      "cases", "table.csv", "table.png", "ensemble", "calendar"})
 _SCENARIO_COPY = re.compile(r"scenario_[\w.+-]+\.toml")
 
 #: Packages whose versions go into every manifest

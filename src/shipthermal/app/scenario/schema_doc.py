@@ -22,7 +22,8 @@ _TYPE_TEXT = {"float": "float", "int": "int", "bool": "bool", "choice": "string"
               "part_map": 'path or "auto"',
               "weather_source": "string", "part_table": "float per part",
               "part_bands": "float per part and band", "layups": "list of layers per part",
-              "part_files": "path per part", "surface_classes": "table per class"}
+              "part_files": "path per part", "surface_classes": "table per class",
+              "instant_list": "list of instants"}
 
 
 def _default_text(f: dataclasses.Field) -> str:

@@ -19,7 +19,7 @@ from ...materials import MATERIALS
 from ...parameters import NIGHT_SETTLE, NIGHT_STEP
 from ...units import ZERO_CELSIUS
 from .spec import _Context, _default, _opt, _part_key, _suggest, _thaw, parse_band
-from .values import (ATMOSPHERE_BACKENDS, BACKGROUND_MODELS, RESIDUAL_MODES, BAND_EMISSIVITY, BUILTIN_SHIP_NAMES, CLEAR_SKY_MODELS,
+from .values import (ATMOSPHERE_BACKENDS, BACKGROUND_MODELS, RESIDUAL_MODES, SATELLITE_NAMES, BAND_EMISSIVITY, BUILTIN_SHIP_NAMES, CLEAR_SKY_MODELS,
                      CLIMATE_DATES, CLOUD_MODELS, CLOUD_UNITS, CONVECTION_MODEL_SOURCES, DALIAN,
                      DAY, DECOMPOSITIONS, DEFAULT_CONVECTION_MODEL, DEM_NODATA, LATITUDE_MAX,
                      LONGWAVE_EMISSIVITY, MAX_GAP_HOURS, MAX_RECORD_DAYS, MAX_REPAIR_CHANGE,
@@ -875,6 +875,40 @@ class AtmosphereSettings:
                         choices=ATMOSPHERE_BACKENDS)
     model: str = _opt("auto", "choice", "Model atmosphere: mid-latitude summer / winter; "
                       "'auto' = time.season", choices=("auto",) + SEASONS)
+
+
+@dataclass(frozen=True)
+class CalendarSettings:
+    """[calendar]: `shipthermal calendar`: the overpasses of a weather record and the ship's
+    detectability at each (imaging.overpass, imaging.calendar)."""
+
+    satellites: tuple = _opt(["landsat8", "landsat9"], "choice_list", "Named satellites whose "
+                             "overpasses count (their reference ground track, repeated every "
+                             "cycle)", choices=SATELLITE_NAMES)
+    tle: Optional[str] = _opt(None, "file", "Two-line elements of another satellite (or a "
+                              "fresher set), propagated over the record (give elements within "
+                              "a few weeks of it)", optional=True, allowed_text="existing file")
+    swath: Optional[float] = _opt(None, "float", "Swath width of the calendar.tle satellite's "
+                                  "sensor at the ground", unit="m", lo=1.0e3, hi=3.0e6,
+                                  optional=True)
+    times: tuple = _opt([], "instant_list", "Further overpass instants (e.g. the acquisition "
+                        "times of your scenes), seen from imaging.sensor's direction",
+                        allowed_text="list of ISO 8601 instants with offset")
+    threshold: float = _opt(1.0, "float", "SCR under which an overpass counts as 'under the "
+                            "clutter'", lo=0.0, hi=1000.0, lo_open=True)
+    dense_step: float = _opt(3600.0, "float", "Step of the every-day imaging behind the day x "
+                             "local-time picture and the crossover times (0: overpasses only)",
+                             unit="s", lo=0.0, hi=21600.0)
+
+    @staticmethod
+    def _check(obj, raw, path, ctx, bad):
+        if obj.tle is not None and obj.swath is None and "tle" not in bad:
+            ctx.err(f"{path}.swath", None, "is required with calendar.tle (the sensor's swath "
+                    "width at the ground decides which passes see the site)",
+                    "e.g. swath = 185000.0 for Landsat's 185 km")
+        if 0.0 < obj.dense_step < 60.0 and "dense_step" not in bad:
+            ctx.err(f"{path}.dense_step", obj.dense_step, "must be 0 (off) or at least 60 s")
+        return obj
 
 
 @dataclass(frozen=True)

@@ -492,6 +492,31 @@ def _surface_classes(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
 _CONVERTERS["surface_classes"] = _surface_classes
 
 
+def _instant_list(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
+    """Instants with their zone or offset (ISO 8601), e.g. ``2020-09-27T11:10:50Z``."""
+    allowed = "must be a list of instants with their offset, e.g. ['2020-09-27T11:10:50Z']"
+    if not isinstance(raw, list) or len(raw) > 10000:
+        ctx.err(path, raw if not isinstance(raw, list) else f"{len(raw)} items", allowed)
+        return _BAD
+    out = []
+    for i, item in enumerate(raw):
+        text = item.isoformat() if isinstance(item, _dt.datetime) else item
+        try:
+            t = _dt.datetime.fromisoformat(str(text).replace("Z", "+00:00"))
+        except (TypeError, ValueError):
+            ctx.err(f"{path}[{i}]", item, allowed)
+            return _BAD
+        if t.tzinfo is None:
+            ctx.err(f"{path}[{i}]", item, "must carry its offset or zone (Z for UTC)",
+                    f"e.g. '{t.isoformat()}Z'")
+            return _BAD
+        out.append(t.isoformat())
+    return tuple(out)
+
+
+_CONVERTERS["instant_list"] = _instant_list
+
+
 def _convert(f: dataclasses.Field, raw: Any, path: str, ctx: _Context) -> Any:
     spec: _Spec = f.metadata["spec"]
     if spec.kind == "section":

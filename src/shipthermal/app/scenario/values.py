@@ -9,6 +9,7 @@ from __future__ import annotations
 # names below are the scenario's views of them (sorted choices, the scenario's key names).
 from imaging.parameters import (  # noqa: F401
     BACKGROUND_MODELS,
+    SATELLITE_NAMES,
     RESIDUAL_MODES,
     DEM_NODATA,
     MAX_VIEW_ZENITH,

@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ...errors import InputError
-from .sections import (_RECORD_HINT, BackgroundSettings, ConvectionSettings, ImagingSettings,
+from .sections import (_RECORD_HINT, BackgroundSettings, CalendarSettings, ConvectionSettings, ImagingSettings,
                        Location, OutputSettings, ShipSettings, SolverSettings, Time,
                        WeatherSettings, _is_leap)
 from .spec import _BAD, ScenarioError, _Context, _opt, _section, _thaw, clock_seconds
@@ -45,6 +45,8 @@ class Scenario:
     background: BackgroundSettings = _opt(None, "section", "Port background",
                                           cls=BackgroundSettings)
     imaging: ImagingSettings = _opt(None, "section", "Imaging", cls=ImagingSettings)
+    calendar: CalendarSettings = _opt(None, "section", "Detectability calendar",
+                                      cls=CalendarSettings)
     outputs: OutputSettings = _opt(None, "section", "Outputs", cls=OutputSettings)
     source: str = field(default="", compare=False, repr=False, metadata={"internal": True})
 
