@@ -156,6 +156,7 @@ def test_runs_cover_the_documented_subcommands():
     ran |= {"calibrate"}      # tests/calibration/test_calibration_cli.py (slow: model runs)
     ran |= {"ensemble"}       # tests/cli/test_cli_ensemble.py (3 serial members)
     ran |= {"check", "schema"}   # test_scenario_check_and_schema_commands below
+    ran |= {"calendar"}   # tests/cli/test_cli_weather.py::test_calendar_of_a_record
     assert documented <= ran, documented - ran
 
 

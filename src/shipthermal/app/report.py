@@ -323,6 +323,42 @@ def _mesh_section(d: Path) -> str:
     return "".join(parts)
 
 
+def _calendar_section(d: Path) -> str:
+    """The overpass calendar: the monthly fractions first, the pictures, the crossover times
+    by month and every overpass."""
+    parts = []
+    summary = {}
+    if (d / "summary.json").is_file():
+        summary = json.loads((d / "summary.json").read_text(encoding="utf-8"))
+    thr = summary.get("threshold", 1.0)
+    parts.append(f"<p>{summary.get('overpasses', 0)} overpasses "
+                 f"({html.escape(', '.join(summary.get('satellites', [])) or 'listed')}"
+                 f"{'; two-line elements' if summary.get('tle') else ''}); an overpass is "
+                 f"under the clutter when its local SCR is below {thr:g}. Background: "
+                 f"{html.escape(str(summary.get('background', '')))}.</p>")
+    if (d / "monthly.csv").is_file():
+        m = pd.read_csv(d / "monthly.csv")
+        if len(m):
+            parts.append("<h3>By month</h3>" + html_table(m[[c for c in (
+                "month", "band", "overpasses", "under_clutter", "fraction_under",
+                "fraction_under_day", "fraction_under_night", "scr_median",
+                "apparent_contrast_median_K") if c in m]], "{:.3g}"))
+    for png in sorted(d.glob("calendar_*.png")):
+        parts.append(_img_file(png, "local SCR of every day (colour), the overpasses "
+                               "(white: under the clutter) and the monthly fraction"))
+    if (d / "crossover_months.csv").is_file():
+        c = pd.read_csv(d / "crossover_months.csv")
+        if len(c):
+            parts.append("<h3>Crossover times by month (local clock, median and 5–95 %)</h3>"
+                         + html_table(c, "{:.2f}"))
+    if (d / "overpasses.csv").is_file():
+        o = pd.read_csv(d / "overpasses.csv")
+        if len(o):
+            parts.append("<details><summary>every overpass</summary>"
+                         + html_table(o, "{:.3g}") + "</details>")
+    return "".join(parts)
+
+
 def build_report(run_dir, finishing: bool = False) -> str:
     """The HTML text of a run directory's report (``finishing``: written as the last step
     of a run that is about to write its ``COMPLETE`` marker)."""
@@ -378,6 +414,8 @@ def build_report(run_dir, finishing: bool = False) -> str:
         section("imaging", "Imaging", _imaging_section(run / "imaging"))
     if (run / "validation").is_dir():
         section("validation", "Validation", _validation_section(run / "validation"))
+    if (run / "calendar").is_dir():
+        section("calendar", "Detectability calendar", _calendar_section(run / "calendar"))
     if (run / "ensemble" / "crossovers.csv").is_file():   # a weather ensemble
         ens = run / "ensemble"
         parts = [_img_file(ens / "ensemble.png", "crossover times of the members with their "
