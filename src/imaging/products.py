@@ -86,15 +86,17 @@ def write_series_netcdf(path, sr, grid, attrs: dict | None = None) -> str:
     return path
 
 
-def write_typical_geotiff(path, sr, grid) -> str | None:
-    """Full-scene float32 GeoTIFF of the kept frames (one band per time) [W m-2 sr-1]."""
+def write_typical_geotiff(path, sr, grid, background: str = "") -> str | None:
+    """Full-scene float32 GeoTIFF of the kept frames (one band per time) [W m-2 sr-1]; each
+    band's description names the time and the background (``background``)."""
     from .background.outputs import write_geotiff
 
     if not sr.frames:
         return None
     keys = sorted(sr.frames)
     data = np.stack([sr.frames[k].radiance for k in keys]).astype(np.float32)
-    desc = [f"at-aperture radiance {sr.band} um [W m-2 sr-1] at {_hhmm(k / HOUR)} local"
+    what = f"; {background}" if background else ""
+    desc = [f"at-aperture radiance {sr.band} um [W m-2 sr-1] at {_hhmm(k / HOUR)} local{what}"
             for k in keys]
     return write_geotiff(os.fspath(path), data, grid, descriptions=desc)
 
@@ -247,7 +249,7 @@ def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 
     return out
 
 
-def plot_scr_curves(path, series: dict, band: str) -> str:
+def plot_scr_curves(path, series: dict, band: str, labels: dict | None = None) -> str:
     """Local SCR (eq. 22) and signed contrast over the day per season (like Figs. 15/17)."""
     import matplotlib
 
@@ -278,8 +280,10 @@ def plot_scr_curves(path, series: dict, band: str) -> str:
             if not many:
                 ax.text(c.time / HOUR, ax.get_ylim()[1], f" {_hhmm(c.time / HOUR)}",
                         fontsize=7, va="top")
+        bg = (labels or {}).get(season, "")
         ax.set_title(f"({'ab'[seasons.index(season)] if len(seasons) <= 2 else season}) "
-                     f"{season}, {band} um; dashed: thermal crossover", fontsize=9)
+                     f"{season}, {band} um; dashed: thermal crossover"
+                     + (f"\nbackground: {bg.split(';')[0]}" if bg else ""), fontsize=9)
         ax.set_xlabel("local time [h]" if span_h <= 24.0 else
                       "hours after local midnight of the first day [h]")
     out = _savefig(fig, os.fspath(path))
@@ -323,7 +327,8 @@ def write_products(out_dir, series, crossovers, comparison, scenarios, histories
                  "timezone": scen.tz, "background": background_label(scen.background)}
         tag = f"{season}_{band}"
         files[f"netcdf_{tag}"] = write_series_netcdf(p(f"images_{tag}.nc"), sr, grid, attrs)
-        tif = write_typical_geotiff(p(f"typical_{tag}.tif"), sr, grid)
+        tif = write_typical_geotiff(p(f"typical_{tag}.tif"), sr, grid,
+                                    background_label(scen.background))
         if tif:
             files[f"geotiff_{tag}"] = tif
         files[f"metrics_{tag}"] = _csv(sr.metrics, p(f"metrics_{tag}.csv"))
@@ -335,7 +340,9 @@ def write_products(out_dir, series, crossovers, comparison, scenarios, histories
                                               shared_scale=shared_panel_scale,
                                               labelled={s: scenarios[s].background
                                                         for s in backgrounds})
-        files[f"scr_{band}"] = plot_scr_curves(p(f"scr_{band}.png"), series, band)
+        files[f"scr_{band}"] = plot_scr_curves(
+            p(f"scr_{band}.png"), series, band,
+            labels={s: background_label(scenarios[s].background) for s, b in series if b == band})
     files["crossovers"] = _csv(crossovers, p("crossovers.csv"))
     files["band_comparison"] = _csv(comparison, p("band_comparison.csv"))
     summary = {

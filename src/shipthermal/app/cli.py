@@ -192,7 +192,8 @@ def _print_crossovers(run_path: Path, con: Console, as_csv: bool = False) -> int
         con.out(f"thermal crossover moments ({rel}):")
         if len(df):
             cols = ("season", "band", "time_local", "direction")
-            if "date_local" in df and df["date_local"].nunique() > 1:     # a weather record
+            if "date_local" in df and (df.groupby("season")["date_local"].nunique() > 1).any():
+                # a weather record: its crossovers fall on several dates
                 cols = ("season", "band", "date_local", "time_local", "direction")
             show = df[[c for c in cols if c in df]]
             con.out(show.to_string(index=False))
