@@ -622,6 +622,134 @@ def _corners(pos_a, pos_g, n_a, n_g, base):
     return idx, w
 
 
+@dataclass(frozen=True, eq=False)
+class _ColumnSet:
+    """The columns of a scene: groups of (class, orientation) over its land pixels, each
+    solved on its class's (albedo × conductance) grid (:func:`_class_grid`)."""
+
+    names: dict              # class code -> name
+    design: dict             # class code -> (fit, albedos, conductances, default conductance)
+    g_of_pixel: np.ndarray   # group of every land pixel
+    base: np.ndarray         # first column of every group
+    slope: np.ndarray        # orientation bins' slope and aspect [deg]
+    aspect: np.ndarray
+    col_class: list          # SurfaceClass of every column
+    col_albedo: np.ndarray   # [-]
+    col_bin: np.ndarray      # orientation bin of every column
+    resistance: np.ndarray   # surface resistance [s m-1] (-1: no latent heat)
+
+
+def _column_set(ground: GroundCover, land, table) -> _ColumnSet:
+    """Group the land pixels by class and orientation and lay out their columns."""
+    flat = ground.class_map.ravel()
+    names = {int(c): CLASS_NAMES[int(c)] for c in np.unique(flat[land])}
+    for code, name in names.items():
+        if name not in table:
+            raise InputError(f"background.classes.{name}", None, "needs its surface properties "
+                             f"(class {code} is in the scene)", f"Add [background.classes.{name}]"
+                             f" (built-in classes: {', '.join(sorted(table))})")
+    design = {c: _class_grid(table[n]) for c, n in names.items()}
+    obin, slope, aspect = orientation_bins(ground.slope_deg, ground.aspect_deg)
+    key = flat[land].astype(np.int64) * 1000 + obin.ravel()[land]
+    groups, g_of_pixel = np.unique(key, return_inverse=True)
+    g_class = (groups // 1000).astype(int)
+    g_bin = (groups % 1000).astype(int)
+    sizes = np.array([design[c][1].size * design[c][2].size for c in g_class])
+    base = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
+    col_class, col_albedo, col_g, col_bin = [], [], [], []
+    for g, c in enumerate(g_class):
+        _, alb, cond, _ = design[c]
+        aa, gg = np.meshgrid(alb, cond, indexing="ij")
+        col_albedo.append(aa.ravel())
+        col_g.append(gg.ravel())
+        col_bin.append(np.full(aa.size, g_bin[g]))
+        col_class += [table[names[c]]] * aa.size
+    col_albedo, col_g, col_bin = (np.concatenate(x) for x in (col_albedo, col_g, col_bin))
+    resistance = np.where(col_g > 0.0, 1.0 / np.where(col_g > 0.0, col_g, 1.0),
+                          np.where(col_g == 0.0, DRY_RESISTANCE, -1.0))
+    return _ColumnSet(names, design, g_of_pixel, base, slope, aspect, col_class, col_albedo,
+                      col_bin, resistance)
+
+
+def _column_forcing(cs: _ColumnSet, state):
+    """Absorbed short-wave and incoming long-wave of every column [W m-2], (n_t, n_columns):
+    each orientation's plane-of-array sun, its sky view and the terrain at the air."""
+    poa = _plane_of_array(state, cs.slope, cs.aspect, np.unique(cs.col_bin))
+    sw = (1.0 - cs.col_albedo)[None, :] * poa[:, cs.col_bin]
+    lw = longwave_incoming(np.asarray(state.longwave_down)[:, None],
+                           sky_view_factor(cs.slope)[cs.col_bin],
+                           np.asarray(state.temp_air)[:, None])
+    return sw, lw
+
+
+def _fit_class(fit, alb, cond, pos_a, b, t_col, lst):
+    """Fit one class's pixels at the overpass: the fitted parameter's positions on the
+    class's grid, the residual [K] and the fitted values (albedo [-] or r_s [s m-1])."""
+    n_a, n_g = alb.size, cond.size
+    if fit == "albedo":
+        prof = t_col[b[:, None] + np.arange(n_a)[None, :] * n_g]
+        pos_a, r = _fit_position(prof, lst)
+        return pos_a, None, r, np.interp(pos_a, np.arange(n_a), alb)
+    i0 = np.clip(np.floor(pos_a).astype(np.int64), 0, n_a - 2)
+    wa = (pos_a - i0)[:, None]
+    j = np.arange(n_g)[None, :]
+    prof = ((1 - wa) * t_col[b[:, None] + i0[:, None] * n_g + j]
+            + wa * t_col[b[:, None] + (i0[:, None] + 1) * n_g + j])
+    pos_g, r = _fit_position(prof, lst)
+    gs = np.interp(pos_g, np.arange(n_g), cond)
+    return pos_a, pos_g, r, np.where(gs > 0.0, 1.0 / np.where(gs > 0.0, gs, 1.0), np.inf)
+
+
+def _class_fit(name, fit, values, r, at_bound, reflectance_albedo, residual) -> tuple:
+    """The :class:`ClassFit` of one class and a warning when most of it is beyond reach."""
+    fin = values[np.isfinite(values)]
+    f = ClassFit(name=name, pixels=int(values.size), parameter=fit,
+                 unit="-" if fit == "albedo" else "s m-1", median=float(np.median(values)),
+                 p05=float(np.percentile(fin, 5)) if fin.size else float("inf"),
+                 p95=float(np.percentile(values, 95)),
+                 albedo_reflectance_median=float(np.median(reflectance_albedo)),
+                 at_bound_fraction=float(at_bound.mean()),
+                 residual_median_K=float(np.median(r)), residual_p05_K=float(np.percentile(r, 5)),
+                 residual_p95_K=float(np.percentile(r, 95)),
+                 residual_rms_K=float(np.sqrt(np.mean(r ** 2))))
+    note = None
+    if f.at_bound_fraction > 0.5 and abs(f.residual_median_K) > WATER_MISMATCH_K:
+        note = (f"WARNING: {100 * f.at_bound_fraction:.0f} % of the {name} pixels are "
+                f"{'colder' if f.residual_median_K < 0 else 'warmer'} at the overpass than the "
+                f"model reaches at the end of its {fit.replace('_', ' ')} range (median "
+                f"residual {f.residual_median_K:+.1f} K): the weather does not look like the "
+                "scene's day (air temperature, wind, cloud), or the class table does not fit "
+                f"this surface; the residual is carried as background.residual = '{residual}' "
+                "says")
+    return f, note
+
+
+def _water_pattern(ground, water, obs, lst_all, model_w) -> tuple:
+    """The water's fixed pattern [K] and the notes comparing the scene's water with the
+    weather's sea skin at the overpass (``model_w``)."""
+    if obs is None or not water.size:
+        pattern = (np.zeros(water.size, np.float32) if ground.water_anomaly is None else
+                   np.asarray(ground.water_anomaly, np.float32).ravel()[water])
+        return pattern, []
+    lst_w = lst_all[water]
+    median_w = float(np.nanmedian(lst_w))
+    diff = median_w - model_w
+    notes = [f"scene water median {median_w:.2f} K against the weather's sea skin "
+             f"{model_w:.2f} K at the overpass ({diff:+.2f} K); the water keeps its observed "
+             "pattern around the weather's sea"]
+    if abs(diff) > WATER_MISMATCH_K:
+        notes.append(f"WARNING: the scene's water is {diff:+.1f} K from the weather's sea "
+                     "temperature: check weather.temp_sea or the weather file's SST")
+    return np.nan_to_num(lst_w - median_w).astype(np.float32), notes
+
+
+def _at(series, times, s):
+    """``series`` (n_t, ...) linearly at ``s`` [s]."""
+    k0 = int(np.clip(np.searchsorted(times, s, side="right") - 1, 0, times.size - 2))
+    wt = float(np.clip((s - times[k0]) / (times[k0 + 1] - times[k0]), 0.0, 1.0))
+    return (1.0 - wt) * series[k0] + wt * series[k0 + 1]
+
+
 def build_physical_background(ground: GroundCover, environment, *, end_s: float | None = None,
                               classes=None, residual: str = RESIDUAL_MODES[0],
                               step_s: float = COLUMN_STEP_S, progress: bool = False
@@ -657,173 +785,95 @@ def build_physical_background(ground: GroundCover, environment, *, end_s: float 
     periodic = bool(environment.weather.periodic)
     if periodic:
         times = np.arange(0.0, DAY, step_s)
-        span_end = DAY - step_s
     else:
         require(end_s is not None and end_s > 0, "end_s", end_s,
                 "must give the record's span [s] for a weather record")
         times = np.arange(0.0, float(end_s) + 0.5 * step_s, step_s)
-        span_end = float(times[-1])
     table = SURFACE_CLASSES if classes is None else classes
     state = environment.at(times)
     timings = {"environment": _time.perf_counter() - t0}
-
-    cm = ground.class_map
-    flat = cm.ravel()
+    flat = ground.class_map.ravel()
     land = np.flatnonzero(flat != WATER)
     water = np.flatnonzero(flat == WATER)
-    names = {int(c): CLASS_NAMES[int(c)] for c in np.unique(flat[land])}
-    for code, name in names.items():
-        if name not in table:
-            raise InputError(f"background.classes.{name}", None, "needs its surface properties "
-                             f"(class {code} is in the scene)", f"Add [background.classes.{name}]"
-                             f" (built-in classes: {', '.join(sorted(table))})")
-    design = {c: _class_grid(table[n]) for c, n in names.items()}
 
-    # groups of (class, orientation), each solved on its class's (albedo x conductance) grid
+    # 1. the columns and their forcing, 2. their solve
     t1 = _time.perf_counter()
-    obin, b_slope, b_aspect = orientation_bins(ground.slope_deg, ground.aspect_deg)
-    key = flat[land].astype(np.int64) * 1000 + obin.ravel()[land]
-    groups, g_of_pixel = np.unique(key, return_inverse=True)
-    g_class = (groups // 1000).astype(int)
-    g_bin = (groups % 1000).astype(int)
-    sizes = np.array([design[c][1].size * design[c][2].size for c in g_class])
-    base = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    col_class, col_albedo, col_g, col_bin = [], [], [], []
-    for g, c in enumerate(g_class):
-        _, alb, cond, _ = design[c]
-        aa, gg = np.meshgrid(alb, cond, indexing="ij")
-        col_albedo.append(aa.ravel())
-        col_g.append(gg.ravel())
-        col_bin.append(np.full(aa.size, g_bin[g]))
-        col_class += [table[names[c]]] * aa.size
-    col_albedo, col_g, col_bin = (np.concatenate(x) for x in (col_albedo, col_g, col_bin))
-    poa = _plane_of_array(state, b_slope, b_aspect, np.unique(g_bin))
-    svf = sky_view_factor(b_slope)
-    sw = (1.0 - col_albedo)[None, :] * poa[:, col_bin]
-    lw = longwave_incoming(np.asarray(state.longwave_down)[:, None], svf[col_bin],
-                           np.asarray(state.temp_air)[:, None])
-    resistance = np.where(col_g > 0.0, 1.0 / np.where(col_g > 0.0, col_g, 1.0),
-                          np.where(col_g == 0.0, DRY_RESISTANCE, -1.0))
+    cs = _column_set(ground, land, table)
+    sw, lw = _column_forcing(cs, state)
     timings["forcing"] = _time.perf_counter() - t1
     t1 = _time.perf_counter()
-    temp, solve = _column_temperatures(col_class, resistance, sw, lw, state, environment,
+    temp, solve = _column_temperatures(cs.col_class, cs.resistance, sw, lw, state, environment,
                                        times, periodic, table)
     timings["columns"] = _time.perf_counter() - t1
 
-    # every land pixel: its albedo and wetness positions on its class's grid
+    # 3. every land pixel on its class's grid: its own albedo, the class's wetness, or the
+    #    values the scene's LST asks for
     t1 = _time.perf_counter()
+    pixel_class = flat[land]
     albedo_px = np.full(land.size, np.nan)
     if ground.albedo is not None:
         albedo_px = np.asarray(ground.albedo, dtype=float).ravel()[land]
-    pixel_class = flat[land]
-    default_a = np.array([table[names[int(c)]].albedo for c in pixel_class]) \
-        if land.size < 64 else np.vectorize(lambda c: table[names[int(c)]].albedo)(pixel_class)
+    default_a = np.zeros(land.size)
+    for code, name in cs.names.items():
+        default_a[pixel_class == code] = table[name].albedo
     albedo_px = np.where(np.isfinite(albedo_px), albedo_px, default_a)
     reflectance_albedo = albedo_px.copy()
     obs = ground.observation
     notes = []
-    utc_offset = environment.start.utcoffset().total_seconds() / HOUR
     rweight = np.ones(times.size)
-    idx = np.zeros((land.size, 4), np.int64)
-    wts = np.zeros((land.size, 4))
-    res = np.zeros(land.size)
-    fitted = np.full(land.size, np.nan)
-    fits = []
+    skin = np.asarray(getattr(state, "temp_sea_skin", state.temp_sea), dtype=float)
+    lst_all = t_col = None
+    model_w = float("nan")
     if obs is not None:
-        s_ov, note = _scene_seconds(obs, environment.start, span_end, periodic)
-        if note:
-            notes.append(note)
-        k0 = int(np.clip(np.searchsorted(times, s_ov, side="right") - 1, 0, times.size - 2))
-        wt = float(np.clip((s_ov - times[k0]) / (times[k0 + 1] - times[k0]), 0.0, 1.0))
-        t_col = (1.0 - wt) * temp[k0] + wt * temp[k0 + 1]
+        s_ov, note = _scene_seconds(obs, environment.start, float(times[-1]), periodic)
+        notes += [note] if note else []
+        t_col = _at(temp, times, s_ov)
         lst_all = np.asarray(obs.lst, dtype=float).ravel()
-        ghi_ov = (1.0 - wt) * state.ghi[k0] + wt * state.ghi[k0 + 1]
+        model_w = float(_at(skin, times, s_ov))
+        ghi_ov = float(_at(np.asarray(state.ghi), times, s_ov))
         if residual == "solar" and ghi_ov > 50.0:
             rweight = state.ghi / ghi_ov
         elif residual == "none":
             rweight = np.zeros(times.size)
-    outside = 0
-    for code, name in names.items():
+    idx = np.zeros((land.size, 4), np.int64)
+    wts = np.zeros((land.size, 4))
+    res = np.zeros(land.size)
+    fitted = np.full(land.size, np.nan)
+    fits, outside = [], 0
+    for code, name in cs.names.items():
         m = pixel_class == code
-        fit, alb, cond, g_default = design[code]
-        n_a, n_g = alb.size, cond.size
-        a_p = albedo_px[m]
-        outside += int(((a_p < alb[0]) | (a_p > alb[-1])).sum())
-        pos_a = _positions(alb, a_p)
-        pos_g = np.full(a_p.size, float(_positions(cond, g_default)))
-        b = base[g_of_pixel[m]]
-        r = np.zeros(a_p.size)
+        fit, alb, cond, g_default = cs.design[code]
+        outside += int(((albedo_px[m] < alb[0]) | (albedo_px[m] > alb[-1])).sum())
+        pos_a = _positions(alb, albedo_px[m])
+        pos_g = np.full(pos_a.size, float(_positions(cond, g_default)))
+        b = cs.base[cs.g_of_pixel[m]]
         if obs is not None:
-            lst = lst_all[land[m]]
-            if fit == "albedo":
-                prof = t_col[b[:, None] + np.arange(n_a)[None, :] * n_g]
-                pos_a, r = _fit_position(prof, lst)
-                fitted[m] = np.interp(pos_a, np.arange(n_a), alb)
-            else:
-                i0 = np.clip(np.floor(pos_a).astype(np.int64), 0, n_a - 2)
-                wa = (pos_a - i0)[:, None]
-                j = np.arange(n_g)[None, :]
-                prof = ((1 - wa) * t_col[b[:, None] + i0[:, None] * n_g + j]
-                        + wa * t_col[b[:, None] + (i0[:, None] + 1) * n_g + j])
-                pos_g, r = _fit_position(prof, lst)
-                gs = np.interp(pos_g, np.arange(n_g), cond)
-                fitted[m] = np.where(gs > 0.0, 1.0 / np.where(gs > 0.0, gs, 1.0), np.inf)
-            at_bound = (((pos_a <= 0.0) | (pos_a >= n_a - 1)) if fit == "albedo" else
-                        ((pos_g <= 0.0) | (pos_g >= n_g - 1))) & (np.abs(r) > 1e-6)
-            v = fitted[m]
-            fin = v[np.isfinite(v)]
-            fits.append(ClassFit(
-                name=name, pixels=int(m.sum()), parameter=fit,
-                unit="-" if fit == "albedo" else "s m-1",
-                median=float(np.median(v)),
-                p05=float(np.percentile(fin, 5)) if fin.size else float("inf"),
-                p95=float(np.percentile(v, 95)),
-                albedo_reflectance_median=float(np.median(reflectance_albedo[m])),
-                at_bound_fraction=float(at_bound.mean()),
-                residual_median_K=float(np.median(r)), residual_p05_K=float(np.percentile(r, 5)),
-                residual_p95_K=float(np.percentile(r, 95)),
-                residual_rms_K=float(np.sqrt(np.mean(r ** 2)))))
-            f = fits[-1]
-            if f.at_bound_fraction > 0.5 and abs(f.residual_median_K) > WATER_MISMATCH_K:
-                notes.append(
-                    f"WARNING: {100 * f.at_bound_fraction:.0f} % of the {name} pixels are "
-                    f"{'colder' if f.residual_median_K < 0 else 'warmer'} at the overpass than "
-                    f"the model reaches at the end of its {fit.replace('_', ' ')} range (median "
-                    f"residual {f.residual_median_K:+.1f} K): the weather does not look like "
-                    "the scene's day (air temperature, wind, cloud), or the class table does "
-                    "not fit this surface; the residual is carried as background.residual "
-                    f"= '{residual}' says")
-        res[m] = r
-        idx[m], wts[m] = _corners(pos_a, pos_g, n_a, n_g, b)
+            pos_a, pg, res[m], fitted[m] = _fit_class(fit, alb, cond, pos_a, b, t_col,
+                                                      lst_all[land[m]])
+            pos = pos_a if pg is None else pg
+            n = alb.size if pg is None else cond.size
+            at_bound = ((pos <= 0.0) | (pos >= n - 1)) & (np.abs(res[m]) > 1e-6)
+            pos_g = pos_g if pg is None else pg
+            f, warn = _class_fit(name, fit, fitted[m], res[m], at_bound,
+                                 reflectance_albedo[m], residual)
+            fits.append(f)
+            notes += [warn] if warn else []
+        idx[m], wts[m] = _corners(pos_a, pos_g, alb.size, cond.size, b)
         if fit == "albedo":
-            albedo_px[m] = np.interp(pos_a, np.arange(n_a), alb)
+            albedo_px[m] = np.interp(pos_a, np.arange(alb.size), alb)
     if outside and obs is None:
         notes.append(f"{outside} land pixels ({100 * outside / max(land.size, 1):.1f} %) have "
                      "an albedo outside their class's range: clipped to it")
-    water_anomaly = np.zeros(water.size, np.float32)
-    if ground.water_anomaly is not None:
-        water_anomaly = np.asarray(ground.water_anomaly, np.float32).ravel()[water]
-    skin = np.asarray(getattr(state, "temp_sea_skin", state.temp_sea), dtype=float)
-    if obs is not None and water.size:
-        lst_w = lst_all[water]
-        median_w = float(np.nanmedian(lst_w))
-        water_anomaly = np.nan_to_num(lst_w - median_w).astype(np.float32)
-        model_w = (1.0 - wt) * skin[k0] + wt * skin[k0 + 1]
-        diff = median_w - model_w
-        notes.append(f"scene water median {median_w:.2f} K against the weather's sea skin "
-                     f"{model_w:.2f} K at the overpass ({diff:+.2f} K); the water keeps its "
-                     "observed pattern around the weather's sea")
-        if abs(diff) > WATER_MISMATCH_K:
-            notes.append(f"WARNING: the scene's water is {diff:+.1f} K from the weather's sea "
-                         "temperature: check weather.temp_sea or the weather file's SST")
-    notes.append(f"{temp.shape[1]} columns ({len(groups)} class x orientation groups), spin-up "
+    water_pattern, water_notes = _water_pattern(ground, water, obs, lst_all, model_w)
+    notes += water_notes
+    notes.append(f"{temp.shape[1]} columns ({len(cs.base)} class x orientation groups), spin-up "
                  f"{solve.spinup_days} days (last day-to-day change "
                  f"{float(np.max(solve.spinup_change)):.3g} K)")
     albedo_map = np.full(flat.size, np.nan, np.float32)
     albedo_map[land] = albedo_px
-    info = pd.DataFrame({"class": [c.name for c in col_class],
-                         "slope_deg": b_slope[col_bin], "aspect_deg": b_aspect[col_bin],
-                         "albedo": col_albedo, "surface_resistance_s_m": resistance})
+    info = pd.DataFrame({"class": [c.name for c in cs.col_class],
+                         "slope_deg": cs.slope[cs.col_bin], "aspect_deg": cs.aspect[cs.col_bin],
+                         "albedo": cs.col_albedo, "surface_resistance_s_m": cs.resistance})
     timings["pixels"] = _time.perf_counter() - t1
     timings["total"] = _time.perf_counter() - t0
     return PhysicalBackground(
@@ -831,9 +881,10 @@ def build_physical_background(ground: GroundCover, environment, *, end_s: float 
         column_temperature=temp.astype(np.float32), land=land, corners=idx.astype(np.int32),
         weights=wts.astype(np.float32), residual=res.astype(np.float32),
         residual_weight=np.asarray(rweight, dtype=float), water=water,
-        water_temperature=skin, water_anomaly=water_anomaly,
+        water_temperature=skin, water_anomaly=water_pattern,
         sea_bulk=np.asarray(state.temp_sea, dtype=float),
-        albedo=albedo_map.reshape(cm.shape), fits=fits, utc_offset_hours=utc_offset,
+        albedo=albedo_map.reshape(ground.class_map.shape), fits=fits,
+        utc_offset_hours=environment.start.utcoffset().total_seconds() / HOUR,
         start=environment.start, residual_mode=residual, column_info=info,
         fitted=fitted.astype(np.float32), label=ground.label, notes=notes, timings=timings)
 
