@@ -107,3 +107,27 @@ def test_unknown_preset_lists_the_allowed():
     with pytest.raises(InputError) as exc:
         ins.instrument("landsat7")
     assert all(p in str(exc.value) for p in ins.PRESET_NAMES)
+
+
+def test_psf_of_a_detector_coarser_than_the_product_grid():
+    """Landsat TIRS: 99 m detector footprint on the 30 m product grid. The blur (diffraction
+    and the detector box in detector units) keeps the mean and spreads a point over about
+    the footprint: its second moment grows with the detector box's 1/12 pitch² (~ 0.82 pixels
+    of the grid per axis for a 3.3-pixel box)."""
+    from imaging.sensor import apply_psf
+
+    inst = ins.instrument("landsat8_tirs")
+    img = np.zeros((65, 65))
+    img[32, 32] = 1.0
+    ratio = inst.nadir_gsd_m / 30.0
+    out = apply_psf(img, 10.9, inst.spec, samples_per_pixel=ratio, include_detector=True)
+    # the Airy wings beyond the 65-pixel window carry ~1 % (they fall as r^-3)
+    assert 0.98 < out.sum() < 1.0
+    flat = apply_psf(np.full((40, 40), 7.0), 10.9, inst.spec, samples_per_pixel=ratio,
+                     include_detector=True)
+    np.testing.assert_allclose(flat, 7.0, rtol=1e-9)
+    y, x = np.mgrid[:65, :65]
+    var = float((out * (x - 32) ** 2).sum())
+    assert var > ratio ** 2 / 12.0                       # at least the box's own variance
+    plain = apply_psf(img, 10.9, inst.spec)              # detector = grid pixel: far narrower
+    assert float((plain * (x - 32) ** 2).sum()) < 0.5 * var
