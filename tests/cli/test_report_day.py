@@ -57,3 +57,13 @@ def test_first_screen_warns_when_the_spin_up_did_not_converge(tmp_path):
     summary["converged"] = True
     (th / "thermal_summary.json").write_text(json.dumps(summary))
     assert "did not converge" not in first_screen(tmp_path)
+
+
+def test_series_names_with_underscores_in_season_and_band():
+    from shipthermal.app.report_day import split_series_name
+
+    assert split_series_name("summer_3-5") == ("summer", "3-5")
+    assert split_series_name("subarctic_summer_8-14") == ("subarctic_summer", "8-14")
+    assert split_series_name("us_standard_1976_landsat8_tirs_b10") == (
+        "us_standard_1976", "landsat8_tirs_b10")
+    assert split_series_name("winter_3.7-4.8") == ("winter", "3.7-4.8")
