@@ -580,8 +580,9 @@ def _verify_file(out: Path, models: list, t0: float) -> None:
     meta["interpolation_error"] = errors
     meta["interpolation_error_note"] = (
         "max |table - live LOWTRAN|: geometry at 1/4, 1/2, 3/4 of every interval (model's "
-        f"own state); state at {STATE_SAMPLES} days (the 8 corners of T within 12 K of the "
-        "model, RH 40-95 %, wind 0-18 m/s, and random ones inside) at random geometry; cloud decks at 2 random days x zenith 0 and 60; "
+        f"own state); state at {STATE_SAMPLES} days (the 8 corners of T within 12 K of "
+        "the model, RH 40-95 %, wind 0-18 m/s, and random ones inside) at random "
+        "geometry; cloud decks at 2 random days x zenith 0 and 60; "
         "scattered sunlight at 10 random geometries; rel over values > "
         f"{REL_FLOOR:g} x max")
     arrays["meta_json"] = np.array(json.dumps(meta))

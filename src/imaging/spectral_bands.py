@@ -44,8 +44,9 @@ from shipthermal.parameters import BANDS
 from .parameters import SENSOR_BANDS
 from .quadrature import gauss_legendre
 
-__all__ = ["SpectralResponse", "rectangular_response", "BAND_NAMES", "BAND_SOURCES", "named_band", "is_named_band", "read_response_file",
-           "response_from_table", "thermal_band_of", "thermal_band_key", "nominal_range"]
+__all__ = ["SpectralResponse", "rectangular_response", "BAND_NAMES", "BAND_SOURCES", "named_band",
+           "is_named_band", "read_response_file", "response_from_table", "thermal_band_of",
+           "thermal_band_key", "nominal_range"]
 
 @dataclass(frozen=True)
 class SpectralResponse:

@@ -159,11 +159,6 @@ class AtmosphereResult:
     #: Stated table errors for this model (None: live backend)
     interpolation_error: dict | None = field(default=None, repr=False)
 
-    @property
-    def path_radiance_gas(self):  # pragma: no cover - removed quantity
-        raise AttributeError("path_radiance_gas: the aerosol is LOWTRAN's own now; run "
-                             "with state=AtmosphereState(vis_km=...) to compare")
-
 
 def _as_state(state, aerosol) -> mdl.AtmosphereState:
     if state is not None and aerosol is not None:

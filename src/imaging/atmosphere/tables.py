@@ -31,11 +31,13 @@ Layout per model ``m`` (arrays ``"{m}__<name>"``; grids in ``"grid__<axis>"``,
 
 Interpolation
 -------------
-Geometry: monotone cubic (PCHIP) in the air mass 1/cos θ (view) or cos θ (sun, sky, and
-the zeniths of the scattered-sunlight tables), in degrees for the azimuth. State: PCHIP of the logarithms in ΔT, RH and wind, one
-axis after the other; a day's value is ``T(ΔT, RH) · W(ΔT, RH, wind) / W(ΔT, RH, wind₀)``
-(wind₀ the model's default; W interpolated over its three offset layers), exact on the
-grids (errors measured in the file's ``interpolation_error``). Points outside a grid are clamped to its edge.
+Geometry: monotone cubic (PCHIP) in the air mass 1/cos θ (view) or cos θ (sun, sky, and the
+zeniths of the scattered-sunlight tables), in degrees for the azimuth; the scattered-sunlight
+tables are divided by LOWTRAN's own phase function (``ss_phase``) first. State: PCHIP of the
+logarithms in ΔT, RH and wind, one axis after the other; a day's value is
+``T(ΔT, RH) · W(ΔT, RH, wind) / W(ΔT, RH, wind₀)`` (wind₀ the model's default; W
+interpolated over its three offset layers), exact on the grids (errors measured in the
+file's ``interpolation_error``). Points outside a grid are clamped to its edge.
 """
 
 from __future__ import annotations
@@ -52,7 +54,8 @@ from ..quadrature import gauss_legendre
 
 __all__ = ["AtmosphereTable", "load_table", "interpolation_errors", "axis_coordinate",
            "interpolate_axis", "pchip", "TABLE_FILE", "GRID", "THERMAL_QUANTITIES", "FORMAT",
-           "columns", "humidity_nodes", "wind_nodes", "hemispherical", "hemispherical_solar", "interp_nd", "pchip_point", "STATE_LOG_STEP", "STATE_ZERO"]
+           "columns", "humidity_nodes", "wind_nodes", "hemispherical", "hemispherical_solar",
+           "interp_nd", "pchip_point", "STATE_LOG_STEP", "STATE_ZERO"]
 
 TABLE_FILE = "atmosphere_tables.npz"
 FORMAT = 2
