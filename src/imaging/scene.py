@@ -37,6 +37,7 @@ from shipthermal.parameters import check_wind_speed
 
 from . import brdf as B
 from .radiometry import background_emissivity, sea_emissivity, water_band_mean_index
+from .spectral_bands import thermal_band_key
 
 __all__ = [
     "ShipPlacement", "GriddedBackground", "as_scene_background", "default_mooring",
@@ -379,7 +380,8 @@ def background_optics(band: str, view_zenith_deg: float, view_azimuth_deg: float
     Parameters
     ----------
     band : str
-        ``"3-5"`` or ``"8-14"``.
+        A named band (``"3-5"``, ``"8-14"``, a sensor's band): water from the band's
+        response, land classes from the emissivity table of the paper band holding it.
     view_zenith_deg, view_azimuth_deg : float
         Sensor direction seen from the ground [deg] (compass azimuth).
     wind_speed : float
@@ -417,7 +419,7 @@ def background_optics(band: str, view_zenith_deg: float, view_azimuth_deg: float
             eps[code] = override.get("water", rough)
             scale = (1.0 - eps[code]) / (1.0 - rough)
         else:
-            eps[code] = override.get(name, background_emissivity(name, band))
+            eps[code] = override.get(name, background_emissivity(name, thermal_band_key(band)))
             k, b = shapes[name]
             rpv[code] = (rpv_rho0(eps[code], view_zenith_deg, k, b), k, b)
     check_range("emissivity_override", eps[1:], 0.0, 1.0)

@@ -258,7 +258,7 @@ def optical_transfer_function(freq_x, freq_y, wavelength_um: float,
 
 
 def apply_psf(image, wavelength_um: float, spec: SensorSpec = PAPER_SENSOR,
-              samples_per_pixel: int = 1):
+              samples_per_pixel: float = 1, include_detector: bool = False):
     """Blur an image with the diffraction PSF (Airy pattern) by FFT.
 
     Parameters
@@ -269,8 +269,13 @@ def apply_psf(image, wavelength_um: float, spec: SensorSpec = PAPER_SENSOR,
         Diffraction wavelength [um] (band-mean wavelength for a band).
     spec : SensorSpec
         Sensor.
-    samples_per_pixel : int
-        Image samples per detector pixel pitch [-].
+    samples_per_pixel : float
+        Image samples per detector pixel pitch [-] (an integer for a supersampled render; a
+        ratio > 1 for a product grid finer than the detector's ground footprint, e.g.
+        Landsat TIRS's 99 m pixels on its 30 m product grid).
+    include_detector : bool
+        Also blur with the detector's box (its pixel-integration MTF): for a product grid
+        finer than the detector, where no block mean does it.
 
     Returns
     -------
@@ -288,13 +293,14 @@ def apply_psf(image, wavelength_um: float, spec: SensorSpec = PAPER_SENSOR,
     """
     img = np.asarray(image, dtype=float)
     require(img.ndim == 2, "image", img.shape, "must be 2-D")
-    s = int(samples_per_pixel)
-    require(s >= 1, "samples_per_pixel", samples_per_pixel, "must be >= 1")
-    pad = 8 * s
+    s = float(samples_per_pixel)
+    require(s >= 1.0, "samples_per_pixel", samples_per_pixel, "must be >= 1")
+    pad = int(np.ceil(8 * s))
     big = np.pad(img, pad, mode="reflect")
     fy = s * np.fft.fftfreq(big.shape[0])[:, None]   # cycles per detector pitch
     fx = s * np.fft.rfftfreq(big.shape[1])[None, :]
-    otf = optical_transfer_function(fx, fy, wavelength_um, spec, include_detector=False)
+    otf = optical_transfer_function(fx, fy, wavelength_um, spec,
+                                    include_detector=include_detector)
     out = np.fft.irfft2(np.fft.rfft2(big) * otf, s=big.shape)
     return out[pad:-pad, pad:-pad]
 

@@ -227,7 +227,7 @@ CASES = [
     ("sweep-name", "sweep", 'name = "a/b"\n[axes]\n"ship.heading" = [0]',
      ["sweep.name", "without slashes"]),
     ("sweep-imaging-custom-band", "sweep", '[axes]\n"imaging.bands" = [["8-14"], ["8-12"]]',
-     ["case 1 (imaging.bands=8-12): imaging.bands", "'3-5' and '8-14' only"]),
+     ["case 1 (imaging.bands=8-12): imaging.bands", "'3-5', '8-14' and the sensor presets'"]),
     ("sweep-set-not-table", "sweep", 'set = 3\n[axes]\n"ship.heading" = [0]',
      ["sweep.set = 3", "must be a table"]),
     # ---- command-line misuse --------------------------------------------------------------
@@ -253,7 +253,8 @@ CASES = [
      ["--step-min = 0.5", "must lie in [1, 180] min"]),
     ("cli-image-custom-band", "cli",
      lambda d: ["run", str(d / "custom.toml"), "--image", "--out", str(d / "out")],
-     ["imaging.bands = ['8-12']", "the imaging stage takes '3-5' and '8-14' only"]),
+     ["imaging.bands = ['8-12']", "the imaging stage takes the named bands",
+      "'3-5', '8-14' and the sensor presets' bands"]),
     ("cli-workers-zero", "cli", lambda d: ["sweep", "x.toml", "--workers", "0"],
      ["--workers must be >= 1"]),
     ("cli-unknown-season", "cli", lambda d: ["demo", "--seasons", "autumn"],
@@ -718,4 +719,57 @@ def test_ensemble_missing_scenario(tmp_path, capsys):
     code, err = _run(["-q", "ensemble", str(tmp_path / "nope.toml"), "--out",
                       str(tmp_path / "out")], capsys)
     assert code == 2 and "nope.toml" in err and len(err.strip().splitlines()) == 1, err
+    assert _tree(tmp_path) == before
+
+
+# =======================================================================================
+# atmosphere and sensor: unknown model / deck / preset names, a bad response table, a band
+# outside the atmosphere tables (one message naming the key and the allowed, exit 2,
+# nothing written)
+# =======================================================================================
+def _response(tmp_path, rows):
+    f = tmp_path / "band.csv"
+    f.write_text("wavelength_um,response\n" + "".join(f"{w},{r}\n" for w, r in rows))
+    return f.name
+
+
+@pytest.mark.parametrize("case, extra, fragments", [
+    ("atm-model", '[imaging.atmosphere]\nmodel = "arctic"\n',
+     ["imaging.atmosphere.model", "arctic", "'tropical'", "'subarctic_winter'",
+      "'us_standard_1976'"]),
+    ("atm-cloud", '[imaging.atmosphere]\ncloud_type = "cirrus"\n',
+     ["imaging.atmosphere.cloud_type", "'stratus'", "'nimbostratus'"]),
+    ("sensor-preset", '[imaging.sensor]\npreset = "landsat7"\n',
+     ["imaging.sensor.preset", "landsat7", "'landsat8_tirs'", "'ecostress'", "'user'"]),
+    ("sensor-user-no-file", '[imaging.sensor]\npreset = "user"\n',
+     ["imaging.sensor.response_file", "is required with preset = 'user'"]),
+    ("sensor-bands-of-another", '[imaging]\nbands = ["8-14"]\n[imaging.sensor]\n'
+     'preset = "landsat8_tirs"\n', ["imaging.bands", "landsat8_tirs_b10", "Remove imaging.bands"]),
+    ("band-outside-tables", '[imaging]\nbands = ["14-16"]\n',
+     ["imaging.bands", "2.9 <= lo < hi <= 14.5"]),
+])
+def test_atmosphere_and_sensor_bad_input(case, extra, fragments, tmp_path, capsys):
+    sc = write_tiny(tmp_path, extra=extra)
+    before = _tree(tmp_path)
+    code, err = _run(["-q", "run", str(sc), "--image", "--out", str(tmp_path / "out")], capsys)
+    assert code == 2, err
+    for f in fragments:
+        assert f in err, f"{f!r} not in {err!r}"
+    assert "Traceback" not in err
+    assert _tree(tmp_path) == before
+
+
+@pytest.mark.parametrize("rows, fragments", [
+    ([(-1.0, 0.0), (10.0, 1.0)], ["response_file", "positive", "micrometres"]),
+    ([(10.0, 0.5), (9.0, 1.0), (11.0, 0.0)], ["response_file", "increase", "Sort the table"]),
+])
+def test_bad_response_file(rows, fragments, tmp_path, capsys):
+    name = _response(tmp_path, rows)
+    sc = write_tiny(tmp_path, extra=f'[imaging.sensor]\npreset = "user"\nresponse_file = '
+                                    f'"{name}"\n')
+    before = _tree(tmp_path)
+    code, err = _run(["-q", "run", str(sc), "--image", "--out", str(tmp_path / "out")], capsys)
+    assert code == 2, err
+    for f in fragments:
+        assert f in err, f"{f!r} not in {err!r}"
     assert _tree(tmp_path) == before

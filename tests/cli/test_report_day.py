@@ -83,3 +83,13 @@ def test_crossover_between_frames_is_a_zero_of_the_scr(tmp_path):
     # without the crossovers file the zero is placed by the linear signed SCR: 06:05
     (img / "crossovers.csv").unlink()
     assert hardest_to_see(img).loc[0, "time_min"] == "06:05"
+
+
+def test_series_names_with_underscores_in_season_and_band():
+    from shipthermal.app.report_day import split_series_name
+
+    assert split_series_name("summer_3-5") == ("summer", "3-5")
+    assert split_series_name("subarctic_summer_8-14") == ("subarctic_summer", "8-14")
+    assert split_series_name("us_standard_1976_landsat8_tirs_b10") == (
+        "us_standard_1976", "landsat8_tirs_b10")
+    assert split_series_name("winter_3.7-4.8") == ("winter", "3.7-4.8")

@@ -49,8 +49,10 @@ def _independent(band, view_zenith):
         shadowing=True))
     tau_e = float(planck_weighted_transmittance("summer", band, view_zenith, T_SEA))
     sun = atm.solar_irradiance_ground * math.cos(math.radians(SUN_ZENITH)) * f
-    sky = (1.0 - eps) * (atm.sky_radiance + atm.sky_radiance_solar)
-    return (tau_e * eps * band_radiance(T_SEA, band) + atm.transmittance_sky_weighted * sky
+    # each reflected term through the transmittance of its own spectrum
+    sky = (1.0 - eps) * (atm.transmittance_sky_weighted * atm.sky_radiance
+                         + atm.transmittance_sky_solar_weighted * atm.sky_radiance_solar)
+    return (tau_e * eps * band_radiance(T_SEA, band) + sky
             + atm.transmittance_solar_weighted * sun + atm.path_radiance), atm, sun
 
 

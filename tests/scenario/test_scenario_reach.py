@@ -281,6 +281,8 @@ CASES = {
     "imaging.scr_interval": ("builtin", 300.0, {I}),
     "imaging.panel_colour_scale": ("builtin", "per_panel", {I}),
     "imaging.samples_per_pixel_side": ("builtin", 32, {I}),
+    "imaging.sensor.preset": ("builtin", "sdgsat1_tis", {I}),
+    "imaging.sensor.response_file": ("builtin", None, {I}),    # with preset = 'user' below
     "imaging.sensor.altitude_m": ("builtin", 700.0e3, {I}),
     "imaging.sensor.focal_length_m": ("builtin", 1.2, {I}),
     "imaging.sensor.aperture_m": ("builtin", 0.4, {I}),
@@ -299,6 +301,7 @@ CASES = {
     "calendar.times": ("builtin", ["2023-07-15T02:30:00Z"], {C}),
     "calendar.threshold": ("builtin", 2.0, {C}),
     "calendar.dense_step": ("builtin", 1800.0, {C}),
+    "imaging.atmosphere.cloud_type": ("builtin", "stratus", {I}),
     "outputs.directory": ("builtin", "runs/elsewhere", {O}),
     "outputs.formats": ("builtin", ["csv"], {O}),
     "outputs.checkpoint_interval": ("builtin", 7200.0, {T}),
@@ -340,6 +343,11 @@ def _change(key: str, base: dict, value, d: Path) -> dict:
         return data
     if key == "background.source":
         data["background"] = bases(d)["bg_files"]["background"]
+        return data
+    if key == "imaging.sensor.response_file":   # a user sensor: its band's response table
+        f = d / "user_band.csv"
+        f.write_text("wavelength_um,response\n10.0,0\n10.5,1\n11.5,1\n12.0,0\n")
+        data.setdefault("imaging", {})["sensor"] = {"preset": "user", "response_file": str(f)}
         return data
     if key.startswith("background.") and value is None:      # another file of that kind
         name = key.split(".")[1]

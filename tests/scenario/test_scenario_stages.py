@@ -8,9 +8,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from shipthermal.app.pipeline import imaging_scenario
+from shipthermal.app.pipeline import imaging_scenario, prepare
 from shipthermal.app.scenario import load_scenario
 from shipthermal.app.thermal import thermal_inputs
+from shipthermal.errors import InputError
 
 TINY = {"ship": {"builtin": "patrol_boat", "edge_length": 5.6, "mooring_position": [90.0, 30.0]},
         "background": {"size_px": 100}}
@@ -64,11 +65,16 @@ def test_sea_glint_and_aerosol_take_the_weather_file(tmp_path, background, ship)
     assert img.wind_speed == pytest.approx(wind, rel=1e-12)
     assert img.aerosol == pytest.approx({"wind_speed": wind, "wind_speed_24h": wind,
                                          "rel_humidity": rh}, rel=1e-12)
-    # the tables hold one fixed aerosol setting: only the live backend takes it
-    assert img.atmosphere_aerosol is None
+    # both backends hold the Navy maritime aerosol's wind and humidity
+    assert img.atmosphere_aerosol == img.aerosol
     live = imaging_scenario(sc.updated({"imaging.atmosphere.backend": "lowtran"}), background,
                             ship)
     assert live.atmosphere_aerosol == img.aerosol
+    # a weather file: the model atmosphere follows the day (closest surface temperature)
+    from imaging.atmosphere import model_for_site
+
+    temp = df["temp_air"][day].mean() + 273.15       # 24 C mean: closest is tropical (299.7)
+    assert img.atmosphere_model == model_for_site(sc.location.latitude, 7, temp) == "tropical"
     builtin = imaging_scenario(load_scenario(TINY), background, ship)
     assert builtin.wind_speed != pytest.approx(img.wind_speed)
 
@@ -122,3 +128,16 @@ def test_a_funnel_radiates_with_its_own_band_emissivity(background, ship):
     changed = a != b
     assert changed.any() and not (changed & ~sees_funnel).any()
     assert np.all(a[changed] < b[changed])
+
+
+def test_a_day_the_site_rule_cannot_place_is_refused_before_any_run(tmp_path):
+    df = _write_csv(tmp_path / "w.csv")
+    df["temp_air"] = -45.0                     # 228 K: 29 K below sub-arctic winter
+    df.to_csv(tmp_path / "w.csv", index=False)
+    sc = _csv_scenario(tmp_path)
+    with pytest.raises(InputError) as exc:
+        prepare(sc, imaging=True)
+    assert "257.2" in str(exc.value) and "[imaging.atmosphere] model" in str(exc.value)
+    # naming the model is the fix: the day's offset is then clamped to the tables
+    named = sc.updated({"imaging.atmosphere.model": "subarctic_winter"})
+    assert named.atmosphere_model == "subarctic_winter"

@@ -11,7 +11,7 @@ import numpy as np
 
 from shipthermal.parameters import BANDS, parse_band
 
-__all__ = ["BANDS", "parse_band", "band_integrate"]
+__all__ = ["BANDS", "parse_band", "band_integrate", "band_weights"]
 
 
 def band_integrate(wavelength_um, values, band, response=None, mean: bool = False):
@@ -25,7 +25,7 @@ def band_integrate(wavelength_um, values, band, response=None, mean: bool = Fals
         Spectral quantity (e.g. [W m⁻² sr⁻¹ µm⁻¹]); linear between samples.
     band : tuple of float
         (low, high) [µm]; the rectangular response is 1 inside.
-    response : tuple of arrays, optional
+    response : tuple of arrays or SpectralResponse, optional
         ``(wavelength_um, relative_response)`` table replacing the rectangle
         (linear between entries, 0 outside; ``band`` is then ignored).
     mean : bool
@@ -50,6 +50,8 @@ def band_integrate(wavelength_um, values, band, response=None, mean: bool = Fals
         grid = np.concatenate([[lo], inner, [hi]])
         weight = np.ones_like(grid)
     else:
+        if hasattr(response, "wavelength_um"):  # a SpectralResponse
+            response = (response.wavelength_um, response.response)
         rl = np.asarray(response[0], dtype=float)
         rr = np.asarray(response[1], dtype=float)
         lo, hi = max(rl[0], lam[0]), min(rl[-1], lam[-1])
@@ -62,3 +64,17 @@ def band_integrate(wavelength_um, values, band, response=None, mean: bool = Fals
     if mean:
         return total / np.trapezoid(weight, grid)
     return total
+
+
+def band_weights(wavelength_um, band, response=None) -> np.ndarray:
+    """Weights ``w`` with ``w @ values == band_integrate(wavelength_um, values, band,
+    response)`` for every spectrum on ``wavelength_um`` [µm] (the integral is linear in
+    the values): one dot product per band instead of an interpolation.
+
+    Returns
+    -------
+    ndarray (n,)
+        [µm] (times the response).
+    """
+    lam = np.asarray(wavelength_um, dtype=float)
+    return np.asarray(band_integrate(lam, np.eye(lam.size), band, response), dtype=float)

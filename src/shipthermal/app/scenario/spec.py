@@ -19,7 +19,7 @@ from typing import Any, Callable, Mapping, Optional
 from ...errors import InputError
 from ...geometry.parts import MAIN_PARTS, main_part
 from ...parameters import parse_band
-from .values import MESH_EXTENSIONS
+from .values import MESH_EXTENSIONS, SENSOR_BANDS
 
 
 # ---------------------------------------------------------------------------------------
@@ -278,6 +278,9 @@ def _band_list(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
         return _BAD
     out, ok = [], True
     for i, item in enumerate(raw):
+        if isinstance(item, str) and (item in SENSOR_BANDS or item == "user"):
+            out.append(item)
+            continue
         try:
             out.append(parse_band(item)[0])
         except InputError as exc:

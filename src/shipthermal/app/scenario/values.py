@@ -8,6 +8,9 @@ from __future__ import annotations
 # the parameter modules (cheap to import) or, where already loaded, the module itself. The
 # names below are the scenario's views of them (sorted choices, the scenario's key names).
 from imaging.parameters import (  # noqa: F401
+    ATMOSPHERE_MODELS,
+    CLOUD_TYPES,
+    DEFAULT_CLOUD_TYPE,
     BACKGROUND_MODELS,
     SATELLITE_NAMES,
     RESIDUAL_MODES,
@@ -16,6 +19,8 @@ from imaging.parameters import (  # noqa: F401
     MET_UNITS,
     N_SPLITS as ROI_SPLITS,
     PAPER_SENSOR_PARAMETERS as PAPER_SENSOR,
+    SENSOR_BANDS,
+    SENSOR_PRESETS,
     SYNTHETIC_PIXEL_M,
     VARIOGRAM_MODELS as _VARIOGRAM_MODELS,
 )

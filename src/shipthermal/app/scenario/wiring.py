@@ -18,7 +18,8 @@ from .sections import (_RECORD_HINT, BackgroundSettings, CalendarSettings, Conve
                        WeatherSettings, _is_leap)
 from .spec import _BAD, ScenarioError, _Context, _opt, _section, _thaw, clock_seconds
 from ...parameters import season_of_date
-from .values import CLIMATE_MONTHS, CLIMATE_RADIUS_DEG, DALIAN, DAY, MAX_RECORD_DAYS, SEASONS
+from .values import (CLIMATE_MONTHS, CLIMATE_RADIUS_DEG, DALIAN, DAY, MAX_RECORD_DAYS, SEASONS,
+                     SENSOR_BANDS)
 from .writing import _dump_toml
 
 
@@ -107,11 +108,12 @@ class Scenario:
             if max(abs(x), abs(y)) > half:
                 ctx.err("ship.mooring_position", [x, y], f"must lie inside the port scene: "
                         f"|x|, |y| <= {half:g} m (background.size_px x 30 m / 2)")
-        for band in () if ctx.failed("ship.band_emissivity") else obj.imaging.bands:
+        for band in () if ctx.failed("ship.band_emissivity", "imaging.sensor.preset",
+                                     "imaging.sensor.response_file") else obj.imaging.bands:
             missing = []
             for part in ("hull", "deck", "superstructure"):
                 try:
-                    obj.ship.emissivity(part, band)
+                    obj.emissivity(part, band)
                 except InputError:
                     missing.append(part)
             if missing:
@@ -133,10 +135,51 @@ class Scenario:
         return pd.Timestamp(self.time.date).tz_localize(self.location.time_zone)
 
     @property
-    def atmosphere_season(self) -> str:
-        """Model atmosphere season ('summer' / 'winter')."""
+    def atmosphere_model(self) -> str:
+        """The LOWTRAN model atmosphere of the images (a name of
+        :data:`imaging.atmosphere.MODEL_NAMES`).
+
+        ``[imaging.atmosphere] model`` names it, or ``'auto'`` picks it: with the built-in
+        weather (the Dalian design days) mid-latitude summer / winter as ``time.season``
+        (the paper's settings); with a weather file the model whose surface air temperature
+        is closest to the day's mean air temperature
+        (:func:`imaging.atmosphere.model_for_site`, at the site's latitude and the month of
+        ``time.date``). The model is then scaled to each hour's weather.
+        """
+        from imaging.atmosphere import model_for_site, model_name
+
         m = self.imaging.atmosphere.model
-        return self.time.season if m == "auto" else m
+        if m != "auto":
+            return model_name(m)
+        if self.weather.source == "builtin":
+            return model_name(self.time.season)
+        import numpy as np
+
+        from ..run_environment import day_weather
+
+        temp = float(np.mean(day_weather(self.environment())["temp_air"]))
+        month = _dt.date.fromisoformat(self.time.date).month
+        return model_for_site(self.location.latitude, month, temp)
+
+    @property
+    def atmosphere_season(self) -> str:
+        """Label of the images' atmosphere: 'summer' / 'winter' for the paper's mid-latitude
+        summer / winter, else the model's name (:attr:`atmosphere_model`)."""
+        from imaging.atmosphere import model_label
+
+        return model_label(self.atmosphere_model)
+
+    def emissivity_band(self, band) -> str:
+        """The band whose emissivities a sensor band takes: a named sensor band (or the
+        user's) as its half-maximum range ``"lo-hi"`` [µm], others unchanged."""
+        if not (isinstance(band, str) and (band == "user" or band in SENSOR_BANDS)) \
+                or band in ("3-5", "8-14"):
+            return band
+        from imaging.spectral_bands import named_band, nominal_range
+
+        resp = self.instrument().bands[0].response if band == "user" else named_band(band)
+        lo, hi = nominal_range(resp)
+        return f"{lo:g}-{hi:g}"
 
     @property
     def bands(self) -> tuple:
@@ -152,8 +195,9 @@ class Scenario:
         return tuple(clock_seconds(t) for t in self.time.map_times)
 
     def emissivity(self, part: str, band) -> float:
-        """Emissivity of a ship part in a band [-] (same values for both stages)."""
-        return self.ship.emissivity(part, band)
+        """Emissivity of a ship part in a band [-] (same values for both stages; a sensor's
+        named band takes the value of its half-maximum range, :meth:`emissivity_band`)."""
+        return self.ship.emissivity(part, self.emissivity_band(band))
 
     def solar_absorptivity(self, part: str) -> float:
         """Solar absorptivity of a ship part [-]."""
@@ -186,7 +230,7 @@ class Scenario:
         lookups = {"solar_absorptivity": self.ship.solar_absorptivity_of,
                    "longwave_emissivity": self.ship.longwave_emissivity_of,
                    "compartment_temperature": self.ship.compartment_temperature_of,
-                   "emissivity": lambda part: self.ship.emissivity(part, band)}
+                   "emissivity": lambda part: self.emissivity(part, band)}
         if name not in lookups:
             raise InputError("name", name, f"must be one of {', '.join(lookups)}")
         if name == "emissivity" and band is None:
@@ -314,13 +358,28 @@ class Scenario:
         return env
 
     def sensor(self):
-        """The :class:`imaging.sensor.SensorSpec` of ``[imaging.sensor]``."""
+        """The :class:`imaging.sensor.SensorSpec` of ``[imaging.sensor]`` (the preset's
+        optics where the keys are not given)."""
         from imaging.sensor import SensorSpec
 
         s = self.imaging.sensor
         return SensorSpec(altitude_m=s.altitude_m, focal_length_m=s.focal_length_m,
                           aperture_m=s.aperture_m, pixel_pitch_m=s.pixel_pitch_m,
                           optics_transmittance=s.optics_transmittance)
+
+    def instrument(self):
+        """The :class:`imaging.instruments.Instrument` of ``[imaging.sensor]``: the preset
+        with this scenario's optics, or the user's (``response_file``; NETD ``netd_k``)."""
+        import dataclasses as _dc
+
+        from imaging.instruments import instrument, user_instrument
+
+        s = self.imaging.sensor
+        if s.preset == "user":
+            return user_instrument("user", {"user": s.response_file}, self.sensor(),
+                                   netd_K=s.netd_k or None)
+        inst = instrument(s.preset)
+        return _dc.replace(inst, spec=self.sensor())
 
     # ---- serialisation ----------------------------------------------------------------------
     def to_dict(self) -> dict:
