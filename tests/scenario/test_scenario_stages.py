@@ -131,13 +131,16 @@ def test_a_funnel_radiates_with_its_own_band_emissivity(background, ship):
 
 
 def test_a_day_the_site_rule_cannot_place_is_refused_before_any_run(tmp_path):
+    # a Gulf summer day over a very warm sea (the weather checks allow the air 14 K above
+    # the water): 321 K air, 21.5 K above the tropical model's 299.7 K
     df = _write_csv(tmp_path / "w.csv")
-    df["temp_air"] = -45.0                     # 228 K: 29 K below sub-arctic winter
+    df["temp_air"] = 48.0
+    df["temp_sea"] = 34.0
     df.to_csv(tmp_path / "w.csv", index=False)
     sc = _csv_scenario(tmp_path)
     with pytest.raises(InputError) as exc:
         prepare(sc, imaging=True)
-    assert "257.2" in str(exc.value) and "[imaging.atmosphere] model" in str(exc.value)
+    assert "299.7" in str(exc.value) and "[imaging.atmosphere] model" in str(exc.value)
     # naming the model is the fix: the day's offset is then clamped to the tables
-    named = sc.updated({"imaging.atmosphere.model": "subarctic_winter"})
-    assert named.atmosphere_model == "subarctic_winter"
+    named = sc.updated({"imaging.atmosphere.model": "tropical"})
+    assert named.atmosphere_model == "tropical"
