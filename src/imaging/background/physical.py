@@ -702,11 +702,12 @@ def _fit_class(fit, alb, cond, pos_a, b, t_col, lst):
 
 def _class_fit(name, fit, values, r, at_bound, reflectance_albedo, residual) -> tuple:
     """The :class:`ClassFit` of one class and a warning when most of it is beyond reach."""
-    fin = values[np.isfinite(values)]
+    # a dry pixel's surface resistance is infinite: order statistics, not interpolation
+    q = np.sort(values)
     f = ClassFit(name=name, pixels=int(values.size), parameter=fit,
-                 unit="-" if fit == "albedo" else "s m-1", median=float(np.median(values)),
-                 p05=float(np.percentile(fin, 5)) if fin.size else float("inf"),
-                 p95=float(np.percentile(values, 95)),
+                 unit="-" if fit == "albedo" else "s m-1",
+                 median=float(q[(q.size - 1) // 2]), p05=float(q[int(0.05 * (q.size - 1))]),
+                 p95=float(q[int(np.ceil(0.95 * (q.size - 1)))]),
                  albedo_reflectance_median=float(np.median(reflectance_albedo)),
                  at_bound_fraction=float(at_bound.mean()),
                  residual_median_K=float(np.median(r)), residual_p05_K=float(np.percentile(r, 5)),
