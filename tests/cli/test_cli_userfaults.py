@@ -629,6 +629,16 @@ case("calibrate-no-file", _cal(None, *_U), ["measurement CSV", "--paper"])
 case("calibrate-missing-column", _cal("case,time,target\nmy.toml,12:00,deck\n", *_U),
      ["temperature_K", "missing"])
 
+# ---- the detectability calendar ------------------------------------------------------------
+
+case("calendar-of-a-periodic-day", lambda d: (
+    write_tiny(d, name="c"), ["-q", "calendar", str(d / "c.toml"), "--out", str(d / "out")])[-1],
+     ["weather.day", "must be 'record'"])
+case("calendar-unknown-satellite", lambda d: (
+    write_tiny(d, name="c", extra='[calendar]\nsatellites = ["landsat5"]\n'),
+    ["-q", "calendar", str(d / "c.toml"), "--out", str(d / "out")])[-1],
+     ["landsat5"])
+
 # ---- background from files ------------------------------------------------------------------
 
 
@@ -748,7 +758,7 @@ case("mesh-out-finished", lambda d: ["mesh", "summer", "--out", _fake_run(d, kin
 case("run-image-custom-band", lambda d: (
     write_tiny(d, name="c", extra='[imaging]\nbands = ["8-12"]\n'),
     ["-q", "run", str(d / "c.toml"), "--image", "--out", str(d / "out")])[-1],
-     ["imaging.bands = ['8-12']", "'3-5' and '8-14' only"])
+     ["imaging.bands = ['8-12']", "'3-5', '8-14' and the sensor presets' bands"])
 
 # ---- the command line itself ----------------------------------------------------------------
 case("cli-unknown-command", lambda d: ["simulate"], ["invalid choice: 'simulate'"])
