@@ -15,6 +15,7 @@ import pandas as pd
 import pytest
 
 from shipthermal.app.cli import main
+from shipthermal.units import strip_units
 
 CHROMIUM = next((p for p in ("/usr/bin/chromium", shutil.which("chromium") or "",
                              shutil.which("chromium-browser") or "") if p and Path(p).exists()),
@@ -82,7 +83,7 @@ def test_every_embedded_image_decodes(report):
 
 def test_report_tables_match_the_run(report, imaged_run):
     path, text, p = report
-    cross = pd.read_csv(imaged_run / "imaging" / "crossovers.csv")
+    cross = strip_units(pd.read_csv(imaged_run / "imaging" / "crossovers.csv"))
     assert len(cross) >= 1
     for t in cross["time_local"]:
         assert f"<td>{t}</td>" in text
@@ -174,11 +175,12 @@ def test_first_screen_answers_from_the_metrics(report, imaged_run):
     the SCR goes below 1."""
     _, text, _ = report
     img = imaged_run / "imaging"
-    cross = pd.read_csv(img / "crossovers.csv") if (img / "crossovers.csv").is_file() else None
+    cross = (strip_units(pd.read_csv(img / "crossovers.csv")) if (img / "crossovers.csv").is_file()
+             else None)
     best, low = None, False
     for f in sorted(img.glob("metrics_*.csv")):
         season, band = f.stem[len("metrics_"):].split("_", 1)
-        m = pd.read_csv(f)
+        m = strip_units(pd.read_csv(f))
         t, c, scr = m["time_h"].to_numpy(), m["contrast"].to_numpy(), m["scr"].to_numpy()
         k = int(np.argmin(scr))
         cand = (scr[k], band, t[k])

@@ -25,6 +25,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from ..units import strip_units
 from .html_table import html_table
 from .rundir import MANIFEST, MARKER, atomic_write_text
 
@@ -198,7 +199,7 @@ def _thermal_section(case: str, d: Path, season: str | None) -> str:
         parts.append(_kv(pairs))
     pm = None
     if (d / "part_means.csv").is_file():
-        pm = pd.read_csv(d / "part_means.csv", index_col=0)
+        pm = strip_units(pd.read_csv(d / "part_means.csv", index_col=0))
     if (d / "part_means.png").is_file():
         parts.append(_img_file(d / "part_means.png", "area-mean outer-surface temperature"))
     elif pm is not None:
@@ -210,7 +211,7 @@ def _thermal_section(case: str, d: Path, season: str | None) -> str:
         parts.append(_img_file(m, f"outer surface temperature at {hhmm[:2]}:{hhmm[2:]} local",
                                width=560))
     if (d / "energy.csv").is_file():
-        energy = pd.read_csv(d / "energy.csv")
+        energy = strip_units(pd.read_csv(d / "energy.csv"))
         if len(energy):
             parts.append("<h4>Energy balance</h4>")
             parts.append(_img(_energy_png(energy, f"{case}: energy bookkeeping over the whole "
@@ -252,7 +253,7 @@ def _imaging_section(d: Path) -> str:
             block.append("<h4>Thermal crossover moments</h4>")
             block.append(html_table(cross) if len(cross) else "<p>No crossover found.</p>")
         if (sub / "band_comparison.csv").is_file():
-            comp = pd.read_csv(sub / "band_comparison.csv")
+            comp = strip_units(pd.read_csv(sub / "band_comparison.csv"))
             keep = [c for c in ("season", "band", "n_crossovers", "crossover_times",
                                 "scr_in_crossover_mean", "scr_out_crossover_mean", "scr_min",
                                 "scr_max") if c in comp.columns]
@@ -337,7 +338,7 @@ def _calendar_section(d: Path) -> str:
                  f"under the clutter when its local SCR is below {thr:g}. Background: "
                  f"{html.escape(str(summary.get('background', '')))}.</p>")
     if (d / "monthly.csv").is_file():
-        m = pd.read_csv(d / "monthly.csv")
+        m = strip_units(pd.read_csv(d / "monthly.csv"))
         if len(m):
             parts.append("<h3>By month</h3>" + html_table(m[[c for c in (
                 "month", "band", "overpasses", "under_clutter", "fraction_under",
@@ -347,12 +348,12 @@ def _calendar_section(d: Path) -> str:
         parts.append(_img_file(png, "local SCR of every day (colour), the overpasses "
                                "(white: under the clutter) and the monthly fraction"))
     if (d / "crossover_months.csv").is_file():
-        c = pd.read_csv(d / "crossover_months.csv")
+        c = strip_units(pd.read_csv(d / "crossover_months.csv"))
         if len(c):
             parts.append("<h3>Crossover times by month (local clock, median and 5–95 %)</h3>"
                          + html_table(c, "{:.2f}"))
     if (d / "overpasses.csv").is_file():
-        o = pd.read_csv(d / "overpasses.csv")
+        o = strip_units(pd.read_csv(d / "overpasses.csv"))
         if len(o):
             parts.append("<details><summary>every overpass</summary>"
                          + html_table(o, "{:.3g}") + "</details>")
@@ -421,7 +422,8 @@ def build_report(run_dir, finishing: bool = False) -> str:
         parts = [_img_file(ens / "ensemble.png", "crossover times of the members with their "
                            "median and 5-95 % range; SCR median with its 5-95 % band")
                  if (ens / "ensemble.png").is_file() else ""]
-        dist = pd.read_csv(ens / "crossovers.csv", dtype={"median": str, "p05": str, "p95": str})
+        dist = strip_units(pd.read_csv(ens / "crossovers.csv",
+                                       dtype={"median": str, "p05": str, "p95": str}))
         parts.append(html_table(dist[[c for c in dist.columns if not c.endswith("_h")]], "{:.3f}"))
         if (ens / "ensemble.toml").is_file():
             parts.append("<details><summary>distributions and seed</summary><pre>"
@@ -434,7 +436,7 @@ def build_report(run_dir, finishing: bool = False) -> str:
                          + html.escape((run / "sweep.toml").read_text()) + "</pre></details>")
         if (run / "table.png").is_file():
             sweep.append(_img_file(run / "table.png", "one point per case"))
-        table = pd.read_csv(run / "table.csv")
+        table = strip_units(pd.read_csv(run / "table.csv"))
         table = table[[c for c in table.columns if c not in ("worker",)]]
         sweep.append(html_table(table, "{:.3f}"))
         section("sweep", "Sweep", "".join(sweep))

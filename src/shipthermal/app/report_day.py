@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..units import strip_units
 from .html_table import html_table
 
 __all__ = ["SCR_CLUTTER_LIMIT", "SLIDER_HOURS", "hardest_to_see", "first_screen",
@@ -124,10 +125,10 @@ def hardest_to_see(imaging: Path) -> pd.DataFrame:
     """
     cross = pd.DataFrame()
     if (imaging / "crossovers.csv").is_file():
-        cross = pd.read_csv(imaging / "crossovers.csv")
+        cross = strip_units(pd.read_csv(imaging / "crossovers.csv"))
     rows = []
     for season, band, f in _series_files(imaging):
-        m = pd.read_csv(f)
+        m = strip_units(pd.read_csv(f))
         if not len(m):
             continue
         t = m["time_h"].to_numpy(float)
@@ -298,7 +299,9 @@ def _image_frames(nc: Path, band: str):
     with xr.open_dataset(nc, engine="h5netcdf") as ds:
         rad = ds["radiance"].values
         cov = ds["coverage"].values
-        th = ds["time"].values.astype(float)
+        # hours after local midnight (files written before CF time: "time" itself)
+        th = (ds["time_local_h"] if "time_local_h" in ds.variables else ds["time"]).values
+        th = th.astype(float)
         x = ds["x"].values
     mask = cov > 0
     res = float(abs(x[1] - x[0])) if x.size > 1 else float("nan")
@@ -440,9 +443,9 @@ def day_section(run: Path) -> str:
     if imaging.is_dir():
         cross = pd.DataFrame()
         if (imaging / "crossovers.csv").is_file():
-            cross = pd.read_csv(imaging / "crossovers.csv")
+            cross = strip_units(pd.read_csv(imaging / "crossovers.csv"))
         for season, band, f in _series_files(imaging):
-            m = pd.read_csv(f)
+            m = strip_units(pd.read_csv(f))
             cx = []
             if len(cross):
                 sel = cross[(cross["season"] == season) & (cross["band"].astype(str) == band)]
