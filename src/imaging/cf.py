@@ -105,7 +105,8 @@ def time_attrs(date: str, time_zone: str) -> tuple[dict, dict]:
     binary fraction of an hour)."""
     units = cf_time_units(date, time_zone, "seconds")
     attrs = {"standard_name": "time", "axis": "T",
-             "long_name": f"time (counted from local midnight of {date}, {zone_text(date, time_zone)})"}
+             "long_name": f"time (counted from local midnight of {date}, "
+                          f"{zone_text(date, time_zone)})"}
     return attrs, {"units": units, "calendar": "standard", "dtype": "float64"}
 
 

@@ -63,7 +63,8 @@ _SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 
 def unit_label(unit: str) -> str:
-    """A UDUNITS unit as printed: ``"W m-2 sr-1"`` → ``"W m⁻² sr⁻¹"``, ``"um"`` → ``"µm"``."""
+    """A UDUNITS unit as printed: ``"W m-2 sr-1"`` → ``"W m⁻² sr⁻¹"``, ``"um"`` →
+    ``"µm"``."""
     words = []
     for w in str(unit).split():
         base = w.rstrip("-0123456789")

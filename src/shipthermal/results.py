@@ -242,8 +242,9 @@ class Results:
             if surf is not None and dual:
                 # Vertex pieces → surface points: area-weighted surface temperature and the
                 # total heat flow over the total piece area of each boundary vertex.
-                surf.point_data["temperature_K"] = (to_points @ (self.face_temperature[k] * g.bface_area)
-                                                  / face_flow_area).astype(np.float32)
+                surf.point_data["temperature_K"] = (
+                    to_points @ (self.face_temperature[k] * g.bface_area)
+                    / face_flow_area).astype(np.float32)
                 surf.point_data["heat_flux_W_m2"] = (to_points @ self.face_flow[k]
                                                 / face_flow_area).astype(np.float32)
             elif surf is not None:

@@ -25,6 +25,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from ..figures import band_label
 from ..units import latitude_text, longitude_text, strip_units, zone_text
 from .html_table import html_table
 from .rundir import MANIFEST, MARKER, atomic_write_text
@@ -256,10 +257,11 @@ def _imaging_section(d: Path) -> str:
         title = "" if sub == d else f"<h3>{html.escape(sub.name)}</h3>"
         block = []
         for png in sorted(sub.glob("panels_*.png")):
-            block.append(_img_file(png, f"images at the typical times, {png.stem[7:]} um"))
+            block.append(_img_file(png, "images at the typical times, "
+                                        f"{band_label(png.stem[7:])}"))
         for png in sorted(sub.glob("scr_*.png")):
             block.append(_img_file(png, f"local SCR and contrast over the day, "
-                                        f"{png.stem[4:]} um"))
+                                        f"{band_label(png.stem[4:])}"))
         if (sub / "crossovers.csv").is_file():
             cross = pd.read_csv(sub / "crossovers.csv")
             block.append("<h4>Thermal crossover moments</h4>")

@@ -349,7 +349,8 @@ def first_screen(run: Path) -> str:
                     "not brighter")
         for _, o in others.iterrows():
             if best["scr_min"] > 0:
-                ratio = f"{o['scr_min'] / best['scr_min']:.1f}× the {band_label(best['band'])} minimum"
+                ratio = (f"{o['scr_min'] / best['scr_min']:.1f}× the "
+                         f"{band_label(best['band'])} minimum")
             else:
                 ratio = ("a crossover too" if o["scr_min"] == 0 else
                          f"the {band_label(best['band'])} band reaches 0 at a crossover")
@@ -360,8 +361,8 @@ def first_screen(run: Path) -> str:
             sure.append(f"ship temperatures: {src}")
         parts.append("<h3 class=\"sure\">How sure</h3><ul>"
                      + "".join(f"<li>{html.escape(x)}</li>" for x in sure) + "</ul>")
-        series = [(r["band"], strip_units(pd.read_csv(imaging / f"metrics_{season}_{r['band']}.csv")),
-                   r) for _, r in g.iterrows()]
+        series = [(r["band"], strip_units(pd.read_csv(
+            imaging / f"metrics_{season}_{r['band']}.csv")), r) for _, r in g.iterrows()]
         parts.append(_scr_chart(series, f"{season}: local SCR, both bands", zone))
     for f in sorted((run / "thermal").glob("*/thermal_summary.json")):
         th = json.loads(f.read_text(encoding="utf-8"))
@@ -673,8 +674,9 @@ def day_section(run: Path) -> str:
             if nc.is_file():
                 uris, bar, cap = _image_frames(nc, band, hours)
                 figs.append(f'<figure class="frames">'
-                            f'{_frame_group(uris, f"{season} {band} um", hours, start)}'
-                            f'<img alt="colour bar {season} {band} um" src="{_b64png(bar)}">'
+                            f'{_frame_group(uris, f"{season} {band_label(band)}", hours, start)}'
+                            f'<img alt="colour bar {season} {band_label(band)}" '
+                            f'src="{_b64png(bar)}">'
                             f"<figcaption>{html.escape(band_label(band))}: {html.escape(cap)}; "
                             "one colour scale for the whole day</figcaption></figure>")
             row = df[(df["season"] == season) & (df["band"] == band)]
