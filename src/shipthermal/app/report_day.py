@@ -307,7 +307,9 @@ def first_screen(run: Path) -> str:
             f'<p class="headline"><b>{html.escape(season)}{html.escape(where)}:</b> hardest '
             f"at <b>{best['time_min']}</b> {html.escape(local)} in the "
             f"<b>{html.escape(band_label(best['band']))}</b> band, local SCR "
-            f"{best['scr_min']:.2g}.</p>")
+            f"{best['scr_min']:.2g}"
+            + (" (a thermal crossover: zero contrast)" if best["scr_min"] == 0 else "")
+            + ".</p>")
         if zone:
             parts.append(f'<p class="zone">Times are local = {html.escape(zone)}.</p>')
         if sc.get("background"):
