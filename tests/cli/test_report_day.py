@@ -143,7 +143,7 @@ def test_scr_spike_from_a_collapsing_background_is_explained_and_marked(tmp_path
     top = df.loc[0, "collapsed"][0]
     assert top["time_h"] == pytest.approx(17.0) and top["std"] == pytest.approx(0.0025)
     html = unescape(first_screen(tmp_path))
-    assert "SCR peak of 108 at 17:00" in html and "5 % of its median" in html
+    assert "SCR peak of 108 at 17:00" in html and "5 % of its median over 2 h" in html
     assert "▼" in html.split("<svg", 1)[1]
     # no collapse, no sentence
     _series(img)
@@ -182,3 +182,17 @@ def test_ensemble_distribution_answers_how_sure(tmp_path):
         ens / "crossovers.csv", index=False)
     html = unescape(first_screen(tmp_path))
     assert "median 05:20, 5–95 % 05:02–05:41 over 8 of 8 weather members" in html
+
+
+def test_the_slow_day_night_swing_of_the_spread_is_not_a_collapse(tmp_path):
+    """A spread that halves and doubles over the day (a factor 4 from night to noon) marks
+    nothing; one frame falling to a third of its neighbours does."""
+    from shipthermal.app.report_day import _collapsed_spread
+
+    t = np.arange(145) * (10 / 60)
+    std = 0.05 * 2.0 ** np.sin(2 * np.pi * t / 24.0)
+    m = pd.DataFrame({"time_h": t, "scr": 1.0 / std, "std_background": std})
+    assert _collapsed_spread(m) == []
+    std[100] /= 3.0
+    m["std_background"], m["scr"] = std, 1.0 / std
+    assert [r["time_h"] for r in _collapsed_spread(m)] == [pytest.approx(t[100])]

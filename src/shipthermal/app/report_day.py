@@ -41,7 +41,8 @@ from ..figures import BAND_STYLES, OKABE_ITO, band_label, unit_label
 from ..units import latitude_text, longitude_text, strip_units, zone_text
 from .html_table import html_table
 
-__all__ = ["SCR_CLUTTER_LIMIT", "SLIDER_HOURS", "SPREAD_COLLAPSE", "SENSITIVITY_K",
+__all__ = ["SCR_CLUTTER_LIMIT", "SLIDER_HOURS", "SPREAD_COLLAPSE", "SPREAD_WINDOW_H",
+           "SENSITIVITY_K",
            "hardest_to_see", "first_screen", "day_section", "slider_hours", "SCRIPT"]
 
 #: SCR below which the ship's mean contrast to its local background is smaller than the
@@ -52,10 +53,14 @@ SCR_CLUTTER_LIMIT = 1.0
 SLIDER_HOURS = tuple(range(25))
 
 #: A frame's background spread has collapsed when its standard deviation is below this
-#: fraction of the series' median [-]: the SCR then spikes because the background is
-#: momentarily uniform, not because the ship stands out more. ASSUMPTION: a quarter,
-#: which keeps the ordinary day-night swing of the spread (a factor of about 2) out.
-SPREAD_COLLAPSE = 0.25
+#: fraction of the median over the surrounding :data:`SPREAD_WINDOW_H` [-]: the SCR then
+#: spikes because the background is momentarily uniform (e.g. water and quay passing
+#: through the same radiance), not because the ship stands out more. ASSUMPTION: half; a
+#: running median follows the slow day-night swing of the spread, so only brief dips count.
+SPREAD_COLLAPSE = 0.5
+
+#: Width of the running median that a frame's background spread is compared with [h]
+SPREAD_WINDOW_H = 2.0
 
 #: Error of the ship's temperature relative to its background for the quick sensitivity of
 #: the crossover times [K] (the report states times per kelvin)
@@ -133,17 +138,19 @@ def _between_frames(t_h, scr, contrast, cross_h) -> list[tuple[float, float]]:
 
 def _collapsed_spread(m: pd.DataFrame) -> list[dict]:
     """Frames whose background spread collapsed (``std_background`` below
-    :data:`SPREAD_COLLAPSE` of its median), each as ``{time_h, scr, std, median_std}``,
-    highest SCR first; ``[]`` without the column."""
-    if "std_background" not in m:
+    :data:`SPREAD_COLLAPSE` of its running median over :data:`SPREAD_WINDOW_H`), each as
+    ``{time_h, scr, std, median_std}``, highest SCR first; ``[]`` without the column."""
+    if "std_background" not in m or len(m) < 3:
         return []
-    std = m["std_background"].to_numpy(float)
-    med = float(np.nanmedian(std)) if np.isfinite(std).any() else float("nan")
-    if not med > 0:
-        return []
-    sel = np.flatnonzero(std < SPREAD_COLLAPSE * med)
-    rows = [dict(time_h=float(m["time_h"].iloc[k]), scr=float(m["scr"].iloc[k]),
-                 std=float(std[k]), median_std=med) for k in sel]
+    t = m["time_h"].to_numpy(float)
+    step = float(np.median(np.diff(t)))
+    half = max(1, int(round(0.5 * SPREAD_WINDOW_H / step))) if step > 0 else 1
+    std = m["std_background"].astype(float)
+    med = std.rolling(2 * half + 1, center=True, min_periods=1).median().to_numpy()
+    std = std.to_numpy()
+    sel = np.flatnonzero((med > 0) & (std < SPREAD_COLLAPSE * med))
+    rows = [dict(time_h=float(t[k]), scr=float(m["scr"].iloc[k]), std=float(std[k]),
+                 median_std=float(med[k])) for k in sel]
     return sorted(rows, key=lambda r: -r["scr"])
 
 
@@ -347,8 +354,8 @@ def first_screen(run: Path) -> str:
                     f"{_hhmm(top['time_h'])} (and {len(r['collapsed']) - 1} more frames "
                     "marked ▼ on the chart) is the background's spread collapsing to "
                     f"{top['std']:.2g} {_R_UNIT} ({100 * top['std'] / top['median_std']:.0f} % "
-                    "of its median): the surroundings are momentarily uniform, the ship is "
-                    "not brighter")
+                    f"of its median over {SPREAD_WINDOW_H:g} h): the surroundings are "
+                    "momentarily uniform, the ship is not brighter")
         for _, o in others.iterrows():
             if best["scr_min"] > 0:
                 ratio = (f"{o['scr_min'] / best['scr_min']:.1f}× the "
