@@ -2,7 +2,9 @@
 
 Every file is written under a temporary name in the output directory and moved into place
 with ``os.replace`` once complete, so an interrupted run leaves no half-written file.
-Rasters are float32 in physical units (W m-2 sr-1).
+Rasters are float32 in physical units (W m-2 sr-1); the NetCDF stacks follow CF (time with
+its zone, a grid mapping), GeoTIFF bands carry their unit and instant, CSV headers their
+units (docs/DATA.md).
 """
 
 from __future__ import annotations
@@ -18,6 +20,8 @@ from shipthermal.figures import (OKABE_ITO, FigureOptions, add_scale_bar, band_l
                                  save_figure, unit_label)
 from shipthermal.units import (HOUR, clock_offset_hours, clock_origin, utc_offset_text,
                                with_units, zone_text)
+
+from . import cf
 
 __all__ = ["write_products", "write_series_netcdf", "write_typical_geotiff", "plot_panels",
            "plot_scr_curves"]
@@ -84,8 +88,6 @@ def write_series_netcdf(path, sr, grid, attrs: dict | None = None, *, date: str 
     ``attrs["date"]``/``attrs["timezone"]``.
     """
     import xarray as xr
-
-    from . import cf
 
     attrs = dict(attrs or {})
     date = date or attrs.get("date")
