@@ -27,7 +27,8 @@ PACKAGES = ("shipthermal", "imaging")
 
 #: What the imaging package may import from the thermal package (with submodules)
 IMAGING_MAY_USE = ("shipthermal.geometry", "shipthermal.environment", "shipthermal.raytrace",
-                   "shipthermal.errors", "shipthermal.units", "shipthermal.parameters")
+                   "shipthermal.errors", "shipthermal.units", "shipthermal.parameters",
+                   "shipthermal.figures")
 
 #: Modules of the application layer besides ``shipthermal.app``
 APP_ENTRY = ("shipthermal.__main__",)

@@ -22,7 +22,8 @@ import numpy as np
 import pandas as pd
 
 from shipthermal.errors import check_range, require
-from shipthermal.units import HOUR
+from shipthermal.figures import OKABE_ITO
+from shipthermal.units import HOUR, utc_offset_text
 
 from .experiment import render_series
 from .radiometry import brightness_temperature
@@ -227,12 +228,12 @@ def plot_calendar(path, dense: dict, overpass_df: pd.DataFrame, monthly: pd.Data
     ax.set_xticklabels([f"{start + pd.Timedelta(days=int(d)):%b %d}" for d in ticks],
                        fontsize=8)
     ax.set_yticks(range(0, 25, 3))
-    ax.set_ylabel(f"local time [h] ({start.tzname() or start.tz})")
+    ax.set_ylabel(f"local time [h] ({utc_offset_text(start.utcoffset().total_seconds() / HOUR)})")
     ax.set_title(f"Local SCR of the ship, {band} µm, every {step_h * 60:.0f} min"
                  + (f"\n{label}" if label else ""), fontsize=9)
     mb = monthly[monthly["band"] == band] if len(monthly) else monthly
     if len(mb):
-        bx.bar(mb["month"], mb["fraction_under"], color="#4477aa")
+        bx.bar(mb["month"], mb["fraction_under"], color=OKABE_ITO["blue"])
         for i, (n, k, f) in enumerate(zip(mb["overpasses"], mb["under_clutter"],
                                           mb["fraction_under"])):
             bx.text(i, f + 0.02, f"{k}/{n}", ha="center", fontsize=7, color="black")

@@ -439,7 +439,7 @@ def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
                    typical_hours: dict | None = None, crop_px: int | None = 128,
                    crossover_window_h: float = 0.5,
                    shared_panel_scale: bool = True,
-                   stack_step_s: float | None = None) -> ExperimentResult:
+                   stack_step_s: float | None = None, figures=None) -> ExperimentResult:
     """The paper's experiment in one call: seasons x bands over a day, with all products.
 
     Parameters
@@ -468,6 +468,8 @@ def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
         One colour scale per band and season for all panel times (False: one per panel).
     stack_step_s : float or None
         Cadence of the stored image stacks [s] (:func:`render_series`; None: every frame).
+    figures : shipthermal.figures.FigureOptions or None
+        Resolution and vector copies of the figures (default PNG at 110 dpi).
 
     Returns
     -------
@@ -519,7 +521,7 @@ def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
     comp = band_comparison(series, crossover_window_h)
     t0 = _time.perf_counter()
     files = P.write_products(out_dir, series, cross, comp, scenarios, history_by_season, typical,
-                             shared_panel_scale)
+                             shared_panel_scale, figures=figures)
     seconds["outputs"] = _time.perf_counter() - t0
     return ExperimentResult(series, cross, comp, files, seconds)
 

@@ -2,7 +2,9 @@
 
 Every file is written under a temporary name in the output directory and moved into place
 with ``os.replace`` once complete, so an interrupted run leaves no half-written file.
-Rasters are float32 in physical units (W m-2 sr-1).
+Rasters are float32 in physical units (W m-2 sr-1); the NetCDF stacks follow CF (time with
+its zone, a grid mapping), GeoTIFF bands carry their unit and instant, CSV headers their
+units (docs/DATA.md).
 """
 
 from __future__ import annotations
@@ -13,28 +15,49 @@ import os
 import numpy as np
 import pandas as pd
 
-from shipthermal.units import HOUR
+from shipthermal.errors import require
+from shipthermal.figures import (OKABE_ITO, FigureOptions, add_scale_bar, band_label,
+                                 save_figure, unit_label)
+from shipthermal.units import (HOUR, clock_offset_hours, clock_origin, utc_offset_text,
+                               with_units, zone_text)
+
+from . import cf
 
 __all__ = ["write_products", "write_series_netcdf", "write_typical_geotiff", "plot_panels",
            "plot_scr_curves"]
+
+
+#: The radiance unit as figures print it
+R_UNIT = unit_label("W m-2 sr-1")
 
 
 def _tmp(path: str) -> str:
     return f"{path}.part-{os.getpid()}"
 
 
-def _csv(df: pd.DataFrame, path: str) -> str:
+def _csv(df: pd.DataFrame, path: str, clock: str | None = None) -> str:
+    """Write a table atomically with units in its headers (``name [unit]``; local clock
+    columns with the zone ``clock``: :func:`shipthermal.units.with_units`)."""
     tmp = _tmp(path)
-    df.to_csv(tmp, index=False, float_format="%.7g")
+    with_units(df, clock=clock).to_csv(tmp, index=False, float_format="%.7g")
     os.replace(tmp, path)
     return path
 
 
-def _savefig(fig, path: str, dpi: int = 110) -> str:
-    tmp = _tmp(path)
-    fig.savefig(tmp, format="png", dpi=dpi)
-    os.replace(tmp, path)
-    return path
+def _savefig(fig, path: str, figures: FigureOptions | None = None) -> str:
+    return os.fspath(save_figure(fig, path, figures))
+
+
+def _ship_marker(ax, box, h, res_km, label: bool = True) -> None:
+    """A ship marker (triangle, labelled) at the centre of the half-open pixel box."""
+    r0, r1, c0, c1 = box
+    x, y = 0.5 * (c0 + c1) * res_km, (h - 0.5 * (r0 + r1)) * res_km
+    ax.plot([x], [y], marker="v", ms=6, mfc="white", mec="black", mew=0.8, ls="none")
+    if label:
+        ax.annotate("ship", (x, y), xytext=(0, 6), textcoords="offset points", ha="center",
+                    fontsize=6, color="black",
+                    bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none",
+                          "alpha": 0.8})
 
 
 def _hhmm(hours: float) -> str:
@@ -42,80 +65,122 @@ def _hhmm(hours: float) -> str:
     return f"{(m // 60) % 24:02d}:{m % 60:02d}"
 
 
-def _pixel_centres(grid, crop):
-    """Map x of columns and y of rows of the crop's pixel centres [m]."""
-    r0, r1, c0, c1 = crop
-    t = grid.transform
-    x = t.c + (np.arange(c0, c1) + 0.5) * t.a
-    y = t.f + (np.arange(r0, r1) + 0.5) * t.e
-    return x, y
+def _utc_instants(date: str, time_zone: str, times_s) -> np.ndarray:
+    """datetime64 [ns] UTC (naive) of ``times_s`` [s after local midnight of ``date``]."""
+    origin = pd.Timestamp(clock_origin(date, time_zone)).tz_convert("UTC").tz_localize(None)
+    return (origin + pd.to_timedelta(np.asarray(times_s, float), unit="s")).to_numpy()
 
 
-def write_series_netcdf(path, sr, grid, attrs: dict | None = None) -> str:
-    """Write one season/band image series as NetCDF (h5netcdf), atomically.
+def write_series_netcdf(path, sr, grid, attrs: dict | None = None, *, date: str | None = None,
+                        time_zone: str | None = None) -> str:
+    """Write one season/band image series as NetCDF in the CF conventions (h5netcdf),
+    atomically.
 
     Variables ``radiance`` and ``leaving_radiance`` (time, y, x) float32 [W m-2 sr-1] on the
     stored crop, the sensor products ``spectral_radiance`` (band-mean, [W m-2 sr-1 um-1])
     and ``brightness_temperature`` [K] as the band's instrument defines them
     (:func:`imaging.instruments.product_brightness_temperature`: Landsat's K1/K2, else the
-    band's Planck integral inverted), ``coverage`` (y, x) float32 [-]; coordinates ``time``
-    [h local], ``x``, ``y`` (map coordinates of pixel centres [m]); the CRS as WKT in
-    ``crs_wkt``.
+    band's Planck integral inverted), ``coverage`` (y, x) float32 [1]; coordinates ``time`` (CF units counted from
+    local midnight of ``date`` with the zone's UTC offset, e.g. ``seconds since 2023-07-15
+    00:00:00+08:00``: xarray decodes it to UTC datetimes), ``time_local_h`` (the same instants
+    as hours after that local midnight [h]), ``x``, ``y`` (map coordinates of pixel centres
+    [m]); the CRS in the grid mapping variable ``spatial_ref`` (CF parameters, ``crs_wkt``,
+    GDAL's ``spatial_ref`` and ``GeoTransform``) that every data variable names, so
+    GDAL, QGIS and rioxarray (``xr.open_dataset(path, decode_coords="all")``) georeference
+    it. ``date``/``time_zone`` (IANA) default to
+    ``attrs["date"]``/``attrs["timezone"]``.
     """
     import xarray as xr
 
     from .instruments import band_product, product_brightness_temperature, product_radiance
 
-    x, y = _pixel_centres(grid, sr.crop)
+    attrs = dict(attrs or {})
+    date = date or attrs.get("date")
+    time_zone = time_zone or attrs.get("timezone")
+    require(bool(date) and bool(time_zone), "date/time_zone", (date, time_zone),
+            "the local date and IANA zone of the run's clock are needed for CF time units")
+    x, y = cf.pixel_centres(grid.transform, sr.crop)
     r0, r1, c0, c1 = sr.crop
+    mapping = cf.grid_mapping_attrs(grid.crs)
+    gm = {"grid_mapping": cf.GRID_MAPPING} if mapping else {}
+    hours = np.asarray(sr.stack_times_s, float) / HOUR
+    t_attrs, t_enc = cf.time_attrs(date, time_zone)
+    band = band_label(sr.band)
+    data = {
+        "radiance": (("time", "y", "x"), sr.radiance,
+                     {"units": "W m-2 sr-1", **gm,
+                      "long_name": f"at-aperture band radiance {band} (paper eq. 1)"}),
+        "leaving_radiance": (("time", "y", "x"), sr.leaving,
+                             {"units": "W m-2 sr-1", **gm,
+                              "long_name": f"surface-leaving band radiance {band}, "
+                                           "area-mixed (eq. 2)"}),
+        "spectral_radiance": (("time", "y", "x"),
+                              product_radiance(sr.radiance, band_product(sr.band)).astype(
+                                  np.float32),
+                              {"units": "W m-2 sr-1 um-1", **gm,
+                               "long_name": f"band-mean spectral radiance {band} "
+                                            "(sensor product)"}),
+        "brightness_temperature": (("time", "y", "x"), product_brightness_temperature(
+            sr.radiance, band_product(sr.band)).astype(np.float32),
+            {"units": "K", **gm, "long_name": f"at-aperture brightness temperature {band} "
+                                             "(sensor product definition)"}),
+        "coverage": (("y", "x"), sr.coverage[r0:r1, c0:c1],
+                     {"units": "1", **gm, "long_name": "ship area fraction of the pixel"})}
+    if mapping:         # CF: named by ``grid_mapping``, not an auxiliary coordinate
+        data[cf.GRID_MAPPING] = ((), np.int32(0), {**mapping, "GeoTransform":
+                                                   cf.geotransform(grid.transform, sr.crop)})
     ds = xr.Dataset(
-        {"radiance": (("time", "y", "x"), sr.radiance,
-                      {"units": "W m-2 sr-1",
-                       "long_name": f"at-aperture band radiance {sr.band} um (paper eq. 1)"}),
-         "leaving_radiance": (("time", "y", "x"), sr.leaving,
-                              {"units": "W m-2 sr-1",
-                               "long_name": "surface-leaving radiance, area-mixed (eq. 2)"}),
-         "spectral_radiance": (("time", "y", "x"),
-                               product_radiance(sr.radiance, band_product(sr.band)).astype(
-                                   np.float32),
-                               {"units": "W m-2 sr-1 um-1",
-                                "long_name": "band-mean spectral radiance (sensor product)"}),
-         "brightness_temperature": (("time", "y", "x"), product_brightness_temperature(
-             sr.radiance, band_product(sr.band)).astype(np.float32),
-             {"units": "K", "long_name": "at-aperture brightness temperature (sensor "
-                                         "product definition)"}),
-         "coverage": (("y", "x"), sr.coverage[r0:r1, c0:c1],
-                      {"units": "1", "long_name": "ship area fraction of the pixel"})},
-        coords={"time": ("time", sr.stack_times_s / HOUR,
-                         {"units": "hours after local midnight"}),
-                "x": ("x", x, {"units": "m", "long_name": "easting of pixel centre"}),
-                "y": ("y", y, {"units": "m", "long_name": "northing of pixel centre"})},
-        attrs={"title": f"Ship in port, {sr.season}, {sr.band} um", "season": sr.season,
+        data,
+        coords={"time": ("time", _utc_instants(date, time_zone, sr.stack_times_s), t_attrs),
+                "time_local_h": ("time", hours,
+                                 {"units": "h", "long_name": f"hours after local midnight of "
+                                  f"{date} ({zone_text(date, time_zone)})"}),
+                "x": ("x", x, cf.map_axis_attrs("x", grid.crs)),
+                "y": ("y", y, cf.map_axis_attrs("y", grid.crs))},
+        attrs={"Conventions": cf.CONVENTIONS,
+               "title": f"Ship in port, {sr.season}, {band}", "season": sr.season,
                "band_um": sr.band, "crop_rows_cols": list(sr.crop),
-               "crs_wkt": grid.crs.to_wkt() if grid.crs is not None else "",
-               **(attrs or {})})
+               "local_time_zone": zone_text(date, time_zone),
+               "source": "shipthermal imaging (ray-traced scene, band radiance)",
+               **{k: v for k, v in attrs.items() if k != "timezone"},
+               "timezone": time_zone})
     enc = {v: {"zlib": True, "complevel": 4} for v in ("radiance", "leaving_radiance",
                                                        "spectral_radiance",
                                                        "brightness_temperature", "coverage")}
+    enc["time"] = t_enc
     tmp = _tmp(path)
     ds.to_netcdf(tmp, engine="h5netcdf", encoding=enc)
     os.replace(tmp, path)
     return path
 
 
-def write_typical_geotiff(path, sr, grid, background: str = "") -> str | None:
-    """Full-scene float32 GeoTIFF of the kept frames (one band per time) [W m-2 sr-1]; each
-    band's description names the time and the background (``background``)."""
-    from .background.outputs import write_geotiff
+def write_typical_geotiff(path, sr, grid, background: str = "", *, date: str | None = None,
+                          time_zone: str | None = None) -> str | None:
+    """Full-scene float32 GeoTIFF of the kept frames (one band per time) [W m-2 sr-1].
+
+    Every band has the unit ``W m-2 sr-1`` (GDAL's band unit), a description naming the
+    time with its zone and the background (``background``), and its instant as metadata
+    (``time_utc``, ``time_local`` with the UTC offset, ``hours_after_local_midnight``); the
+    file's metadata names the band, the quantity and the zone. ``date``/``time_zone``: the
+    run's clock (local midnight of ``date`` in the IANA zone); without them the times are
+    given as hours after local midnight only.
+    """
+    from .background.outputs import time_tags, write_geotiff
 
     if not sr.frames:
         return None
     keys = sorted(sr.frames)
     data = np.stack([sr.frames[k].radiance for k in keys]).astype(np.float32)
     what = f"; {background}" if background else ""
-    desc = [f"at-aperture radiance {sr.band} um [W m-2 sr-1] at {_hhmm(k / HOUR)} local{what}"
-            for k in keys]
-    return write_geotiff(os.fspath(path), data, grid, descriptions=desc)
+    zone = zone_text(date, time_zone) if date and time_zone else "local"
+    desc = [f"at-aperture radiance {band_label(sr.band)} [W m-2 sr-1] at {_hhmm(k / HOUR)} "
+            f"{zone}{what}" for k in keys]
+    tags = (time_tags(clock_origin(date, time_zone), keys) if date and time_zone else
+            [{"hours_after_local_midnight": f"{k / HOUR:.6g}"} for k in keys])
+    meta = {"quantity": "at-aperture band radiance", "band_um": sr.band, "season": sr.season,
+            "local_time_zone": zone, "background": background}
+    return write_geotiff(os.fspath(path), data, grid, descriptions=desc, units="W m-2 sr-1",
+                         band_tags=tags, tags=meta)
 
 
 def _display_box(coverage, size, shape):
@@ -140,7 +205,7 @@ def _rect(ax, box, h, res_km, **kw):
 
 def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 40,
                 backgrounds: dict | None = None, shared_scale: bool = True,
-                labelled: dict | None = None) -> str:
+                labelled: dict | None = None, figures: FigureOptions | None = None) -> str:
     """Image panels at the typical times, one row per season (like the paper's Figs. 14/16).
 
     Each panel is the at-aperture radiance [W m-2 sr-1] of a ``display_px`` square around the
@@ -152,7 +217,9 @@ def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 
     to 99.5th percentile of the row), on one colour bar with the radiance units and the
     apparent (brightness) temperature at the aperture as a second scale; False: one scale
     per panel. ``backgrounds`` (``{season: GriddedBackground}``): a first column shows the
-    crop's background classes with a legend, and the pixel size comes from it (else 30 m).
+    crop's background classes with a legend and a ship marker, and the pixel size comes
+    from it (else 30 m). Every map has a scale bar. ``figures``: resolution and vector
+    copies (:class:`shipthermal.figures.FigureOptions`).
     """
     import matplotlib
 
@@ -204,6 +271,8 @@ def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 
                           vmin=codes[0] - 0.5, vmax=codes[-1] + 0.5, extent=ext,
                           interpolation="nearest")
                 _rect(ax, target, h, res_km, ec="k", lw=1.0)
+                _ship_marker(ax, target, h, res_km)
+                add_scale_bar(ax, w * res_km, colour="black")
                 present = [c for c in codes if (cm == c).any()]
                 ax.legend(handles=[Patch(color=CLASS_COLOURS[c], label=CLASS_NAMES[c])
                                    for c in present] + [Patch(fill=False, ec="k", label="ship")],
@@ -226,6 +295,7 @@ def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 
                            interpolation="nearest")
             _rect(ax, target, h, res_km, ec="cyan", lw=0.9)
             _rect(ax, window, h, res_km, ec="white", lw=0.8, ls="--")
+            add_scale_bar(ax, w * res_km)
             k = int(np.argmin(np.abs(sr.times_s - float(hours[j]) * HOUR)))
             con = sr.metrics["contrast"].iloc[k]
             scr = sr.metrics["scr"].iloc[k]
@@ -237,10 +307,10 @@ def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 
             if not shared_scale:
                 cb = fig.colorbar(im, ax=ax, shrink=0.8)
                 cb.ax.tick_params(labelsize=6)
-                cb.set_label("W m-2 sr-1", fontsize=6)
+                cb.set_label(R_UNIT, fontsize=6)
         if shared_scale and im is not None:
             cb = fig.colorbar(im, ax=list(axes[i, lead:]), shrink=0.9, pad=0.02)
-            cb.set_label(f"radiance {band} um [W m-2 sr-1]", fontsize=7)
+            cb.set_label(f"radiance {band_label(band)} [{R_UNIT}]", fontsize=7)
             cb.ax.tick_params(labelsize=6)
             if row_lim[0] > 0:
                 def to_t(L):
@@ -256,18 +326,20 @@ def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 
     synthetic = any("synthetic port" in background_label(b) for b in
                     (labelled or backgrounds).values())
     fig.suptitle(("Ship in a synthetic port (not a real place)" if synthetic else "Ship in port")
-                 + f", at-aperture radiance {band} um; "
+                 + f", at-aperture radiance {band_label(band)}; "
                  + ("one colour scale per season for all times" if shared_scale
                     else "one colour scale per panel")
                  + "\ncyan: ship pixels, white dashed: local SCR background window; "
-                   "C: target - background contrast [W m-2 sr-1]", fontsize=8)
-    out = _savefig(fig, os.fspath(path))
+                   f"C: target − background contrast [{R_UNIT}]", fontsize=8)
+    out = _savefig(fig, os.fspath(path), figures)
     plt.close(fig)
     return out
 
 
-def plot_scr_curves(path, series: dict, band: str, labels: dict | None = None) -> str:
-    """Local SCR (eq. 22) and signed contrast over the day per season (like Figs. 15/17)."""
+def plot_scr_curves(path, series: dict, band: str, labels: dict | None = None,
+                    figures: FigureOptions | None = None) -> str:
+    """Local SCR (eq. 22, log scale, SCR = 1 marked) and signed contrast over the day per
+    season (like Figs. 15/17); solid black SCR, dashed vermillion contrast."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -279,8 +351,13 @@ def plot_scr_curves(path, series: dict, band: str, labels: dict | None = None) -
     for ax, season in zip(axes[:, 0], seasons):
         sr = series[(season, band)]
         m = sr.metrics
-        ax.plot(m["time_h"], m["scr"], color="C0", lw=1.5, label="local SCR (eq. 22)")
-        ax.set_ylabel("SCR [-]", color="C0")
+        scr_c, con_c = OKABE_ITO["black"], OKABE_ITO["vermillion"]
+        ax.plot(m["time_h"], np.clip(m["scr"], 1e-3, None), color=scr_c, lw=1.5,
+                label="local SCR (eq. 22)")
+        ax.set_yscale("log")
+        ax.axhline(1.0, color=scr_c, lw=0.8, ls=(0, (1, 2)))
+        ax.text(0.0, 1.0, " SCR = 1", fontsize=7, va="bottom", color=scr_c)
+        ax.set_ylabel("SCR [-] (log scale)", color=scr_c)
         span_h = max(24.0, float(sr.times_s[-1]) / HOUR)
         ax.set_xlim(0, span_h)
         if span_h <= 24.0:
@@ -289,21 +366,21 @@ def plot_scr_curves(path, series: dict, band: str, labels: dict | None = None) -
             ax.set_xticks(np.arange(0.0, span_h + 1e-9, 24.0 * max(1, round(span_h / 24 / 15))))
         many = len(sr.crossovers) > 12            # a record: lines without labels
         ax2 = ax.twinx()
-        ax2.plot(m["time_h"], m["contrast"], color="C3", lw=1.0, label="contrast")
-        ax2.axhline(0.0, color="C3", lw=0.5, ls=":")
-        ax2.set_ylabel("contrast [W m-2 sr-1]", color="C3")
+        ax2.plot(m["time_h"], m["contrast"], color=con_c, lw=1.0, ls="--", label="contrast")
+        ax2.axhline(0.0, color=con_c, lw=0.5, ls=":")
+        ax2.set_ylabel(f"contrast [{R_UNIT}]", color=con_c)
         for c in sr.crossovers:
-            ax.axvline(c.time / HOUR, color="k", ls="--", lw=0.4 if many else 0.8)
+            ax.axvline(c.time / HOUR, color="0.45", ls="-", lw=0.4 if many else 0.8)
             if not many:
                 ax.text(c.time / HOUR, ax.get_ylim()[1], f" {_hhmm(c.time / HOUR)}",
                         fontsize=7, va="top")
         bg = (labels or {}).get(season, "")
         ax.set_title(f"({'ab'[seasons.index(season)] if len(seasons) <= 2 else season}) "
-                     f"{season}, {band} um; dashed: thermal crossover"
+                     f"{season}, {band_label(band)}; thin grey: thermal crossover"
                      + (f"\nbackground: {bg.split(';')[0]}" if bg else ""), fontsize=9)
         ax.set_xlabel("local time [h]" if span_h <= 24.0 else
                       "hours after local midnight of the first day [h]")
-    out = _savefig(fig, os.fspath(path))
+    out = _savefig(fig, os.fspath(path), figures)
     plt.close(fig)
     return out
 
@@ -324,9 +401,25 @@ def background_label(background) -> str:
     return "user background"
 
 
+def _with_utc(metrics: pd.DataFrame, scen) -> pd.DataFrame:
+    """The metrics with the instant of every frame in UTC (ISO 8601) after ``time_h``."""
+    m = metrics.copy()
+    utc = pd.DatetimeIndex(_utc_instants(scen.date, scen.tz, m["time_s"]))
+    m.insert(int(m.columns.get_loc("time_h")) + 1, "time_utc", utc.strftime("%Y-%m-%dT%H:%M:%SZ"))
+    return m
+
+
+def _clock_of(scenarios: dict) -> str:
+    """The local clock's zone of the scenarios (``"UTC+8"``; several: joined by ``/``)."""
+    zones = dict.fromkeys(utc_offset_text(clock_offset_hours(s.date, s.tz))
+                          for s in scenarios.values())
+    return "/".join(zones)
+
+
 def write_products(out_dir, series, crossovers, comparison, scenarios, histories, typical,
-                   shared_panel_scale: bool = True) -> dict:
-    """Write every product of :func:`imaging.experiment.run_experiment`; returns the paths."""
+                   shared_panel_scale: bool = True, figures: FigureOptions | None = None) -> dict:
+    """Write every product of :func:`imaging.experiment.run_experiment`; returns the paths.
+    ``figures``: resolution and vector copies of the figures."""
     from .scene import as_scene_background
 
     files = {}
@@ -345,10 +438,11 @@ def write_products(out_dir, series, crossovers, comparison, scenarios, histories
         tag = f"{season}_{band}"
         files[f"netcdf_{tag}"] = write_series_netcdf(p(f"images_{tag}.nc"), sr, grid, attrs)
         tif = write_typical_geotiff(p(f"typical_{tag}.tif"), sr, grid,
-                                    background_label(scen.background))
+                                    background_label(scen.background), date=scen.date,
+                                    time_zone=scen.tz)
         if tif:
             files[f"geotiff_{tag}"] = tif
-        files[f"metrics_{tag}"] = _csv(sr.metrics, p(f"metrics_{tag}.csv"))
+        files[f"metrics_{tag}"] = _csv(_with_utc(sr.metrics, scen), p(f"metrics_{tag}.csv"))
     for band in bands:
         backgrounds = {s: as_scene_background(scenarios[s].background) for s, b in series
                        if b == band}
@@ -356,12 +450,15 @@ def write_products(out_dir, series, crossovers, comparison, scenarios, histories
                                               backgrounds=backgrounds,
                                               shared_scale=shared_panel_scale,
                                               labelled={s: scenarios[s].background
-                                                        for s in backgrounds})
+                                                        for s in backgrounds},
+                                              figures=figures)
         files[f"scr_{band}"] = plot_scr_curves(
             p(f"scr_{band}.png"), series, band,
-            labels={s: background_label(scenarios[s].background) for s, b in series if b == band})
-    files["crossovers"] = _csv(crossovers, p("crossovers.csv"))
-    files["band_comparison"] = _csv(comparison, p("band_comparison.csv"))
+            labels={s: background_label(scenarios[s].background) for s, b in series if b == band},
+            figures=figures)
+    clock = _clock_of(scenarios)
+    files["crossovers"] = _csv(crossovers, p("crossovers.csv"), clock)
+    files["band_comparison"] = _csv(comparison, p("band_comparison.csv"), clock)
     summary = {
         "ship_temperatures": {s: h.label for s, h in histories.items()},
         "scenarios": {s: {"date": sc.date, "latitude": sc.latitude, "longitude": sc.longitude,

@@ -38,8 +38,9 @@ import pandas as pd
 
 from .errors import check_positive, require
 from .parameters import DEFAULT_CONVECTION_MODEL, NIGHT_SETTLE, NIGHT_STEP
-from .results import EnergyLog, Results, atomic_path
-from .units import DAY, HOUR
+from .results import EnergyLog, Results, atomic_path, write_surface_vtkhdf
+from .figures import LINE_STYLES, PART_LINE_STYLES, save_figure
+from .units import DAY, HOUR, with_units
 
 __all__ = ["DiurnalSettings", "DiurnalResult", "run_diurnal", "SPINUP_LEAD_IN",
            "SPINUP_LEAD_IN_STEP", "NIGHT_STEP", "NIGHT_SETTLE", "lead_in_seconds",
@@ -298,29 +299,34 @@ class DiurnalResult:
 
     # ------------------------------------------------------------------ outputs -----------
     def write(self, out_dir, map_hours=(7.0, 12.0), formats=("csv", "png", "vtkhdf", "json"),
-              progress: bool = False) -> dict:
+              progress: bool = False, figures=None) -> dict:
         """Write the run's products into ``out_dir`` (each file atomically).
 
-        * ``part_means.csv`` — hourly table of part means, air and sea [K];
+        * ``part_means.csv`` — hourly table of part means, air and sea [K] (headers
+          ``name [unit]``, as every CSV product: docs/DATA.md);
         * ``part_means.png`` — 24 h curves of hull, deck, superstructure with air and sea;
         * ``surface_HHMM.png`` — the ship coloured by outer-surface temperature;
         * ``thermal.vtkhdf`` — the recorded day, cells (ParaView ≥ 5.12; the surface as a
           VTU series: ``results.to_vtu``);
+        * ``surface.vtkhdf`` — the ship's outer surface over the recorded day: the
+          temperature of every triangle the images are rendered from, with its part;
         * ``thermal_summary.json`` — spin-up, energy balance, timings.
 
-        Returns a mapping product → path.
+        ``figures`` (:class:`shipthermal.figures.FigureOptions`): resolution and vector copies
+        of the pictures. Returns a mapping product → path.
         """
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
         written = {}
         if "csv" in formats:
             with atomic_path(out / "part_means.csv") as tmp:
-                self.part_means.to_csv(tmp, float_format="%.4f")
+                with_units(self.part_means, {c: "K" for c in self.part_means.columns}).to_csv(
+                    tmp, float_format="%.4f")
             written["part_means_csv"] = out / "part_means.csv"
             fs = pd.DataFrame(self.forcing.summary()) if self.forcing is not None else None
             if fs is not None:
                 with atomic_path(out / "forcing_summary.csv") as tmp:
-                    fs.to_csv(tmp, float_format="%.5g")
+                    with_units(fs).to_csv(tmp, float_format="%.5g")
                 written["forcing_csv"] = out / "forcing_summary.csv"
         if "png" in formats:
             from .geometry.surface_maps import render_surface_map
@@ -328,7 +334,8 @@ class DiurnalResult:
             where = self.where()
             written["part_means_png"] = plot_part_means(self.part_means, out / "part_means.png",
                                                         title=f"{self.ship.name}: area-mean "
-                                                        f"outer-surface temperature{where}")
+                                                        f"outer-surface temperature{where}",
+                                                        figures=figures)
             env = self.environment
             heading = float(getattr(env, "ship_heading", 0.0))
             view = self.meta.get("sensor_view_deg") or (0.0, 0.0)
@@ -347,10 +354,16 @@ class DiurnalResult:
                                    sun_azimuth_deg=sun_az, sun_elevation_deg=sun_el,
                                    view_zenith_deg=view[0], view_azimuth_deg=view[1],
                                    clim=clim, title=f"{self.ship.name}, outer surface at "
-                                   f"{_clock(hour)} local{where}")
+                                   f"{_clock(hour)} local{where}", figures=figures)
                 written[f"surface_{hour:g}h"] = name
         if "vtkhdf" in formats:
-            written["vtkhdf"] = self.results.to_vtkhdf(out / "thermal.vtkhdf")
+            start = getattr(self.environment, "start", None)
+            units = f"s since {start.isoformat(sep=' ')}" if start is not None else None
+            written["vtkhdf"] = self.results.to_vtkhdf(out / "thermal.vtkhdf", time_units=units)
+            ship = self.ship
+            written["vtkhdf_surface"] = write_surface_vtkhdf(
+                out / "surface.vtkhdf", ship.vertices, ship.faces, ship.face_part, ship.part_names,
+                self.results.times, self.outer_face_temperature(), time_units=units)
         if "json" in formats:
             with atomic_path(out / "thermal_summary.json") as tmp:
                 tmp.write_text(json.dumps(self.summary(), indent=2, default=_json_default))
@@ -386,24 +399,23 @@ def _json_default(o):
     return str(o)
 
 
-def plot_part_means(part_means: pd.DataFrame, path, title: str = "") -> Path:
-    """PNG of the 24 h part-mean curves with air and sea temperature."""
+def plot_part_means(part_means: pd.DataFrame, path, title: str = "", figures=None) -> Path:
+    """PNG of the 24 h part-mean curves with air and sea temperature: every curve its own
+    colour-blind-safe colour and dash pattern (:data:`shipthermal.figures.PART_LINE_STYLES`;
+    other parts take the remaining :data:`~shipthermal.figures.LINE_STYLES`)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(9, 5), dpi=110)
-    styles = {"hull": ("#7a8590", "-"), "deck": ("#3c4247", "-"),
-              "superstructure": ("#d9a441", "-"), "hull_wetted": ("#8b2d2d", ":"),
-              "temp_air": ("#2b7bba", "--"), "temp_sea": ("#1b9e77", ":"),
-              "temp_sea_skin": ("#1b9e77", "--")}
     labels = {"temp_air": "air", "temp_sea": "sea (bulk)", "temp_sea_skin": "sea skin",
               "hull": "hull (dry)",
               "hull_wetted": "hull (wetted)"}
+    spare = iter(LINE_STYLES[1:] * 3)
     for col in part_means.columns:
-        colour, ls = styles.get(col, (None, "-"))
-        ax.plot(part_means.index, part_means[col], ls, color=colour, lw=2 if ls == "-" else 1.4,
+        colour, ls, lw = PART_LINE_STYLES.get(col) or (*next(spare), 1.6)
+        ax.plot(part_means.index, part_means[col], color=colour, ls=ls, lw=lw,
                 label=labels.get(col, col))
     end = max(24, int(np.ceil(float(part_means.index.max()) / 24.0)) * 24)
     ax.set_xlabel("local time [h]" if end == 24 else "hours since local midnight of the "
@@ -415,8 +427,7 @@ def plot_part_means(part_means: pd.DataFrame, path, title: str = "") -> Path:
     ax.legend(ncol=3, fontsize=8)
     ax.set_title(title, fontsize=10)
     path = Path(path)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, bbox_inches="tight")
+    save_figure(fig, path, figures, bbox_inches="tight")
     plt.close(fig)
     return path
 

@@ -17,7 +17,8 @@ import pandas as pd
 from .errors import require
 from .mesh.graph import VTK_TETRA, VTK_WEDGE, CellGraph
 
-__all__ = ["EnergyLog", "Results", "atomic_path", "save_png"]
+__all__ = ["EnergyLog", "Results", "atomic_path", "save_png", "write_vtkhdf",
+           "write_surface_vtkhdf", "VTKHDF_UNITS"]
 
 
 class atomic_path:
@@ -206,15 +207,16 @@ class Results:
 
     # ------------------------------------------------------------------ output ------------
     def to_vtu(self, directory, stem: str = "thermal", surface: bool = True) -> list[Path]:
-        """One ``.vtu`` per recorded time (cell ``temperature`` [K]) plus a ``.pvd`` series
-        for ParaView; with ``surface`` also the boundary faces (``.vtp``: surface
-        temperature, heat flux, patch).
+        """One ``.vtu`` per recorded time (cell ``temperature_K`` and ``part_id``) plus a
+        ``.pvd`` series for ParaView (pyvista's ``PVDReader`` reads its times); with
+        ``surface`` also the boundary faces (``.vtp``: ``temperature_K``,
+        ``heat_flux_W_m2`` into the body, ``patch``).
 
         Vertex-centred graphs (``kind == "dual-tetrahedral"``) are written as their
-        tetrahedral mesh with ``temperature`` as *point* data (ParaView interpolates it
+        tetrahedral mesh with ``temperature_K`` as *point* data (ParaView interpolates it
         linearly, as the discretisation does); the surface file then holds the boundary
-        triangles with point ``temperature`` and ``heat_flux`` per boundary vertex (its
-        pieces pooled) and cell ``patch``."""
+        triangles with point ``temperature_K`` and ``heat_flux_W_m2`` per boundary vertex
+        (its pieces pooled) and cell ``patch``."""
         directory = Path(directory)
         directory.mkdir(parents=True, exist_ok=True)
         g = self.graph
@@ -229,8 +231,9 @@ class Results:
             surf = g.boundary_surface()
         written, entries, sentries = [], [], []
         flux = self.face_heat_flux()
+        cell_values["part_id"] = np.asarray(g.cell_part, np.int32)
         for k, t in enumerate(self.times):
-            cell_values["temperature"] = self.cell_temperature[k].astype(np.float32)
+            cell_values["temperature_K"] = self.cell_temperature[k].astype(np.float32)
             name = directory / f"{stem}_{k:04d}.vtu"
             with atomic_path(name) as tmp:
                 grid.save(tmp)
@@ -239,13 +242,14 @@ class Results:
             if surf is not None and dual:
                 # Vertex pieces → surface points: area-weighted surface temperature and the
                 # total heat flow over the total piece area of each boundary vertex.
-                surf.point_data["temperature"] = (to_points @ (self.face_temperature[k] * g.bface_area)
-                                                  / face_flow_area).astype(np.float32)
-                surf.point_data["heat_flux"] = (to_points @ self.face_flow[k]
+                surf.point_data["temperature_K"] = (
+                    to_points @ (self.face_temperature[k] * g.bface_area)
+                    / face_flow_area).astype(np.float32)
+                surf.point_data["heat_flux_W_m2"] = (to_points @ self.face_flow[k]
                                                 / face_flow_area).astype(np.float32)
             elif surf is not None:
-                surf.cell_data["temperature"] = self.face_temperature[k].astype(np.float32)
-                surf.cell_data["heat_flux"] = flux[k].astype(np.float32)
+                surf.cell_data["temperature_K"] = self.face_temperature[k].astype(np.float32)
+                surf.cell_data["heat_flux_W_m2"] = flux[k].astype(np.float32)
             if surf is not None:
                 sname = directory / f"{stem}_surface_{k:04d}.vtp"
                 with atomic_path(sname) as tmp:
@@ -266,14 +270,19 @@ class Results:
             written.append(directory / series)
         return written
 
-    def to_vtkhdf(self, path) -> Path:
-        """Transient VTKHDF (one file, mesh once, cell ``temperature`` per step), readable by
-        ParaView ≥ 5.12 and VTK's ``vtkHDFReader``. Vertex-centred graphs: the tet mesh with
-        point ``temperature`` (see :meth:`to_vtu`)."""
-        import h5py
+    def to_vtkhdf(self, path, time_units: str | None = None) -> Path:
+        """Transient VTKHDF (one file, mesh once, a time step per recorded time), readable
+        by ParaView ≥ 5.12 and VTK's ``vtkHDFReader`` (its time axis: ``Steps/Values`` [s]).
 
+        Arrays (units in their names and as HDF5 ``units`` attributes): ``temperature_K``
+        per step and ``part_id`` (index into the field data ``part_names``); cell data, or
+        point data for vertex-centred graphs (the tet mesh, see :meth:`to_vtu`). Each step
+        read carries its time in the field data ``Time`` [s]. ``time_units``: what the times
+        count from, e.g. ``"s since 2023-07-15 00:00:00+08:00"`` (an attribute of
+        ``Steps``). pyvista reads a step as ``r = pv.get_reader(path); r.reader.SetStep(k);
+        r.read()`` (its reader has no time API for VTKHDF).
+        """
         g = self.graph
-        path = Path(path)
         dual = g.kind == "dual-tetrahedral"
         if dual:
             # Vertex-centred: the tet mesh, temperatures as point data (see to_vtu).
@@ -282,8 +291,6 @@ class Results:
             types = np.full(len(tets), VTK_TETRA, np.uint8)
         else:
             conn, types = g.cell_connectivity, g.cell_types
-        n = len(types)
-        n_values = g.n_cells            # values per step (cells, or points when dual)
         # flat [npts, ids...] per cell → VTKHDF offsets + connectivity (sizes from the types)
         size_of = np.zeros(256, np.int64)
         size_of[[VTK_TETRA, VTK_WEDGE]] = (4, 6)
@@ -293,37 +300,12 @@ class Results:
         starts = np.concatenate([[0], np.cumsum(sizes + 1)[:-1]])
         mask = np.ones(len(conn), bool)
         mask[starts] = False
-        ids = conn[mask]
-        offsets = np.concatenate([[0], np.cumsum(sizes)])
-        nt = len(self.times)
-        with atomic_path(path, ".hdf") as tmp:
-            with h5py.File(tmp, "w") as f:
-                root = f.create_group("VTKHDF")
-                root.attrs["Version"] = (2, 1)
-                root.attrs.create("Type", np.bytes_("UnstructuredGrid"),
-                                  dtype=h5py.string_dtype("ascii", len("UnstructuredGrid")))
-                root.create_dataset("NumberOfPoints", data=np.array([len(g.points)], np.int64))
-                root.create_dataset("NumberOfCells", data=np.array([n], np.int64))
-                root.create_dataset("NumberOfConnectivityIds", data=np.array([len(ids)], np.int64))
-                root.create_dataset("Points", data=g.points.astype(np.float64))
-                root.create_dataset("Types", data=types.astype(np.uint8))
-                root.create_dataset("Connectivity", data=ids.astype(np.int64))
-                root.create_dataset("Offsets", data=offsets.astype(np.int64))
-                data_group = "PointData" if dual else "CellData"
-                cd = root.create_group(data_group)
-                cd.create_dataset("temperature", data=self.cell_temperature.reshape(-1).astype(np.float32))
-                steps = root.create_group("Steps")
-                steps.attrs["NSteps"] = nt
-                steps.create_dataset("Values", data=self.times.astype(np.float64))
-                zeros = np.zeros(nt, np.int64)
-                steps.create_dataset("PartOffsets", data=zeros)
-                steps.create_dataset("NumberOfParts", data=np.ones(nt, np.int64))
-                steps.create_dataset("PointOffsets", data=zeros)
-                steps.create_dataset("CellOffsets", data=zeros.reshape(nt, 1))
-                steps.create_dataset("ConnectivityIdOffsets", data=zeros.reshape(nt, 1))
-                cdo = steps.create_group(f"{data_group}Offsets")
-                cdo.create_dataset("temperature", data=np.arange(nt, dtype=np.int64) * n_values)
-        return path
+        cells = (np.concatenate([[0], np.cumsum(sizes)]), conn[mask])
+        return write_vtkhdf(path, "UnstructuredGrid", g.points, cells, self.times,
+                            {"temperature_K": self.cell_temperature},
+                            {"part_id": np.asarray(g.cell_part, np.int32)},
+                            part_names=g.part_names, types=types, point_data=dual,
+                            time_units=time_units)
 
     def summary(self) -> dict:
         """Settings, timings and the energy balance, JSON-ready."""
@@ -331,3 +313,106 @@ class Results:
                 "n_cells": self.graph.n_cells, "n_outputs": int(len(self.times)),
                 "energy": self.energy.summary(),
                 "timing": {k: float(v) for k, v in self.timing.items()}}
+
+
+#: Units of the VTKHDF arrays (HDF5 attribute ``units`` of each array) [UDUNITS]
+VTKHDF_UNITS = {"temperature_K": "K", "heat_flux_W_m2": "W m-2", "part_id": "1"}
+
+
+def write_vtkhdf(path, kind: str, points, cells, times, steps: dict, static: dict, *,
+                 part_names=(), types=None, point_data: bool = False,
+                 time_units: str | None = None) -> Path:
+    """Write a transient VTKHDF 2.1 file atomically: the mesh once, ``steps`` arrays per time.
+
+    Parameters
+    ----------
+    kind : ``"UnstructuredGrid"`` or ``"PolyData"`` (triangles as polygons).
+    points : (p, 3) [m]
+    cells : (offsets (n+1,), connectivity) of the cells.
+    times : (nt,) step times [s].
+    steps : name → (nt, n) array, one row per time (e.g. ``temperature_K``).
+    static : name → (n,) array, the same at every step (e.g. ``part_id``).
+    part_names : names that ``part_id`` indexes (field data ``part_names``).
+    types : (n,) VTK cell types (unstructured grids).
+    point_data : the arrays are point data (else cell data).
+    time_units : what the times count from (an attribute of ``Steps``).
+    """
+    import h5py
+
+    path = Path(path)
+    offsets, ids = (np.asarray(a, np.int64) for a in cells)
+    n_cells = len(offsets) - 1
+    nt = len(times)
+    n_values = len(points) if point_data else n_cells
+    with atomic_path(path, ".hdf") as tmp:
+        with h5py.File(tmp, "w") as f:
+            root = f.create_group("VTKHDF")
+            root.attrs["Version"] = (2, 1)
+            root.attrs.create("Type", np.bytes_(kind), dtype=h5py.string_dtype("ascii", len(kind)))
+            root.create_dataset("NumberOfPoints", data=np.array([len(points)], np.int64))
+            root.create_dataset("Points", data=np.asarray(points, np.float64))
+            if kind == "PolyData":
+                for name in ("Vertices", "Lines", "Polygons", "Strips"):
+                    grp = root.create_group(name)
+                    poly = name == "Polygons"
+                    grp.create_dataset("NumberOfCells", data=np.array([n_cells if poly else 0]))
+                    grp.create_dataset("NumberOfConnectivityIds",
+                                       data=np.array([len(ids) if poly else 0], np.int64))
+                    grp.create_dataset("Offsets", data=offsets if poly else np.zeros(1, np.int64))
+                    grp.create_dataset("Connectivity", data=ids if poly else np.zeros(0, np.int64))
+                n_topologies = 4
+            else:
+                root.create_dataset("NumberOfCells", data=np.array([n_cells], np.int64))
+                root.create_dataset("NumberOfConnectivityIds", data=np.array([len(ids)], np.int64))
+                root.create_dataset("Types", data=np.asarray(types, np.uint8))
+                root.create_dataset("Connectivity", data=ids)
+                root.create_dataset("Offsets", data=offsets)
+                n_topologies = 1
+            group = "PointData" if point_data else "CellData"
+            data = root.create_group(group)
+            st = root.create_group("Steps")
+            st.attrs["NSteps"] = nt
+            if time_units:
+                st.attrs["time_units"] = time_units
+            st.create_dataset("Values", data=np.asarray(times, np.float64)).attrs["units"] = "s"
+            zeros = np.zeros(nt, np.int64)
+            st.create_dataset("PartOffsets", data=zeros)
+            st.create_dataset("NumberOfParts", data=np.ones(nt, np.int64))
+            st.create_dataset("PointOffsets", data=zeros)
+            st.create_dataset("CellOffsets", data=np.zeros((nt, n_topologies), np.int64))
+            st.create_dataset("ConnectivityIdOffsets", data=np.zeros((nt, n_topologies), np.int64))
+            offs = st.create_group(f"{group}Offsets")
+            for name, arr in steps.items():
+                arr = np.asarray(arr, np.float32)
+                require(arr.shape == (nt, n_values), name, arr.shape,
+                        f"must be (steps, values) = ({nt}, {n_values})")
+                ds = data.create_dataset(name, data=arr.reshape(-1))
+                ds.attrs["units"] = VTKHDF_UNITS.get(name, "")
+                offs.create_dataset(name, data=np.arange(nt, dtype=np.int64) * n_values)
+            for name, arr in static.items():
+                ds = data.create_dataset(name, data=np.asarray(arr))
+                ds.attrs["units"] = VTKHDF_UNITS.get(name, "")
+                offs.create_dataset(name, data=zeros)      # every step reads the same values
+            if len(part_names):
+                fd = root.create_group("FieldData")
+                fd.create_dataset("part_names", data=np.array([str(p).encode() for p in part_names],
+                                                              dtype=h5py.string_dtype("ascii")))
+                st.create_group("FieldDataOffsets").create_dataset("part_names", data=zeros)
+                # per step: (components, tuples) of the field array
+                st.create_group("FieldDataSizes").create_dataset(
+                    "part_names", data=np.tile([1, len(part_names)], (nt, 1)).astype(np.int64))
+    return path
+
+
+def write_surface_vtkhdf(path, vertices, faces, face_part, part_names, times,
+                         face_temperature, time_units: str | None = None) -> Path:
+    """The ship's outer surface over time as transient VTKHDF (PolyData): the triangles the
+    images are rendered from, cell data ``temperature_K`` (the outer-surface temperature of
+    each triangle per step, as the imaging stage uses it) and ``part_id`` (into the field
+    data ``part_names``); times [s] as in :meth:`Results.to_vtkhdf`."""
+    faces = np.asarray(faces, np.int64)
+    offsets = np.arange(len(faces) + 1, dtype=np.int64) * 3
+    return write_vtkhdf(path, "PolyData", vertices, (offsets, faces.ravel()), times,
+                        {"temperature_K": face_temperature},
+                        {"part_id": np.asarray(face_part, np.int32)}, part_names=part_names,
+                        time_units=time_units)

@@ -15,6 +15,7 @@ from imaging.background import build_background_from_files, build_port_backgroun
 from imaging.background.synthetic import write_synthetic_port
 from imaging.background.terrain import southness, terrain_term
 from shipthermal.errors import InputError
+from shipthermal.units import strip_units
 
 
 @pytest.fixture(scope="module")
@@ -122,7 +123,7 @@ def test_variogram_fitted_and_reported_per_hour(summer):
     sills = np.array([f.parameters["psill"] for f in bg.variograms])
     assert np.all(ranges > 0) and np.all(sills > 0)
     assert np.unique(np.round(sills, 6)).size > 12          # refitted each hour, not shared
-    table = pd.read_csv(out / "variograms.csv")
+    table = strip_units(pd.read_csv(out / "variograms.csv"))
     assert len(table) == 24 and {"psill", "range", "nugget", "Q1", "Q2"} <= set(table.columns)
 
 
@@ -138,10 +139,10 @@ def test_outputs_written(summer):
         assert src.count == 24 and src.dtypes[0] == "float32" and src.crs == bg.grid.crs
         np.testing.assert_array_equal(src.read(8), bg.temperature[7])
     with rasterio.open(out / "class_map.tif") as src:
-        assert src.dtypes[0] == "uint8" and src.colormap(1)[1][:3] == (0x1f, 0x5f, 0xa8)
+        assert src.dtypes[0] == "uint8" and src.colormap(1)[1][:3] == (0x00, 0x72, 0xB2)
     with open(out / "class_map.png", "rb") as fh:
         assert fh.read(8) == b"\x89PNG\r\n\x1a\n"
-    acc = pd.read_csv(out / "accuracy.csv").set_index("metric")["value"]
+    acc = strip_units(pd.read_csv(out / "accuracy.csv")).set_index("metric")["value"]
     assert acc["kappa_quadratic_sklearn"] == pytest.approx(acc["kappa_quadratic_eq5"], abs=1e-9)
     summary = json.loads((out / "summary.json").read_text())
     assert summary["beta_aspect_K"] == pytest.approx(bg.terrain.beta_aspect)

@@ -14,6 +14,7 @@ from shipthermal.app.cli import main
 from shipthermal.errors import InputError
 
 from cli_helpers import write_tiny
+from shipthermal.units import strip_units
 
 COMMANDS = ["demo", "mesh", "run", "image", "crossover", "validate", "sweep", "ensemble", "report"]
 
@@ -87,7 +88,8 @@ def test_quiet_prints_results_only(imaged_run, capsys):
 def test_options_after_the_subcommand(imaged_run, capsys):
     assert main(["crossover", str(imaged_run), "--csv", "-q"]) == 0
     out = capsys.readouterr().out
-    assert out.splitlines()[0] == "season,band,time_h,date_local,time_local,direction"
+    assert out.splitlines()[0] == ("season,band,time_h [h],date_local [UTC+8],time_local [UTC+8],"
+                                   "direction")
 
 
 def test_run_directory_of_a_run_with_imaging(imaged_run):
@@ -122,7 +124,8 @@ def test_history_file_is_the_thermal_result(imaged_run):
     from shipthermal.app.pipeline import load_history
 
     h = load_history(imaged_run / "thermal" / "tiny" / "history.npz")
-    pm = pd.read_csv(imaged_run / "thermal" / "tiny" / "part_means.csv", index_col=0)
+    pm = strip_units(pd.read_csv(imaged_run / "thermal" / "tiny" / "part_means.csv", index_col=0))
+    assert pm.attrs["units"] == {"hour": "h", **{c: "K" for c in pm.columns}}
     np.testing.assert_allclose(h.times_s / 3600.0, pm.index.to_numpy(), atol=1e-9)
     tri = h.vertices[h.faces]
     area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
@@ -144,7 +147,7 @@ def test_image_command_reimages_with_another_step(imaged_run, tmp_path, capsys):
     m = json.loads((imaged_run / "manifest.json").read_text())
     assert m["amendments"][-1]["kind"] == "image" and m["amendments"][-1]["status"] == "done"
     out = capsys.readouterr().out
-    cross = pd.read_csv(imaged_run / "imaging" / "crossovers.csv")
+    cross = strip_units(pd.read_csv(imaged_run / "imaging" / "crossovers.csv"))
     for t in cross["time_local"]:
         assert t in out
 
@@ -206,3 +209,60 @@ def test_validate_missing_module_message(monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "shipthermal.app.validation", None)
     assert main(["validate", "--out", "unused"]) == 1
     assert "validation is not available" in capsys.readouterr().err
+
+
+def test_bare_call_prints_the_help_and_where_to_start(capsys):
+    assert main([]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("usage: shipthermal") and "demo" in out and "--version" in out
+    assert "shipthermal demo --quick" in out
+
+
+def test_version(capsys):
+    from importlib.metadata import version
+
+    with pytest.raises(SystemExit) as exc:
+        main(["--version"])
+    assert exc.value.code == 0
+    assert capsys.readouterr().out.strip() == f"shipthermal {version('shipthermal')}"
+
+
+@pytest.mark.parametrize("argv, hint", [
+    (["rnu", "summer"], "did you mean 'run'?"),
+    (["reprot", "runs/x"], "did you mean 'report'?"),
+    (["image", "runs/x", "--stpe-min", "5"], "did you mean '--step-min'?"),
+    (["demo", "--quikc"], "did you mean '--quick'?"),
+])
+def test_a_typo_gets_the_nearest_command_or_option(argv, hint, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and hint in err
+
+
+def test_nothing_near_gets_no_suggestion(capsys):
+    with pytest.raises(SystemExit):
+        main(["zzzzzz"])
+    assert "did you mean" not in capsys.readouterr().err
+
+
+def test_every_subcommand_shows_examples_that_parse(capsys):
+    import shlex
+
+    from shipthermal.app.cli import EXAMPLES, build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command")
+    assert set(EXAMPLES) == set(sub.choices)
+    for name, examples in EXAMPLES.items():
+        with pytest.raises(SystemExit):
+            main([name, "--help"])
+        out = capsys.readouterr().out
+        assert "examples:" in out
+        for e in examples:
+            assert e in out
+            words = shlex.split(e)
+            assert words[0] == "shipthermal" and words[1] == name
+            args = parser.parse_args(words[1:])          # exits 2 if it did not parse
+            assert args.command == name

@@ -15,6 +15,7 @@ import pandas as pd
 import pytest
 
 from shipthermal.app.cli import main
+from shipthermal.units import strip_units
 
 CHROMIUM = next((p for p in ("/usr/bin/chromium", shutil.which("chromium") or "",
                              shutil.which("chromium-browser") or "") if p and Path(p).exists()),
@@ -58,9 +59,9 @@ def test_report_is_self_contained(report):
     for code in re.findall(r"<script>(.*?)</script>", text, flags=re.S):
         assert not re.search(r"https?:|fetch\(|XMLHttpRequest|import\(|src\s*=", code)
     for ref in p.links:
-        assert ref.startswith(("data:image/png;base64,", "#")), ref[:60]
+        assert ref.startswith(("data:image/png;base64,", "data:text/csv;base64,", "#")), ref[:60]
     assert not re.search(r"url\(|@import|https?://", text.split("</style>")[0])
-    assert set(p.sections) >= {"answer", "day", "run", "scenario", "thermal", "imaging"}
+    assert set(p.sections) >= {"answer", "day", "run", "scenario", "thermal", "imaging", "data"}
 
 
 def test_every_embedded_image_decodes(report):
@@ -82,7 +83,7 @@ def test_every_embedded_image_decodes(report):
 
 def test_report_tables_match_the_run(report, imaged_run):
     path, text, p = report
-    cross = pd.read_csv(imaged_run / "imaging" / "crossovers.csv")
+    cross = strip_units(pd.read_csv(imaged_run / "imaging" / "crossovers.csv"))
     assert len(cross) >= 1
     for t in cross["time_local"]:
         assert f"<td>{t}</td>" in text
@@ -121,9 +122,15 @@ i.naturalWidth>0;}).length+'/'+im.length);b.setAttribute('data-before',
 b.getAttribute('data-shown'));var vis=function(){return [].slice.call(document.querySelectorAll(
 'img[data-frame]')).filter(function(i){return !i.hidden&&i.offsetWidth>0;}).map(function(i){
 return i.getAttribute('data-frame');}).join(',');};b.setAttribute('data-vis-before',vis());
-var s=document.getElementById('day-slider');s.value=6;s.dispatchEvent(new Event('input'));
+var s=document.getElementById('day-slider'),L=JSON.parse(s.getAttribute('data-labels'));
+s.value=L.indexOf('06:00');s.dispatchEvent(new Event('input'));
 b.setAttribute('data-vis-after',vis());b.setAttribute('data-cursor',
 document.querySelector('line.cursor').getAttribute('x1'));
+var j=document.querySelector('button[data-jump]');if(j){j.click();
+b.setAttribute('data-jump-to',j.getAttribute('data-jump')+':'+b.getAttribute('data-shown')+':'+vis());}
+var a=document.querySelector('table.answer-table');
+b.setAttribute('data-widths',[document.documentElement.scrollWidth,window.innerWidth,
+a?Math.ceil(a.getBoundingClientRect().right):-1].join(','));
 b.setAttribute('data-errors',String(window.__errs.length)+':'+window.__errs.join('|'));});
 </script>"""
 
@@ -149,11 +156,24 @@ def test_report_opens_in_headless_chromium(report, tmp_path):
     n_groups = len({re.sub(r" \d\d:\d\d$", "", a["alt"]) for a in p.images
                     if "data-frame" in a})
     assert n_groups >= 3
-    assert attrs["before"] == "12:00" and attrs["shown"] == "06:00"
-    assert attrs["vis-before"] == ",".join(["12"] * n_groups)
-    assert attrs["vis-after"] == ",".join(["6"] * n_groups)
+    import html as _html
+    import json
+
+    labels = json.loads(_html.unescape(re.search(r'data-labels="([^"]*)"', text).group(1)))
+    i12, i6 = labels.index("12:00"), labels.index("06:00")
+    assert attrs["before"] == "12:00"
+    assert attrs["vis-before"] == ",".join([str(i12)] * n_groups)
+    assert attrs["vis-after"] == ",".join([str(i6)] * n_groups)
     m = re.search(r'class="cursor" data-x0="([\d.]+)" data-dx="([\d.]+)"', text)
     assert float(attrs["cursor"]) == pytest.approx(float(m.group(1)) + 6 * float(m.group(2)))
+    # the first jump button goes to its key moment (not on the hour), every group follows
+    k, rest = attrs["jump-to"].split(":", 1)
+    shown, vis = rest.rsplit(":", 1)
+    assert shown == labels[int(k)] and vis == ",".join([k] * n_groups)
+    target = re.search(r'<button type="button" data-jump="\d+">[^<]*?(\d\d):(\d\d)', text)
+    step_min = 10
+    assert abs(int(shown[:2]) * 60 + int(shown[3:]) - int(target.group(1)) * 60
+               - int(target.group(2))) <= step_min / 2
     for name, size in (("first_screen.png", "1280,1000"), ("first_screen_narrow.png", "800,1200")):
         shot = tmp_path / name
         _chromium(f"--window-size={size}", "--virtual-time-budget=5000",
@@ -167,6 +187,36 @@ def test_report_opens_in_headless_chromium(report, tmp_path):
             assert len(im.convert("L").getcolors(65536) or []) > 20
 
 
+@pytest.mark.skipif(CHROMIUM is None, reason="headless Chromium not installed")
+def test_report_fits_a_phone_screen(report, tmp_path):
+    """At 390 x 844 CSS pixels (a phone) nothing is wider than the screen: the page does not
+    scroll sideways and the answer table ends inside it (measured in Chromium); the first
+    screen is kept as a screenshot. (Before the phone layout the answer table was 1005 px
+    wide.)"""
+    path, text, p = report
+    copy = tmp_path / "probe.html"
+    copy.write_text(text.replace("<head>", "<head>" + _PROBE, 1), encoding="utf-8")
+    # headless Chromium keeps its window at least 500 px wide: the page goes into a phone-
+    # sized frame, whose probe results the host page copies once the frame has loaded
+    host = tmp_path / "phone.html"
+    host.write_text('<!DOCTYPE html><html><body><iframe id="f" src="probe.html" '
+                    'style="width:390px;height:844px;border:0"></iframe><script>'
+                    "document.getElementById('f').addEventListener('load',function(){"
+                    "document.body.setAttribute('data-widths',this.contentDocument.body"
+                    ".getAttribute('data-widths'));});</script></body></html>", encoding="utf-8")
+    res = _chromium("--allow-file-access-from-files", "--window-size=800,900",
+                    "--virtual-time-budget=10000", "--dump-dom", host.as_uri())
+    attrs = dict(re.findall(r'data-([a-z-]+)="([^"]*)"', res.stdout.split("<body", 1)[1]
+                            .split(">", 1)[0]))
+    page, screen, table = (int(v) for v in attrs["widths"].split(","))
+    assert screen == 390, attrs["widths"]
+    assert page <= screen and 0 < table <= screen, attrs["widths"]
+    shot = tmp_path / "first_screen_phone.png"
+    _chromium("--window-size=390,844", "--virtual-time-budget=5000", f"--screenshot={shot}",
+              path.as_uri())
+    assert shot.stat().st_size > 10_000
+
+
 def test_first_screen_answers_from_the_metrics(report, imaged_run):
     """The headline band and time are those of the lowest SCR in the metrics CSVs
     (recomputed here with pandas): the lowest frame, or a zero of the contrast between two
@@ -174,11 +224,12 @@ def test_first_screen_answers_from_the_metrics(report, imaged_run):
     the SCR goes below 1."""
     _, text, _ = report
     img = imaged_run / "imaging"
-    cross = pd.read_csv(img / "crossovers.csv") if (img / "crossovers.csv").is_file() else None
+    cross = (strip_units(pd.read_csv(img / "crossovers.csv")) if (img / "crossovers.csv").is_file()
+             else None)
     best, low = None, False
     for f in sorted(img.glob("metrics_*.csv")):
         season, band = f.stem[len("metrics_"):].split("_", 1)
-        m = pd.read_csv(f)
+        m = strip_units(pd.read_csv(f))
         t, c, scr = m["time_h"].to_numpy(), m["contrast"].to_numpy(), m["scr"].to_numpy()
         k = int(np.argmin(scr))
         cand = (scr[k], band, t[k])
@@ -196,7 +247,8 @@ def test_first_screen_answers_from_the_metrics(report, imaged_run):
             best = cand
     h = int(round(best[2] * 60))
     answer = text.split('<section id="answer"', 1)[1].split("</section>", 1)[0]
-    assert (f"hardest at <b>{h // 60:02d}:{h % 60:02d}</b> local in the <b>{best[1]} µm</b> "
+    assert (f"hardest at <b>{h // 60:02d}:{h % 60:02d}</b> local (UTC+8) in the "
+            f"<b>{best[1].replace('-', '–')} µm</b> "
             f"band, local SCR {best[0]:.2g}") in answer
     assert ("h in all" in answer) == low and ("never falls below" in answer) == (not low)
 

@@ -12,6 +12,7 @@ import pandas as pd
 from cli_helpers import write_tiny
 
 from shipthermal.app.cli import main
+from shipthermal.units import strip_units
 
 NDBC = Path(__file__).resolve().parents[1] / "data" / "weather" / "44009h2013_mar03-09.txt"
 
@@ -55,7 +56,8 @@ def test_ndbc_record_run_from_the_command_line(tmp_path, capsys):
     err = captured.err
     assert "spin-up + 2 recorded days" in captured.out
     assert "cloud_cover: not in the file over the span, constant 0.5" in err
-    pm = pd.read_csv(tmp_path / "run" / "thermal" / "buoy" / "part_means.csv", index_col=0)
+    pm = strip_units(pd.read_csv(tmp_path / "run" / "thermal" / "buoy" / "part_means.csv",
+                                 index_col=0))
     assert pm.index[0] == 0 and pm.index[-1] == 48      # both recorded days
     t, atmp, wtmp = _ndbc_raw()
     hours = pm.index.to_numpy()
@@ -88,7 +90,8 @@ temp_sea = 279.0
 """
     sc = _with(write_tiny(tmp_path, name="tmy", season="summer"), text, "2023-07-20")
     assert main(["-q", "run", str(sc), "--out", str(tmp_path / "run")]) == 0
-    pm = pd.read_csv(tmp_path / "run" / "thermal" / "tmy" / "part_means.csv", index_col=0)
+    pm = strip_units(pd.read_csv(tmp_path / "run" / "thermal" / "tmy" / "part_means.csv",
+                                 index_col=0))
     data, _ = pvlib.iotools.read_tmy3(src, coerce_year=2023, map_variables=True)
     day = data["temp_air"].tz_convert("Etc/GMT+9")
     want = day.loc["2023-07-20 00:00":"2023-07-20 23:00"].to_numpy() + 273.15
@@ -119,15 +122,15 @@ def test_record_is_imaged_over_its_span(tmp_path, capsys):
     sc = _with(write_tiny(tmp_path, name="buoy", season="winter"), BUOY, "2013-03-04")
     assert main(["-q", "run", str(sc), "--out", str(tmp_path / "run"), "--image"]) == 0
     run = tmp_path / "run"
-    m = pd.read_csv(run / "imaging" / "metrics_winter_8-14.csv")
+    m = strip_units(pd.read_csv(run / "imaging" / "metrics_winter_8-14.csv"))
     assert m["time_h"].iloc[0] == 0.0 and m["time_h"].iloc[-1] == 48.0
-    pm = pd.read_csv(run / "thermal" / "buoy" / "part_means.csv", index_col=0)
+    pm = strip_units(pd.read_csv(run / "thermal" / "buoy" / "part_means.csv", index_col=0))
     sea = pm["temp_sea_skin"] if "temp_sea_skin" in pm else pm["temp_sea"]
     on = np.isin(m["time_h"], pm.index)
     # the synthetic port's water pattern has zero mean over the water (part_means: 4 decimals)
     np.testing.assert_allclose(m["water_mean_temp"][on], np.interp(m["time_h"][on], pm.index,
                                                                     sea), atol=2e-4)
-    cross = pd.read_csv(run / "imaging" / "crossovers.csv")
+    cross = strip_units(pd.read_csv(run / "imaging" / "crossovers.csv"))
     assert set(cross["date_local"]) <= {"2013-03-04", "2013-03-05", "2013-03-06"}
     paper = _with(write_tiny(tmp_path / "p", name="buoy", season="winter"), BUOY, "2013-03-04")
     paper.write_text(paper.read_text().replace("[background]\n", "[background]\nmodel = \"paper\"\n"))

@@ -15,6 +15,7 @@ from imaging.scene import GriddedBackground, ShipPlacement
 from imaging.thermal_history import ShipThermalHistory, synthetic_history
 from shipthermal.errors import InputError
 from shipthermal.raytrace.scenes import box
+from shipthermal.units import strip_units
 
 DALIAN = dict(date="2023-07-15", latitude=38.91, longitude=121.63, tz="Etc/GMT-8")
 
@@ -128,22 +129,28 @@ def test_run_experiment_writes_every_product_atomically(tmp_path, frigate_coarse
         ds = xr.open_dataset(tmp_path / f"images_{season}_{band}.nc", engine="h5netcdf")
         assert ds["radiance"].dtype == np.float32 and ds["radiance"].attrs["units"] == "W m-2 sr-1"
         assert ds["radiance"].shape == (len(sr.times_s), 24, 24)
-        np.testing.assert_allclose(ds["time"].values, sr.times_s / 3600.0)
+        np.testing.assert_allclose(ds["time_local_h"].values, sr.times_s / 3600.0)
+        # CF time: local midnight of the scenario's date at UTC+8 is 16:00 UTC the day before
+        assert scen[season].tz == "Etc/GMT-8"
+        midnight_utc = np.datetime64(f"{scen[season].date}T00:00") - np.timedelta64(8, "h")
+        np.testing.assert_array_equal(ds["time"].values, midnight_utc + (
+            sr.times_s * 1e9).round().astype("timedelta64[ns]"))
         assert float(ds["coverage"].sum()) == pytest.approx(float(sr.coverage.sum()))
         ds.close()
         with rasterio.open(tmp_path / f"typical_{season}_{band}.tif") as tif:
             assert tif.count == n_typ[season] and tif.dtypes[0] == "float32"
             k = sorted(sr.frames)[0]
             np.testing.assert_array_equal(tif.read(1), sr.frames[k].radiance)
-        df = pd.read_csv(tmp_path / f"metrics_{season}_{band}.csv")
+        df = strip_units(pd.read_csv(tmp_path / f"metrics_{season}_{band}.csv"))
         assert len(df) == len(sr.times_s) and np.isfinite(df["scr"]).all()
+        assert df.attrs["units"]["contrast"] == "W m-2 sr-1"
     for band in ("3-5", "8-14"):
         assert os.path.getsize(tmp_path / f"panels_{band}.png") > 10_000
         assert os.path.getsize(tmp_path / f"scr_{band}.png") > 10_000
     cross = pd.read_csv(tmp_path / "crossovers.csv")
-    assert list(cross.columns) == ["season", "band", "time_h", "date_local", "time_local",
-                                   "direction"]
-    comp = pd.read_csv(tmp_path / "band_comparison.csv")
+    assert list(cross.columns) == ["season", "band", "time_h [h]", "date_local [UTC+8]",
+                                   "time_local [UTC+8]", "direction"]
+    comp = strip_units(pd.read_csv(tmp_path / "band_comparison.csv"))
     assert len(comp) == 4 and {"scr_in_crossover_mean", "scr_out_crossover_mean"} <= set(comp)
     assert (tmp_path / "summary.json").exists()
     assert not glob.glob(str(tmp_path / "*.part*"))

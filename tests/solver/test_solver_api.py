@@ -96,12 +96,15 @@ def test_vtu_and_vtkhdf_read_back(tmp_path):
     res = Simulation(_model(), 600.0, 7200.0, scheme="bdf2", output_interval=3600.0).run()
     files = res.to_vtu(tmp_path / "vtu")
     grid = pv.read(files[0])
-    np.testing.assert_allclose(grid.cell_data["temperature"], res.cell_temperature[0], atol=1e-4)
+    np.testing.assert_allclose(grid.cell_data["temperature_K"], res.cell_temperature[0], atol=1e-4)
+    np.testing.assert_array_equal(grid.cell_data["part_id"], res.graph.cell_part)
     assert (tmp_path / "vtu" / "thermal.pvd").exists()
+    series = pv.get_reader(tmp_path / "vtu" / "thermal.pvd")         # pyvista sees the times
+    assert series.time_values == pytest.approx(list(res.times))
     surf = pv.read(tmp_path / "vtu" / "thermal_surface_0002.vtp")
-    np.testing.assert_allclose(surf.cell_data["temperature"], res.face_temperature[2], atol=1e-4)
+    np.testing.assert_allclose(surf.cell_data["temperature_K"], res.face_temperature[2], atol=1e-4)
 
-    path = res.to_vtkhdf(tmp_path / "run.vtkhdf")
+    path = res.to_vtkhdf(tmp_path / "run.vtkhdf", time_units="s since 2023-07-15 00:00:00+08:00")
     reader = vtk.vtkHDFReader()
     reader.SetFileName(str(path))
     reader.UpdateInformation()
@@ -111,7 +114,21 @@ def test_vtu_and_vtkhdf_read_back(tmp_path):
         reader.Update()
         out = pv.wrap(reader.GetOutput())
         assert out.n_cells == res.graph.n_cells
-        np.testing.assert_allclose(out.cell_data["temperature"], res.cell_temperature[k], atol=1e-4)
+        np.testing.assert_allclose(out.cell_data["temperature_K"], res.cell_temperature[k], atol=1e-4)
+        np.testing.assert_array_equal(out.cell_data["part_id"], res.graph.cell_part)
+        assert list(out.field_data["part_names"]) == list(res.graph.part_names)
+        assert out.field_data["Time"][0] == pytest.approx(res.times[k])
+    # pyvista's own reader: a step by its index, with its time
+    r = pv.get_reader(path)
+    r.reader.SetStep(len(res.times) - 1)
+    last = r.read()
+    np.testing.assert_allclose(last["temperature_K"], res.cell_temperature[-1], atol=1e-4)
+    assert last.field_data["Time"][0] == pytest.approx(res.times[-1])
+    import h5py
+
+    with h5py.File(path) as f:          # units for HDF5 readers
+        assert f["VTKHDF/CellData/temperature_K"].attrs["units"] == "K"
+        assert f["VTKHDF/Steps"].attrs["time_units"].startswith("s since 2023-07-15")
     assert not list(tmp_path.rglob("*.tmp*"))
 
 

@@ -265,15 +265,15 @@ def test_vtu_and_vtkhdf_hold_vertex_temperatures_as_point_data(tmp_path):
     files = res.to_vtu(tmp_path / "vtu")
     grid = pv.read(files[0])
     assert grid.n_cells == len(tets) and grid.n_points == g.n_cells
-    np.testing.assert_allclose(grid.point_data["temperature"], res.cell_temperature[0], atol=1e-4)
+    np.testing.assert_allclose(grid.point_data["temperature_K"], res.cell_temperature[0], atol=1e-4)
     surf = pv.read(tmp_path / "vtu" / "thermal_surface_0002.vtp")
     assert surf.n_cells == len(g.metadata["boundary_triangles"])
     # Surface points carry their vertex's surface temperature (= the vertex temperature).
     near = g.cell_centroid[g.bface_cell]
     idx = {tuple(np.round(p, 12)): i for i, p in enumerate(surf.points)}
     rows = np.array([idx[tuple(np.round(p, 12))] for p in near])
-    np.testing.assert_allclose(surf.point_data["temperature"][rows], res.face_temperature[2], atol=1e-3)
-    total_flow = np.sum(surf.point_data["heat_flux"] * np.bincount(rows, g.bface_area, surf.n_points))
+    np.testing.assert_allclose(surf.point_data["temperature_K"][rows], res.face_temperature[2], atol=1e-3)
+    total_flow = np.sum(surf.point_data["heat_flux_W_m2"] * np.bincount(rows, g.bface_area, surf.n_points))
     assert total_flow == pytest.approx(res.face_flow[2].sum(), rel=1e-5)   # float32 output
 
     path = res.to_vtkhdf(tmp_path / "run.vtkhdf")
@@ -286,7 +286,7 @@ def test_vtu_and_vtkhdf_hold_vertex_temperatures_as_point_data(tmp_path):
         reader.Update()
         out = pv.wrap(reader.GetOutput())
         assert out.n_cells == len(tets)
-        np.testing.assert_allclose(out.point_data["temperature"], res.cell_temperature[k], atol=1e-4)
+        np.testing.assert_allclose(out.point_data["temperature_K"], res.cell_temperature[k], atol=1e-4)
     assert not list(tmp_path.rglob("*.tmp*"))
 
 

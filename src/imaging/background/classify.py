@@ -19,6 +19,7 @@ from sklearn.discriminant_analysis import QuadraticDiscriminantAnalysis
 from sklearn.metrics import cohen_kappa_score, confusion_matrix
 
 from shipthermal.errors import InputError, require
+from shipthermal.figures import CLASS_COLOURS as PALETTE
 
 from ..parameters import N_SPLITS
 
@@ -43,7 +44,9 @@ __all__ = [
 CLASS_CODES = (1, 2, 3, 4)
 CLASS_NAMES = {1: "water", 2: "vegetation", 3: "land", 4: "building"}
 """Class codes of the class map (0 = unclassified/fill), in the paper's Table 1 order."""
-CLASS_COLOURS = {1: "#1f5fa8", 2: "#2e8b3a", 3: "#c8a165", 4: "#d9423b"}
+CLASS_COLOURS = {code: PALETTE[name] for code, name in CLASS_NAMES.items()}
+"""Colour of each class code: :data:`shipthermal.figures.CLASS_COLOURS` (told apart under
+colour-blindness)."""
 
 
 # ---------------------------------------------------------------------------------------------

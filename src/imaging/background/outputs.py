@@ -6,6 +6,7 @@ only after the whole chain has succeeded, so a failed run leaves nothing half-wr
 
 from __future__ import annotations
 
+import datetime
 import json
 import os
 
@@ -13,17 +14,35 @@ import numpy as np
 import pandas as pd
 import rasterio
 
+from shipthermal.figures import FigureOptions, add_scale_bar, save_figure
+from shipthermal.units import utc_offset_text, with_units
+
 from .classify import CLASS_CODES, CLASS_COLOURS, CLASS_NAMES, format_jm_table
 
-__all__ = ["write_outputs", "write_overpass_outputs", "write_geotiff", "write_physical_outputs"]
+__all__ = ["write_outputs", "write_overpass_outputs", "write_geotiff", "write_physical_outputs",
+           "time_tags"]
 
 
 def _tmp(path: str) -> str:
     return f"{path}.part-{os.getpid()}"
 
 
-def write_geotiff(path, data, grid, nodata=None, descriptions=None, colormap=None) -> str:
-    """Write a (bands, rows, cols) or (rows, cols) array as a GeoTIFF on ``grid`` atomically."""
+def write_geotiff(path, data, grid, nodata=None, descriptions=None, colormap=None,
+                  units=None, band_tags=None, tags=None) -> str:
+    """Write a (bands, rows, cols) or (rows, cols) array as a GeoTIFF on ``grid`` atomically.
+
+    Parameters
+    ----------
+    descriptions : list of str, optional
+        One description per band (GDAL's band description, QGIS's band name).
+    units : str or list of str, optional
+        The unit of every band (one string) or of each band (UDUNITS spelling, e.g.
+        ``"K"``, ``"W m-2 sr-1"``): GDAL's band unit type, shown by ``gdalinfo`` and QGIS.
+    band_tags : list of dict, optional
+        Metadata of each band (e.g. its time as ``time_utc``, ``time_local``).
+    tags : dict, optional
+        Metadata of the file.
+    """
     arr = data if data.ndim == 3 else data[None]
     tmp = _tmp(path)
     with rasterio.open(tmp, "w", driver="GTiff", height=arr.shape[1], width=arr.shape[2], count=arr.shape[0],
@@ -33,24 +52,48 @@ def write_geotiff(path, data, grid, nodata=None, descriptions=None, colormap=Non
         if descriptions:
             for k, d in enumerate(descriptions, start=1):
                 dst.set_band_description(k, d)
+        if units:
+            each = [units] * arr.shape[0] if isinstance(units, str) else list(units)
+            for k, u in enumerate(each, start=1):
+                dst.set_band_unit(k, u)
+        for k, t in enumerate(band_tags or (), start=1):
+            dst.update_tags(k, **{key: str(v) for key, v in t.items()})
+        if tags:
+            dst.update_tags(**{key: str(v) for key, v in tags.items()})
         if colormap:
             dst.write_colormap(1, colormap)
     os.replace(tmp, path)
     return path
 
 
-def _csv(df: pd.DataFrame, path: str, index=True) -> str:
+def time_tags(origin, times_s) -> list[dict]:
+    """Band metadata of instants ``times_s`` [s after ``origin``, an aware datetime: local
+    midnight of the run's first day, :func:`shipthermal.units.clock_origin`]: ``time_utc``
+    and ``time_local`` (ISO 8601, the latter with its UTC offset) and
+    ``hours_after_local_midnight`` [h]."""
+    out = []
+    for t in np.asarray(times_s, float):
+        utc = (origin + datetime.timedelta(seconds=float(t))).astimezone(datetime.timezone.utc)
+        local = utc.astimezone(origin.tzinfo)
+        out.append({"time_utc": utc.strftime("%Y-%m-%dT%H:%M:%SZ"),
+                    "time_local": local.isoformat(timespec="seconds"),
+                    "hours_after_local_midnight": f"{t / 3600.0:.6g}"})
+    return out
+
+
+def _csv(df: pd.DataFrame, path: str, index=True, units: dict | None = None,
+         clock: str | None = None) -> str:
+    """Write a table atomically with units in its headers (``name [unit]``:
+    :func:`shipthermal.units.with_units`; ``units`` adds or overrides column units, ``clock``
+    is the zone of local clock columns)."""
     tmp = _tmp(path)
-    df.to_csv(tmp, index=index, float_format="%.6g")
+    with_units(df, units, clock).to_csv(tmp, index=index, float_format="%.6g")
     os.replace(tmp, path)
     return path
 
 
-def _savefig(fig, path: str) -> str:
-    tmp = _tmp(path)
-    fig.savefig(tmp, format="png", dpi=100)
-    os.replace(tmp, path)
-    return path
+def _savefig(fig, path: str, figures: FigureOptions | None = None) -> str:
+    return os.fspath(save_figure(fig, path, figures or FigureOptions(dpi=100)))
 
 
 def _hex_rgb(h: str):
@@ -58,7 +101,7 @@ def _hex_rgb(h: str):
 
 
 def _classification_tables(c, p, out: dict) -> None:
-    out["jm_csv"] = _csv(c.jm, p("jm_separability.csv"))
+    out["jm_csv"] = _csv(c.jm, p("jm_separability.csv"), units={k: "-" for k in c.jm.columns})
     tmp = _tmp(p("jm_separability.txt"))
     with open(tmp, "w", encoding="utf-8") as fh:
         fh.write("Sample separability (Jeffries-Matusita, eqs. 3-4), all ROI pixels\n" + format_jm_table(c.jm) + "\n")
@@ -70,7 +113,8 @@ def _classification_tables(c, p, out: dict) -> None:
                 fh.write(f"  {k:18s} {v['mean']:.3f} +- {v['std']:.3f}  [{v['min']:.3f}, {v['max']:.3f}]\n")
     os.replace(tmp, p("jm_separability.txt"))
     out["jm_txt"] = p("jm_separability.txt")
-    out["confusion"] = _csv(c.confusion, p("confusion_matrix.csv"))
+    out["confusion"] = _csv(c.confusion, p("confusion_matrix.csv"),
+                            units={k: "pixels" for k in c.confusion.columns})
     spread = c.spread()
     rows = [("overall_accuracy", c.overall_accuracy), ("kappa_quadratic_sklearn", c.kappa_quadratic),
             ("kappa_quadratic_eq5", c.kappa_quadratic_eq5), ("kappa_unweighted", c.kappa_unweighted)]
@@ -79,18 +123,23 @@ def _classification_tables(c, p, out: dict) -> None:
     acc = pd.DataFrame({"metric": [r[0] for r in rows], "value": [r[1] for r in rows],
                         "std_over_splits": [spread[std[r[0]]]["std"] if r[0] in std and spread else np.nan
                                             for r in rows]})
-    out["accuracy"] = _csv(acc, p("accuracy.csv"), index=False)
+    out["accuracy"] = _csv(acc, p("accuracy.csv"), index=False,
+                           units={"value": "-", "std_over_splits": "-"})
     if c.splits is not None:
-        out["splits"] = _csv(c.splits, p("accuracy_splits.csv"), index=False)
-    out["fractions"] = _csv(c.fractions, p("class_fractions.csv"), index=False)
+        out["splits"] = _csv(c.splits, p("accuracy_splits.csv"), index=False,
+                             units={k: "-" for k in c.splits.columns
+                                    if pd.api.types.is_numeric_dtype(c.splits[k])})
+    out["fractions"] = _csv(c.fractions, p("class_fractions.csv"), index=False,
+                            units={"fraction": "-"})
 
 
 def _overpass_rasters(ov, g, p, out: dict) -> None:
     from .landsat import MASK_BITS
 
-    out["qa_mask"] = write_geotiff(p("qa_mask.tif"), ov.mask.astype(np.uint8), g,
+    out["qa_mask"] = write_geotiff(p("qa_mask.tif"), ov.mask.astype(np.uint8), g, units="1",
                                    descriptions=["replaced pixels: " + ", ".join(f"{v}={k}" for k, v in MASK_BITS.items())])
     out["water_disagreement"] = write_geotiff(p("water_disagreement.tif"), ov.water_disagreement.astype(np.uint8), g,
+                                              units="1",
                                               descriptions=["1 = MNDWI and the water class disagree"])
 
 
@@ -109,8 +158,9 @@ def write_overpass_outputs(ov, out_dir) -> dict:
     out: dict[str, str] = {}
     g = ov.grid
     nan = np.float32(np.nan)
-    out["lst"] = write_geotiff(p("lst_K.tif"), ov.lst.astype(np.float32), g, nodata=nan,
-                               descriptions=[f"surface temperature [K] ({ov.lst_source})"])
+    out["lst"] = write_geotiff(p("lst_K.tif"), ov.lst.astype(np.float32), g, nodata=nan, units="K",
+                               descriptions=[f"surface temperature [K] ({ov.lst_source})"],
+                               tags={"time_utc": ov.scene.mtl.acquired_utc.isoformat()})
     out["class_map"] = _class_map_tif(p, ov.class_map, g)
     _overpass_rasters(ov, g, p, out)
     _classification_tables(ov.classification, p, out)
@@ -139,12 +189,13 @@ def write_overpass_outputs(ov, out_dir) -> dict:
 
 def _class_map_tif(p, class_map, g) -> str:
     cmap_tab = {0: (0, 0, 0, 0), **{c: (*_hex_rgb(CLASS_COLOURS[c]), 255) for c in CLASS_CODES}}
-    return write_geotiff(p("class_map.tif"), class_map.astype(np.uint8), g, nodata=0,
+    return write_geotiff(p("class_map.tif"), class_map.astype(np.uint8), g, nodata=0, units="1",
+                         tags={"classes": ", ".join(f"{c}={n}" for c, n in CLASS_NAMES.items())},
                          descriptions=["class: " + ", ".join(f"{c}={n}" for c, n in CLASS_NAMES.items())],
                          colormap=cmap_tab)
 
 
-def _class_png(p, class_map, c, g) -> str:
+def _class_png(p, class_map, c, g, figures=None) -> str:
     import matplotlib.pyplot as plt
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
@@ -162,12 +213,13 @@ def _class_png(p, class_map, c, g) -> str:
     oa = (f"OA {sp['mean']:.3f} +- {sp['std']:.3f} over {c.spread()['n_splits']} splits" if sp
           else f"OA {c.overall_accuracy:.3f}")
     ax.set(title=f"Land-cover classes ({oa})", xlabel=f"easting [km] ({g.crs})", ylabel="northing [km]")
-    path = _savefig(fig, p("class_map.png"))
+    add_scale_bar(ax, g.shape[1] * abs(b.a) / 1000.0, colour="black")
+    path = _savefig(fig, p("class_map.png"), figures)
     plt.close(fig)
     return path
 
 
-def write_outputs(bg, out_dir) -> dict:
+def write_outputs(bg, out_dir, figures: FigureOptions | None = None) -> dict:
     """Write all products of a :class:`~.background.PortBackground` into ``out_dir``.
 
     Files: ``lst_K.tif``, ``background_K.tif`` (24 bands, local hours), ``class_map.tif``
@@ -177,7 +229,7 @@ def write_outputs(bg, out_dir) -> dict:
     ``terrain_regression.csv``, ``summary.json``.
     """
     if hasattr(bg, "column_temperature"):
-        return write_physical_outputs(bg, out_dir)
+        return write_physical_outputs(bg, out_dir, figures)
     import matplotlib
 
     matplotlib.use("Agg")
@@ -190,17 +242,26 @@ def write_outputs(bg, out_dir) -> dict:
     g = bg.grid
     nan = np.float32(np.nan)
     synthetic = bg.synthetic_truth is not None
-    out["lst"] = write_geotiff(p("lst_K.tif"), bg.lst.astype(np.float32), g, nodata=nan,
+    out["lst"] = write_geotiff(p("lst_K.tif"), bg.lst.astype(np.float32), g, nodata=nan, units="K",
+                               tags={"time_utc": bg.overpass_utc.isoformat()},
                                descriptions=["land surface temperature [K]"
                                              + (" (synthetic scene)" if synthetic else "")])
+    origin = _local_midnight(bg.overpass_utc, bg.utc_offset_hours)
+    zone = utc_offset_text(bg.utc_offset_hours)
     out["background"] = write_geotiff(
-        p("background_K.tif"), bg.temperature.astype(np.float32), g, nodata=nan,
-        descriptions=[f"background temperature [K] at {h:05.2f} h local" for h in bg.hours_local])
+        p("background_K.tif"), bg.temperature.astype(np.float32), g, nodata=nan, units="K",
+        descriptions=[f"background temperature [K] at {h:05.2f} h local ({zone})"
+                      for h in bg.hours_local],
+        band_tags=time_tags(origin, np.asarray(bg.hours_local, float) * 3600.0),
+        tags={"local_time_zone": zone})
     out["class_map"] = _class_map_tif(p, bg.class_map, g)
     if bg.overpass is not None:
         _overpass_rasters(bg.overpass, g, p, out)
-    out["slope"] = write_geotiff(p("slope_deg.tif"), bg.slope_deg.astype(np.float32), g, nodata=nan)
-    out["aspect"] = write_geotiff(p("aspect_deg.tif"), bg.aspect_deg.astype(np.float32), g, nodata=nan)
+    out["slope"] = write_geotiff(p("slope_deg.tif"), bg.slope_deg.astype(np.float32), g, nodata=nan,
+                                 units="degree", descriptions=["terrain slope [degree]"])
+    out["aspect"] = write_geotiff(p("aspect_deg.tif"), bg.aspect_deg.astype(np.float32), g, nodata=nan,
+                                  units="degree", descriptions=["terrain aspect [degree] "
+                                                                "(clockwise from north)"])
 
     # --- tables ------------------------------------------------------------------------------
     c = bg.classification
@@ -208,7 +269,10 @@ def write_outputs(bg, out_dir) -> dict:
     vrows = [{"hour_local": h, "model": f.model, **f.parameters, "n_points": f.n_points, "Q1": f.q1,
               "Q2": f.q2, "cR": f.cr, "max_lag": f.max_lag, "at_bound": ";".join(f.at_bound)}
              for h, f in zip(bg.hours_local, bg.variograms)]
-    out["variograms"] = _csv(pd.DataFrame(vrows), p("variograms.csv"), index=False)
+    out["variograms"] = _csv(pd.DataFrame(vrows), p("variograms.csv"), index=False,
+                             units={"hour_local": "h", "psill": "K2", "sill": "K2", "range": "m",
+                                    "nugget": "K2", "n_points": "-", "Q1": "-", "Q2": "-",
+                                    "cR": "-", "max_lag": "m"})
     t = bg.terrain
     trows = [{"term": "beta1_elevation", "value": t.beta_elevation, "stderr": t.stderr[0], "unit": "K/m"},
              {"term": "beta2_slope", "value": t.beta_slope, "stderr": t.stderr[1], "unit": "K/deg"},
@@ -217,12 +281,13 @@ def write_outputs(bg, out_dir) -> dict:
     trows += [{"term": "R2", "value": t.r2, "stderr": np.nan, "unit": "-"},
               {"term": "rmse", "value": t.rmse, "stderr": np.nan, "unit": "K"},
               {"term": "n_pixels", "value": t.n_pixels, "stderr": np.nan, "unit": "-"}]
-    out["terrain"] = _csv(pd.DataFrame(trows), p("terrain_regression.csv"), index=False)
+    out["terrain"] = _csv(pd.DataFrame(trows), p("terrain_regression.csv"), index=False,
+                          units={"value": "see unit", "stderr": "see unit"})
 
     # --- pictures ----------------------------------------------------------------------------
     b = g.transform
     extent = [b.c / 1000, (b.c + g.shape[1] * b.a) / 1000, (b.f + g.shape[0] * b.e) / 1000, b.f / 1000]
-    out["class_map_png"] = _class_png(p, bg.class_map, c, g)
+    out["class_map_png"] = _class_png(p, bg.class_map, c, g, figures)
 
     fig, ax = plt.subplots(figsize=(6.5, 6))
     im = ax.imshow(bg.lst, cmap="inferno", extent=extent)
@@ -231,7 +296,8 @@ def write_outputs(bg, out_dir) -> dict:
     what = "Synthetic port, generated LST (not a real scene)" if synthetic else "Landsat LST"
     ax.set(title=f"{what} ({src}), {bg.overpass_utc:%Y-%m-%d %H:%M} UTC",
            xlabel="easting [km]", ylabel="northing [km]")
-    out["lst_png"] = _savefig(fig, p("lst.png"))
+    add_scale_bar(ax, g.shape[1] * abs(b.a) / 1000.0)
+    out["lst_png"] = _savefig(fig, p("lst.png"), figures)
     plt.close(fig)
 
     vmin, vmax = np.nanpercentile(bg.temperature, [0.5, 99.5])
@@ -243,11 +309,12 @@ def write_outputs(bg, out_dir) -> dict:
         ax.set_title(f"{bg.hours_local[k]:05.2f} h", fontsize=9)
         ax.set_xticks([])
         ax.set_yticks([])
+    add_scale_bar(axes.ravel()[0], extent[1] - extent[0])
     fig.colorbar(im, ax=axes, label="background temperature [K]", shrink=0.7)
     label = "synthetic port, " if synthetic else ""
     fig.suptitle(f"Port background every 3 h ({label}paper's chain, {bg.season or 'input'}; "
-                 f"local time UTC{bg.utc_offset_hours:+g})")
-    out["background_png"] = _savefig(fig, p("background_hours.png"))
+                 f"local time {utc_offset_text(bg.utc_offset_hours)})")
+    out["background_png"] = _savefig(fig, p("background_hours.png"), figures)
     plt.close(fig)
 
     tmp = _tmp(p("summary.json"))
@@ -258,13 +325,15 @@ def write_outputs(bg, out_dir) -> dict:
     return out
 
 
-def _utc_text(offset_hours: float) -> str:
-    h = int(offset_hours)
-    m = int(round(abs(offset_hours - h) * 60))
-    return f"UTC{'+' if offset_hours >= 0 else '-'}{abs(h):d}" + (f":{m:02d}" if m else "")
+def _local_midnight(overpass_utc, utc_offset_hours: float) -> datetime.datetime:
+    """Local midnight (fixed UTC offset [h]) of the local day of an overpass (UTC)."""
+    tz = datetime.timezone(datetime.timedelta(hours=float(utc_offset_hours)))
+    when = overpass_utc if overpass_utc.tzinfo else overpass_utc.replace(tzinfo=datetime.timezone.utc)
+    local = when.astimezone(tz)
+    return local.replace(hour=0, minute=0, second=0, microsecond=0)
 
 
-def write_physical_outputs(bg, out_dir) -> dict:
+def write_physical_outputs(bg, out_dir, figures: FigureOptions | None = None) -> dict:
     """Write the products of a :class:`~.physical.PhysicalBackground` into ``out_dir``.
 
     Files: ``background_K.tif`` (float32 K, 24 bands: the local hours of the first day, each
@@ -288,31 +357,37 @@ def write_physical_outputs(bg, out_dir) -> dict:
     out: dict[str, str] = {}
     g = bg.grid
     nan = np.float32(np.nan)
-    zone = _utc_text(bg.utc_offset_hours)
+    zone = utc_offset_text(bg.utc_offset_hours)
     day = bg.start
     layers = bg.temperature
     what = bg.label
     out["background"] = write_geotiff(
-        p("background_K.tif"), layers.astype(np.float32), g, nodata=nan,
+        p("background_K.tif"), layers.astype(np.float32), g, nodata=nan, units="K",
         descriptions=[f"surface temperature [K], {day:%Y-%m-%d} {int(h):02d}:00 local ({zone}); "
-                      f"{what}" for h in bg.hours_local])
+                      f"{what}" for h in bg.hours_local],
+        band_tags=time_tags(day, np.asarray(bg.hours_local, float) * 3600.0),
+        tags={"local_time_zone": zone, "background": what})
     out["class_map"] = _class_map_tif(p, bg.class_map, g)
-    out["albedo"] = write_geotiff(p("albedo.tif"), bg.albedo.astype(np.float32), g, nodata=nan,
+    out["albedo"] = write_geotiff(p("albedo.tif"), bg.albedo.astype(np.float32), g, nodata=nan, units="1",
                                   descriptions=["short-wave albedo [-] as used"
                                                 + (" (fitted to the scene's LST)"
                                                    if bg.ground.observation is not None else "")])
     gr = bg.ground
-    out["elevation"] = write_geotiff(p("elevation_m.tif"), gr.elevation.astype(np.float32), g, nodata=nan)
-    out["slope"] = write_geotiff(p("slope_deg.tif"), gr.slope_deg.astype(np.float32), g, nodata=nan)
-    out["aspect"] = write_geotiff(p("aspect_deg.tif"), gr.aspect_deg.astype(np.float32), g, nodata=nan)
+    out["elevation"] = write_geotiff(p("elevation_m.tif"), gr.elevation.astype(np.float32), g, nodata=nan,
+                                     units="m", descriptions=["elevation [m]"])
+    out["slope"] = write_geotiff(p("slope_deg.tif"), gr.slope_deg.astype(np.float32), g, nodata=nan,
+                                 units="degree", descriptions=["terrain slope [degree]"])
+    out["aspect"] = write_geotiff(p("aspect_deg.tif"), gr.aspect_deg.astype(np.float32), g, nodata=nan,
+                                  units="degree", descriptions=["terrain aspect [degree] "
+                                                                "(clockwise from north)"])
     if gr.observation is not None:
         res = np.full(bg.class_map.size, np.nan, np.float32)
         res[bg.land] = bg.residual
-        out["residual"] = write_geotiff(p("residual_K.tif"), res.reshape(g.shape), g, nodata=nan,
+        out["residual"] = write_geotiff(p("residual_K.tif"), res.reshape(g.shape), g, nodata=nan, units="K",
                                         descriptions=[f"LST minus the fitted model at the overpass "
                                                       f"[K] ({gr.observation.source})"])
         out["fit"] = _csv(pd.DataFrame([f.__dict__ for f in bg.fits]), p("fit_by_class.csv"),
-                          index=False)
+                          index=False, units={k: "see unit" for k in ("median", "p05", "p95")})
         wet = [f.name for f in bg.fits if f.parameter == "surface_resistance"]
         if wet and bg.fitted is not None:
             codes = [c for c, n in CLASS_NAMES.items() if n in wet]
@@ -320,7 +395,7 @@ def write_physical_outputs(bg, out_dir) -> dict:
             sel = np.isin(bg.class_map.ravel()[bg.land], codes)
             rs[bg.land[sel]] = bg.fitted[sel]
             out["surface_resistance"] = write_geotiff(
-                p("surface_resistance_s_m.tif"), rs.reshape(g.shape), g, nodata=nan,
+                p("surface_resistance_s_m.tif"), rs.reshape(g.shape), g, nodata=nan, units="s m-1",
                 descriptions=[f"surface resistance r_s [s m-1] fitted to the scene's LST "
                               f"({', '.join(wet)}; inf = dry)"])
     hours = np.arange(0.0, 24.0)
@@ -331,9 +406,10 @@ def write_physical_outputs(bg, out_dir) -> dict:
         "sea_skin_K": [bg.sea_temperature_at(h) for h in hours],
         "water_median_K": [float(np.median(layer.ravel()[water])) if water.any() else np.nan
                            for layer in layers]})
-    out["sea"] = _csv(sea, p("sea.csv"), index=False)
+    out["sea"] = _csv(sea, p("sea.csv"), index=False, clock=zone)
     if bg.column_info is not None:
-        out["columns"] = _csv(bg.column_info, p("columns.csv"), index=True)
+        out["columns"] = _csv(bg.column_info.rename_axis(bg.column_info.index.name or "column"),
+                              p("columns.csv"), index=True, units={"column": "-"})
 
     b = g.transform
     extent = [b.c / 1000, (b.c + g.shape[1] * b.a) / 1000, (b.f + g.shape[0] * b.e) / 1000, b.f / 1000]
@@ -348,7 +424,7 @@ def write_physical_outputs(bg, out_dir) -> dict:
         def spread():
             return {}
 
-    out["class_map_png"] = _class_png(p, bg.class_map, _Fractions, g)
+    out["class_map_png"] = _class_png(p, bg.class_map, _Fractions, g, figures)
     vmin, vmax = np.nanpercentile(layers, [0.5, 99.5])
     fig, axes = plt.subplots(2, 4, figsize=(13, 6.8), constrained_layout=True)
     for ax, k in zip(axes.ravel(), range(0, 24, 3)):
@@ -356,10 +432,11 @@ def write_physical_outputs(bg, out_dir) -> dict:
         ax.set_title(f"{k:02d}:00", fontsize=9)
         ax.set_xticks([])
         ax.set_yticks([])
+    add_scale_bar(axes.ravel()[0], extent[1] - extent[0])
     fig.colorbar(im, ax=axes, label="surface temperature [K]", shrink=0.7)
     fig.suptitle(f"Port background, {day:%Y-%m-%d}, every 3 h (local time {zone})\n{what}; "
                  "surface energy balance driven by the scenario's weather", fontsize=10)
-    out["background_png"] = _savefig(fig, p("background_hours.png"))
+    out["background_png"] = _savefig(fig, p("background_hours.png"), figures)
     plt.close(fig)
 
     tmp = _tmp(p("summary.json"))

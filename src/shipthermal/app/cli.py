@@ -3,7 +3,7 @@
 Subcommands (``shipthermal <command> --help`` for each)::
 
     demo       the built-in default end to end: summer and winter thermal runs, images in
-               3-5 and 8-14 um, SCR curves, crossover times, report
+               3-5 and 8-14 µm, SCR curves, crossover times, report
     mesh       build the ship of a scenario: mesh files, part picture, mesh report
     run        thermal run of a scenario file (checkpointed; --resume continues)
     image      imaging stage on a finished thermal run directory
@@ -36,6 +36,7 @@ import traceback
 from pathlib import Path
 
 from ..errors import InputError, input_error_from_os
+from ..units import strip_units
 
 __all__ = ["main", "build_parser"]
 
@@ -157,9 +158,9 @@ def _imaging(run, cases: dict, con: Console, step_s: float | None = None,
 
     inputs = {c: (sc, load_history(run.path / "thermal" / c / "history.npz"))
               for c, sc in cases.items()}
-    con.info(f"imaging: {', '.join(cases)} x {', '.join(next(iter(cases.values())).bands)} um")
+    con.info(f"imaging: {', '.join(cases)} x {', '.join(next(iter(cases.values())).bands)} µm")
     with run.stage("imaging") as tmp:
-        res = image_cases(inputs, tmp, progress=con.progress, log=con.debug, step_s=step_s,
+        res = image_cases(inputs, tmp, progress=con.progress, log=con.info, step_s=step_s,
                           backgrounds=backgrounds)
     if step_s:
         run.manifest["settings"]["imaging_step_s"] = step_s
@@ -174,7 +175,7 @@ def _print_crossovers(run_path: Path, con: Console, as_csv: bool = False) -> int
     if ens.is_file():                           # a weather ensemble: the distribution
         from .ensemble import format_distribution
 
-        df = pd.read_csv(ens, dtype={"median": str, "p05": str, "p95": str})
+        df = strip_units(pd.read_csv(ens, dtype={"median": str, "p05": str, "p95": str}))
         con.out(df.to_csv(index=False).rstrip() if as_csv else
                 "crossover moments over the weather ensemble (median, 5-95 % range):\n"
                 + format_distribution(df))
@@ -184,10 +185,11 @@ def _print_crossovers(run_path: Path, con: Console, as_csv: bool = False) -> int
         raise InputError("run directory", str(run_path), "has no imaging results "
                          "(imaging/crossovers.csv)", f"Run `shipthermal image {run_path}` first")
     for f in files:
-        df = pd.read_csv(f)
+        raw = pd.read_csv(f)
+        df = strip_units(raw)
         rel = f.parent.relative_to(run_path)
         if as_csv:
-            con.out(df.to_csv(index=False).rstrip())
+            con.out(raw.to_csv(index=False).rstrip())
             continue
         con.out(f"thermal crossover moments ({rel}):")
         if len(df):
@@ -195,8 +197,10 @@ def _print_crossovers(run_path: Path, con: Console, as_csv: bool = False) -> int
             if "date_local" in df and (df.groupby("season")["date_local"].nunique() > 1).any():
                 # a weather record: its crossovers fall on several dates
                 cols = ("season", "band", "date_local", "time_local", "direction")
+            units = df.attrs["units"]
             show = df[[c for c in cols if c in df]]
-            con.out(show.to_string(index=False))
+            con.out(show.rename(columns=lambda c: f"{c} [{units[c]}]" if c in units else c)
+                    .to_string(index=False))
         else:
             con.out("  none found")
     return EXIT_OK
@@ -393,7 +397,7 @@ def cmd_calendar(args, con: Console) -> int:
         if "html" in sc.outputs.formats:
             _report(run, con, finishing=True)
     con.info(f"finished in {time.perf_counter() - t0:.0f} s")
-    monthly = pd.read_csv(out / "calendar" / "monthly.csv")
+    monthly = strip_units(pd.read_csv(out / "calendar" / "monthly.csv"))
     con.out(f"{res['overpasses']} overpasses; under the clutter (SCR < "
             f"{sc.calendar.threshold:g}) by month:")
     if len(monthly):
@@ -645,10 +649,90 @@ def _common(p: argparse.ArgumentParser, top: bool) -> None:
 
 
 class _Parser(argparse.ArgumentParser):
-    """Command-line misuse on one line (the usage is one ``--help`` away), exit 2."""
+    """Command-line misuse on one line (the usage is one ``--help`` away), exit 2; a
+    mistyped subcommand or option gets the nearest valid one (``did you mean``)."""
+
+    #: the command line being parsed (set by :func:`main`): where to look for a subcommand
+    argv: list = []
 
     def error(self, message):
-        self.exit(EXIT_USER, f"error: {message} (see {self.prog} --help)\n")
+        hint = _did_you_mean(self, message, self.argv)
+        self.exit(EXIT_USER, f"error: {message}{hint} (see {self.prog} --help)\n")
+
+
+def _did_you_mean(parser: argparse.ArgumentParser, message: str, argv: list) -> str:
+    """``"; did you mean 'run'?"`` for an invalid subcommand choice or an unknown option
+    (the nearest name by :func:`difflib.get_close_matches`), else ``""``."""
+    import difflib
+    import re
+
+    m = re.search(r"invalid choice: '([^']*)' \(choose from (.*)\)", message)
+    if m:
+        words, choices = [m.group(1)], re.findall(r"'?([\w-]+)'?", m.group(2))
+    else:
+        m = re.search(r"unrecognized arguments: (.*)", message)
+        if not m:
+            return ""
+        words = [w.split("=", 1)[0] for w in m.group(1).split() if w.startswith("-")]
+        choices = list(parser._option_string_actions)
+        sub = _subparser_of(parser, argv)
+        if sub is not None:
+            choices += list(sub._option_string_actions)
+    for word in words:
+        near = difflib.get_close_matches(word, choices, n=1, cutoff=0.6)
+        if near:
+            return f"; did you mean '{near[0]}'?"
+    return ""
+
+
+def _subparser_of(parser: argparse.ArgumentParser, argv: list):
+    """The subcommand parser named in ``argv`` (None without one)."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for word in argv:
+                if word in action.choices:
+                    return action.choices[word]
+    return None
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("shipthermal")
+    except PackageNotFoundError:            # running from a source tree, not installed
+        return "unknown (not installed)"
+
+
+#: Example command lines shown under each subcommand's ``--help`` (each parses: tested)
+EXAMPLES = {
+    "demo": ("shipthermal demo --quick", "shipthermal demo --seasons summer --out runs/summer",
+             "shipthermal demo --resume"),
+    "mesh": ("shipthermal mesh summer", "shipthermal mesh my.toml --edge-length 1.5"),
+    "run": ("shipthermal run my.toml --image", "shipthermal run winter --out runs/winter",
+            "shipthermal run my.toml --resume"),
+    "image": ("shipthermal image runs/my", "shipthermal image runs/my --step-min 5 "
+              "--bands 8-14"),
+    "calendar": ("shipthermal calendar record.toml",
+                 "shipthermal calendar record.toml --satellites landsat8 landsat9 "
+                 "--threshold 1.5"),
+    "crossover": ("shipthermal crossover runs/demo", "shipthermal crossover runs/demo --csv"),
+    "validate": ("shipthermal validate --quick", "shipthermal validate --into runs/demo"),
+    "calibrate": ("shipthermal calibrate --paper",
+                  "shipthermal calibrate measured.csv --unknown "
+                  "weather.temp_air_offset=-3:3"),
+    "background": ("shipthermal background my.toml",
+                   "shipthermal background --mtl LC08_MTL.txt --roi rois.gpkg "
+                   "--out runs/bg"),
+    "sweep": ("shipthermal sweep sweep.toml --workers 2", "shipthermal sweep sweep.toml "
+              "--serial"),
+    "ensemble": ("shipthermal ensemble summer --members 16 --quick",
+                 "shipthermal ensemble my.toml --dist wind=uniform:-2:2"),
+    "report": ("shipthermal report runs/demo", "shipthermal report runs/demo --output "
+               "demo.html"),
+    "check": ("shipthermal check my.toml", "shipthermal check a.toml b.toml"),
+    "schema": ("shipthermal schema", "shipthermal schema --compact"),
+}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -661,16 +745,20 @@ def build_parser() -> argparse.ArgumentParser:
                "130 interrupted (143 on SIGTERM). "
                "Scenario keys: docs/SCENARIO.md (shipthermal schema).")
     _common(p, True)
+    p.add_argument("--version", action="version", version=f"shipthermal {_version()}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
 
     def add(name, help_, func):
-        sp = sub.add_parser(name, help=help_, description=help_)
+        examples = "\n".join(f"  {e}" for e in EXAMPLES.get(name, ()))
+        sp = sub.add_parser(name, help=help_, description=help_,
+                            epilog=f"examples:\n{examples}" if examples else None,
+                            formatter_class=argparse.RawDescriptionHelpFormatter)
         _common(sp, False)
         sp.set_defaults(func=func)
         return sp
 
     d = add("demo", "the built-in default end to end: summer and winter thermal runs of the "
-            "frigate, images in 3-5 and 8-14 um, SCR curves, crossover times, HTML report",
+            "frigate, images in 3-5 and 8-14 µm, SCR curves, crossover times, HTML report",
             cmd_demo)
     d.add_argument("--quick", action="store_true", help=f"coarser ship mesh "
                    f"({QUICK_EDGE_LENGTH:g} m edges instead of the default ship's) and "
@@ -837,9 +925,16 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    """Entry point of ``shipthermal``; returns the exit code (also via SystemExit)."""
+    """Entry point of ``shipthermal``; returns the exit code (also via SystemExit). Without
+    arguments: the help (what the tool does, its commands and where to start)."""
     parser = build_parser()
     argv = list(sys.argv[1:] if argv is None else argv)
+    if not argv:
+        parser.print_help()
+        print("\nStart with `shipthermal demo --quick` (a few minutes), or "
+              "`shipthermal <COMMAND> --help`.")
+        return EXIT_OK
+    _Parser.argv = argv
     args = parser.parse_args(argv)
     args.argv = ["shipthermal"] + argv
     con = Console(quiet=getattr(args, "quiet", False), verbose=getattr(args, "verbose", False))

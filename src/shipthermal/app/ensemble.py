@@ -35,6 +35,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from ..figures import OKABE_ITO, band_label
 
 __all__ = ["DISTRIBUTIONS", "PERCENTILES", "Distribution", "draw_members",
            "ensemble_sweep_text", "format_distribution", "load_ensemble_sweep",
@@ -275,7 +276,9 @@ def plot_ensemble(cross: pd.DataFrame, dist: pd.DataFrame, band: pd.DataFrame, p
 
     bands = sorted(set(cross["band"]) | set(band["band"] if len(band) else []))
     seasons = sorted(set(cross["season"]) | set(band["season"] if len(band) else []))
-    colours = {s: c for s, c in zip(seasons, ["#d9822b", "#2b7bba", "#5a9e4b", "#8e44ad"])}
+    colours = {s: c for s, c in zip(seasons, [OKABE_ITO["orange"], OKABE_ITO["blue"],
+                                              OKABE_ITO["bluish_green"],
+                                              OKABE_ITO["reddish_purple"]])}
     fig, axes = plt.subplots(max(len(bands), 1), 2,
                              figsize=(12, 3.4 * max(len(bands), 1) + 0.6), squeeze=False)
     for i, b in enumerate(bands):
@@ -299,7 +302,8 @@ def plot_ensemble(cross: pd.DataFrame, dist: pd.DataFrame, band: pd.DataFrame, p
         a.set_xlim(0, 24)
         a.set_xticks(range(0, 25, 3))
         a.set_xlabel("local time [h]")
-        a.set_title(f"{b} um: crossover times (members, 5–95 % range, median)", fontsize=9)
+        a.set_title(f"{band_label(b)}: crossover times (members, 5–95 % range, median)",
+                    fontsize=9)
         a.grid(alpha=0.3)
         if len(band):
             for s in seasons:
@@ -313,8 +317,9 @@ def plot_ensemble(cross: pd.DataFrame, dist: pd.DataFrame, band: pd.DataFrame, p
         s_ax.set_xlim(0, 24)
         s_ax.set_xticks(range(0, 25, 3))
         s_ax.set_xlabel("local time [h]")
-        s_ax.set_ylabel("SCR [-]")
-        s_ax.set_title(f"{b} um: SCR", fontsize=9)
+        s_ax.axhline(1.0, color=OKABE_ITO["black"], lw=0.8, ls=(0, (1, 2)))
+        s_ax.set_ylabel("SCR [-] (dotted: SCR = 1)")
+        s_ax.set_title(f"{band_label(b)}: SCR", fontsize=9)
         s_ax.grid(alpha=0.3)
         s_ax.legend(fontsize=8)
     if title:

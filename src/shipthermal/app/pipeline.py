@@ -30,7 +30,8 @@ import pandas as pd
 from imaging.parameters import SENSOR_BANDS
 
 from ..errors import InputError, require
-from ..units import DAY, HOUR
+from ..figures import FigureOptions
+from ..units import DAY, HOUR, with_units
 from .run_environment import aerosol_conditions, sea_glint_wind_speed, sky_weather
 from .thermal import ship_thermal_history
 
@@ -125,10 +126,10 @@ def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
     formats = ["csv", "json"] + (["png"] if fmts & {"png", "html"} else []) \
         + (["vtkhdf"] if "vtkhdf" in fmts else [])
     written = result.write(out, map_hours=given["map_hours"], formats=tuple(formats),
-                           progress=progress)
+                           progress=progress, figures=FigureOptions.from_outputs(scenario.outputs))
     e = result.energy
     with atomic_path(out / "energy.csv") as tmp:
-        pd.DataFrame({k: getattr(e, k) for k in EnergyLog.FIELDS}).to_csv(
+        with_units(pd.DataFrame({k: getattr(e, k) for k in EnergyLog.FIELDS})).to_csv(
             tmp, index=False, float_format="%.9g")
     written["energy_csv"] = out / "energy.csv"
     hist = ship_thermal_history(result)
@@ -460,8 +461,11 @@ def image_cases(cases: dict, out_dir, progress: bool = True, log=None,
             t0 = _time.perf_counter()
             bg = (backgrounds or {}).get(case)
             if bg is None:
+                say(f"{case}: building the port background")
                 bg = build_background(sc, progress=progress)
-            write_outputs(bg, (out / folder if folder else out) / "background" / case)
+            say(f"{case}: writing the port background (GeoTIFFs, class map, tables)")
+            write_outputs(bg, (out / folder if folder else out) / "background" / case,
+                          figures=FigureOptions.from_outputs(sc.outputs))
             say(f"{case}: port background, written ({_time.perf_counter() - t0:.1f} s)")
             scen[season] = imaging_scenario(sc, bg, h)
             hist[season] = h
@@ -470,12 +474,15 @@ def image_cases(cases: dict, out_dir, progress: bool = True, log=None,
         target = out / folder if folder else out
         t0 = _time.perf_counter()
         record = any(record_span_s(sc) is not None for sc, _ in group.values())
+        say(f"imaging {'+'.join(hist)}: {len(given['times'])} frames per band and season, "
+            "then the products (NetCDF, GeoTIFF, panels, SCR curves)")
         results[folder] = run_experiment(hist, target, bands=given["bands"],
                                          times=given["times"], progress=progress,
                                          scenarios=scen, typical_hours=typical,
                                          shared_panel_scale=given["shared_panel_scale"],
-                                         stack_step_s=HOUR if record else None)
-        say(f"imaging {'+'.join(hist)} x {', '.join(given['bands'])} um "
+                                         stack_step_s=HOUR if record else None,
+                                         figures=FigureOptions.from_outputs(first.outputs))
+        say(f"imaging {'+'.join(hist)} x {', '.join(given['bands'])} µm "
             f"({_time.perf_counter() - t0:.1f} s)")
     require(bool(results), "cases", cases, "must hold at least one case")
     return results

@@ -25,6 +25,8 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from ..figures import band_label
+from ..units import latitude_text, longitude_text, strip_units, zone_text
 from .html_table import html_table
 from .rundir import MANIFEST, MARKER, atomic_write_text
 
@@ -44,23 +46,34 @@ table{border-collapse:collapse;margin:.6em 0;font-size:.9em}
 th,td{border:1px solid #d0d7de;padding:3px 8px;text-align:right}
 th{background:#eef1f4}td:first-child,th:first-child{text-align:left}
 figure{margin:.8em 0;display:inline-block;vertical-align:top;max-width:100%}
+table{display:block;max-width:100%;overflow-x:auto}
 figure img{max-width:100%;border:1px solid #d0d7de;background:white}
 figcaption{font-size:.85em;color:#57606a}
 .status-complete{color:#1a7f37;font-weight:bold}.status-other{color:#bc4c00;font-weight:bold}
 pre{background:#f0f2f4;padding:.8em;overflow-x:auto;font-size:.8em}
 .note{color:#57606a;font-size:.9em}
-nav a{margin-right:1em}
-table.kv td{text-align:left}
+nav{display:flex;flex-wrap:wrap;gap:.3em 1em}
+table.kv td{text-align:left;overflow-wrap:anywhere}
 .answer{background:#fff8e6;border:1px solid #e3b341;padding:.2em 1em 1em;margin:1em 0}
 .answer h2{margin-top:.6em;border:none}.headline{font-size:1.15em}
 .slider{position:sticky;top:0;background:#fafbfc;padding:.5em 0;z-index:2;
 border-bottom:1px solid #d0d7de}
-.slider input{width:60%;vertical-align:middle}.slider output{font-weight:bold;font-size:1.2em}
+.slider input{width:55%;vertical-align:middle}.slider output{font-weight:bold;font-size:1.2em}
+.slider button{margin:.1em .2em;font-size:.9em}.jumps{margin-top:.3em;font-size:.9em}
 .row{display:flex;flex-wrap:wrap;align-items:flex-start}
 figure.frames{max-width:420px}figure.frames img{display:block}
 figure.frames img[hidden]{display:none}
 svg.scr{display:inline-block;vertical-align:top;background:white;border:1px solid #d0d7de;
-margin:.8em 0 0 .8em}
+margin:.8em .8em 0 0;max-width:100%;height:auto}
+.zone{margin:.2em 0}.background{margin:.2em 0}h3.sure{margin:.6em 0 0;font-size:1em}
+.downloads li{margin:.2em 0}
+@media (max-width:700px){main{padding:.6em}h1{font-size:1.25em}
+table.answer-table{display:block}table.answer-table thead{display:none}
+table.answer-table tbody,table.answer-table tr,table.answer-table td{display:block}
+table.answer-table tr{border:1px solid #d0d7de;margin:.4em 0;background:white}
+table.answer-table td{border:none;text-align:left;padding:2px 6px}
+table.answer-table td::before{content:attr(data-label) ": ";font-weight:bold}
+.slider input{width:100%}figure.frames{max-width:100%}}
 """
 
 
@@ -154,7 +167,8 @@ def _scenario_section(case: str, path: Path) -> str:
     ship = s.builtin if s.files is None else "user files"
     pairs = [
         ("name", sc.name), ("season / date", f"{t.season}, {t.date}"),
-        ("location", f"{loc.latitude:.3f} N, {loc.longitude:.3f} E, {loc.time_zone}"),
+        ("location", f"{latitude_text(loc.latitude, 3)}, {longitude_text(loc.longitude, 3)}; "
+                     f"local time {zone_text(t.date, loc.time_zone)}"),
         ("weather", f"{w.source} (wind {w.wind_speed_offset:+g} m/s, air "
                     f"{w.temp_air_offset:+g} K, cloud {w.cloud_cover_offset:+g})"),
         ("ship", f"{ship}, edge {s.edge_length if s.edge_length else 'default'} m, heading "
@@ -198,7 +212,7 @@ def _thermal_section(case: str, d: Path, season: str | None) -> str:
         parts.append(_kv(pairs))
     pm = None
     if (d / "part_means.csv").is_file():
-        pm = pd.read_csv(d / "part_means.csv", index_col=0)
+        pm = strip_units(pd.read_csv(d / "part_means.csv", index_col=0))
     if (d / "part_means.png").is_file():
         parts.append(_img_file(d / "part_means.png", "area-mean outer-surface temperature"))
     elif pm is not None:
@@ -210,7 +224,7 @@ def _thermal_section(case: str, d: Path, season: str | None) -> str:
         parts.append(_img_file(m, f"outer surface temperature at {hhmm[:2]}:{hhmm[2:]} local",
                                width=560))
     if (d / "energy.csv").is_file():
-        energy = pd.read_csv(d / "energy.csv")
+        energy = strip_units(pd.read_csv(d / "energy.csv"))
         if len(energy):
             parts.append("<h4>Energy balance</h4>")
             parts.append(_img(_energy_png(energy, f"{case}: energy bookkeeping over the whole "
@@ -243,16 +257,17 @@ def _imaging_section(d: Path) -> str:
         title = "" if sub == d else f"<h3>{html.escape(sub.name)}</h3>"
         block = []
         for png in sorted(sub.glob("panels_*.png")):
-            block.append(_img_file(png, f"images at the typical times, {png.stem[7:]} um"))
+            block.append(_img_file(png, "images at the typical times, "
+                                        f"{band_label(png.stem[7:])}"))
         for png in sorted(sub.glob("scr_*.png")):
             block.append(_img_file(png, f"local SCR and contrast over the day, "
-                                        f"{png.stem[4:]} um"))
+                                        f"{band_label(png.stem[4:])}"))
         if (sub / "crossovers.csv").is_file():
             cross = pd.read_csv(sub / "crossovers.csv")
             block.append("<h4>Thermal crossover moments</h4>")
             block.append(html_table(cross) if len(cross) else "<p>No crossover found.</p>")
         if (sub / "band_comparison.csv").is_file():
-            comp = pd.read_csv(sub / "band_comparison.csv")
+            comp = strip_units(pd.read_csv(sub / "band_comparison.csv"))
             keep = [c for c in ("season", "band", "n_crossovers", "crossover_times",
                                 "scr_in_crossover_mean", "scr_out_crossover_mean", "scr_min",
                                 "scr_max") if c in comp.columns]
@@ -337,7 +352,7 @@ def _calendar_section(d: Path) -> str:
                  f"under the clutter when its local SCR is below {thr:g}. Background: "
                  f"{html.escape(str(summary.get('background', '')))}.</p>")
     if (d / "monthly.csv").is_file():
-        m = pd.read_csv(d / "monthly.csv")
+        m = strip_units(pd.read_csv(d / "monthly.csv"))
         if len(m):
             parts.append("<h3>By month</h3>" + html_table(m[[c for c in (
                 "month", "band", "overpasses", "under_clutter", "fraction_under",
@@ -347,16 +362,64 @@ def _calendar_section(d: Path) -> str:
         parts.append(_img_file(png, "local SCR of every day (colour), the overpasses "
                                "(white: under the clutter) and the monthly fraction"))
     if (d / "crossover_months.csv").is_file():
-        c = pd.read_csv(d / "crossover_months.csv")
+        c = strip_units(pd.read_csv(d / "crossover_months.csv"))
         if len(c):
             parts.append("<h3>Crossover times by month (local clock, median and 5–95 %)</h3>"
                          + html_table(c, "{:.2f}"))
     if (d / "overpasses.csv").is_file():
-        o = pd.read_csv(d / "overpasses.csv")
+        o = strip_units(pd.read_csv(d / "overpasses.csv"))
         if len(o):
             parts.append("<details><summary>every overpass</summary>"
                          + html_table(o, "{:.3g}") + "</details>")
     return "".join(parts)
+
+
+#: Largest CSV embedded as a download [bytes], and all of them together
+_EMBED_CSV_MAX, _EMBED_TOTAL_MAX = 512 * 1024, 3 * 1024 * 1024
+
+#: What each kind of product file is, for the list of files (docs/DATA.md has the details)
+_FILE_KINDS = {".nc": "NetCDF (CF) image stack", ".tif": "GeoTIFF", ".vtkhdf": "VTKHDF (ParaView)",
+               ".npz": "NumPy archive", ".json": "JSON", ".png": "picture", ".svg": "picture",
+               ".pdf": "picture", ".csv": "table", ".vtu": "VTU", ".pvd": "ParaView series",
+               ".vtp": "VTP"}
+
+
+def _size(n: int) -> str:
+    return f"{n / 1e6:.1f} MB" if n >= 1e5 else f"{n / 1e3:.0f} kB"
+
+
+def _downloads_section(run: Path) -> str:
+    """The run's tables as downloads embedded in the page (``data:text/csv`` links, up to
+    :data:`_EMBED_CSV_MAX` each), and every other product with its path in the run folder
+    and size (the units and meaning of every column and variable: docs/DATA.md)."""
+    skip = {"report.html", "manifest.json", "COMPLETE"}
+    files = sorted(p for p in run.rglob("*") if p.is_file() and p.name not in skip
+                   and not p.name.startswith(".") and "checkpoints" not in p.parts)
+    links, listed, total = [], [], 0
+    for f in files:
+        rel = f.relative_to(run).as_posix()
+        size = f.stat().st_size
+        if f.suffix == ".csv" and size <= _EMBED_CSV_MAX and total + size <= _EMBED_TOTAL_MAX:
+            total += size
+            data = base64.b64encode(f.read_bytes()).decode("ascii")
+            name = rel.replace("/", "_")
+            links.append(f'<li><a download="{html.escape(name)}" href="data:text/csv;base64,'
+                         f'{data}">{html.escape(rel)}</a> ({_size(size)})</li>')
+        elif f.suffix != ".png":
+            listed.append(f"<li><code>{html.escape(rel)}</code> — "
+                          f"{_FILE_KINDS.get(f.suffix, f.suffix.lstrip('.'))}, {_size(size)}</li>")
+    if not links and not listed:
+        return ""
+    out = []
+    if links:
+        out.append("<p>Tables (CSV, units in the headers), inside this page:</p>"
+                   f'<ul class="downloads">{"".join(links)}</ul>')
+    if listed:
+        out.append("<p>In the run folder next to this report (too large to embed):</p>"
+                   f'<ul class="downloads">{"".join(listed)}</ul>')
+    out.append('<p class="note">What every column, variable and band holds, with units and '
+               "the time convention: docs/DATA.md of shipthermal.</p>")
+    return "".join(out)
 
 
 def build_report(run_dir, finishing: bool = False) -> str:
@@ -421,7 +484,8 @@ def build_report(run_dir, finishing: bool = False) -> str:
         parts = [_img_file(ens / "ensemble.png", "crossover times of the members with their "
                            "median and 5-95 % range; SCR median with its 5-95 % band")
                  if (ens / "ensemble.png").is_file() else ""]
-        dist = pd.read_csv(ens / "crossovers.csv", dtype={"median": str, "p05": str, "p95": str})
+        dist = strip_units(pd.read_csv(ens / "crossovers.csv",
+                                       dtype={"median": str, "p05": str, "p95": str}))
         parts.append(html_table(dist[[c for c in dist.columns if not c.endswith("_h")]], "{:.3f}"))
         if (ens / "ensemble.toml").is_file():
             parts.append("<details><summary>distributions and seed</summary><pre>"
@@ -434,10 +498,11 @@ def build_report(run_dir, finishing: bool = False) -> str:
                          + html.escape((run / "sweep.toml").read_text()) + "</pre></details>")
         if (run / "table.png").is_file():
             sweep.append(_img_file(run / "table.png", "one point per case"))
-        table = pd.read_csv(run / "table.csv")
+        table = strip_units(pd.read_csv(run / "table.csv"))
         table = table[[c for c in table.columns if c not in ("worker",)]]
         sweep.append(html_table(table, "{:.3f}"))
         section("sweep", "Sweep", "".join(sweep))
+    section("data", "Data", _downloads_section(run))
     title = f"shipthermal run {run.resolve().name}"
     head = (f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">{GENERATOR}'
             f'<meta name="viewport" content="width=device-width, initial-scale=1">'

@@ -63,6 +63,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from ..figures import OKABE_ITO, band_label
 from ..units import HOUR
 
 __all__ = ["SweepSpec", "SweepCase", "load_sweep", "run_case", "run_sweep", "SweepResult",
@@ -539,33 +540,38 @@ def plot_table(table: pd.DataFrame, axis_names, path) -> Path:
         return pd.to_numeric(table[name], errors="coerce").to_numpy(float) if name in table \
             else np.full(len(table), np.nan)
 
-    axes[0].bar(x[ok], col("deck_12h_K")[ok], color="#3c4247")
+    # a temperature is a point, not a bar: its axis need not start at 0 K (bars must)
+    axes[0].plot(x[ok], col("deck_12h_K")[ok], "o", color=OKABE_ITO["black"], ms=5)
     lo = np.nanmin(col("deck_12h_K")) if ok.any() else 0
     hi = np.nanmax(col("deck_12h_K")) if ok.any() else 1
     if np.isfinite(lo) and np.isfinite(hi):
         axes[0].set_ylim(lo - 2, hi + 2)
     axes[0].set_ylabel("deck 12:00 [K]")
-    axes[1].bar(x[ok], col("days")[ok], color="#7a8590")
+    axes[1].bar(x[ok], col("days")[ok], color=OKABE_ITO["sky_blue"])
+    axes[1].set_ylim(bottom=0)                                   # bars from zero
     axes[1].set_ylabel("spin-up days")
     for i in np.flatnonzero(~ok):
         for a in axes[:2]:
-            a.axvline(i, color="#c0392b", ls=":", lw=1)
-        axes[0].text(i, axes[0].get_ylim()[0], " failed", color="#c0392b", rotation=90,
+            a.axvline(i, color=OKABE_ITO["vermillion"], ls=":", lw=1)
+        axes[0].text(i, axes[0].get_ylim()[0], " failed", color=OKABE_ITO["vermillion"],
+                     rotation=90,
                      va="bottom", fontsize=7)
     for k, band in enumerate(bands):
         a = axes[2 + 2 * k]
-        smin, smax = col(f"scr_min_{band}"), col(f"scr_max_{band}")
-        a.vlines(x, smin, smax, color="#2b7bba", lw=3)
-        a.set_ylabel(f"SCR {band} um\nmin-max")
+        smin, smax = (np.clip(col(f"scr_{k}_{band}"), 1e-3, None) for k in ("min", "max"))
+        a.vlines(x, smin, smax, color=OKABE_ITO["blue"], lw=3)
+        a.set_yscale("log")
+        a.axhline(1.0, color=OKABE_ITO["black"], lw=0.8, ls=(0, (1, 2)))
+        a.set_ylabel(f"SCR {band_label(band)}\nmin–max (log)")
         b = axes[3 + 2 * k]
         for i, txt in enumerate(table.get(f"crossovers_{band}", pd.Series([""] * len(x)))):
             if isinstance(txt, str) and txt:
                 for item in txt.split("; "):
                     hh, mm = item.split()[0].split(":")
-                    b.plot(i, int(hh) + int(mm) / 60, "o", color="#d9a441", ms=4)
+                    b.plot(i, int(hh) + int(mm) / 60, "o", color=OKABE_ITO["orange"], ms=4)
         b.set_ylim(0, 24)
         b.set_yticks(range(0, 25, 6))
-        b.set_ylabel(f"crossovers {band} um\n[local h]")
+        b.set_ylabel(f"crossovers {band_label(band)}\n[local h]")
     for a in axes:
         a.grid(alpha=0.3)
     axes[-1].set_xticks(x)

@@ -15,6 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..figures import OKABE_ITO
+
 __all__ = ["PART_COLOURS", "render_parts_png", "render_values_png", "write_parts_vtu",
            "ship_polydata"]
 
@@ -22,9 +24,12 @@ PART_COLOURS = {
     "hull_wetted": "#8b2d2d",       # antifouling red
     "hull_dry": "#7a8590",          # haze grey
     "deck": "#3c4247",              # dark non-skid
-    "superstructure": "#aeb6bd",    # light grey
+    "superstructure": "#c9ced3",    # light grey
 }
-_SUB_COLOURS = ["#d9a441", "#5c8fbf", "#6aa56a", "#b06ab3", "#c46f3b"]
+#: Sub-parts (funnel, gun, mast, ...): Okabe–Ito orange, blue, yellow, which stay apart from
+#: each other and from the part colours under simulated colour-blindness
+#: (:data:`shipthermal.figures.MIN_CVD_DELTA_E`; tests/imaging/test_img_figures.py)
+_SUB_COLOURS = [OKABE_ITO["orange"], OKABE_ITO["blue"], OKABE_ITO["yellow"]]
 
 
 def _colour_table(part_names):

@@ -14,10 +14,11 @@ OpenGL and renders the same everywhere.
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
+
+from ..figures import save_figure
 
 __all__ = ["render_surface_map", "ship_to_enu", "project"]
 
@@ -95,7 +96,7 @@ def render_surface_map(vertices, faces, values, path, *, heading_deg: float,
                        sun_azimuth_deg: float, sun_elevation_deg: float,
                        view_zenith_deg: float = 0.0, view_azimuth_deg: float = 0.0,
                        title: str = "", clim=None, label: str = "outer-surface temperature [K]",
-                       cmap: str = "inferno", dpi: int = 100) -> Path:
+                       cmap: str = "inferno", dpi: int = 100, figures=None) -> Path:
     """Write the two-view surface map of a ship coloured by one value per triangle.
 
     Parameters
@@ -116,6 +117,10 @@ def render_surface_map(vertices, faces, values, path, *, heading_deg: float,
         First title line (site, date, season, time).
     clim : (float, float) or None
         Colour limits; default the 1st-99th percentile of ``values``.
+    dpi : int
+        Resolution [dots per inch] when no ``figures`` are given.
+    figures : shipthermal.figures.FigureOptions or None
+        Resolution and vector copies (:func:`shipthermal.figures.save_figure`).
     """
     import matplotlib
 
@@ -179,8 +184,6 @@ def render_surface_map(vertices, faces, values, path, *, heading_deg: float,
     cb.ax.tick_params(labelsize=7)
     fig.suptitle(f"{title}\n{sun_label}; colour scale {clim[0]:.1f}–{clim[1]:.1f} K",
                  fontsize=9)
-    tmp = path.with_name(f"{path.name}.part-{os.getpid()}")
-    fig.savefig(tmp, format="png")
+    save_figure(fig, path, figures, dpi=None if figures else dpi)
     plt.close(fig)
-    os.replace(tmp, path)
     return path

@@ -1035,7 +1035,10 @@ class OutputSettings:
                           dynamic=lambda ctx: None, default_text="runs/<name>",
                           allowed_text="non-empty path")
     formats: tuple = _opt(["vtkhdf", "csv", "png", "geotiff", "json", "html"], "choice_list",
-                          "Products to write", choices=OUTPUT_FORMATS)
+                          "Products to write ('svg', 'pdf': every figure also as vector "
+                          "graphics, for publication)", choices=OUTPUT_FORMATS)
+    figure_dpi: int = _opt(110, "int", "Resolution of the PNG figures (300 for print)",
+                           unit="dpi", lo=50, hi=600)
     checkpoint_interval: float = _opt(3600.0, "float", "Thermal checkpoint interval of "
                                       "simulated time (0 = none; a multiple of "
                                       "solver.time_step; checkpoints fall on recording "

@@ -90,7 +90,7 @@ MESH_WITH_PART_ARRAY = tuple(sorted(PYVISTA_EXTENSIONS))
 """Formats that may carry a per-cell ``part`` array instead of a part map."""
 MESH_WITH_PART_NAMES = tuple(sorted(SCENE_EXTENSIONS))
 """Formats whose part names may come from the file (OBJ groups, glTF meshes)."""
-OUTPUT_FORMATS = ("csv", "geotiff", "html", "json", "netcdf", "png", "vtkhdf", "vtu")
+OUTPUT_FORMATS = ("csv", "geotiff", "html", "json", "netcdf", "pdf", "png", "svg", "vtkhdf", "vtu")
 
 # Typical times of the paper's Figs. 14–17 (summer 01:00, 06:00, 07:00, 13:00; winter 00:00,
 # 08:30, 12:00, 18:30) and the validation moments of §3.1 (summer 07:00 / 12:00, winter
