@@ -219,6 +219,12 @@ class SeriesResult:
         if self.stack_times_s is None:
             self.stack_times_s = self.times_s
 
+    def __repr__(self) -> str:
+        # the dataclass's own repr prints every image stack: one line instead
+        cross = ", ".join(f"{_hhmm(c.time)} {c.direction}" for c in self.crossovers)
+        return (f"SeriesResult({self.season}, {self.band} um: {self.times_s.size} frames, "
+                f"stack {tuple(self.radiance.shape)}; crossovers: {cross or 'none'})")
+
 
 def _crop_box(coverage, crop_px, shape):
     ny, nx = shape
@@ -417,6 +423,11 @@ class ExperimentResult:
     comparison: pd.DataFrame
     files: dict
     seconds: dict
+
+    def __repr__(self) -> str:
+        keys = ", ".join(f"{s} {b}" for s, b in self.series)
+        return (f"ExperimentResult({keys}; {len(self.crossovers)} crossovers; "
+                f"{len(self.files)} files)")
 
 
 def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),

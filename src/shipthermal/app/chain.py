@@ -638,12 +638,13 @@ class SimulationResult:
         return xr.DataArray(data, dims=dims, coords=coords, attrs=attrs, name=quantity)
 
     # ---- products -------------------------------------------------------------------------
-    def save(self, run_dir=None, *, force: bool = False, imaging: bool = True) -> Path:
-        """Write a run folder of the kind ``shipthermal run --image`` writes: the scenario
-        copy, ``thermal/<name>/`` (part means, summary, energy, history; pictures and
-        VTKHDF as ``outputs.formats`` asks), ``imaging/`` (background, NetCDF image
-        stacks, GeoTIFFs, panels, SCR curves, metrics, ``crossovers.csv``) and
-        ``report.html``.
+    def save(self, run_dir=None, *, force: bool = False, imaging: bool = True,
+             report: bool | None = None) -> Path:
+        """Write a run folder with the files ``shipthermal run --image`` writes: the
+        scenario copy, ``thermal/<name>/`` (part means, summary, energy, history; pictures
+        and VTKHDF as ``outputs.formats`` asks), ``imaging/`` (background, NetCDF image
+        stacks, GeoTIFFs, panels, SCR curves, metrics, ``crossovers.csv``) and, with
+        ``html`` in ``outputs.formats``, ``report.html``.
 
         Parameters
         ----------
@@ -652,6 +653,8 @@ class SimulationResult:
             only with ``force``; folders that shipthermal did not write are refused.
         imaging : bool
             Include the imaging stage.
+        report : bool, optional
+            Write ``report.html`` (default: as ``outputs.formats`` says).
 
         Returns
         -------
@@ -675,9 +678,10 @@ class SimulationResult:
             pipeline.store_thermal(run, case, self.thermal, sc)
             if imaging:
                 self._write_imaging(run, case, series)
-            run.claim("report.html")
-            run.mark_finished()
-            write_report(run.path, finishing=True)
+            if report if report is not None else "html" in sc.outputs.formats:
+                run.claim("report.html")
+                run.mark_finished()
+                write_report(run.path, finishing=True)
         return out
 
     def _write_imaging(self, run, case: str, series: dict) -> None:
@@ -697,12 +701,12 @@ class SimulationResult:
                                 {season: given["typical_hours"]},
                                 given["shared_panel_scale"])
 
-    def report(self, path, *, run_dir=None) -> Path:
+    def report(self, path, *, run_dir=None, force: bool = False) -> Path:
         """Write the self-contained HTML report (the one ``shipthermal run`` writes: the
         answer first, the day under a time slider, thermal, imaging) to ``path``.
 
-        The report is made from a run folder: ``run_dir`` keeps it (:meth:`save`);
-        otherwise a temporary one is written and removed.
+        The report is made from a run folder: ``run_dir`` keeps it (:meth:`save`, with
+        ``force``); otherwise a temporary one is written and removed. Returns ``path``.
         """
         import tempfile
 
@@ -717,11 +721,10 @@ class SimulationResult:
                              "Choose a new file name: a report replaces only a report")
         target.parent.mkdir(parents=True, exist_ok=True)
         if run_dir is not None:
-            folder = self.save(run_dir, force=True)
-            return write_report(folder, target)
+            return write_report(self.save(run_dir, force=force, report=True), target)
         with tempfile.TemporaryDirectory(prefix="shipthermal-report-") as tmp:
-            folder = self.save(Path(tmp) / self.scenario.name)
-            return write_report(folder, target)
+            return write_report(self.save(Path(tmp) / self.scenario.name, report=False),
+                                target)
 
     # ---- display ------------------------------------------------------------------------
     def _lines(self) -> list[tuple[str, str]]:
