@@ -553,9 +553,9 @@ class SimulationResult:
 
         Parameters
         ----------
-        when : time or sequence of times
-            See :meth:`seconds` (e.g. ``"2023-07-15 13:00"``, ``"13:00"``, ``13.0``);
-            a sequence gives a ``time`` dimension.
+        when : str, pandas.Timestamp, float or a sequence of them
+            A moment as :meth:`seconds` reads it (``"2023-07-15 13:00"``, ``"13:00"``,
+            ``13.0`` hours); a sequence gives a ``time`` dimension.
         band : str
             One of the scenario's ``imaging.bands`` (e.g. ``"8-14"``) [µm].
         quantity : {"radiance", "leaving_radiance", "brightness_temperature", "irradiance"}
