@@ -39,6 +39,7 @@ time stepper is :class:`shipthermal.simulation.Simulation`.
 
 from __future__ import annotations
 
+import datetime as _dt
 import html
 import re
 import warnings
@@ -46,6 +47,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 import numpy as np
+import pandas as pd
 
 from ..errors import InputError
 from ..units import DAY, HOUR
@@ -326,8 +328,6 @@ class SimulationResult:
         return self._history
 
     def _timestamps(self, seconds):
-        import pandas as pd
-
         return pd.DatetimeIndex(self.start + pd.to_timedelta(np.asarray(seconds, float),
                                                               unit="s"), name="time")
 
@@ -350,10 +350,6 @@ class SimulationResult:
         scenario's zone (``"2023-07-15 13:00"``; ``"13:00"`` on ``time.date``), a
         :class:`pandas.Timedelta` after local midnight, or a number of hours after it.
         """
-        import datetime as _dt
-
-        import pandas as pd
-
         sc = self.scenario
         tz = sc.location.time_zone
         if isinstance(when, bool):
@@ -504,8 +500,6 @@ class SimulationResult:
     def scr(self):
         """The local signal-to-clutter ratio (paper eq. 22) of every frame: a
         :class:`pandas.DataFrame` indexed by tz-aware time, one column per band [-]."""
-        import pandas as pd
-
         series = self.series
         df = pd.DataFrame({b: sr.metrics["scr"].to_numpy() for b, sr in series.items()},
                           index=self._timestamps(next(iter(series.values())).times_s))
@@ -521,8 +515,6 @@ class SimulationResult:
         columns ``time`` (tz-aware, to the second), ``band`` and ``direction``
         (``dark->bright``: the ship turns brighter than its surroundings), in time
         order."""
-        import pandas as pd
-
         rows = [{"time": c.time, "band": b, "direction": c.direction}
                 for b, sr in self.series.items() for c in sr.crossovers]
         df = pd.DataFrame(rows, columns=["time", "band", "direction"])
@@ -576,7 +568,6 @@ class SimulationResult:
             ``spatial_ref`` (the CRS as WKT, CF ``grid_mapping``); ``attrs``: ``units``,
             ``band``, ``crs_wkt``, sun position, scenario.
         """
-        import pandas as pd
         import xarray as xr
         from imaging.experiment import render_series
 

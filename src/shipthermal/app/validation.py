@@ -153,13 +153,13 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
         base = (scenarios or {}).get(season) or default_scenario(season)
         scen[season] = base.updated(tweaks)
 
-    rows, sens_rows, runs, sims = [], [], {}, {}
+    rows, sens_rows, runs, results = [], [], {}, {}
     for season, sc in scen.items():
-        sims[season] = sim = Simulation(sc, progress=progress)
+        sim = Simulation(sc, progress=progress)
         ship = sim.ship
         say(f"{season}: thermal run ({ship.n_faces} triangles, edge {ship.edge_length:.2g} m)")
-        res = sim.run(imaging=False).thermal
-        runs[season] = res
+        results[season] = sim.run(imaging=False)      # imaged on demand (crossovers)
+        runs[season] = res = results[season].thermal
         for (s, hour), ref in REFERENCE_DECK.items():
             if s != season:
                 continue
@@ -199,7 +199,7 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
 
     cross_rows = []
     if crossovers:       # imaged by the chain of `shipthermal run --image`
-        cross_rows = crossover_rows({s: sim.run(imaging=True) for s, sim in sims.items()}, say)
+        cross_rows = crossover_rows(results, say)
     edges = {float(r.ship.edge_length) for r in runs.values()}
     settings = {"edge_length": edges.pop() if len(edges) == 1 else sorted(edges),
                 "quick": quick,
