@@ -39,9 +39,11 @@ time stepper is :class:`shipthermal.simulation.Simulation`.
 
 from __future__ import annotations
 
+import dataclasses
 import datetime as _dt
 import html
 import re
+import tempfile
 import warnings
 from pathlib import Path
 from typing import Any, Mapping
@@ -50,7 +52,18 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from ..parameters import parse_band
 from ..units import DAY, HOUR
+from . import pipeline
+from .mooring import check_mooring_on
+from .report import is_report_file, write_report
+from .rundir import RunDir, scenario_inputs
+from .scenario import Scenario, default_scenario, load_scenario, loads_scenario
+from .scenario.values import SEASONS
+from .thermal import run_scenario_thermal, ship_thermal_history
+
+# xarray, pyvista and the imaging package are imported where they are used: the
+# thermal-only users of the chain (validation, calibration) do not load them
 
 __all__ = ["Simulation", "SimulationResult"]
 
@@ -70,9 +83,6 @@ IMAGE_QUANTITIES = {
 def _as_scenario(scenario):
     """A :class:`~shipthermal.app.scenario.Scenario` from a Scenario, a season name, a
     TOML file, TOML text or a mapping of the file's shape."""
-    from .scenario import Scenario, default_scenario, load_scenario, loads_scenario
-    from .scenario.values import SEASONS
-
     if isinstance(scenario, Scenario):
         return scenario
     if isinstance(scenario, Mapping):
@@ -156,8 +166,6 @@ class Simulation:
                 **kwargs) -> "Simulation":
         """The built-in default scenario of a season (Dalian design day, frigate, synthetic
         port), with ``changes``."""
-        from .scenario import default_scenario
-
         return cls(default_scenario(season), changes, **kwargs)
 
     def with_changes(self, changes: Mapping | None = None, **more_changes) -> "Simulation":
@@ -181,8 +189,6 @@ class Simulation:
         """The port background of ``[background]``, built once
         (:func:`~shipthermal.app.pipeline.build_background`)."""
         if self._background is None:
-            from . import pipeline
-
             pipeline.check_imaging_bands(self.scenario)
             self._background = pipeline.build_background(self.scenario,
                                                          progress=self.progress)
@@ -194,11 +200,7 @@ class Simulation:
         :class:`~shipthermal.errors.InputError` here. The ship's berth is checked against
         the background (:func:`~shipthermal.app.mooring.check_mooring_on`): a footprint on
         land is refused, a small overlap is a warning (and a note)."""
-        from .mooring import check_mooring_on
-
         if imaging:
-            from . import pipeline
-
             pipeline.check_imaging_bands(self.scenario)
         ship = self.ship
         if not self._weather_checked:
@@ -232,8 +234,6 @@ class Simulation:
         """
         show = self.progress if progress is None else bool(progress)
         if self._result is None:
-            from .thermal import run_scenario_thermal
-
             self.prepare(imaging=imaging)
             thermal = run_scenario_thermal(self.scenario, ship=self.ship, progress=show)
             self._result = SimulationResult(self, thermal)
@@ -322,8 +322,6 @@ class SimulationResult:
         """The ship's outer-surface temperatures over time
         (:class:`imaging.thermal_history.ShipThermalHistory`), the imaging stage's input."""
         if self._history is None:
-            from .thermal import ship_thermal_history
-
             self._history = ship_thermal_history(self.thermal)
         return self._history
 
@@ -432,8 +430,6 @@ class SimulationResult:
         :func:`~shipthermal.app.pipeline.imaging_scenario`): the same as ``shipthermal run
         --image`` renders."""
         if self._imaging_scenario is None:
-            from . import pipeline
-
             sim = self.simulation
             sim.prepare(imaging=True)
             self._imaging_scenario = pipeline.imaging_scenario(self.scenario, sim.background,
@@ -443,8 +439,6 @@ class SimulationResult:
     def _scene(self, view=None):
         """``(ImagingScenario, SceneRenderer)`` of a view (None: the scenario's); the
         renderer (its view rays) is built once per view."""
-        import dataclasses
-
         isc = self.imaging_scenario
         key = None if view is None else (float(view[0]), float(view[1]))
         if key is not None and key == (isc.view_zenith_deg, isc.view_azimuth_deg):
@@ -458,8 +452,6 @@ class SimulationResult:
     def _render_series(self, progress: bool | None = None) -> dict:
         if self._series is None:
             from imaging.experiment import render_series, series_times
-
-            from . import pipeline
 
             sc = self.scenario
             given = pipeline.experiment_inputs(sc)
@@ -526,8 +518,6 @@ class SimulationResult:
 
     def _band(self, band) -> str:
         """The scenario's name of a band (``"lwir"``, ``(8, 14)`` → ``"8-14"``)."""
-        from ..parameters import parse_band
-
         bands = self.scenario.bands
         if band not in bands:
             try:
@@ -652,10 +642,6 @@ class SimulationResult:
         pathlib.Path
             The run folder.
         """
-        from . import pipeline
-        from .report import write_report
-        from .rundir import RunDir, scenario_inputs
-
         sc = self.scenario
         out = Path(run_dir if run_dir is not None else
                    pipeline.output_inputs(sc)["directory"])
@@ -679,7 +665,6 @@ class SimulationResult:
         from imaging.background.outputs import write_outputs
         from imaging.experiment import experiment_products
 
-        from . import pipeline
 
         sc = self.scenario
         isc = self.imaging_scenario
@@ -699,10 +684,6 @@ class SimulationResult:
         The report is made from a run folder: ``run_dir`` keeps it (:meth:`save`, with
         ``force``); otherwise a temporary one is written and removed. Returns ``path``.
         """
-        import tempfile
-
-        from .report import is_report_file, write_report
-
         target = Path(path)
         if target.is_dir() or target.suffix.lower() not in (".html", ".htm"):
             raise InputError("path", str(path), "must name an .html file",
