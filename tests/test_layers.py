@@ -7,8 +7,10 @@ Three layers, lowest first:
 * **imaging** — ``src/imaging``; it may use only the thermal package's lower layers
   (:data:`IMAGING_MAY_USE`);
 * **application** — ``shipthermal.app`` (scenario, pipeline, command line, sweeps, run
-  folders, reports, validation, calibration) and ``python -m shipthermal``: the only place
-  that wires stages together.
+  folders, reports, validation, calibration), ``python -m shipthermal`` and the package's
+  front door ``shipthermal/__init__.py`` (``shipthermal.Simulation`` re-exported from
+  ``shipthermal.app.chain``, imported on first use): the only place that wires stages
+  together.
 
 A module never imports from a layer above its own, and no module imports a module that
 imports it back (directly or through others). Every import counts, also those inside
@@ -30,8 +32,9 @@ IMAGING_MAY_USE = ("shipthermal.geometry", "shipthermal.environment", "shiptherm
                    "shipthermal.errors", "shipthermal.units", "shipthermal.parameters",
                    "shipthermal.figures")
 
-#: Modules of the application layer besides ``shipthermal.app``
-APP_ENTRY = ("shipthermal.__main__",)
+#: Modules of the application layer besides ``shipthermal.app``: the command line's entry
+#: and the top-level package, whose exports are the application's front door
+APP_ENTRY = ("shipthermal.__main__", "shipthermal")
 
 
 def module_name(path: Path, root: Path = SRC) -> tuple[str, bool]:
@@ -157,6 +160,15 @@ def test_the_graph_covers_the_layers():
     assert layers == {"physics", "imaging", "app"}, layers
     assert "shipthermal.app.scenario.wiring" in GRAPH["shipthermal.app.scenario"]
     assert "shipthermal.app.pipeline" in GRAPH["shipthermal.app.cli"]
+
+
+def test_the_front_door_is_the_application_layer():
+    """``import shipthermal`` re-exports the chain; no lower module may import the package
+    itself (it would then depend on the application layer through it)."""
+    assert layer("shipthermal") == "app"
+    assert "shipthermal.app.chain" in GRAPH["shipthermal"]
+    users = sorted(m for m, edges in GRAPH.items() if "shipthermal" in edges)
+    assert all(layer(m) == "app" for m in users), users
 
 
 def test_no_module_imports_a_layer_above_its_own():

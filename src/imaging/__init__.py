@@ -1,1 +1,49 @@
-"""imaging: port background, radiometry, atmosphere, sensor, metrics."""
+"""imaging: port background, radiometry, atmosphere, sensor, rendering and metrics.
+
+The imaging stage of :mod:`shipthermal` (see :class:`shipthermal.Simulation` for the whole
+chain). Exported here, imported on first use: :class:`~imaging.experiment.ImagingScenario`,
+:func:`~imaging.experiment.render_series`, :func:`~imaging.experiment.run_experiment`,
+:class:`~imaging.render.SceneRenderer`, :class:`~imaging.thermal_history.ShipThermalHistory`,
+:func:`~imaging.metrics.local_scr`, :func:`~imaging.metrics.crossover_times`,
+:func:`~imaging.radiometry.band_radiance`, :func:`~imaging.radiometry.brightness_temperature`
+and ``__version__`` (the ``shipthermal`` distribution's).
+"""
+
+__all__ = ["ImagingScenario", "render_series", "run_experiment", "SceneRenderer",
+           "ShipThermalHistory", "local_scr", "crossover_times", "band_radiance",
+           "brightness_temperature", "__version__"]
+
+
+def __getattr__(name: str):
+    # PEP 562: imported on first use (keeps `import imaging.<module>` light)
+    if name in ("ImagingScenario", "render_series", "run_experiment"):
+        from . import experiment
+
+        value = getattr(experiment, name)
+    elif name == "SceneRenderer":
+        from .render import SceneRenderer as value
+    elif name == "ShipThermalHistory":
+        from .thermal_history import ShipThermalHistory as value
+    elif name in ("local_scr", "crossover_times"):
+        from . import metrics
+
+        value = getattr(metrics, name)
+    elif name in ("band_radiance", "brightness_temperature"):
+        from . import radiometry
+
+        value = getattr(radiometry, name)
+    elif name == "__version__":
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            value = version("shipthermal")
+        except PackageNotFoundError:
+            value = "0+unknown"
+    else:
+        raise AttributeError(f"module 'imaging' has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

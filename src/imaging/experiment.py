@@ -37,7 +37,7 @@ from .scene import ShipPlacement, as_scene_background
 
 __all__ = ["PAPER_TYPICAL_HOURS", "DEFAULT_TIMES_S", "ImagingScenario", "SeriesResult",
            "render_series", "sun_positions", "run_experiment", "ExperimentResult",
-           "band_comparison"]
+           "band_comparison", "series_times", "crossover_table", "experiment_products"]
 
 PAPER_TYPICAL_HOURS = {
     "summer": (1.0, 6.0, 6.5, 7.0, 13.0, 19.5),
@@ -234,6 +234,12 @@ class SeriesResult:
     def __post_init__(self):
         if self.stack_times_s is None:
             self.stack_times_s = self.times_s
+
+    def __repr__(self) -> str:
+        # the dataclass's own repr prints every image stack: one line instead
+        cross = ", ".join(f"{_hhmm(c.time)} {c.direction}" for c in self.crossovers)
+        return (f"SeriesResult({self.season}, {self.band} um: {self.times_s.size} frames, "
+                f"stack {tuple(self.radiance.shape)}; crossovers: {cross or 'none'})")
 
 
 def _crop_box(coverage, crop_px, shape):
@@ -433,6 +439,11 @@ class ExperimentResult:
     files: dict
     seconds: dict
 
+    def __repr__(self) -> str:
+        keys = ", ".join(f"{s} {b}" for s, b in self.series)
+        return (f"ExperimentResult({keys}; {len(self.crossovers)} crossovers; "
+                f"{len(self.files)} files)")
+
 
 def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
                    times=DEFAULT_TIMES_S, progress: bool = True, scenarios: dict | None = None,
@@ -486,8 +497,6 @@ def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
     """
     import os
 
-    from . import products as P
-
     require(isinstance(history_by_season, dict) and history_by_season, "history_by_season",
             history_by_season, "must be a non-empty {season: ShipThermalHistory} dict")
     scenarios = dict(scenarios or {})
@@ -503,7 +512,7 @@ def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
             raise InputError(f"scenarios[{season!r}].season", scen.season,
                              f"must be {season!r}")
         hours = [float(h) for h in typical.get(season, ())]
-        t = np.union1d(t_base, np.array(hours) * HOUR)
+        t = series_times(t_base, hours)
         t0 = _time.perf_counter()
         res = render_series(hist, scen, bands, t, keep_times_s=np.array(hours) * HOUR,
                             crop_px=crop_px, progress=progress, stack_step_s=stack_step_s)
@@ -511,16 +520,54 @@ def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
         for b, sr in res.items():
             series[(season, b)] = sr
         scenarios[season] = scen
+    return experiment_products(out_dir, series, scenarios, history_by_season, typical,
+                               shared_panel_scale, crossover_window_h, seconds, figures)
+
+
+def series_times(times, typical_hours=()) -> np.ndarray:
+    """Frame times of a series [s after local midnight]: ``times`` with the moments of the
+    image panels (``typical_hours`` [h]) added, so that those are rendered, not interpolated
+    (and the crossovers are found on the same frames by every caller)."""
+    return np.union1d(np.asarray(times, dtype=float).reshape(-1),
+                      np.asarray(typical_hours, dtype=float).reshape(-1) * HOUR)
+
+
+def crossover_table(series: dict, scenarios: dict) -> pd.DataFrame:
+    """The crossover moments of ``{(season, band): SeriesResult}`` as written to
+    ``crossovers.csv``: ``season, band, time_h`` [h after local midnight of the scenario's
+    date], ``date_local``, ``time_local`` (``HH:MM``), ``direction``."""
     rows = [dict(season=s, band=b, time_h=c.time / HOUR,
                  date_local=str((pd.Timestamp(scenarios[s].date)
                                  + pd.Timedelta(seconds=float(c.time))).date()),
                  time_local=_hhmm(c.time), direction=c.direction)
             for (s, b), sr in series.items() for c in sr.crossovers]
-    cross = pd.DataFrame(rows, columns=["season", "band", "time_h", "date_local", "time_local",
-                                        "direction"])
+    return pd.DataFrame(rows, columns=["season", "band", "time_h", "date_local", "time_local",
+                                       "direction"])
+
+
+def experiment_products(out_dir, series: dict, scenarios: dict, histories: dict,
+                        typical: dict, shared_panel_scale: bool = True,
+                        crossover_window_h: float = 0.5,
+                        seconds: dict | None = None, figures=None) -> ExperimentResult:
+    """The tables and files of rendered series (:func:`run_experiment`'s second half, also
+    used by :class:`shipthermal.Simulation` to write what it rendered in memory).
+
+    ``series = {(season, band): SeriesResult}``; ``scenarios``, ``histories`` and
+    ``typical`` [h] are keyed by season; ``figures`` the
+    :class:`shipthermal.figures.FigureOptions` (resolution, vector copies). Returns the
+    :class:`ExperimentResult`.
+    """
+    import os
+
+    from . import products as P
+
+    seconds = dict(seconds or {})
+    out_dir = os.fspath(out_dir)
+    os.makedirs(out_dir, exist_ok=True)
+    cross = crossover_table(series, scenarios)
     comp = band_comparison(series, crossover_window_h)
     t0 = _time.perf_counter()
-    files = P.write_products(out_dir, series, cross, comp, scenarios, history_by_season, typical,
+    files = P.write_products(out_dir, series, cross, comp, scenarios, histories, typical,
                              shared_panel_scale, figures=figures)
     seconds["outputs"] = _time.perf_counter() - t0
     return ExperimentResult(series, cross, comp, files, seconds)

@@ -1,1 +1,55 @@
-"""shipthermal: finite-volume thermal solver for ships."""
+"""shipthermal: how a ship in a port looks to a space-based infrared sensor over a day or a
+weather record, and when it fades into its background (thermal crossover).
+
+The front door is one object from a scenario to the answer::
+
+    import shipthermal as st
+    sim = st.Simulation("my_port.toml")          # or st.Simulation.default("summer")
+    res = sim.run()                              # thermal + background + imaging
+    res.image("2023-07-15 13:00", "8-14")        # xarray.DataArray: x, y [m], CRS, units
+    res.crossovers                               # tz-aware timestamps, band, direction
+    res.report("out/report.html")
+
+Exported here (imported on first use, so ``import shipthermal`` stays fast):
+:class:`Simulation`, :class:`SimulationResult`, :class:`Scenario`, :func:`load_scenario`,
+:func:`default_scenario`, :class:`InputError` and ``__version__``. The stages themselves
+live in :mod:`shipthermal.app` (application layer) and in the physics packages
+(:mod:`shipthermal.geometry`, :mod:`shipthermal.environment`, :mod:`shipthermal.diurnal`,
+... and :mod:`imaging`).
+"""
+
+__all__ = ["Simulation", "SimulationResult", "Scenario", "load_scenario", "default_scenario",
+           "InputError", "__version__"]
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("shipthermal")
+    except PackageNotFoundError:     # a source tree that was never installed
+        return "0+unknown"
+
+
+def __getattr__(name: str):
+    # PEP 562: the exports are imported on first use (the chain pulls in pandas, pvlib,
+    # scipy, xarray; the physics modules that `import shipthermal.x` runs must not)
+    if name in ("Simulation", "SimulationResult"):
+        from .app import chain
+
+        value = getattr(chain, name)
+    elif name in ("Scenario", "load_scenario", "default_scenario"):
+        from .app import scenario
+
+        value = getattr(scenario, name)
+    elif name == "InputError":
+        from .errors import InputError as value
+    elif name == "__version__":
+        value = _version()
+    else:
+        raise AttributeError(f"module 'shipthermal' has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

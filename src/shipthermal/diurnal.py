@@ -266,6 +266,15 @@ class DiurnalResult:
     def n_surface_faces(self) -> int:
         return int(self.ship.n_faces)
 
+    def __repr__(self) -> str:
+        # the dataclass's own repr prints every array: a few lines instead
+        kind = (f"{self.meta['record_days']} recorded days" if self.is_record
+                else "one periodic day")
+        return (f"DiurnalResult({self.ship.name}: {self.ship.n_faces} faces, "
+                f"{self.graph.n_cells} cells; {kind} after {self.days} days, "
+                f"{'converged' if self.converged else 'not converged'}; "
+                f"{len(self.results.times)} outputs; parts {', '.join(self.part_means.columns)})")
+
     def part_mean_at(self, part: str, hour: float) -> float:
         """Area-mean outer temperature of a reporting part at a local hour [K] (linear)."""
         s = self.part_means[part]

@@ -39,9 +39,6 @@ DAY = 86400.0
 def clock_origin(date: str, time_zone: str):
     """Local midnight of ``date`` (``YYYY-MM-DD``) in the IANA zone ``time_zone``, as an
     aware :class:`datetime.datetime`: the instant the run's clock counts from."""
-    import datetime
-    import zoneinfo
-
     day = datetime.date.fromisoformat(str(date)[:10])
     return datetime.datetime(day.year, day.month, day.day,
                              tzinfo=zoneinfo.ZoneInfo(str(time_zone)))

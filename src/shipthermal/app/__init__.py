@@ -1,5 +1,8 @@
 """The application layer: the only place that wires the stages together.
 
+* :mod:`.chain` — :class:`~shipthermal.app.chain.Simulation`, the front door
+  (``shipthermal.Simulation``): one object from a scenario to images, SCR, crossovers and
+  the report, wiring the stages below;
 * :mod:`.scenario` — one TOML scenario, validated once, that drives every stage;
 * :mod:`.thermal` — a scenario's thermal stage (:func:`shipthermal.diurnal.run_diurnal`)
   and its hand-over to the imaging stage;

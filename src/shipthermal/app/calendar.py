@@ -22,7 +22,6 @@ import json
 import time as _time
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 
 from imaging.calendar import (crossover_table, image_dense, image_overpasses, monthly_table,
@@ -30,7 +29,6 @@ from imaging.calendar import (crossover_table, image_dense, image_overpasses, mo
 from imaging.overpass import listed_overpasses, satellite_overpasses, tle_overpasses
 
 from ..errors import InputError
-from ..units import HOUR
 from .pipeline import (build_background, check_imaging_bands, imaging_scenario, load_history,
                        record_span_s, thermal_case)
 from .rundir import atomic_write_text

@@ -689,10 +689,13 @@ def paper_calibration(settings: dict | None = None, log=None, crossovers: bool =
     reference values; the 07:00 / 08:00 values held out. Returns variant → result (each
     with ``extra['plausibility']``) and ``'table'``, the four moments side by side.
 
-    ``crossovers``: also render both bands every 10 min with each variant's fitted
-    conditions and put the crossover moments beside the paper's (``'crossovers'``)."""
-    from .scenario import default_scenario
+    ``crossovers``: also image each variant's fitted scenarios as ``shipthermal run
+    --image`` does (:class:`~shipthermal.app.chain.Simulation`, every
+    ``imaging.scr_interval``) and put the crossover moments beside the paper's
+    (``'crossovers'``)."""
+    from .chain import Simulation
     from .paper import crossover_rows
+    from .scenario import default_scenario
 
     meas = paper_measurements()
     scen = {s: default_scenario(s) for s in ("summer", "winter")}
@@ -710,7 +713,10 @@ def paper_calibration(settings: dict | None = None, log=None, crossovers: bool =
                            if u.case in (None, season)}
                 fitted[season] = c.scenario.updated(changes)
                 runs[season] = c.run(changes)
-            rows = pd.DataFrame(crossover_rows(fitted, runs, False, log or (lambda m: None)))
+            # the fitted scenarios imaged by the chain of `shipthermal run --image`
+            results = {s: Simulation(fitted[s], progress=False).result_from(runs[s])
+                       for s in runs}
+            rows = pd.DataFrame(crossover_rows(results, log))
             rows.insert(0, "variant", name)
             out["crossovers"] = pd.concat([out.get("crossovers"), rows], ignore_index=True)
         r = res.residuals

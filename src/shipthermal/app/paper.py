@@ -10,9 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from .run_environment import sky_weather
-from .thermal import ship_thermal_history
-
 __all__ = ["REFERENCE_DECK", "PAPER_CROSSOVERS", "clock_text", "crossover_rows"]
 
 #: (season, local hour) → area-mean deck temperature of the paper / its ref. [26] [K]
@@ -32,22 +29,21 @@ def clock_text(h) -> str:
     return f"{m // 60:02d}:{m % 60:02d}"
 
 
-def crossover_rows(scen, runs, progress, say):
-    """Crossover moments next to the paper's: contrast zero crossings every 10 min in
-    every band of each season's scenario (``scen[season]``), rendered from its thermal run
-    (``runs[season]``); one row per season and band."""
-    from imaging.experiment import ImagingScenario, render_series
+def crossover_rows(results: dict, say=None) -> list:
+    """Crossover moments next to the paper's, one row per season and band.
 
+    ``results = {season: SimulationResult}`` (:class:`shipthermal.app.chain.
+    SimulationResult`): each season's scenario imaged by the chain of ``shipthermal run
+    --image`` — its own background, mooring, heading, view, sensor, emissivities and
+    weather — every ``imaging.scr_interval`` from its thermal run. Nothing here builds a
+    scene of its own, so the moments are those a run of the same scenario reports.
+    """
     rows = []
-    times = np.arange(0.0, 86400.0, 600.0)
-    for season, res in runs.items():
-        sc = scen[season]
-        say(f"{season}: imaging every 10 min for the crossover moments")
-        # the image's sky follows this scenario's weather, as the thermal run's does
-        img = ImagingScenario.default(season, sky_weather=sky_weather(sc.environment()))
-        series = render_series(ship_thermal_history(res), img, bands=tuple(sc.bands), times_s=times,
-                               progress=progress)
-        for band, sr in series.items():
+    for season, result in results.items():
+        if say:
+            say(f"{season}: imaging every {result.scenario.imaging.scr_interval / 60:g} min "
+                "for the crossover moments")
+        for band, sr in result.series.items():
             ours = [c.time / 3600.0 for c in sr.crossovers]
             paper = PAPER_CROSSOVERS.get((season, band), ())
             diffs = []

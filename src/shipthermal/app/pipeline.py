@@ -35,7 +35,7 @@ from ..units import DAY, HOUR, with_units
 from .run_environment import aerosol_conditions, sea_glint_wind_speed, sky_weather
 from .thermal import ship_thermal_history
 
-__all__ = ["QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case", "prepare",
+__all__ = ["QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case", "store_thermal", "prepare",
            "check_imaging_bands", "output_inputs", "write_thermal", "save_history",
            "load_history", "background_inputs", "build_background", "imaging_scenario",
            "experiment_inputs", "frame_times", "image_cases"]
@@ -159,16 +159,22 @@ def thermal_case(scenario, run, case: str, *, resume: bool = False, progress: bo
     res = run_scenario_thermal(scenario, ship=ship, progress=progress, checkpoint=ckpt,
                                resume=resume, log=log)
     run.record(f"{stage} (solve)", _time.perf_counter() - t0)
-    with run.stage(stage) as tmp:          # the staging folder exists only while writing
-        write_thermal(res, tmp, scenario)
-    summary = res.summary()
+    return store_thermal(run, case, res, scenario)
+
+
+def store_thermal(run, case: str, result, scenario) -> dict:
+    """Write a thermal result into ``thermal/<case>/`` of ``run`` (a
+    :class:`~shipthermal.app.rundir.RunDir`; :func:`write_thermal`) and record it in the
+    manifest. Returns the run's summary (``thermal_summary.json``)."""
+    with run.stage(f"thermal/{case}") as tmp:   # the staging folder exists only while writing
+        write_thermal(result, tmp, scenario)
     run.manifest["cases"].setdefault(case, {}).update(
-        {"days": res.days, "converged": bool(res.converged),
-         "surface_faces": int(res.ship.n_faces), "cells": int(res.graph.n_cells),
-         "edge_length_m": float(res.ship.edge_length),
-         "relative_energy_imbalance": float(res.energy.relative_imbalance)})
+        {"days": result.days, "converged": bool(result.converged),
+         "surface_faces": int(result.ship.n_faces), "cells": int(result.graph.n_cells),
+         "edge_length_m": float(result.ship.edge_length),
+         "relative_energy_imbalance": float(result.energy.relative_imbalance)})
     run.save_manifest()
-    return summary
+    return result.summary()
 
 
 # ---------------------------------------------------------------------------------------

@@ -33,6 +33,7 @@ from pathlib import Path
 import pandas as pd
 
 from ..results import atomic_path
+from .chain import Simulation
 from .paper import REFERENCE_DECK, clock_text, crossover_rows
 from .pipeline import QUICK_EDGE_LENGTH
 
@@ -124,7 +125,9 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
         Run the ±perturbations (8 more runs per season, warm-started from the baseline and
         reusing its ray tracing).
     crossovers : bool
-        Render both bands every 10 min (imaging stage) and find the contrast zero crossings.
+        Image each season's scenario as ``shipthermal run --image`` does (its background,
+        mooring, view, sensor; :class:`~shipthermal.app.chain.Simulation`) every
+        ``imaging.scr_interval`` and find the contrast zero crossings.
     edge_length : float, optional
         Ship surface edge length [m] (default: the scenario's own, i.e. the built-in
         default mesh; quick :data:`~shipthermal.app.pipeline.QUICK_EDGE_LENGTH`).
@@ -150,12 +153,13 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
         base = (scenarios or {}).get(season) or default_scenario(season)
         scen[season] = base.updated(tweaks)
 
-    rows, sens_rows, runs = [], [], {}
+    rows, sens_rows, runs, results = [], [], {}, {}
     for season, sc in scen.items():
-        ship = sc.ship()
+        sim = Simulation(sc, progress=progress)
+        ship = sim.ship
         say(f"{season}: thermal run ({ship.n_faces} triangles, edge {ship.edge_length:.2g} m)")
-        res = run_scenario_thermal(sc, ship=ship, progress=progress)
-        runs[season] = res
+        results[season] = sim.run(imaging=False)      # imaged on demand (crossovers)
+        runs[season] = res = results[season].thermal
         for (s, hour), ref in REFERENCE_DECK.items():
             if s != season:
                 continue
@@ -194,8 +198,8 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
     sens = pd.DataFrame(sens_rows)
 
     cross_rows = []
-    if crossovers:
-        cross_rows = crossover_rows(scen, runs, progress, say)
+    if crossovers:       # imaged by the chain of `shipthermal run --image`
+        cross_rows = crossover_rows(results, say)
     edges = {float(r.ship.edge_length) for r in runs.values()}
     settings = {"edge_length": edges.pop() if len(edges) == 1 else sorted(edges),
                 "quick": quick,

@@ -493,9 +493,6 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
         Largest relative change of area or volume a repair may make (default
         :data:`.cad.MAX_REPAIR_CHANGE`).
 
-    Every problem found is reported in one :class:`InputError` naming the options (the
-    scenario keys ``ship.files.*``) that fix each one.
-
     Returns
     -------
     ship : ShipGeometry
@@ -503,6 +500,12 @@ def read_ship(source, units: str | None = None, part_map=None, part_names: Seque
         What was checked and changed (``removed_degenerate``, ``removed_duplicate``,
         ``flipped_faces``, ``repair`` (area/volume before and after), ``translation`` [m]);
         ``repairs``: one line per change made, for the console.
+
+    Raises
+    ------
+    InputError
+        Every problem found, in one error naming the options (the scenario keys
+        ``ship.files.*``) that fix each one.
     """
     from .cad import (FIXED_BY, MAX_REPAIR_CHANGE, SCENE_EXTENSIONS, assign_parts,
                       diagnose_surface, load_named_parts, part_ranges, problems_message,
