@@ -17,7 +17,8 @@ import pandas as pd
 from .errors import require
 from .mesh.graph import VTK_TETRA, VTK_WEDGE, CellGraph
 
-__all__ = ["EnergyLog", "Results", "atomic_path", "save_png"]
+__all__ = ["EnergyLog", "Results", "atomic_path", "save_png", "write_vtkhdf",
+           "write_vtu_series"]
 
 
 class atomic_path:
@@ -215,115 +216,15 @@ class Results:
         linearly, as the discretisation does); the surface file then holds the boundary
         triangles with point ``temperature`` and ``heat_flux`` per boundary vertex (its
         pieces pooled) and cell ``patch``."""
-        directory = Path(directory)
-        directory.mkdir(parents=True, exist_ok=True)
-        g = self.graph
-        dual = g.kind == "dual-tetrahedral"
-        grid = g.to_pyvista()
-        cell_values = grid.point_data if dual else grid.cell_data
-        if not surface:
-            surf = None
-        elif dual:
-            surf, to_points, face_flow_area = _dual_surface(g)
-        else:
-            surf = g.boundary_surface()
-        written, entries, sentries = [], [], []
-        flux = self.face_heat_flux()
-        for k, t in enumerate(self.times):
-            cell_values["temperature"] = self.cell_temperature[k].astype(np.float32)
-            name = directory / f"{stem}_{k:04d}.vtu"
-            with atomic_path(name) as tmp:
-                grid.save(tmp)
-            written.append(name)
-            entries.append((t, name.name))
-            if surf is not None and dual:
-                # Vertex pieces → surface points: area-weighted surface temperature and the
-                # total heat flow over the total piece area of each boundary vertex.
-                surf.point_data["temperature"] = (to_points @ (self.face_temperature[k] * g.bface_area)
-                                                  / face_flow_area).astype(np.float32)
-                surf.point_data["heat_flux"] = (to_points @ self.face_flow[k]
-                                                / face_flow_area).astype(np.float32)
-            elif surf is not None:
-                surf.cell_data["temperature"] = self.face_temperature[k].astype(np.float32)
-                surf.cell_data["heat_flux"] = flux[k].astype(np.float32)
-            if surf is not None:
-                sname = directory / f"{stem}_surface_{k:04d}.vtp"
-                with atomic_path(sname) as tmp:
-                    surf.save(tmp)
-                written.append(sname)
-                sentries.append((t, sname.name))
-        for series, ents in ((f"{stem}.pvd", entries), (f"{stem}_surface.pvd", sentries)):
-            if not ents:
-                continue
-            lines = ['<?xml version="1.0"?>',
-                     '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
-                     "  <Collection>"]
-            lines += [f'    <DataSet timestep="{t:.6g}" group="" part="0" file="{f}"/>'
-                      for t, f in ents]
-            lines += ["  </Collection>", "</VTKFile>"]
-            with atomic_path(directory / series) as tmp:
-                tmp.write_text("\n".join(lines) + "\n")
-            written.append(directory / series)
-        return written
+        return write_vtu_series(directory, self.graph, self.times,
+                                lambda k: (self.cell_temperature[k], self.face_temperature[k],
+                                           self.face_flow[k]), stem, surface)
 
     def to_vtkhdf(self, path) -> Path:
         """Transient VTKHDF (one file, mesh once, cell ``temperature`` per step), readable by
         ParaView ≥ 5.12 and VTK's ``vtkHDFReader``. Vertex-centred graphs: the tet mesh with
         point ``temperature`` (see :meth:`to_vtu`)."""
-        import h5py
-
-        g = self.graph
-        path = Path(path)
-        dual = g.kind == "dual-tetrahedral"
-        if dual:
-            # Vertex-centred: the tet mesh, temperatures as point data (see to_vtu).
-            tets = g.metadata["tets"]
-            conn = np.hstack([np.full((len(tets), 1), 4), tets]).ravel()
-            types = np.full(len(tets), VTK_TETRA, np.uint8)
-        else:
-            conn, types = g.cell_connectivity, g.cell_types
-        n = len(types)
-        n_values = g.n_cells            # values per step (cells, or points when dual)
-        # flat [npts, ids...] per cell → VTKHDF offsets + connectivity (sizes from the types)
-        size_of = np.zeros(256, np.int64)
-        size_of[[VTK_TETRA, VTK_WEDGE]] = (4, 6)
-        sizes = size_of[types]
-        require(bool(np.all(sizes > 0)), "graph.cell_types", np.unique(types),
-                "VTKHDF export knows tetrahedra (10) and wedges (13)")
-        starts = np.concatenate([[0], np.cumsum(sizes + 1)[:-1]])
-        mask = np.ones(len(conn), bool)
-        mask[starts] = False
-        ids = conn[mask]
-        offsets = np.concatenate([[0], np.cumsum(sizes)])
-        nt = len(self.times)
-        with atomic_path(path, ".hdf") as tmp:
-            with h5py.File(tmp, "w") as f:
-                root = f.create_group("VTKHDF")
-                root.attrs["Version"] = (2, 1)
-                root.attrs.create("Type", np.bytes_("UnstructuredGrid"),
-                                  dtype=h5py.string_dtype("ascii", len("UnstructuredGrid")))
-                root.create_dataset("NumberOfPoints", data=np.array([len(g.points)], np.int64))
-                root.create_dataset("NumberOfCells", data=np.array([n], np.int64))
-                root.create_dataset("NumberOfConnectivityIds", data=np.array([len(ids)], np.int64))
-                root.create_dataset("Points", data=g.points.astype(np.float64))
-                root.create_dataset("Types", data=types.astype(np.uint8))
-                root.create_dataset("Connectivity", data=ids.astype(np.int64))
-                root.create_dataset("Offsets", data=offsets.astype(np.int64))
-                data_group = "PointData" if dual else "CellData"
-                cd = root.create_group(data_group)
-                cd.create_dataset("temperature", data=self.cell_temperature.reshape(-1).astype(np.float32))
-                steps = root.create_group("Steps")
-                steps.attrs["NSteps"] = nt
-                steps.create_dataset("Values", data=self.times.astype(np.float64))
-                zeros = np.zeros(nt, np.int64)
-                steps.create_dataset("PartOffsets", data=zeros)
-                steps.create_dataset("NumberOfParts", data=np.ones(nt, np.int64))
-                steps.create_dataset("PointOffsets", data=zeros)
-                steps.create_dataset("CellOffsets", data=zeros.reshape(nt, 1))
-                steps.create_dataset("ConnectivityIdOffsets", data=zeros.reshape(nt, 1))
-                cdo = steps.create_group(f"{data_group}Offsets")
-                cdo.create_dataset("temperature", data=np.arange(nt, dtype=np.int64) * n_values)
-        return path
+        return write_vtkhdf(path, self.graph, self.times, lambda k: self.cell_temperature[k])
 
     def summary(self) -> dict:
         """Settings, timings and the energy balance, JSON-ready."""
@@ -331,3 +232,134 @@ class Results:
                 "n_cells": self.graph.n_cells, "n_outputs": int(len(self.times)),
                 "energy": self.energy.summary(),
                 "timing": {k: float(v) for k, v in self.timing.items()}}
+
+
+def write_vtkhdf(path, graph: CellGraph, times, cell_temperature_at) -> Path:
+    """Transient VTKHDF of a graph's cell temperatures (the format of
+    :meth:`Results.to_vtkhdf`), written one time at a time.
+
+    Parameters
+    ----------
+    path : path
+    graph : CellGraph
+    times : (nt,) float
+        [s].
+    cell_temperature_at : callable
+        ``cell_temperature_at(k)`` → (n_cells,) temperatures at ``times[k]`` [K] (e.g. rows
+        read from a file: only one is in memory at a time).
+    """
+    import h5py
+
+    g = graph
+    path = Path(path)
+    times = np.asarray(times, dtype=float)
+    dual = g.kind == "dual-tetrahedral"
+    if dual:
+        # Vertex-centred: the tet mesh, temperatures as point data (see to_vtu).
+        tets = g.metadata["tets"]
+        conn = np.hstack([np.full((len(tets), 1), 4), tets]).ravel()
+        types = np.full(len(tets), VTK_TETRA, np.uint8)
+    else:
+        conn, types = g.cell_connectivity, g.cell_types
+    n = len(types)
+    n_values = g.n_cells            # values per step (cells, or points when dual)
+    # flat [npts, ids...] per cell → VTKHDF offsets + connectivity (sizes from the types)
+    size_of = np.zeros(256, np.int64)
+    size_of[[VTK_TETRA, VTK_WEDGE]] = (4, 6)
+    sizes = size_of[types]
+    require(bool(np.all(sizes > 0)), "graph.cell_types", np.unique(types),
+            "VTKHDF export knows tetrahedra (10) and wedges (13)")
+    starts = np.concatenate([[0], np.cumsum(sizes + 1)[:-1]])
+    mask = np.ones(len(conn), bool)
+    mask[starts] = False
+    ids = conn[mask]
+    offsets = np.concatenate([[0], np.cumsum(sizes)])
+    nt = len(times)
+    with atomic_path(path, ".hdf") as tmp:
+        with h5py.File(tmp, "w") as f:
+            root = f.create_group("VTKHDF")
+            root.attrs["Version"] = (2, 1)
+            root.attrs.create("Type", np.bytes_("UnstructuredGrid"),
+                              dtype=h5py.string_dtype("ascii", len("UnstructuredGrid")))
+            root.create_dataset("NumberOfPoints", data=np.array([len(g.points)], np.int64))
+            root.create_dataset("NumberOfCells", data=np.array([n], np.int64))
+            root.create_dataset("NumberOfConnectivityIds", data=np.array([len(ids)], np.int64))
+            root.create_dataset("Points", data=g.points.astype(np.float64))
+            root.create_dataset("Types", data=types.astype(np.uint8))
+            root.create_dataset("Connectivity", data=ids.astype(np.int64))
+            root.create_dataset("Offsets", data=offsets.astype(np.int64))
+            data_group = "PointData" if dual else "CellData"
+            cd = root.create_group(data_group)
+            temp = cd.create_dataset("temperature", shape=(nt * n_values,), dtype=np.float32)
+            for k in range(nt):
+                temp[k * n_values:(k + 1) * n_values] = np.asarray(
+                    cell_temperature_at(k)).astype(np.float32)
+            steps = root.create_group("Steps")
+            steps.attrs["NSteps"] = nt
+            steps.create_dataset("Values", data=times.astype(np.float64))
+            zeros = np.zeros(nt, np.int64)
+            steps.create_dataset("PartOffsets", data=zeros)
+            steps.create_dataset("NumberOfParts", data=np.ones(nt, np.int64))
+            steps.create_dataset("PointOffsets", data=zeros)
+            steps.create_dataset("CellOffsets", data=zeros.reshape(nt, 1))
+            steps.create_dataset("ConnectivityIdOffsets", data=zeros.reshape(nt, 1))
+            cdo = steps.create_group(f"{data_group}Offsets")
+            cdo.create_dataset("temperature", data=np.arange(nt, dtype=np.int64) * n_values)
+    return path
+
+
+def write_vtu_series(directory, graph: CellGraph, times, state_at, stem: str = "thermal",
+                     surface: bool = True) -> list[Path]:
+    """The VTU series of :meth:`Results.to_vtu`, one time at a time: ``state_at(k)`` →
+    ``(cell temperature [K], boundary-face temperature [K], boundary-face heat flow [W])``
+    at ``times[k]`` [s]."""
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    g = graph
+    dual = g.kind == "dual-tetrahedral"
+    grid = g.to_pyvista()
+    cell_values = grid.point_data if dual else grid.cell_data
+    if not surface:
+        surf = None
+    elif dual:
+        surf, to_points, face_flow_area = _dual_surface(g)
+    else:
+        surf = g.boundary_surface()
+    written, entries, sentries = [], [], []
+    for k, t in enumerate(times):
+        cell, face, flow = state_at(k)
+        cell_values["temperature"] = np.asarray(cell).astype(np.float32)
+        name = directory / f"{stem}_{k:04d}.vtu"
+        with atomic_path(name) as tmp:
+            grid.save(tmp)
+        written.append(name)
+        entries.append((t, name.name))
+        if surf is not None and dual:
+            # Vertex pieces → surface points: area-weighted surface temperature and the
+            # total heat flow over the total piece area of each boundary vertex.
+            surf.point_data["temperature"] = (to_points @ (face * g.bface_area)
+                                              / face_flow_area).astype(np.float32)
+            surf.point_data["heat_flux"] = (to_points @ flow
+                                            / face_flow_area).astype(np.float32)
+        elif surf is not None:
+            surf.cell_data["temperature"] = np.asarray(face).astype(np.float32)
+            surf.cell_data["heat_flux"] = (flow / g.bface_area).astype(np.float32)
+        if surf is not None:
+            sname = directory / f"{stem}_surface_{k:04d}.vtp"
+            with atomic_path(sname) as tmp:
+                surf.save(tmp)
+            written.append(sname)
+            sentries.append((t, sname.name))
+    for series, ents in ((f"{stem}.pvd", entries), (f"{stem}_surface.pvd", sentries)):
+        if not ents:
+            continue
+        lines = ['<?xml version="1.0"?>',
+                 '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+                 "  <Collection>"]
+        lines += [f'    <DataSet timestep="{t:.6g}" group="" part="0" file="{f}"/>'
+                  for t, f in ents]
+        lines += ["  </Collection>", "</VTKFile>"]
+        with atomic_path(directory / series) as tmp:
+            tmp.write_text("\n".join(lines) + "\n")
+        written.append(directory / series)
+    return written
