@@ -30,6 +30,7 @@ import numpy as np
 import pandas as pd
 
 from .html_table import html_table
+from .pipeline import history_file, load_history
 
 __all__ = ["SCR_CLUTTER_LIMIT", "SLIDER_HOURS", "hardest_to_see", "first_screen",
            "day_section", "SCRIPT"]
@@ -333,21 +334,22 @@ def _image_frames(nc: Path, band: str):
     return uris, bar, cap
 
 
-def _surface_frames(npz: Path, title: str):
+def _surface_frames(case_dir: Path, title: str):
     """(PNG data URIs per slider hour, caption) of the ship coloured by its surface
-    temperature, one colour scale over the day."""
+    temperature, one colour scale over the day (a weather record's first day)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.collections import PolyCollection
 
-    d = np.load(npz, allow_pickle=False)
-    v, f = d["vertices"], d["faces"]
-    th = (d["times_s"] / 3600.0)
-    temp = d["face_temperature"]
+    hist = load_history(case_dir)
+    v, f = hist.vertices, hist.faces
+    th = hist.times_s / 3600.0
     ks = [_nearest(th % 24.0 if th[-1] > 24.0 + 1e-9 else th, hr) for hr in SLIDER_HOURS]
-    vmin, vmax = np.nanpercentile(temp[ks], [0.5, 99.5])
+    # only the rows shown (a record's are read from its file)
+    temp = {k: np.asarray(hist.face_temperature[k], dtype=float) for k in set(ks)}
+    vmin, vmax = np.nanpercentile(np.stack([temp[k] for k in ks]), [0.5, 99.5])
     from ..geometry.surface_maps import OBLIQUE_VIEW_DEG, project
 
     u, w, depth = project(v, *OBLIQUE_VIEW_DEG)
@@ -461,8 +463,8 @@ def day_section(run: Path) -> str:
     thermal = run / "thermal"
     if thermal.is_dir():
         for d in sorted(p for p in thermal.iterdir() if p.is_dir()):
-            if (d / "history.npz").is_file():
-                uris, cap = _surface_frames(d / "history.npz", d.name)
+            if history_file(d).is_file():
+                uris, cap = _surface_frames(d, d.name)
                 blocks.append(f"<h3>{html.escape(d.name)}: ship surface temperature</h3>"
                               f'<figure class="frames">{_frame_group(uris, d.name)}'
                               f"<figcaption>{html.escape(cap)}</figcaption></figure>")
