@@ -640,10 +640,6 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
 
 
 #: Days of a weather record per window (forcing tables, checkpoint, part of the outputs).
-#: Measured on the frigate (built-in, winter TMY3 days, default settings): at 2 m a window
-#: of 1 day cost 1.9 % more than one of 7 days (per-window set-up of the tables), at
-#: 0.5 m the tables of a day take 0.1 GB (a 7-day window 0.7 GB). A day keeps memory and
-#: the work lost to a kill small for that price.
 RECORD_WINDOW_DAYS = 1
 
 
