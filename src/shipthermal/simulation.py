@@ -29,6 +29,7 @@ last step's change (reported separately as ``stored_plain``).
 
 from __future__ import annotations
 
+import functools
 import os
 import tempfile
 import time
@@ -65,9 +66,19 @@ def _single_threaded_blas():
     """BLAS limited to one thread: the solver's vector operations (dot products of 10⁴–10⁶
     entries) gain nothing from threads, and an OpenBLAS pool spinning against other busy
     processes turned 10 µs dot products into milliseconds (measured here under load)."""
-    from threadpoolctl import threadpool_limits
+    return _blas_controller().limit(limits=1, user_api="blas")
 
-    return threadpool_limits(limits=1, user_api="blas")
+
+@functools.cache
+def _blas_controller():
+    """threadpoolctl's view of the process's thread pools, found once: finding them scans
+    every loaded library (8.5 ms per call in a ship run, paid at every ``run_until``: 48 a
+    simulated day of 30-min outputs, 8 % of a weather record's solve at 2 m); limiting
+    through it then takes 10 µs. By the first solve every BLAS the solver uses is loaded
+    (numpy's and scipy's, imported with this module)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
 
 
 class _JacobianPattern:
