@@ -718,15 +718,13 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
     timings = {"record_forcing": 0.0, "record_solve": 0.0, "record_outputs": 0.0}
 
     ckpt = None if checkpoint is None else Path(checkpoint)
-    cleanup = None
+    temporary = work_dir is None and ckpt is None
     if work_dir is None and ckpt is not None:
         work_dir = ckpt.with_suffix(".record")
-    elif work_dir is None:
-        import shutil
+    elif temporary:
         import tempfile
 
         work_dir = tempfile.mkdtemp(prefix="shipthermal-record-")
-        cleanup = (shutil.rmtree, work_dir, True)
     parts = RecordParts(Path(work_dir) / "parts")
     spin_ckpt = None if ckpt is None else ckpt.with_name(f"{ckpt.stem}.spinup.npz")
     resuming = resume and ckpt is not None and ckpt.exists()
@@ -850,8 +848,10 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
                     f"{elapsed:.0f} s for {d + 1 - done} day(s), about {left:.0f} s left")
             day = d1
     except BaseException:
-        if cleanup is not None:
-            cleanup[0](*cleanup[1:])
+        if temporary:
+            import shutil
+
+            shutil.rmtree(work_dir, ignore_errors=True)
         raise
     finally:
         bar.close()
@@ -863,6 +863,8 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
                     record_days=n_days, days_done=stop, output_interval=iv,
                     label=f"weather-record thermal run ({ship.name})", face_dtype=face_dtype)
     record = RecordFile(path)
+    if temporary:
+        record.remove_when_unused(work_dir)
     timings["record_outputs"] += _time.perf_counter() - t0
     pm = record.part_means()
     energy = record.energy()
@@ -879,16 +881,7 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
                            energy=_concat_energy([spin_energy, energy]), timings=timings,
                            settings=settings, environment=environment, meta=meta,
                            record=record)
-    if cleanup is not None:
-        import weakref
-
-        weakref.finalize(result, _close_and_remove, record, *cleanup)
     return result
-
-
-def _close_and_remove(record, remove, folder, ignore_errors):
-    record.close()
-    remove(folder, ignore_errors)
 
 
 def _write_part(parts, index, sim, environment, groups, graph, n_faces, sampled, face_dtype):

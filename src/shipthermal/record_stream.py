@@ -42,7 +42,7 @@ from .errors import InputError, require
 from .results import EnergyLog
 
 __all__ = ["RECORD_FORMAT", "RECORD_VERSION", "SAMPLE_DAYS_MAX", "sample_days", "RecordParts",
-           "assemble", "RecordFile"]
+           "assemble", "RecordFile", "LazyRows"]
 
 RECORD_FORMAT = "shipthermal weather-record outputs"
 RECORD_VERSION = 1
@@ -192,6 +192,24 @@ def assemble(parts: RecordParts, n_parts: int, path, *, ship, part_columns, star
     return path
 
 
+class LazyRows:
+    """Rows of a dataset of a :class:`RecordFile`, read as indexed (``rows[k]``,
+    ``rows[i:j]``); it keeps its file open (and a temporary file in place) while it is
+    used, e.g. by an imaging history the record's result is long gone from."""
+
+    def __init__(self, owner: "RecordFile", dataset):
+        self._owner = owner
+        self._dataset = dataset
+        self.shape = tuple(dataset.shape)
+        self.dtype = dataset.dtype
+
+    def __len__(self) -> int:
+        return self.shape[0]
+
+    def __getitem__(self, key):
+        return self._dataset[key]
+
+
 class RecordFile:
     """A record's outputs (:func:`assemble`'s file), read lazily.
 
@@ -200,7 +218,7 @@ class RecordFile:
     path : Path
     times : (n,) float
         Output times [s after local midnight of the record's first day].
-    face_temperature : h5py.Dataset
+    face_temperature : LazyRows
         (n, M) outer-surface temperatures [K], read row by row as indexed.
     attrs : dict
         The root attributes (module notes).
@@ -221,10 +239,17 @@ class RecordFile:
                 f"must be a file of {RECORD_FORMAT!r}")
         self.attrs = dict(f.attrs)
         self.times = f["times"][:]
-        self.face_temperature = f["face_temperature"]
+        self.face_temperature = LazyRows(self, f["face_temperature"])
 
     def close(self) -> None:
         self._file.close()
+
+    def remove_when_unused(self, folder) -> None:
+        """Delete ``folder`` (a temporary one holding this file) once nothing uses the
+        file any more: neither this object nor its :class:`LazyRows`."""
+        import weakref
+
+        weakref.finalize(self, _close_and_remove, self._file, str(folder))
 
     @property
     def n_times(self) -> int:
@@ -268,3 +293,10 @@ class RecordFile:
                       for x in g["part_names"][:])
         return {"vertices": g["vertices"][:], "faces": g["faces"][:],
                 "face_part": g["face_part"][:], "part_names": names}
+
+
+def _close_and_remove(file, folder: str) -> None:
+    import shutil
+
+    file.close()
+    shutil.rmtree(folder, ignore_errors=True)

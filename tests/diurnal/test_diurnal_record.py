@@ -176,7 +176,14 @@ def test_record_outputs_file_and_lazy_history(three_days):
         # float32 of the same run: 3e-5 K at 300 K
         np.testing.assert_allclose(ft[:], ref.record.face_temperature[:2 * 48 + 1], atol=4e-5,
                                    rtol=0)
+    # the history outlives the result; the temporary folder of its file goes with the last
+    # of them
+    import gc
+
     hist = ship_thermal_history(res)
+    folder = res.record.path.parent
+    del res
+    gc.collect()
     reads = []
 
     class Counted:
@@ -184,7 +191,7 @@ def test_record_outputs_file_and_lazy_history(three_days):
 
         def __getitem__(self, key):
             reads.append(key)
-            return res.record.face_temperature[key]
+            return hist.face_temperature[key]
 
     from imaging.thermal_history import ShipThermalHistory
 
@@ -198,3 +205,7 @@ def test_record_outputs_file_and_lazy_history(three_days):
     np.testing.assert_allclose(got, want, atol=4e-5, rtol=0)
     assert lazy.temp_sea_at(t) == pytest.approx(0.5 * (ref.part_means["temp_sea_skin"].iloc[60]
                                                        + ref.part_means["temp_sea_skin"].iloc[61]))
+    assert folder.is_dir()
+    del hist, lazy, Counted
+    gc.collect()
+    assert not folder.exists()
