@@ -4,7 +4,8 @@ Built from the files of a run directory only:
 
 * ``imaging/metrics_<season>_<band>.csv`` — SCR and contrast over the day;
 * ``imaging/images_<season>_<band>.nc`` — the at-aperture radiance stack around the ship;
-* ``thermal/<case>/history.npz`` — the ship's outer-surface temperature over the day.
+* ``thermal/<case>/history.npz`` — the ship's outer-surface temperature over the day
+  (``history.h5`` for a weather record: its first day is shown).
 
 The first screen answers *when is the ship hardest to see, in which band, and how sure is
 that*: the time of the lowest local SCR (paper eq. 22) per season and band, the periods
