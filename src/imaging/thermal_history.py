@@ -41,7 +41,10 @@ def emissivity_key(part_name: str) -> str:
 
 def _interp_periodic(times, values, t, period):
     """Linear interpolation of ``values`` (nt, ...) at scalar ``t``; times outside the samples
-    wrap by ``period`` (None: clamp to the ends; callers check the range)."""
+    wrap by ``period`` (None: clamp to the ends; callers check the range). ``values`` may be
+    read lazily (e.g. an h5py dataset): only the two rows around ``t`` are read then."""
+    if not isinstance(values, np.ndarray):
+        return _interp_rows(times, values, t, period)
     if period is not None and not times[0] <= t <= times[-1]:
         t0 = times[0]
         t = t0 + (t - t0) % period
@@ -52,6 +55,22 @@ def _interp_periodic(times, values, t, period):
     k = min(max(k, 0), len(times) - 2)
     w = (t - times[k]) / (times[k + 1] - times[k])
     return (1.0 - w) * values[k] + w * values[k + 1]
+
+
+def _interp_rows(times, rows, t, period):
+    """:func:`_interp_periodic` on rows read as indexed (float64), two of them."""
+    n = len(times)
+    if period is not None and not times[0] <= t <= times[-1]:
+        t0 = times[0]
+        t = t0 + (t - t0) % period
+        if t > times[-1]:        # between the last row and the first of the next period
+            w = (t - times[-1]) / (t0 + period - times[-1])
+            return (1.0 - w) * np.asarray(rows[n - 1], float) + w * np.asarray(rows[0], float)
+    k = int(np.searchsorted(times, t, side="right") - 1)
+    k = min(max(k, 0), n - 2)
+    w = (t - times[k]) / (times[k + 1] - times[k])
+    pair = np.asarray(rows[k:k + 2], dtype=float)
+    return (1.0 - w) * pair[0] + w * pair[1]
 
 
 @dataclass(frozen=True, eq=False)
@@ -71,8 +90,10 @@ class ShipThermalHistory:
         Part names (main parts or ``<main>_<detail>`` sub-parts).
     times_s : (nt,) float array
         Strictly increasing times [s after local midnight of the day].
-    face_temperature : (nt, M) float array
-        Surface temperature of each triangle at each time [K].
+    face_temperature : (nt, M) float array, or an array read lazily
+        Surface temperature of each triangle at each time [K]. A weather record's (a year:
+        59 694 faces × 17 520 times) is an h5py dataset of the thermal stage's file: only
+        the two rows around a time asked for are read (and checked).
     temp_air : (nt,) float array or None
         Air temperature at the same times [K] (kept for plots and checks).
     temp_sea : (nt,) float array or None
@@ -103,7 +124,9 @@ class ShipThermalHistory:
         f = np.array(self.faces, dtype=np.int64)
         p = np.array(self.face_part, dtype=np.int64)
         t = np.array(self.times_s, dtype=float).reshape(-1)
-        temp = np.array(self.face_temperature, dtype=float)
+        lazy = not isinstance(self.face_temperature, np.ndarray) and hasattr(
+            self.face_temperature, "shape") and hasattr(self.face_temperature, "dtype")
+        temp = self.face_temperature if lazy else np.array(self.face_temperature, dtype=float)
         names = tuple(str(n) for n in self.part_names)
         require(v.ndim == 2 and v.shape[1] == 3 and len(v) >= 3, "history.vertices", v.shape,
                 "must be an (N, 3) array of at least 3 points [m]")
@@ -123,7 +146,8 @@ class ShipThermalHistory:
         require(temp.shape == (t.size, len(f)), "history.face_temperature", temp.shape,
                 f"must be (n_times, n_faces) = ({t.size}, {len(f)})",
                 "Pass only the outer surface faces (b < M of the solver's face_temperature)")
-        check_range("history.face_temperature", temp, 100.0, 1000.0, "K")
+        if not lazy:        # (lazy rows are checked as they are read)
+            check_range("history.face_temperature", temp, 100.0, 1000.0, "K")
         out = {}
         for name in ("temp_air", "temp_sea"):
             val = getattr(self, name)
@@ -138,7 +162,7 @@ class ShipThermalHistory:
             require(float(self.period_s) >= t[-1] - t[0] and self.period_s > 0,
                     "history.period_s", self.period_s,
                     f"must be >= the span of times_s ({t[-1] - t[0]:g} s) or None")
-        for arr in (v, f, p, t, temp):
+        for arr in (v, f, p, t) + (() if lazy else (temp,)):
             arr.setflags(write=False)
         for name, val in (("vertices", v), ("faces", f), ("face_part", p), ("times_s", t),
                           ("face_temperature", temp), ("part_names", names),
@@ -164,7 +188,10 @@ class ShipThermalHistory:
     def at(self, t) -> np.ndarray:
         """Face temperatures at time ``t`` [s after local midnight], linear in time [K] (M,)."""
         t = self._check_time(t)
-        return _interp_periodic(self.times_s, self.face_temperature, t, self.period_s)
+        out = _interp_periodic(self.times_s, self.face_temperature, t, self.period_s)
+        if not isinstance(self.face_temperature, np.ndarray):
+            check_range("history.face_temperature", out, 100.0, 1000.0, "K")
+        return out
 
     def temp_air_at(self, t) -> float | None:
         """Air temperature at ``t`` [s] [K] (None when not given)."""

@@ -23,7 +23,10 @@ day that ends where it started is the periodic one to within that defect.
 
 Weather records (non-periodic weather, :func:`run_record`): the record's first 24 h are
 repeated as above until periodic; from that state the solver runs through the whole
-record once, as recorded, and every output time of every recorded day is kept.
+record once, as recorded, window by window (forcing tables of the window, the solver's
+state carried over; a checkpoint and a part of the outputs at each window's end). Every
+output time of every recorded day is streamed to disk (:mod:`.record_stream`), so a year
+needs the memory of a window.
 """
 
 from __future__ import annotations
@@ -38,7 +41,7 @@ import pandas as pd
 
 from .errors import check_positive, require
 from .parameters import DEFAULT_CONVECTION_MODEL, NIGHT_SETTLE, NIGHT_STEP
-from .results import EnergyLog, Results, atomic_path, write_surface_vtkhdf
+from .results import EnergyLog, Results, atomic_path, graph_vtkhdf, write_surface_vtkhdf
 from .figures import LINE_STYLES, PART_LINE_STYLES, save_figure
 from .units import DAY, HOUR, with_units
 
@@ -196,13 +199,15 @@ def night_steps(settings: DiurnalSettings, dark, previous_step: float | None = N
     return steps
 
 
-def dark_intervals(settings: DiurnalSettings, forcing, span: float = DAY) -> np.ndarray:
-    """The ``dark`` argument of :func:`night_steps` for the ``span`` [s] (a day, or a whole
-    weather record) from 0 under ``forcing``: :meth:`ShipForcing.dark
-    <shipthermal.forcing.ShipForcing.dark>` of each recording interval, the settle
-    intervals before 0 first."""
+def dark_intervals(settings: DiurnalSettings, forcing, span: float = DAY,
+                   start: float = 0.0) -> np.ndarray:
+    """The ``dark`` argument of :func:`night_steps` for the ``span`` [s] (a day, or a window
+    of a weather record) from ``start`` [s, on the recording grid] under ``forcing``:
+    :meth:`ShipForcing.dark <shipthermal.forcing.ShipForcing.dark>` of each recording
+    interval, the settle intervals before ``start`` first."""
     iv = settings.output_interval
-    starts = iv * np.arange(-_settle_intervals(settings), int(round(span / iv)))
+    first = int(round(start / iv))
+    starts = iv * np.arange(first - _settle_intervals(settings), first + int(round(span / iv)))
     return np.array([forcing.dark(t, t + iv) for t in starts], bool)
 
 
@@ -246,6 +251,9 @@ class DiurnalResult:
         Every step of the whole run.
     timings : dict
         Wall times [s]: mesh, forcing (ray tracing + tables), solve, total.
+    record : RecordFile, optional
+        A weather record's outputs on disk (:func:`run_record`), read lazily; ``results``
+        then holds the final state only and ``forcing`` the last window's tables.
     """
 
     ship: object
@@ -261,6 +269,7 @@ class DiurnalResult:
     settings: DiurnalSettings
     environment: object = None
     meta: dict = field(default_factory=dict)
+    record: object = None
 
     @property
     def n_surface_faces(self) -> int:
@@ -281,7 +290,10 @@ class DiurnalResult:
         return float(np.interp(hour, s.index.to_numpy(), s.to_numpy()))
 
     def outer_face_temperature(self) -> np.ndarray:
-        """(nt, M) outer-surface temperature of each ship triangle [K]."""
+        """(nt, M) outer-surface temperature of each ship triangle [K] (a weather record's:
+        the streamed file's dataset, read as indexed)."""
+        if self.record is not None:
+            return self.record.face_temperature
         m = self.ship.n_faces
         return self.results.face_temperature[:, :m]
 
@@ -368,11 +380,23 @@ class DiurnalResult:
         if "vtkhdf" in formats:
             start = getattr(self.environment, "start", None)
             units = f"s since {start.isoformat(sep=' ')}" if start is not None else None
-            written["vtkhdf"] = self.results.to_vtkhdf(out / "thermal.vtkhdf", time_units=units)
             ship = self.ship
+            m = ship.n_faces
+            if self.record is not None:
+                # the sampled days of a record (record_stream.SAMPLE_DAYS_MAX)
+                rec = self.record
+                times = rec.sample_times
+                written["vtkhdf"] = graph_vtkhdf(out / "thermal.vtkhdf", self.graph, times,
+                                                 lambda k: rec.sample_row(k)[0], time_units=units)
+                outer = (lambda k: rec.sample_row(k)[1][:m])
+            else:
+                times = self.results.times
+                written["vtkhdf"] = self.results.to_vtkhdf(out / "thermal.vtkhdf",
+                                                           time_units=units)
+                outer = self.outer_face_temperature()
             written["vtkhdf_surface"] = write_surface_vtkhdf(
                 out / "surface.vtkhdf", ship.vertices, ship.faces, ship.face_part, ship.part_names,
-                self.results.times, self.outer_face_temperature(), time_units=units)
+                times, outer, time_units=units)
         if "json" in formats:
             with atomic_path(out / "thermal_summary.json") as tmp:
                 tmp.write_text(json.dumps(self.summary(), indent=2, default=_json_default))
@@ -389,6 +413,8 @@ class DiurnalResult:
 
     def face_temperature_at(self, hour: float) -> np.ndarray:
         """Outer-surface temperature per triangle at a local hour (linear in time) [K]."""
+        if self.record is not None:
+            return self.record.face_temperature_at(hour * HOUR)
         t = self.results.times / HOUR
         tf = self.outer_face_temperature()
         k = int(np.clip(np.searchsorted(t, hour) - 1, 0, len(t) - 2))
@@ -485,7 +511,7 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
     if not environment.weather.periodic:
         return run_record(ship, environment, settings, absorptivity=absorptivity,
                           emissivity=emissivity, graph=graph, traced=traced,
-                          progress=progress, log=log, checkpoint=checkpoint)
+                          progress=progress, log=log, checkpoint=checkpoint, resume=resume)
     say = log or (lambda msg: None)
     t_total = _time.perf_counter()
     timings = {}
@@ -638,10 +664,17 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
                          timings=timings, settings=settings, environment=environment)
 
 
+#: Days of a weather record per window (forcing tables, checkpoint, part of the outputs).
+RECORD_WINDOW_DAYS = 1
+
+
 def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
                absorptivity=None, emissivity=None, graph=None, traced=None,
-               progress: bool = True, log=None, checkpoint=None) -> DiurnalResult:
-    """Spin a ship up on the first day of a weather record, then run the whole record.
+               progress: bool = True, log=None, checkpoint=None, resume: bool = False,
+               work_dir=None, window_days: int = RECORD_WINDOW_DAYS,
+               end_day: int | None = None, face_dtype=np.float32) -> DiurnalResult:
+    """Spin a ship up on the first day of a weather record, then run the record, window by
+    window, its outputs streamed to disk.
 
     Parameters
     ----------
@@ -651,18 +684,45 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
         With a non-periodic weather record starting at local midnight and covering whole
         days (:meth:`Scenario.weather_record` with ``weather.day = 'record'``).
     checkpoint : path, optional
-        Not used: a record run restarts from the beginning (logged).
+        Checkpoint file (.npz), written at the end of every window (the spin-up's own
+        next to it, ``<stem>.spinup.npz``); the outputs' parts go to the folder
+        ``<stem>.record`` beside it.
+    resume : bool
+        Continue from ``checkpoint`` if it exists (the same result as an uninterrupted
+        run, bit for bit: the whole solver state is in it).
+    work_dir : path, optional
+        Folder of the outputs' parts and of the assembled ``record.h5`` (default: beside
+        the checkpoint; without one, a temporary folder removed with the result).
+    window_days : int
+        Days per window (:data:`RECORD_WINDOW_DAYS`): forcing tables, checkpoint, part.
+    end_day : int, optional
+        Stop after this many recorded days (default: the whole record); a later call with
+        ``resume`` goes on from there.
+    face_dtype : numpy dtype
+        Storage of the streamed face temperatures (float32: 3e-5 K at 300 K).
 
     Returns
     -------
     DiurnalResult
-        ``results`` and ``part_means`` span the whole record (times in seconds after local
-        midnight of its first day; ``part_means`` indexed by hours since then, 0 … 24·N);
+        ``part_means`` spans the recorded days (indexed by hours since local midnight of
+        the first, 0 … 24·N) and ``record`` holds every output (:class:`~shipthermal.
+        record_stream.RecordFile`, read lazily); ``results`` holds the final state only;
         ``days`` counts spin-up and recorded days; ``meta['record_days']`` the recorded
         days; the energy log covers spin-up and record.
+
+    Notes
+    -----
+    Each window gets its own forcing tables (:func:`~shipthermal.forcing.build_ship_forcing`
+    with ``window``: the rows of the whole record's tables at the same times, the ray
+    tracing and view factors done once) and the simulation goes on under them with its
+    whole state (:meth:`Simulation.continue_with
+    <shipthermal.simulation.Simulation.continue_with>`): the result does not depend on
+    the window length, nor on interruptions.
     """
     from .forcing import build_ship_forcing
+    from .geometry import build_ship_mesh
     from .model import RadiativeExchange, ThermalModel
+    from .record_stream import RecordFile, RecordParts, assemble, sample_days
     from .simulation import Simulation
 
     settings = settings or DiurnalSettings()
@@ -674,40 +734,186 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
             "environment.weather", f"{w.time[0]} … {w.time[-1]}",
             "a record run needs whole days from local midnight to local midnight")
     n_days = int(round(n_days))
-    if checkpoint is not None:
-        say("record run: checkpoints are not written (an interrupted record run restarts)")
-    t_total = _time.perf_counter()
-    say(f"record: spin-up on the first day ({w.time[0]:%Y-%m-%d}), then {n_days} day(s)")
-    spin = run_diurnal(ship, environment.first_day(), settings, absorptivity=absorptivity,
-                       emissivity=emissivity, graph=graph, traced=traced, progress=progress,
-                       log=log)
-    graph = spin.graph
-    t0 = _time.perf_counter()
-    step = min(600.0, settings.output_interval)
-    forcing = build_ship_forcing(ship, environment, graph,
-                                 times=np.arange(0.0, span + 1.0, step),
-                                 absorptivity=spin.forcing.absorptivity,
-                                 emissivity=spin.forcing.emissivity, progress=progress,
-                                 traced=spin.forcing.traced,
-                                 convection=spin.forcing.convection_model)
-    t_forcing = _time.perf_counter() - t0
-    say(f"record forcing: {len(forcing.times)} table times ({t_forcing:.1f} s)")
-    model = ThermalModel(graph, forcing.conditions(with_exchange=True),
-                         initial_temperature=spin.results.final_temperature,
-                         exchange=RadiativeExchange(*forcing.radiative_exchange()))
-    sim = Simulation(model, settings.time_step, span, scheme=settings.scheme,
-                     output_interval=settings.output_interval)
-    t0 = _time.perf_counter()
-    plan = night_steps(settings, dark_intervals(settings, forcing, span))
+    require(int(window_days) >= 1, "window_days", window_days, "must be ≥ 1")
+    stop = n_days if end_day is None else int(end_day)
+    require(1 <= stop <= n_days, "end_day", end_day, f"must lie in 1 … {n_days}")
     iv = settings.output_interval
     per_day = int(round(DAY / iv))
-    for day in range(n_days):
-        _run_intervals(sim, plan[day * per_day:(day + 1) * per_day], day * DAY, iv,
-                       f"record day {day + 1}", progress)
-        say(f"record day {day + 1} of {n_days} simulated")
-    res = sim.results()
-    t_solve = _time.perf_counter() - t0
+    t_total = _time.perf_counter()
+    timings = {"record_forcing": 0.0, "record_solve": 0.0, "record_outputs": 0.0}
+
+    ckpt = None if checkpoint is None else Path(checkpoint)
+    temporary = work_dir is None and ckpt is None
+    if work_dir is None and ckpt is not None:
+        work_dir = ckpt.with_suffix(".record")
+    elif temporary:
+        import tempfile
+
+        work_dir = tempfile.mkdtemp(prefix="shipthermal-record-")
+    parts = RecordParts(Path(work_dir) / "parts")
+    spin_ckpt = None if ckpt is None else ckpt.with_name(f"{ckpt.stem}.spinup.npz")
+    resuming = resume and ckpt is not None and ckpt.exists()
+    if resuming:
+        with np.load(ckpt) as d:
+            done = int(d["extra_record_day"])
+            spin_info = {k[len("extra_spin_"):]: d[k].copy() for k in d.files
+                         if k.startswith("extra_spin_")}
+        require(done <= stop, "end_day", end_day,
+                f"must be ≥ the {done} days the checkpoint has done already")
+        spin_energy = EnergyLog(*[spin_info.pop(f"energy_{k}") for k in EnergyLog.FIELDS])
+        spin_days = int(spin_info["days"])
+        spin_converged = bool(spin_info["converged"])
+        day_changes = [float(x) for x in spin_info["day_changes"]]
+        timings.update(json.loads(str(spin_info["timings"])))
+        if graph is None:
+            graph, _ = build_ship_mesh(ship)
+        temp0 = None
+        say(f"record: resumed from {ckpt} after {done} of {n_days} recorded day(s)")
+    else:
+        done = 0
+        say(f"record: spin-up on the first day ({w.time[0]:%Y-%m-%d}), then {n_days} day(s)")
+        spin = run_diurnal(ship, environment.first_day(), settings, absorptivity=absorptivity,
+                           emissivity=emissivity, graph=graph, traced=traced,
+                           progress=progress, log=log, checkpoint=spin_ckpt, resume=resume)
+        graph, traced = spin.graph, spin.forcing.traced
+        absorptivity, emissivity = spin.forcing.absorptivity, spin.forcing.emissivity
+        spin_energy, spin_days = spin.energy, spin.days
+        spin_converged, day_changes = spin.converged, list(spin.day_changes)
+        timings.update(spin.timings)
+        timings["spinup_total"] = timings.pop("total")
+        temp0 = spin.results.final_temperature
+        parts.drop_from(0)
     groups = part_groups(graph.part_names)
+    sampled = sample_days(n_days)
+    table_step = min(600.0, iv)
+    grid = np.arange(0.0, span + 1.0, table_step)
+    margin = _settle_intervals(settings) * iv
+
+    def window_forcing(d0, d1):
+        # the window's rows of the record's table grid, from the settle intervals before
+        # its start (the night steps look back that far) to its end
+        i0 = max(int(np.searchsorted(grid, d0 * DAY - margin, side="right")) - 1, 0)
+        i1 = int(np.searchsorted(grid, d1 * DAY - 1e-6))
+        f = build_ship_forcing(ship, environment, graph, times=grid[i0:i1 + 1],
+                               window=(float(grid[i0]), d1 * DAY),
+                               samples_per_face=settings.samples_per_face,
+                               rays_per_face=settings.rays_per_face, seed=settings.seed,
+                               absorptivity=absorptivity, emissivity=emissivity,
+                               backend=settings.backend, progress=progress and traced is None,
+                               traced=traced, convection=settings.convection)
+        f.traced.clear_lit_cache()
+        return f
+
+    sim = exchange = forcing = None
+    n_parts = done_parts = 0
+    if resuming:
+        with np.load(ckpt) as d:
+            done_parts = int(d["extra_record_parts"])
+        parts.drop_from(done_parts)
+    n_parts = done_parts
+    day = done
+    from tqdm.auto import tqdm
+
+    bar = tqdm(total=stop, initial=done, unit="day", desc="record", disable=not progress,
+               leave=False)
+    t_loop = _time.perf_counter()
+    try:
+        while day < stop:
+            d1 = min(day + int(window_days), stop)
+            t0 = _time.perf_counter()
+            forcing = window_forcing(day, d1)
+            traced = forcing.traced
+            if exchange is None:
+                exchange = RadiativeExchange(*forcing.radiative_exchange())
+            conditions = forcing.conditions(with_exchange=True)
+            timings["record_forcing"] += _time.perf_counter() - t0
+            if sim is None:
+                # (resuming: the checkpoint replaces the initial state)
+                model = ThermalModel(graph, conditions, exchange=exchange,
+                                     initial_temperature=300.0 if temp0 is None else temp0)
+                sim = Simulation(model, settings.time_step, span, scheme=settings.scheme,
+                                 output_interval=iv)
+                if resuming:
+                    sim.load_checkpoint(ckpt)
+            else:
+                sim.continue_with(ThermalModel(graph, conditions, exchange=exchange,
+                                               initial_temperature=sim.temperature))
+            plan = night_steps(settings, dark_intervals(settings, forcing, (d1 - day) * DAY,
+                                                        start=day * DAY), sim.time_step)
+            for d in range(day, d1):
+                t0 = _time.perf_counter()
+                k = (d - day) * per_day
+                _run_intervals(sim, plan[k:k + per_day], d * DAY, iv,
+                               f"record day {d + 1}", False)
+                timings["record_solve"] += _time.perf_counter() - t0
+                if d + 1 == d1:
+                    t0 = _time.perf_counter()
+                    _write_part(parts, n_parts, sim, environment, groups, graph,
+                                ship.n_faces, sampled, face_dtype)
+                    n_parts += 1
+                    sim.clear_records()
+                    if ckpt is not None:
+                        extra = {"record_day": d1, "record_parts": n_parts,
+                                 "spin_days": spin_days, "spin_converged": spin_converged,
+                                 "spin_day_changes": np.array(day_changes, float),
+                                 "spin_timings": json.dumps(
+                                     {k: v for k, v in timings.items()
+                                      if not k.startswith("record_")}, default=float)}
+                        extra.update({f"spin_energy_{k}": getattr(spin_energy, k)
+                                      for k in EnergyLog.FIELDS})
+                        sim.save_checkpoint(ckpt, extra=extra)
+                        if spin_ckpt is not None and spin_ckpt.exists():
+                            spin_ckpt.unlink()
+                    timings["record_outputs"] += _time.perf_counter() - t0
+                bar.update(1)
+                elapsed = _time.perf_counter() - t_loop
+                date = (environment.start + pd.Timedelta(days=d)).strftime("%Y-%m-%d")
+                left = elapsed / (d + 1 - done) * (stop - d - 1)
+                say(f"record day {d + 1} of {n_days} ({date}) simulated: "
+                    f"{elapsed:.0f} s for {d + 1 - done} day(s), about {left:.0f} s left")
+            day = d1
+    except BaseException:
+        if temporary:
+            import shutil
+
+            shutil.rmtree(work_dir, ignore_errors=True)
+        raise
+    finally:
+        bar.close()
+
+    t0 = _time.perf_counter()
+    part_columns = list(parts.read(0)["part_columns"])
+    path = assemble(parts, n_parts, Path(work_dir) / "record.h5", ship=ship,
+                    part_columns=part_columns, start=str(environment.start),
+                    record_days=n_days, days_done=stop, output_interval=iv,
+                    label=f"weather-record thermal run ({ship.name})", face_dtype=face_dtype)
+    record = RecordFile(path)
+    if temporary:
+        record.remove_when_unused(work_dir)
+    timings["record_outputs"] += _time.perf_counter() - t0
+    pm = record.part_means()
+    energy = record.energy()
+    final = _final_results(sim, ckpt, graph, energy, settings)
+    timings["total"] = _time.perf_counter() - t_total
+    meta = {"record_days": n_days, "spinup_days": spin_days,
+            "record_start": str(w.time[0]), "record_end": str(w.time[-1]),
+            "weather_source": w.source, "record_window_days": int(window_days)}
+    if stop < n_days:
+        meta["record_days_done"] = stop
+    result = DiurnalResult(ship=ship, graph=graph, forcing=forcing, results=final,
+                           part_means=pm, days=spin_days + stop, day_changes=day_changes,
+                           converged=spin_converged,
+                           energy=_concat_energy([spin_energy, energy]), timings=timings,
+                           settings=settings, environment=environment, meta=meta,
+                           record=record)
+    return result
+
+
+def _write_part(parts, index, sim, environment, groups, graph, n_faces, sampled, face_dtype):
+    """The window's recorded outputs (and energy log) as part ``index`` of the record."""
+    from .record_stream import in_sample
+
+    res = sim.results()
     pm = res.part_mean("outer", groups=groups)
     pm = pm[[c for c in MAIN_SERIES if c in pm.columns]
             + [c for c in pm.columns if c not in MAIN_SERIES]]
@@ -715,19 +921,30 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
     pm["temp_air"] = env.temp_air
     pm["temp_sea"] = env.temp_sea
     pm["temp_sea_skin"] = env.temp_sea_skin
-    pm.index = pd.Index(res.times / HOUR, name="hour")
-    timings = dict(spin.timings)
-    timings["spinup_total"] = timings.pop("total")
-    timings.update(record_forcing=t_forcing, record_solve=t_solve,
-                   total=_time.perf_counter() - t_total)
-    meta = {"record_days": n_days, "spinup_days": spin.days,
-            "record_start": str(w.time[0]), "record_end": str(w.time[-1]),
-            "weather_source": w.source}
-    return DiurnalResult(ship=ship, graph=graph, forcing=forcing, results=res, part_means=pm,
-                         days=spin.days + n_days, day_changes=spin.day_changes,
-                         converged=spin.converged,
-                         energy=_concat_energy([spin.energy, res.energy]), timings=timings,
-                         settings=settings, environment=environment, meta=meta)
+    keep = in_sample(res.times, sampled, DAY)
+    arrays = {"times": res.times,
+              "face_temperature": res.face_temperature[:, :n_faces].astype(face_dtype),
+              "part_means": pm.to_numpy(), "part_columns": np.array(pm.columns, dtype=str),
+              "sample_times": res.times[keep],
+              "sample_cell_temperature": res.cell_temperature[keep].astype(np.float32),
+              "sample_face_temperature": res.face_temperature[keep].astype(np.float32),
+              "sample_face_flow": res.face_flow[keep].astype(np.float32)}
+    arrays.update({f"energy_{k}": getattr(res.energy, k) for k in EnergyLog.FIELDS})
+    parts.write(index, **arrays)
+
+
+def _final_results(sim, ckpt, graph, energy, settings) -> Results:
+    """The record's final state as :class:`Results` (one time), from the simulation or, when
+    a resumed run had nothing left to do, from its checkpoint."""
+    if sim is not None:
+        time_, temp, face, flow = sim.time, sim.temperature, sim.face_temperature, sim.face_flow
+    else:
+        with np.load(ckpt) as d:
+            time_, temp, face, flow = (float(d["time"]), d["temp"].copy(),
+                                       d["temp_face"].copy(), d["flow_face"].copy())
+    return Results(graph=graph, times=np.array([time_]), cell_temperature=temp[None, :],
+                   face_temperature=face[None, :], face_flow=flow[None, :], energy=energy,
+                   scheme=settings.scheme, time_step=settings.time_step)
 
 
 def _concat_energy(parts) -> EnergyLog:

@@ -248,7 +248,7 @@ class PeriodicTable:
 
     def __call__(self, table: np.ndarray, t: float):
         """Interpolate ``table`` (n, ...) at ``t`` (float64 result)."""
-        i, j, w = self.weights(t)
+        i, j, w = _weights_at(self, t)
         if w == 0.0:
             return np.asarray(table[i], dtype=np.float64).copy() if np.ndim(table) > 1 \
                 else float(table[i])
@@ -256,6 +256,18 @@ class PeriodicTable:
         b = np.asarray(table[j], dtype=np.float64)
         out = a * (1.0 - w) + b * w
         return out if out.ndim else float(out)
+
+
+def _weights_at(table, t):
+    """``table.weights(t)``, remembered for the last ``t``: the solver asks every table of a
+    ship (40 per step) at one time in turn, and a search costs 50 µs (10 % of a weather
+    record's steps at 2 m)."""
+    last = table.__dict__.get("_last")
+    if last is not None and last[0] == t:
+        return last[1]
+    out = table.weights(t)
+    object.__setattr__(table, "_last", (t, out))
+    return out
 
 
 @dataclass(frozen=True)
@@ -287,13 +299,21 @@ class RecordTable:
     __call__ = PeriodicTable.__call__
 
 
-def _check_record_times(times, span: float) -> np.ndarray:
-    """Table times over a weather record: increasing, from 0 to ``span``, small gaps."""
+def _check_record_times(times, span: float, window=None) -> np.ndarray:
+    """Table times over a weather record: increasing, from 0 to ``span`` (or over the
+    ``window`` ``(start, end)`` [s] of it), small gaps."""
     t = np.atleast_1d(np.asarray(times, dtype=float))
     require(t.ndim == 1 and len(t) >= 2 and bool(np.all(np.diff(t) > 0)), "times", t,
             "must be a strictly increasing 1-D array of at least two times [s]")
-    require(t[0] <= 0.0 and t[-1] >= span - 1e-6, "times", f"{t[0]:g} … {t[-1]:g} s",
-            f"must cover the weather record, 0 … {span:g} s")
+    if window is None:
+        require(t[0] <= 0.0 and t[-1] >= span - 1e-6, "times", f"{t[0]:g} … {t[-1]:g} s",
+                f"must cover the weather record, 0 … {span:g} s")
+    else:
+        lo, hi = (float(x) for x in window)
+        require(0.0 <= lo < hi <= span + 1e-6, "window", window,
+                f"must be (start, end) within the weather record, 0 … {span:g} s")
+        require(t[0] <= lo and t[-1] >= hi - 1e-6, "times", f"{t[0]:g} … {t[-1]:g} s",
+                f"must cover the window {lo:g} … {hi:g} s of the weather record")
     require(float(np.max(np.diff(t))) <= MAX_TABLE_GAP, "times", float(np.max(np.diff(t))),
             f"gaps must be at most {MAX_TABLE_GAP:.0f} s")
     return t
@@ -392,6 +412,14 @@ class TracedShip:
             if k in self._lit:
                 out[row] = self._lit[k]
         return out
+
+    def clear_lit_cache(self) -> None:
+        """Forget the cached lit fractions (a weather record's window of tables keeps its
+        own copy; over a year the cache would hold every sun direction of the record:
+        26 000 directions × the receivers in float32, 6 GB for the frigate at 0.5 m).
+        A direction asked for again is traced again, to the same values (the sample points
+        do not depend on the directions traced with them)."""
+        self._lit.clear()
 
 
 def _merge_triangles(tri: np.ndarray):
@@ -1192,17 +1220,20 @@ def _patches(graph, surface: SurfaceProperties, ship) -> dict:
     return out
 
 
-def _table_times(environment, times):
+def _table_times(environment, times, window=None):
     w = environment.weather
     if w.periodic:
+        require(window is None, "window", window, "is for weather records only (a periodic "
+                "day's table covers its day)")
         require(abs(len(w.time) * w.step - DAY) < 1e-6, "environment.weather.period",
                 len(w.time) * w.step, "must be 86400 s (one day)")
         times = _check_times(np.arange(0.0, DAY, 600.0) if times is None else times)
         return times, PeriodicTable(times)
-    # a weather record: one table over the whole record (t = seconds after its start)
+    # a weather record: one table over the whole record or over a window of it (t = seconds
+    # after its start)
     span = (w.time[-1] - environment.start).total_seconds()
     times = _check_record_times(np.arange(0.0, span + 1.0, 600.0) if times is None
-                                else times, span)
+                                else times, span, window)
     return times, RecordTable(times)
 
 
@@ -1214,8 +1245,8 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
                        interior_emissivity: float = INTERIOR_EMISSIVITY,
                        current_speed: float = 0.0, traced: TracedShip | None = None,
                        dtype=np.float32,
-                       convection: str | conv.ConvectionModel = conv.DEFAULT_CONVECTION_MODEL
-                       ) -> ShipForcing:
+                       convection: str | conv.ConvectionModel = conv.DEFAULT_CONVECTION_MODEL,
+                       window=None) -> ShipForcing:
     """Precompute the boundary forcing of every outer and inner face for a design day.
 
     Parameters
@@ -1269,6 +1300,11 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
         Exterior convection model of the air faces, a name of
         :data:`~shipthermal.environment.convection.CONVECTION_MODELS` (default
         ``'flat_plate_mixed'``).
+    window : (float, float), optional
+        Weather records only: ``(start, end)`` [s after the record's start], the part of
+        the record ``times`` must cover (default: the whole record). A long record is run
+        window by window (:func:`shipthermal.diurnal.run_record`); each row of a window's
+        tables equals the whole record's row at the same time.
 
     Returns
     -------
@@ -1278,7 +1314,7 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
     require(isinstance(environment, Environment), "environment", type(environment).__name__,
             "must be a shipthermal.environment.Environment")
     model = conv.convection_model(convection, "convection")
-    times, table = _table_times(environment, times)
+    times, table = _table_times(environment, times, window)
     check_range("current_speed", current_speed, 0.0, 10.0, "m/s")
     check_range("interior_emissivity", interior_emissivity, 0.0, 1.0)
     if interior_h is not None:

@@ -18,7 +18,8 @@ from .errors import require
 from .mesh.graph import VTK_TETRA, VTK_WEDGE, CellGraph
 
 __all__ = ["EnergyLog", "Results", "atomic_path", "save_png", "write_vtkhdf",
-           "write_surface_vtkhdf", "VTKHDF_UNITS"]
+           "write_surface_vtkhdf", "graph_vtkhdf",
+           "write_vtu_series", "VTKHDF_UNITS"]
 
 
 class atomic_path:
@@ -217,58 +218,9 @@ class Results:
         linearly, as the discretisation does); the surface file then holds the boundary
         triangles with point ``temperature_K`` and ``heat_flux_W_m2`` per boundary vertex
         (its pieces pooled) and cell ``patch``."""
-        directory = Path(directory)
-        directory.mkdir(parents=True, exist_ok=True)
-        g = self.graph
-        dual = g.kind == "dual-tetrahedral"
-        grid = g.to_pyvista()
-        cell_values = grid.point_data if dual else grid.cell_data
-        if not surface:
-            surf = None
-        elif dual:
-            surf, to_points, face_flow_area = _dual_surface(g)
-        else:
-            surf = g.boundary_surface()
-        written, entries, sentries = [], [], []
-        flux = self.face_heat_flux()
-        cell_values["part_id"] = np.asarray(g.cell_part, np.int32)
-        for k, t in enumerate(self.times):
-            cell_values["temperature_K"] = self.cell_temperature[k].astype(np.float32)
-            name = directory / f"{stem}_{k:04d}.vtu"
-            with atomic_path(name) as tmp:
-                grid.save(tmp)
-            written.append(name)
-            entries.append((t, name.name))
-            if surf is not None and dual:
-                # Vertex pieces → surface points: area-weighted surface temperature and the
-                # total heat flow over the total piece area of each boundary vertex.
-                surf.point_data["temperature_K"] = (
-                    to_points @ (self.face_temperature[k] * g.bface_area)
-                    / face_flow_area).astype(np.float32)
-                surf.point_data["heat_flux_W_m2"] = (to_points @ self.face_flow[k]
-                                                / face_flow_area).astype(np.float32)
-            elif surf is not None:
-                surf.cell_data["temperature_K"] = self.face_temperature[k].astype(np.float32)
-                surf.cell_data["heat_flux_W_m2"] = flux[k].astype(np.float32)
-            if surf is not None:
-                sname = directory / f"{stem}_surface_{k:04d}.vtp"
-                with atomic_path(sname) as tmp:
-                    surf.save(tmp)
-                written.append(sname)
-                sentries.append((t, sname.name))
-        for series, ents in ((f"{stem}.pvd", entries), (f"{stem}_surface.pvd", sentries)):
-            if not ents:
-                continue
-            lines = ['<?xml version="1.0"?>',
-                     '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
-                     "  <Collection>"]
-            lines += [f'    <DataSet timestep="{t:.6g}" group="" part="0" file="{f}"/>'
-                      for t, f in ents]
-            lines += ["  </Collection>", "</VTKFile>"]
-            with atomic_path(directory / series) as tmp:
-                tmp.write_text("\n".join(lines) + "\n")
-            written.append(directory / series)
-        return written
+        return write_vtu_series(directory, self.graph, self.times,
+                                lambda k: (self.cell_temperature[k], self.face_temperature[k],
+                                           self.face_flow[k]), stem, surface)
 
     def to_vtkhdf(self, path, time_units: str | None = None) -> Path:
         """Transient VTKHDF (one file, mesh once, a time step per recorded time), readable
@@ -282,29 +234,7 @@ class Results:
         ``Steps``). pyvista reads a step as ``r = pv.get_reader(path); r.reader.SetStep(k);
         r.read()`` (its reader has no time API for VTKHDF).
         """
-        g = self.graph
-        dual = g.kind == "dual-tetrahedral"
-        if dual:
-            # Vertex-centred: the tet mesh, temperatures as point data (see to_vtu).
-            tets = g.metadata["tets"]
-            conn = np.hstack([np.full((len(tets), 1), 4), tets]).ravel()
-            types = np.full(len(tets), VTK_TETRA, np.uint8)
-        else:
-            conn, types = g.cell_connectivity, g.cell_types
-        # flat [npts, ids...] per cell → VTKHDF offsets + connectivity (sizes from the types)
-        size_of = np.zeros(256, np.int64)
-        size_of[[VTK_TETRA, VTK_WEDGE]] = (4, 6)
-        sizes = size_of[types]
-        require(bool(np.all(sizes > 0)), "graph.cell_types", np.unique(types),
-                "VTKHDF export knows tetrahedra (10) and wedges (13)")
-        starts = np.concatenate([[0], np.cumsum(sizes + 1)[:-1]])
-        mask = np.ones(len(conn), bool)
-        mask[starts] = False
-        cells = (np.concatenate([[0], np.cumsum(sizes)]), conn[mask])
-        return write_vtkhdf(path, "UnstructuredGrid", g.points, cells, self.times,
-                            {"temperature_K": self.cell_temperature},
-                            {"part_id": np.asarray(g.cell_part, np.int32)},
-                            part_names=g.part_names, types=types, point_data=dual,
+        return graph_vtkhdf(path, self.graph, self.times, lambda k: self.cell_temperature[k],
                             time_units=time_units)
 
     def summary(self) -> dict:
@@ -330,7 +260,8 @@ def write_vtkhdf(path, kind: str, points, cells, times, steps: dict, static: dic
     points : (p, 3) [m]
     cells : (offsets (n+1,), connectivity) of the cells.
     times : (nt,) step times [s].
-    steps : name → (nt, n) array, one row per time (e.g. ``temperature_K``).
+    steps : name → (nt, n) array, one row per time (e.g. ``temperature_K``), or a callable
+        ``k`` → row ``k`` (written one row at a time).
     static : name → (n,) array, the same at every step (e.g. ``part_id``).
     part_names : names that ``part_id`` indexes (field data ``part_names``).
     types : (n,) VTK cell types (unstructured grids).
@@ -383,10 +314,13 @@ def write_vtkhdf(path, kind: str, points, cells, times, steps: dict, static: dic
             st.create_dataset("ConnectivityIdOffsets", data=np.zeros((nt, n_topologies), np.int64))
             offs = st.create_group(f"{group}Offsets")
             for name, arr in steps.items():
-                arr = np.asarray(arr, np.float32)
-                require(arr.shape == (nt, n_values), name, arr.shape,
-                        f"must be (steps, values) = ({nt}, {n_values})")
-                ds = data.create_dataset(name, data=arr.reshape(-1))
+                ds = data.create_dataset(name, shape=(nt * n_values,), dtype=np.float32)
+                for k in range(nt):         # a callable's rows one at a time (a record's file)
+                    row = np.asarray(arr(k) if callable(arr) else arr[k], np.float32)
+                    require(row.shape == (n_values,), f"{name}[{k}]", row.shape,
+                            f"must hold one value per {'point' if point_data else 'cell'} "
+                            f"({n_values})")
+                    ds[k * n_values:(k + 1) * n_values] = row
                 ds.attrs["units"] = VTKHDF_UNITS.get(name, "")
                 offs.create_dataset(name, data=np.arange(nt, dtype=np.int64) * n_values)
             for name, arr in static.items():
@@ -402,6 +336,95 @@ def write_vtkhdf(path, kind: str, points, cells, times, steps: dict, static: dic
                 st.create_group("FieldDataSizes").create_dataset(
                     "part_names", data=np.tile([1, len(part_names)], (nt, 1)).astype(np.int64))
     return path
+
+
+def graph_vtkhdf(path, graph: CellGraph, times, cell_temperature_at,
+                 time_units: str | None = None) -> Path:
+    """Transient VTKHDF of a graph's cell temperatures (the file of :meth:`Results.to_vtkhdf`),
+    written one time at a time: ``cell_temperature_at(k)`` → (n_cells,) [K] at ``times[k]``
+    [s] (e.g. rows read from a record's file: one in memory at a time)."""
+    g = graph
+    dual = g.kind == "dual-tetrahedral"
+    if dual:
+        # Vertex-centred: the tet mesh, temperatures as point data (see to_vtu).
+        tets = g.metadata["tets"]
+        conn = np.hstack([np.full((len(tets), 1), 4), tets]).ravel()
+        types = np.full(len(tets), VTK_TETRA, np.uint8)
+    else:
+        conn, types = g.cell_connectivity, g.cell_types
+    # flat [npts, ids...] per cell → VTKHDF offsets + connectivity (sizes from the types)
+    size_of = np.zeros(256, np.int64)
+    size_of[[VTK_TETRA, VTK_WEDGE]] = (4, 6)
+    sizes = size_of[types]
+    require(bool(np.all(sizes > 0)), "graph.cell_types", np.unique(types),
+            "VTKHDF export knows tetrahedra (10) and wedges (13)")
+    starts = np.concatenate([[0], np.cumsum(sizes + 1)[:-1]])
+    mask = np.ones(len(conn), bool)
+    mask[starts] = False
+    cells = (np.concatenate([[0], np.cumsum(sizes)]), conn[mask])
+    return write_vtkhdf(path, "UnstructuredGrid", g.points, cells, times,
+                        {"temperature_K": cell_temperature_at},
+                        {"part_id": np.asarray(g.cell_part, np.int32)},
+                        part_names=g.part_names, types=types, point_data=dual,
+                        time_units=time_units)
+
+
+def write_vtu_series(directory, graph: CellGraph, times, state_at, stem: str = "thermal",
+                     surface: bool = True) -> list[Path]:
+    """The VTU series of :meth:`Results.to_vtu`, one time at a time: ``state_at(k)`` →
+    ``(cell temperature [K], boundary-face temperature [K], boundary-face heat flow [W])``
+    at ``times[k]`` [s]."""
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    g = graph
+    dual = g.kind == "dual-tetrahedral"
+    grid = g.to_pyvista()
+    cell_values = grid.point_data if dual else grid.cell_data
+    if not surface:
+        surf = None
+    elif dual:
+        surf, to_points, face_flow_area = _dual_surface(g)
+    else:
+        surf = g.boundary_surface()
+    written, entries, sentries = [], [], []
+    cell_values["part_id"] = np.asarray(g.cell_part, np.int32)
+    for k, t in enumerate(times):
+        cell, face, flow = (np.asarray(a, dtype=float) for a in state_at(k))
+        cell_values["temperature_K"] = cell.astype(np.float32)
+        name = directory / f"{stem}_{k:04d}.vtu"
+        with atomic_path(name) as tmp:
+            grid.save(tmp)
+        written.append(name)
+        entries.append((t, name.name))
+        if surf is not None and dual:
+            # Vertex pieces → surface points: area-weighted surface temperature and the
+            # total heat flow over the total piece area of each boundary vertex.
+            surf.point_data["temperature_K"] = (to_points @ (face * g.bface_area)
+                                                / face_flow_area).astype(np.float32)
+            surf.point_data["heat_flux_W_m2"] = (to_points @ flow
+                                                 / face_flow_area).astype(np.float32)
+        elif surf is not None:
+            surf.cell_data["temperature_K"] = face.astype(np.float32)
+            surf.cell_data["heat_flux_W_m2"] = (flow / g.bface_area).astype(np.float32)
+        if surf is not None:
+            sname = directory / f"{stem}_surface_{k:04d}.vtp"
+            with atomic_path(sname) as tmp:
+                surf.save(tmp)
+            written.append(sname)
+            sentries.append((t, sname.name))
+    for series, ents in ((f"{stem}.pvd", entries), (f"{stem}_surface.pvd", sentries)):
+        if not ents:
+            continue
+        lines = ['<?xml version="1.0"?>',
+                 '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+                 "  <Collection>"]
+        lines += [f'    <DataSet timestep="{t:.6g}" group="" part="0" file="{f}"/>'
+                  for t, f in ents]
+        lines += ["  </Collection>", "</VTKFile>"]
+        with atomic_path(directory / series) as tmp:
+            tmp.write_text("\n".join(lines) + "\n")
+        written.append(directory / series)
+    return written
 
 
 def write_surface_vtkhdf(path, vertices, faces, face_part, part_names, times,

@@ -29,6 +29,7 @@ last step's change (reported separately as ``stored_plain``).
 
 from __future__ import annotations
 
+import functools
 import os
 import tempfile
 import time
@@ -65,9 +66,19 @@ def _single_threaded_blas():
     """BLAS limited to one thread: the solver's vector operations (dot products of 10⁴–10⁶
     entries) gain nothing from threads, and an OpenBLAS pool spinning against other busy
     processes turned 10 µs dot products into milliseconds (measured here under load)."""
-    from threadpoolctl import threadpool_limits
+    return _blas_controller().limit(limits=1, user_api="blas")
 
-    return threadpool_limits(limits=1, user_api="blas")
+
+@functools.cache
+def _blas_controller():
+    """threadpoolctl's view of the process's thread pools, found once: finding them scans
+    every loaded library (8.5 ms per call in a ship run, paid at every ``run_until``: 48 a
+    simulated day of 30-min outputs, 8 % of a weather record's solve at 2 m); limiting
+    through it then takes 10 µs. By the first solve every BLAS the solver uses is loaded
+    (numpy's and scipy's, imported with this module)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
 
 
 class _JacobianPattern:
@@ -480,6 +491,11 @@ class Simulation:
         """Current boundary-face surface temperatures [K] (a copy)."""
         return self._state.temp_face.copy()
 
+    @property
+    def face_flow(self) -> np.ndarray:
+        """Current heat flow into the body through each boundary face [W] (a copy)."""
+        return self._state.flow_face.copy()
+
     def _is_output_time(self, t: float) -> bool:
         tol = 1e-6 * self.dt
         if self._output_times is not None:
@@ -532,6 +548,27 @@ class Simulation:
                 "recording interval, started on a recording time")
         self._dt_now = dt
         st.origin = (st.time, st.step)
+
+    def continue_with(self, model: ThermalModel) -> None:
+        """Go on from the current state under ``model``: the same graph and face-to-face
+        exchange, other boundary conditions (a weather record's next window of forcing
+        tables, :func:`shipthermal.diurnal.run_record`).
+
+        The whole state carries over — temperatures and the step before (BDF2's history),
+        the last step's length, surface temperatures and their slopes, the recording grid,
+        the preconditioner and its column groups — so a run continued this way equals one
+        run under a single model whose conditions agree at every time it is asked for.
+        """
+        require(isinstance(model, ThermalModel), "model", type(model).__name__,
+                "must be a ThermalModel")
+        require(model.graph is self.graph, "model.graph", "another graph",
+                "must be the simulation's own graph (a new model continues the same cells)")
+        require(model.exchange is self.model.exchange, "model.exchange", "another exchange",
+                "must be the simulation's own RadiativeExchange object (or None for both)")
+        self.model = model
+        corr = self.__dict__.get("_extrapolated_corr")
+        if corr is not None:
+            corr.model = model
 
     # ----------------------------------------------------------- operators -----------------
     def _flows(self, temp, forcing, face_guess):

@@ -253,3 +253,54 @@ def test_non_run_folder_and_file_are_refused(tmp_path):
     with pytest.raises(InputError, match="must be a folder"):
         RunDir(tmp_path / "notes.txt")
     assert (tmp_path / "notes.txt").read_text() == "mine"
+
+
+# ---- a weather record: checkpoints at the end of every day ----------------------------------
+def test_record_interrupted_in_day_3_resumes_to_the_uninterrupted_result(tmp_path, monkeypatch,
+                                                                          capsys):
+    """Three days of the buoy record: Ctrl-C early in day 3 (exit 130) leaves the checkpoint
+    of day 2 and the outputs' parts of days 1-2; --resume skips the spin-up and those days
+    and writes what the uninterrupted run writes (history.h5, part means, energy log)."""
+    import shutil
+
+    import h5py
+
+    from shipthermal import simulation
+
+    from test_cli_weather import BUOY, NDBC, _with
+
+    shutil.copy(NDBC, tmp_path / "buoy.txt")
+    sc = _with(write_tiny(tmp_path, name="buoy", season="winter"),
+               BUOY.replace("days = 2", "days = 3"), "2013-03-04")
+    ref, out = tmp_path / "ref", tmp_path / "run"
+    assert main(["-q", "run", str(sc), "--out", str(ref)]) == 0
+    original = simulation.Simulation.run_until
+
+    def interrupted(self, end_time, *a, **k):
+        if end_time > 2 * 86400.0:
+            raise KeyboardInterrupt
+        return original(self, end_time, *a, **k)
+
+    monkeypatch.setattr(simulation.Simulation, "run_until", interrupted)
+    assert main(["-q", "run", str(sc), "--out", str(out)]) == 130
+    monkeypatch.setattr(simulation.Simulation, "run_until", original)
+    _nothing_complete(out)
+    with np.load(out / "checkpoints" / "buoy.npz") as c:
+        assert float(c["time"]) == 2 * 86400.0 and int(c["extra_record_day"]) == 2
+    parts = sorted(p.name for p in (out / "checkpoints" / "buoy.record" / "parts").iterdir())
+    assert parts == ["part_00000.npz", "part_00001.npz"]
+    capsys.readouterr()
+    assert main(["-v", "run", str(sc), "--out", str(out), "--resume"]) == 0
+    err = capsys.readouterr().err
+    assert "resumed from" in err and "after 2 of 3 recorded day(s)" in err
+    assert not (out / "checkpoints").exists()
+    with h5py.File(ref / "thermal" / "buoy" / "history.h5") as a, \
+            h5py.File(out / "thermal" / "buoy" / "history.h5") as b:
+        for name in ("times", "face_temperature", "part_means", "energy/imbalance"):
+            np.testing.assert_array_equal(a[name][:], b[name][:])
+    for name in ("part_means.csv", "energy.csv"):
+        pd.testing.assert_frame_equal(pd.read_csv(ref / "thermal" / "buoy" / name),
+                                      pd.read_csv(out / "thermal" / "buoy" / name))
+    sa, sb = (json.loads((x / "thermal" / "buoy" / "thermal_summary.json").read_text())
+              for x in (ref, out))
+    assert sa["days"] == sb["days"] and sa["record_days"] == sb["record_days"] == 3

@@ -75,3 +75,137 @@ def test_record_starts_from_the_spun_up_day(record_run):
     # the record then departs from the repeated day (day 2 is other weather)
     c = res.part_means.loc[24.0:46.0, ["deck"]].to_numpy()
     assert np.max(np.abs(c - a[: len(c)])) > 0.5
+
+
+# ---- windows, chained runs, interruptions: the same answer -------------------------------
+@pytest.fixture(scope="module")
+def three_days():
+    """A 3-day record run in one window (the reference), face temperatures in float64."""
+    from shipthermal.app.thermal import thermal_inputs
+    from shipthermal.diurnal import run_record
+
+    inputs = thermal_inputs(_scenario(days=3))
+    inputs.pop("checkpoint_interval")
+    ref = run_record(**inputs, progress=False, window_days=3, face_dtype=np.float64)
+    inputs.update(graph=ref.graph, traced=ref.forcing.traced)
+    return inputs, ref
+
+
+def _max_change(a, b):
+    """Largest |ΔT| between two record runs over every face and output time [K]."""
+    assert np.array_equal(a.record.times, b.record.times)
+    return float(np.max(np.abs(a.record.face_temperature[:] - b.record.face_temperature[:])))
+
+
+def test_daily_windows_equal_one_window(three_days):
+    """Forcing tables per day and the simulation continued under each (its whole state:
+    BDF2 history, step lengths, surface temperatures) = one window over the three days, to
+    round-off (each window's table rows are the whole record's; nothing is restarted)."""
+    from shipthermal.diurnal import run_record
+
+    inputs, ref = three_days
+    daily = run_record(**inputs, progress=False, window_days=1, face_dtype=np.float64)
+    assert ref.record.face_temperature.shape == (3 * 48 + 1, ref.ship.n_faces)
+    assert _max_change(ref, daily) < 1e-9
+    np.testing.assert_allclose(daily.part_means.to_numpy(), ref.part_means.to_numpy(),
+                               rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(daily.energy.time, ref.energy.time)
+    assert abs(daily.energy.relative_imbalance) < 1e-10
+
+
+def test_chained_one_day_runs_equal_one_run(three_days, tmp_path):
+    """Three calls of one day each, every one a fresh start from the checkpoint the one
+    before left (its final state): the 3-day run to round-off."""
+    from shipthermal.diurnal import run_record
+
+    inputs, ref = three_days
+    ckpt = tmp_path / "buoy.npz"
+    for day in (1, 2, 3):
+        res = run_record(**inputs, progress=False, face_dtype=np.float64, checkpoint=ckpt,
+                         resume=True, end_day=day)
+        assert res.record.times[-1] == day * 86400.0
+        assert res.days == res.meta["spinup_days"] + day
+    assert _max_change(ref, res) < 1e-9
+    assert res.day_changes == ref.day_changes
+
+
+def test_interrupted_record_resumes_to_the_uninterrupted_answer(three_days, tmp_path):
+    """Ctrl-C after day 2 (raised by the progress log): the checkpoint of day 2 is on disk;
+    the resumed run skips the spin-up and day 1-2 and ends where the uninterrupted one does,
+    bit for bit."""
+    from shipthermal.diurnal import run_record
+
+    inputs, ref = three_days
+    ckpt = tmp_path / "buoy.npz"
+
+    def stop_after_day_2(msg):
+        if msg.startswith("record day 2 of 3"):
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_record(**inputs, progress=False, face_dtype=np.float64, checkpoint=ckpt,
+                   log=stop_after_day_2)
+    with np.load(ckpt) as c:
+        assert float(c["time"]) == 2 * 86400.0 and int(c["extra_record_day"]) == 2
+    said = []
+    res = run_record(**inputs, progress=False, face_dtype=np.float64, checkpoint=ckpt,
+                     resume=True, log=said.append)
+    assert said[0].startswith("record: resumed") and not any("spin-up" in m for m in said)
+    np.testing.assert_array_equal(res.record.face_temperature[:], ref.record.face_temperature[:])
+    pd.testing.assert_frame_equal(res.part_means, ref.part_means)
+    np.testing.assert_array_equal(res.energy.imbalance, ref.energy.imbalance)
+    assert res.days == ref.days and res.converged == ref.converged
+
+
+def test_record_outputs_file_and_lazy_history(three_days):
+    """The streamed file: units and times as attributes, float32 face temperatures by
+    default, chunked by time; the imaging history reads the two rows around a time."""
+    import h5py
+
+    from shipthermal.app.thermal import ship_thermal_history
+    from shipthermal.diurnal import run_record
+
+    inputs, ref = three_days
+    res = run_record(**inputs, progress=False, end_day=2)
+    with h5py.File(res.record.path, "r") as f:
+        ft = f["face_temperature"]
+        assert ft.dtype == np.float32 and ft.attrs["units"] == "K"
+        assert ft.chunks[1] == res.ship.n_faces and ft.shape == (2 * 48 + 1, res.ship.n_faces)
+        assert f["times"].attrs["units"] == "s" and f.attrs["start"].startswith("2013-03-04")
+        assert f.attrs["days_done"] == 2 and f.attrs["record_days"] == 3
+        # float32 of the same run: 3e-5 K at 300 K
+        np.testing.assert_allclose(ft[:], ref.record.face_temperature[:2 * 48 + 1], atol=4e-5,
+                                   rtol=0)
+    # the history outlives the result; the temporary folder of its file goes with the last
+    # of them
+    import gc
+
+    hist = ship_thermal_history(res)
+    folder = res.record.path.parent
+    del res
+    gc.collect()
+    reads = []
+
+    class Counted:
+        shape, dtype = hist.face_temperature.shape, hist.face_temperature.dtype
+
+        def __getitem__(self, key):
+            reads.append(key)
+            return hist.face_temperature[key]
+
+    from imaging.thermal_history import ShipThermalHistory
+
+    lazy = ShipThermalHistory(hist.vertices, hist.faces, hist.face_part, hist.part_names,
+                              hist.times_s, Counted(), temp_air=hist.temp_air,
+                              temp_sea=hist.temp_sea, period_s=None)
+    t = 30.25 * 3600.0
+    got = lazy.at(t)
+    assert reads == [slice(60, 62)]
+    want = 0.5 * (ref.record.face_temperature[60] + ref.record.face_temperature[61])
+    np.testing.assert_allclose(got, want, atol=4e-5, rtol=0)
+    assert lazy.temp_sea_at(t) == pytest.approx(0.5 * (ref.part_means["temp_sea_skin"].iloc[60]
+                                                       + ref.part_means["temp_sea_skin"].iloc[61]))
+    assert folder.is_dir()
+    del hist, lazy, Counted
+    gc.collect()
+    assert not folder.exists()

@@ -228,15 +228,15 @@ def test_record_days_default_and_limit(tmp_path):
     first, last = sc.weather_span(read_ndbc(tmp_path / "b.txt", tz=TZ))
     assert (last - first) == pd.Timedelta(days=5)     # 03-04 00:00 … 03-09 00:00 local
     assert len(sc.weather_record().time) == 121
-    t = pd.date_range("2013-03-01", periods=40 * 24, freq="h", tz=TZ)
+    t = pd.date_range("2013-03-01", periods=410 * 24, freq="h", tz=TZ)
     pd.DataFrame({"time": t.strftime("%Y-%m-%dT%H:%M:%S%z"), "temp_air": 5.0,
                   "relative_humidity": 80.0, "wind_speed": 4.0, "wind_direction": 90.0,
                   "cloud_cover": 0.5, "temp_sea": 6.0}).to_csv(tmp_path / "long.csv",
                                                                 index=False)
     year = load_scenario({**base, "weather": {"source": "long.csv", "day": "record"}},
                          base_dir=tmp_path)
-    with pytest.raises(InputError, match=r"weather.days = None: the record covers 37 days "
-                       r"from time.date; a record run takes at most 31. Set weather.days"):
+    with pytest.raises(InputError, match=r"weather.days = None: the record covers 407 days "
+                       r"from time.date; a record run takes at most 400. Set weather.days"):
         year.weather_record()
 
 

@@ -384,18 +384,29 @@ class SurfaceForcing:
                                    ("relative_humidity", 0.0, 100.0, "%"),
                                    ("wind_speed", 0.0, 75.0, "m s-1"),
                                    ("pressure", 3.0e4, 1.2e5, "Pa")):
-            value = np.asarray(getattr(self, name), dtype=float)
+            value = _floats(getattr(self, name))
             try:
                 np.broadcast_to(_column_shape(value, nt), (nt, n))
             except ValueError:
                 raise InputError(f"forcing.{name}", value.shape,
                                  f"must broadcast to (n_t, N) = ({nt}, {n})") from None
-            check_range(f"forcing.{name}", value, lo, hi, unit)
+            # extremes first (no float64 copy of a long record's float32 arrays); the full
+            # check names the first bad entry
+            low, high = (np.min(value), np.max(value)) if value.size else (lo, hi)
+            if not (np.isfinite(low) and np.isfinite(high) and lo <= low and high <= hi):
+                check_range(f"forcing.{name}", value, lo, hi, unit)
+
+
+def _floats(value) -> np.ndarray:
+    """``value`` as a float array: float32 kept as it is (a long record's forcing), anything
+    else as float64."""
+    a = np.asarray(value)
+    return a if a.dtype == np.float32 else np.asarray(a, dtype=float)
 
 
 def _column_shape(value, n_times: int) -> np.ndarray:
     """(n_t,) → (n_t, 1) so a per-time series broadcasts over columns."""
-    a = np.asarray(value, dtype=float)
+    a = _floats(value)
     return a[:, None] if a.ndim == 1 and a.shape[0] == n_times else a
 
 
@@ -1196,7 +1207,8 @@ def _initial_state(columns: Columns, stepper_steady: _Stepper, rows, day_index) 
     storage): four steady solves, the convective coefficient refreshed between them."""
     n = columns.n_columns
     m_max = columns.n_cells_max
-    means = [np.ascontiguousarray(r[day_index].mean(axis=0)) for r in rows]
+    means = [np.ascontiguousarray(np.asarray(r[day_index], dtype=float).mean(axis=0))
+             for r in rows]
     temp = np.full((m_max + 1, n), np.nan)
     cls_sorted = columns.class_index[stepper_steady.order]
     t_mean = means[2][stepper_steady.order]
@@ -1217,32 +1229,32 @@ class _Run:
     """The time loop's pieces over one forcing: an interval of substeps, a periodic day,
     the energy accounting; the outputs on the forcing grid."""
 
-    def __init__(self, stepper: _Stepper, forcing: SurfaceForcing, substeps: int):
+    def __init__(self, stepper: _Stepper, forcing: SurfaceForcing, substeps: int,
+                 outputs=_OUTPUTS, dtype=np.float64):
         self.stepper = stepper
         self.rows = _forcing_rows(forcing)
         self.substeps = substeps
         self.n_day = int(round(DAY / forcing.time_step))
-        self.outputs = {name: np.empty((forcing.n_times, forcing.n_columns))
-                        for name in _OUTPUTS}
+        self.outputs = {name: np.empty((forcing.n_times, forcing.n_columns), dtype)
+                        for name in outputs}
 
     def interval(self, state: _State, k_from: int, k_to: int) -> None:
         """Substeps from forcing index ``k_from`` to ``k_to`` (forcing linear in between);
         the end values are stored at ``k_to``."""
-        r0 = [r[k_from] for r in self.rows]
-        r1 = [r[k_to] for r in self.rows]
+        # (float32 forcing of a long record: rows in float64, as the kernel computes)
+        r0 = [np.asarray(r[k_from], dtype=float) for r in self.rows]
+        r1 = [np.asarray(r[k_to], dtype=float) for r in self.rows]
         for s in range(1, self.substeps + 1):
             w = s / self.substeps
             now = [np.ascontiguousarray(b if w == 1.0 else a + w * (b - a))
                    for a, b in zip(r0, r1)]
             h = self.stepper.step(state, *now)
         out, o = self.stepper.out, self.outputs
-        o["temp_surface"][k_to] = out[5]
-        o["shortwave_net"][k_to] = now[0]
-        o["longwave_net"][k_to] = out[0]
-        o["sensible"][k_to] = out[1]
-        o["latent"][k_to] = out[2]
-        o["ground"][k_to] = out[3]
-        o["h_convection"][k_to] = h
+        for name, value in (("temp_surface", out[5]), ("shortwave_net", now[0]),
+                            ("longwave_net", out[0]), ("sensible", out[1]),
+                            ("latent", out[2]), ("ground", out[3]), ("h_convection", h)):
+            if name in o:
+                o[name][k_to] = value
 
     def periodic_day(self, state: _State) -> np.ndarray:
         """The first day of the forcing once, wrapping onto index 0; its surface temperature
@@ -1314,14 +1326,17 @@ def _check_run(forcing: SurfaceForcing, columns: Columns, scheme: str, mode: str
                 forcing.shortwave_absorbed.shape,
                 f"must hold at least one day ({n_day} instants) for the spin-up")
     for name in ("shortwave_absorbed", "longwave_down"):
-        check_finite(f"forcing.{name}", getattr(forcing, name))
+        value = getattr(forcing, name)
+        if not value.size or not (np.isfinite(np.min(value)) and np.isfinite(np.max(value))):
+            check_finite(f"forcing.{name}", value)
 
 
 def solve_surface_energy(forcing: SurfaceForcing, columns: Columns,
                          convection: Callable | str | None = None,
                          scheme: str = "backward_euler", substeps: int = 1,
                          mode: str = "record", tolerance: float = 0.01, max_days: int = 60,
-                         min_days: int = 2, backend: str = "numba") -> SurfaceEnergyResult:
+                         min_days: int = 2, backend: str = "numba", outputs=None,
+                         output_dtype=np.float64) -> SurfaceEnergyResult:
     """Surface temperature and energy balance of N columns.
 
     Parameters
@@ -1356,6 +1371,11 @@ def solve_surface_energy(forcing: SurfaceForcing, columns: Columns,
         from the column's slowest decay, exp(−α π² t / L²).
     backend : {'numba', 'reference'}
         The compiled kernel or the numpy reference (same arithmetic).
+    outputs : sequence of str, optional
+        The (n_t, N) results kept (default all; ``temp_surface`` always): the others are
+        None. A year of 2 200 columns at 600 s holds 0.9 GB per float64 output.
+    output_dtype : numpy dtype
+        Storage of the kept outputs (float32 for a long record).
 
     Returns
     -------
@@ -1376,7 +1396,11 @@ def solve_surface_energy(forcing: SurfaceForcing, columns: Columns,
     kernel = _KERNELS[backend]
     stepper = _Stepper(columns, convection, SCHEMES[scheme], forcing.time_step / substeps,
                        kernel)
-    run = _Run(stepper, forcing, int(substeps))
+    keep = tuple(_OUTPUTS) if outputs is None else tuple(dict.fromkeys(("temp_surface",
+                                                                         *outputs)))
+    require(set(keep) <= set(_OUTPUTS), "surface_energy.outputs", list(keep),
+            f"must name outputs of {', '.join(_OUTPUTS)}")
+    run = _Run(stepper, forcing, int(substeps), keep, output_dtype)
     steady = _Stepper(columns, convection, 1.0, 1.0e30, kernel)
     state = _initial_state(columns, steady, run.rows, np.arange(run.n_day))
     days, change, energy_start = _spin_up(run, state, tolerance, min_days, max_days)
@@ -1385,7 +1409,7 @@ def solve_surface_energy(forcing: SurfaceForcing, columns: Columns,
         run.record(state)
     energy_end = stepper.stored_energy(state.temp)
     return SurfaceEnergyResult(
-        **run.outputs, temp_cells=stepper.cells(state),
+        **{name: run.outputs.get(name) for name in _OUTPUTS}, temp_cells=stepper.cells(state),
         energy_residual=energy_end - energy_start - state.acc, energy_scale=state.acc_abs,
         surface_imbalance=state.imbalance.copy(), spinup_days=days, spinup_change=change,
         scheme=scheme, substeps=int(substeps))

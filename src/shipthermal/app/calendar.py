@@ -99,7 +99,7 @@ def run_calendar(scenario, run, *, progress: bool = True, log=None, ship=None,
         f"({', '.join(sorted({o.satellite for o in overpasses})) or 'none'})")
     case = scenario.name
     summary = thermal_case(scenario, run, case, progress=progress, log=say, ship=ship)
-    history = load_history(run.path / "thermal" / case / "history.npz")
+    history = load_history(run.path / "thermal" / case)
     t0 = _time.perf_counter()
     background = build_background(scenario, progress=progress)
     img = imaging_scenario(scenario, background, history)

@@ -156,7 +156,7 @@ def _imaging(run, cases: dict, con: Console, step_s: float | None = None,
     """Imaging stage of a run: ``cases = {case: Scenario}`` with finished thermal stages."""
     from .pipeline import image_cases, load_history
 
-    inputs = {c: (sc, load_history(run.path / "thermal" / c / "history.npz"))
+    inputs = {c: (sc, load_history(run.path / "thermal" / c))
               for c, sc in cases.items()}
     con.info(f"imaging: {', '.join(cases)} x {', '.join(next(iter(cases.values())).bands)} µm")
     with run.stage("imaging") as tmp:
@@ -408,7 +408,7 @@ def cmd_calendar(args, con: Console) -> int:
 
 
 def cmd_image(args, con: Console) -> int:
-    from .pipeline import build_background, check_imaging_bands, frame_times
+    from .pipeline import build_background, check_imaging_bands, frame_times, history_file
     from .rundir import MARKER, RunDir
 
     step = None if args.step_min is None else 60.0 * args.step_min
@@ -419,10 +419,10 @@ def cmd_image(args, con: Console) -> int:
         raise InputError("run directory", str(path), "is not finished (no COMPLETE marker)",
                          f"Finish it first: shipthermal run --resume ... --out {path}")
     cases = _cases_of(path)
-    missing = [c for c in cases if not (path / "thermal" / c / "history.npz").is_file()]
+    missing = [c for c in cases if not history_file(path / "thermal" / c).is_file()]
     if missing:
         raise InputError("run directory", str(path), f"has no thermal result for "
-                         f"{', '.join(missing)} (thermal/<case>/history.npz)")
+                         f"{', '.join(missing)} (thermal/<case>/history.npz or .h5)")
     if args.bands:
         cases = {c: sc.updated({"imaging.bands": list(args.bands)}) for c, sc in cases.items()}
     for sc in cases.values():
@@ -433,7 +433,7 @@ def cmd_image(args, con: Console) -> int:
     from .pipeline import load_history
 
     for c, sc in cases.items():             # the ship must float where the images put it
-        hist = load_history(path / "thermal" / c / "history.npz")
+        hist = load_history(path / "thermal" / c)
         for line in check_mooring_on(sc, hist, backgrounds[c]):
             con.error(f"warning: {c}: {line}")
     with RunDir(path, command=args.argv, kind="image", amend=True) as run:

@@ -21,6 +21,7 @@ scenario key reaches the stages that use it).
 from __future__ import annotations
 
 import json
+import os
 import time as _time
 from pathlib import Path
 
@@ -31,14 +32,16 @@ from imaging.parameters import SENSOR_BANDS
 
 from ..errors import InputError, require
 from ..figures import FigureOptions
+from ..results import write_vtu_series
 from ..units import DAY, HOUR, with_units
 from .run_environment import aerosol_conditions, sea_glint_wind_speed, sky_weather
 from .thermal import ship_thermal_history
 
 __all__ = ["QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case", "store_thermal", "prepare",
            "check_imaging_bands", "output_inputs", "write_thermal", "save_history",
-           "load_history", "background_inputs", "build_background", "imaging_scenario",
-           "experiment_inputs", "frame_times", "image_cases"]
+           "load_history", "history_file", "HISTORY_FILES", "background_inputs",
+           "build_background", "imaging_scenario", "experiment_inputs", "frame_times",
+           "image_cases"]
 
 #: ``demo --quick`` and ``validate --quick`` [m]: the frigate with 1520 triangles. Without
 #: ``--quick`` both run the scenario's own mesh: the built-in default
@@ -84,11 +87,31 @@ def save_history(history, path) -> Path:
     return path
 
 
+#: The imaging stage's input in a thermal case folder: one periodic day (``.npz``, in
+#: memory) or a weather record's streamed outputs (``.h5``, read lazily by time).
+HISTORY_FILES = ("history.npz", "history.h5")
+
+
+def history_file(case_dir) -> Path:
+    """The thermal history in a case folder ``thermal/<case>/`` (:data:`HISTORY_FILES`;
+    the ``.npz`` name when neither exists)."""
+    d = Path(case_dir)
+    for name in HISTORY_FILES:
+        if (d / name).is_file():
+            return d / name
+    return d / HISTORY_FILES[0]
+
+
 def load_history(path):
-    """Read what :func:`save_history` wrote."""
+    """Read what :func:`save_history` (``.npz``) or the record stream (``.h5``,
+    :mod:`shipthermal.record_stream`) wrote; ``path`` may be the case folder."""
     from imaging.thermal_history import ShipThermalHistory
 
     path = Path(path)
+    if path.is_dir():
+        path = history_file(path)
+    if path.suffix == ".h5" and path.is_file():
+        return _record_history(path)
     if not path.is_file():
         raise InputError("thermal history", str(path), "must exist (written by the thermal "
                          "stage)", "Run `shipthermal run` first, or resume the run")
@@ -103,6 +126,21 @@ def load_history(path):
                                   period_s=None if np.isnan(period) else period)
 
 
+def _record_history(path):
+    """The history of a weather record's outputs file, face temperatures read lazily."""
+    from imaging.thermal_history import ShipThermalHistory
+
+    from ..record_stream import RecordFile
+
+    rec = RecordFile(path)
+    pm = rec.part_means()
+    return ShipThermalHistory(**rec.ship_arrays(), times_s=rec.times,
+                              face_temperature=rec.face_temperature,
+                              temp_air=pm["temp_air"].to_numpy(),
+                              temp_sea=pm["temp_sea_skin"].to_numpy(),
+                              label=str(rec.attrs.get("label", "")), period_s=None)
+
+
 def output_inputs(scenario) -> dict:
     """What the writers receive from a scenario: the run ``directory``, the ``formats`` and
     the local hours of the surface maps (``map_hours`` [h])."""
@@ -114,9 +152,11 @@ def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
     """Write a :class:`~shipthermal.diurnal.DiurnalResult`'s products into ``out_dir``.
 
     Always: ``part_means.csv``, ``thermal_summary.json``, ``energy.csv`` (per step [J]) and
-    ``history.npz`` (outer-surface temperatures for the imaging stage). PNG pictures with
-    ``png`` or ``html`` in ``outputs.formats``; ``thermal.vtkhdf`` with ``vtkhdf``; a VTU
-    series with ``vtu``.
+    the outer-surface temperatures for the imaging stage: ``history.npz`` (a periodic day)
+    or ``history.h5`` (a weather record's streamed outputs,
+    :mod:`shipthermal.record_stream`). PNG pictures with ``png`` or ``html`` in
+    ``outputs.formats``; ``thermal.vtkhdf`` with ``vtkhdf``; a VTU series with ``vtu``
+    (a record: its sampled days, :data:`shipthermal.record_stream.SAMPLE_DAYS_MAX`).
     """
     from ..results import EnergyLog, atomic_path
 
@@ -132,11 +172,34 @@ def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
         with_units(pd.DataFrame({k: getattr(e, k) for k in EnergyLog.FIELDS})).to_csv(
             tmp, index=False, float_format="%.9g")
     written["energy_csv"] = out / "energy.csv"
-    hist = ship_thermal_history(result)
-    written["history"] = save_history(hist, out / "history.npz")
-    if "vtu" in fmts:
+    if result.record is not None:
+        written["history"] = _link_or_copy(result.record.path, out / "history.h5")
+    else:
+        written["history"] = save_history(ship_thermal_history(result), out / "history.npz")
+    if "vtu" in fmts and result.record is not None:
+        rec = result.record
+        written["vtu"] = write_vtu_series(out / "vtu", result.graph, rec.sample_times,
+                                          rec.sample_row)
+    elif "vtu" in fmts:
         written["vtu"] = result.results.to_vtu(out / "vtu")
     return written
+
+
+def _link_or_copy(src, dst) -> Path:
+    """``dst`` as a hard link to ``src`` (no copy of a year's outputs), else a copy (another
+    file system); atomically either way."""
+    import shutil
+
+    from ..results import atomic_path
+
+    dst = Path(dst)
+    with atomic_path(dst) as tmp:
+        tmp.unlink()
+        try:
+            os.link(src, tmp)
+        except OSError:
+            shutil.copyfile(src, tmp)
+    return dst
 
 
 def thermal_case(scenario, run, case: str, *, resume: bool = False, progress: bool = True,

@@ -5,7 +5,8 @@ Built from the files of a run directory only:
 * ``imaging/metrics_<season>_<band>.csv`` — SCR and contrast over the day;
 * ``imaging/images_<season>_<band>.nc`` — the at-aperture radiance stack around the ship;
 * ``imaging/summary.json`` — the place, date and zone of each season, what the background is;
-* ``thermal/<case>/history.npz`` — the ship's outer-surface temperature over the day;
+* ``thermal/<case>/history.npz`` — the ship's outer-surface temperature over the day
+  (``history.h5`` for a weather record: its first day is shown);
 * ``ensemble/crossovers.csv`` — a weather ensemble's crossover times, when the run has one.
 
 The first screen answers *when is the ship hardest to see, in which band, and how sure is
@@ -41,6 +42,7 @@ from imaging.parameters import SENSOR_BANDS
 
 from ..figures import BAND_STYLES, OKABE_ITO, band_label, unit_label
 from ..units import latitude_text, longitude_text, strip_units, zone_text
+from .pipeline import history_file, load_history
 
 __all__ = ["SCR_CLUTTER_LIMIT", "SLIDER_HOURS", "SPREAD_COLLAPSE", "SPREAD_WINDOW_H",
            "SENSITIVITY_K",
@@ -510,21 +512,22 @@ def _image_frames(nc: Path, band: str, hours=SLIDER_HOURS):
     return uris, bar, cap
 
 
-def _surface_frames(npz: Path, title: str, hours=SLIDER_HOURS, zone: str = ""):
+def _surface_frames(case_dir: Path, title: str, hours=SLIDER_HOURS, zone: str = ""):
     """(PNG data URIs per slider time ``hours``, caption) of the ship coloured by its surface
-    temperature, one colour scale over the day."""
+    temperature, one colour scale over the day (a weather record's first day)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.collections import PolyCollection
 
-    d = np.load(npz, allow_pickle=False)
-    v, f = d["vertices"], d["faces"]
-    th = (d["times_s"] / 3600.0)
-    temp = d["face_temperature"]
+    hist = load_history(case_dir)
+    v, f = hist.vertices, hist.faces
+    th = hist.times_s / 3600.0
     ks = [_nearest(th % 24.0 if th[-1] > 24.0 + 1e-9 else th, hr) for hr in hours]
-    vmin, vmax = np.nanpercentile(temp[ks], [0.5, 99.5])
+    # only the rows shown (a record's are read from its file)
+    temp = {k: np.asarray(hist.face_temperature[k], dtype=float) for k in set(ks)}
+    vmin, vmax = np.nanpercentile(np.stack([temp[k] for k in ks]), [0.5, 99.5])
     from ..geometry.surface_maps import OBLIQUE_VIEW_DEG, project
 
     u, w, depth = project(v, *OBLIQUE_VIEW_DEG)
@@ -711,8 +714,8 @@ def day_section(run: Path) -> str:
     zone = next((z for z in zones if z), "")
     if thermal.is_dir():
         for d in sorted(p for p in thermal.iterdir() if p.is_dir()):
-            if (d / "history.npz").is_file():
-                uris, cap = _surface_frames(d / "history.npz", d.name, hours,
+            if history_file(d).is_file():
+                uris, cap = _surface_frames(d, d.name, hours,
                                             zone.split(" ")[0] if zone else "")
                 blocks.append(f"<h3>{html.escape(d.name)}: ship surface temperature</h3>"
                               f'<figure class="frames">'

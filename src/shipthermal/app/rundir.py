@@ -10,12 +10,14 @@ renamed into place only when the stage has finished)::
       scenario_<case>.toml   one per case (the demo: summer and winter)
       mesh/                  `shipthermal mesh`: ship files, part picture, mesh report
       thermal/<case>/        part_means.csv/.png, surface_HHMM.png, thermal.vtkhdf,
-                             thermal_summary.json, energy.csv, history.npz
+                             thermal_summary.json, energy.csv, history.npz (a weather
+                             record: history.h5)
       imaging/               images_*.nc, typical_*.tif, panels_*.png, scr_*.png,
                              metrics_*.csv, crossovers.csv, band_comparison.csv, summary.json
       validation/            validation table (when run)
       report.html            self-contained report (images embedded)
-      checkpoints/<case>.npz thermal checkpoints while a run is unfinished
+      checkpoints/<case>.npz thermal checkpoints while a run is unfinished (a weather
+                             record: also <case>.record/, its outputs day by day)
       COMPLETE               written last; its absence means "not finished"
 
 Rules (what makes it safe):

@@ -64,12 +64,14 @@ def ship_thermal_history(result: DiurnalResult):
     """The imaging stage's input (:class:`imaging.thermal_history.ShipThermalHistory`) from
     a diurnal run: outer-surface temperature of every ship triangle over the recorded day
     (or the whole weather record), with the air temperature and the sea's skin temperature
-    (what the hull sees and reflects, and what the image's water radiates from)."""
+    (what the hull sees and reflects, and what the image's water radiates from). A record's
+    face temperatures are read lazily from its outputs file."""
     from imaging.thermal_history import ShipThermalHistory
 
     s = result.ship
+    times = result.record.times if result.record is not None else result.results.times
     return ShipThermalHistory(s.vertices, s.faces, s.face_part, s.part_names,
-                              result.results.times, result.outer_face_temperature(),
+                              times, result.outer_face_temperature(),
                               temp_air=result.part_means["temp_air"].to_numpy(),
                               temp_sea=result.part_means["temp_sea_skin"].to_numpy(),
                               label=f"diurnal thermal run ({s.name})",

@@ -64,8 +64,13 @@ DECOMPOSITIONS = tuple(sorted(_DECOMPOSITIONS))
 WEATHER_FORMATS = ("auto",) + tuple(sorted(STATION_FORMATS))
 """'auto' (the format from the file name, :data:`WEATHER_SUFFIXES`) and the readable ones."""
 
-MAX_RECORD_DAYS = 31
-"""Longest weather.day = 'record' run [days] (forcing tables grow with the span)."""
+MAX_RECORD_DAYS = 400
+"""Longest weather.day = 'record' run [days]: a year (366 days in a leap year) and a month
+of the next. A record runs window by window with its outputs streamed to disk
+(:func:`shipthermal.diurnal.run_record`), so its memory does not grow with the span; the
+bound catches a mistyped span (3650 for 365) before it fills a disk: the streamed outputs
+take 4 bytes per ship triangle and output time (a year of the built-in frigate at 0.5 m
+and 30-min outputs: 4.2 GB)."""
 CLOUD_UNITS = tuple(sorted(CLOUD_COVER_SCALE))
 
 DALIAN = {"latitude": _DALIAN_STATION["latitude"], "longitude": _DALIAN_STATION["longitude"],
