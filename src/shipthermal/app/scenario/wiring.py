@@ -227,7 +227,7 @@ class Scenario:
                        cloud_cover=np.clip(weather.cloud_cover + w.cloud_cover_offset, 0.0, 1.0),
                        temp_sea=weather.temp_sea, ghi=weather.ghi,
                        longwave_down=weather.longwave_down, periodic=periodic,
-                       source=source or weather.source)
+                       source=source or weather.source, solar_interval=weather.solar_interval)
 
     def weather_span(self, record=None):
         """``(first, last)`` instants of weather the run needs (tz-aware, both included):
