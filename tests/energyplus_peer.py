@@ -138,9 +138,10 @@ def engine_version() -> str:
     return f"{v.major}.{v.minor}" if hasattr(v, "major") else ".".join(str(v).split(".")[:2])
 
 
-def run_energyplus_idf(write, climate: str, workdir=None) -> tuple:
+def run_energyplus_idf(write, climate: str, workdir=None, epw=None) -> tuple:
     """Run EnergyPlus on an IDF written by ``write(path, version)`` with a climate's TMY3
-    file; returns (outputs DataFrame, wall time [s], work folder)."""
+    file (or the EPW file ``epw``); returns (outputs DataFrame, wall time [s], work
+    folder)."""
     from pyenergyplus.api import EnergyPlusAPI
 
     workdir = Path(workdir or tempfile.mkdtemp(prefix="eplus_"))
@@ -151,7 +152,7 @@ def run_energyplus_idf(write, climate: str, workdir=None) -> tuple:
     state = api.state_manager.new_state()
     api.runtime.set_console_output_status(state, False)
     t0 = time.perf_counter()
-    code = api.runtime.run_energyplus(state, ["-w", str(weather_file(climate)), "-d",
+    code = api.runtime.run_energyplus(state, ["-w", str(epw or weather_file(climate)), "-d",
                                               str(workdir), str(idf)])
     wall = time.perf_counter() - t0
     api.state_manager.delete_state(state)

@@ -49,9 +49,11 @@ emissivity ε_i), at time t with sun direction s in the ship frame:
   long-wave, conserving energy between faces exactly (the part (1 − ε_j) of i's emission
   reflected by j is taken to return to i). Without the exchange (``with_exchange=False``) the
   other ship faces a face sees are replaced by black bodies at the air temperature.
-* **convection, air faces**: by default (``convection='flat_plate_mixed'``) mixed forced +
-  natural convection of :func:`~shipthermal.environment.convection.h_exterior_air`
-  (Churchill 1977, n = 3).
+* **convection, air faces**: a model of
+  :data:`~shipthermal.environment.convection.CONVECTION_MODELS` per part (default
+  :data:`~shipthermal.parameters.DEFAULT_CONVECTION_MODEL`, the flat plate turbulent from
+  its leading edge, forced + natural convection combined by Churchill 1977, n = 3;
+  docs/CONVECTION.md).
   Forced: flat plate at the apparent wind at the face's height (true wind brought from
   10 m to the centroid height by the neutral log profile, then the ship's velocity
   subtracted); flow length = extent of the part's horizontal bounding box along the
@@ -66,12 +68,15 @@ emissivity ε_i), at time t with sun direction s in the ship frame:
   ``interior_h``.
 
 Convection coefficients depend on the surface temperature (natural convection, film
-properties, the heat-flow direction of ISO 6946), which a boundary value f(t) cannot know.
-They are evaluated at a quasi-steady estimate of the surface temperature: the root of the
-face's energy balance with the heat capacity neglected and conduction through the part's
-layup to the compartment air (Newton, 4 steps). A thin plate follows that estimate within
-a few kelvin; natural convection scales as ΔT^(1/3), so the coefficients are insensitive
-to its error.
+properties, the heat-flow direction of ISO 6946). The air faces' coefficient is a forced
+part, tabulated, and a law of the surface temperature
+(:class:`~shipthermal.conditions.ConvectionLaw`, :meth:`ShipForcing.convection_law`) that
+the solver evaluates at the surface temperature it solves for. What the tables still need
+of the surface temperature, the air properties of the film (flat-plate models) and the
+inner faces' heat-flow direction, comes from a quasi-steady estimate: the root of the face's
+energy balance with the heat capacity neglected and conduction through the part's layup to
+the compartment air (Newton, 3 steps). A thin plate follows that estimate within a few
+kelvin; the film's properties change by ~0.3 % per kelvin.
 
 Tables. Everything that varies per face and time is tabulated at the given ``times``
 (seconds after local midnight, one periodic design day) as ``(n_times, n_faces)`` arrays

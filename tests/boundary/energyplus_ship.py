@@ -73,6 +73,13 @@ BULKHEAD_ROOM_FILM = 2.5 + 0.9 * 4.0 * SIGMA * 295.0 ** 3
 """ISO 6946 Annex C inside film of a wall, convective 2.5 plus ε h_r0 with ε 0.9 at 295 K
 (the film of the forcing's back side) [W m-2 K-1]; fixed in both codes (``matched``)."""
 
+DECK_FILM = 0.7 + 0.9 * 4.0 * SIGMA * 300.0 ** 3
+"""ISO 6946 Annex C film of a deck's underside with heat flowing down (0.7 convective) plus
+ε h_r0 (ε 0.9 at 300 K) [W m-2 K-1]: a sun-heated deck over a cooler compartment."""
+
+INSIDE_FILMS = {"adiabatic": ADIABATIC_FILM, "room": BULKHEAD_ROOM_FILM, "deck": DECK_FILM}
+"""Fixed inside films by the plates' ``inside`` (``'tarp'``: EnergyPlus's own) [W m-2 K-1]."""
+
 STEEL = Material("test_plate", 7850.0, 470.0, 50.0, "the issue's test plate: k 50, c 470")
 PAINT = MATERIALS["marine_paint"]
 WOOL = MATERIALS["mineral_wool"]
@@ -91,7 +98,7 @@ class Plate:
     layup: Layup
     alpha: float
     epsilon: float
-    inside: str               # 'adiabatic' | 'room' (fixed film) | 'tarp' (EnergyPlus's own)
+    inside: str               # a key of INSIDE_FILMS (fixed film) | 'tarp' (EnergyPlus's own)
     box: tuple                # (east, north, up) extent of the part's box [m]
 
     @property
@@ -242,7 +249,7 @@ def write_idf(path, plates=PLATES, weeks=("july", "january"), version: str = "25
                 parts.append(idf_surface(f"{p.name}_{tag}", _kind(nz), "board", p.name,
                                          "Adiabatic", "NoSun", "NoWind", verts))
         if p.inside != "tarp":
-            film = BULKHEAD_ROOM_FILM if p.inside == "room" else ADIABATIC_FILM
+            film = INSIDE_FILMS[p.inside]
             parts.append(o("SurfaceProperty:ConvectionCoefficients", p.name, "Inside", "Value",
                            film, "", ""))
     for var in OUTPUT_VARIABLES:
@@ -250,12 +257,13 @@ def write_idf(path, plates=PLATES, weeks=("july", "january"), version: str = "25
     path.write_text("\n".join(parts), encoding="ascii")
 
 
-def run_energyplus(climate: str, weeks=("july", "january"), workdir=None) -> tuple:
-    """One EnergyPlus run of every plate on a climate's TMY3 file: (outputs, wall time [s],
-    work folder)."""
-    return run_energyplus_idf(lambda path, version: write_idf(path, weeks=weeks,
+def run_energyplus(climate: str, weeks=("july", "january"), workdir=None, plates=PLATES,
+                   epw=None) -> tuple:
+    """One EnergyPlus run of every plate on a climate's TMY3 file (or the EPW file ``epw``):
+    (outputs, wall time [s], work folder)."""
+    return run_energyplus_idf(lambda path, version: write_idf(path, plates=plates, weeks=weeks,
                                                               version=version),
-                              climate, workdir)
+                              climate, workdir, epw=epw)
 
 
 # ------------------------------------------------------------------------------------------
@@ -280,8 +288,8 @@ class Week:
     room: dict                   # plate → zone air [K]
 
 
-def week_inputs(climate: str, df: pd.DataFrame, week: str, plates=PLATES) -> Week:
-    epw, loc = read_epw(weather_file(climate))
+def week_inputs(climate: str, df: pd.DataFrame, week: str, plates=PLATES, epw_path=None) -> Week:
+    epw, loc = read_epw(epw_path or weather_file(climate))
     month, day = WEEKS[week]
     rows = week_rows(df, month)
     wx = forcing_on_steps(epw, loc, month, day, 7)
@@ -433,9 +441,9 @@ def _plate_inputs(p: Plate, wk: Week, step: str) -> dict:
     sun = incident(p, wk, sky, below)
     hf, law = _convection(p, wk, model, air)
     n = len(wk.times)
-    if p.inside == "adiabatic":
-        h_in = np.full(n, ADIABATIC_FILM)
-    elif p.inside == "room" or step == "default":
+    if p.inside in INSIDE_FILMS:
+        h_in = np.full(n, INSIDE_FILMS[p.inside])
+    elif step == "default":
         h_in = np.full(n, BULKHEAD_ROOM_FILM)
     else:
         # EnergyPlus's own inside convection (its reported coefficient); its radiation to
@@ -533,12 +541,12 @@ def run_ours(wk: Week, steps=("default", "matched"), plates=PLATES, scheme: str 
 
 
 def compare(climate: str, df: pd.DataFrame, steps=("default", "matched"),
-            weeks=("july", "january"), plates=PLATES, **kwargs) -> dict:
+            weeks=("july", "january"), plates=PLATES, epw=None, **kwargs) -> dict:
     """``{(step, week, plate): CaseResult}``: our solver next to EnergyPlus (one solver run
     per week holding every step and plate)."""
     out = {}
     for week in weeks:
-        wk = week_inputs(climate, df, week, plates)
+        wk = week_inputs(climate, df, week, plates, epw)
         ours, wall = run_ours(wk, steps, plates, **kwargs)
         for (step, name), terms in ours.items():
             ev = {k: wk.eplus[name][k] for k in TERMS}

@@ -184,3 +184,25 @@ def test_attribution_term_by_term(peer):
             rms = [ep.statistics(res[(s, week, p.name)])["rms"] for s in es.STEPS]
             print(f"{climate} {week} {p.name}: " + " -> ".join(f"{x:.2f}" for x in rms))
             assert rms[-1] < MATCHED_RMS_K or p.inside == "tarp"
+
+
+def test_paper_deck_moments_with_energyplus_on_the_same_day(tmp_path):
+    # The paper's four reference moments with EnergyPlus on the built-in design days (an
+    # EPW holding what our environment gives): EnergyPlus's deck and ours with its models
+    # agree (matched), and the table says how far both are from the paper's values.
+    import numba
+    import pandas as pd
+
+    import energyplus_deck as ed
+
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        rows = pd.DataFrame(ed.reference_table(tmp_path))
+    finally:
+        numba.set_num_threads(threads)
+    with pd.option_context("display.width", 200, "display.float_format", "{:.2f}".format):
+        print("\n" + rows.to_string(index=False))
+    assert len(rows) == 4
+    assert (rows["matched_rms_K"] < MATCHED_RMS_K).all()
+    assert (abs(rows["ours_matched_K"] - rows["energyplus_K"]) < MATCHED_MAX_K).all()
