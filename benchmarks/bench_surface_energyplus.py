@@ -3,7 +3,7 @@
 A paving slab (asphalt / concrete / soil over a fixed bottom temperature) and a flat roof
 (membrane / concrete deck / insulation over a room) on the TMY3 files shipped with the
 EnergyPlus wheel (San Francisco, Phoenix, Miami), a July and a January week each; the model
-and the forcing are those of ``tests/background/energyplus_peer.py``.
+and the forcing are those of ``tests/background/energyplus_land.py``.
 
 Printed:
 
@@ -28,9 +28,10 @@ import tempfile
 import time
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "background"))
 
-import energyplus_peer as ep  # noqa: E402
+import energyplus_land as ep  # noqa: E402
 
 TERMS = (("Temperature", "T_s [C]"),
          ("Convection Heat Transfer Coefficient", "h"),

@@ -15,20 +15,27 @@ into the body through a face at surface temperature ``T_s`` is
 with ``q_0`` the absorbed short-wave plus any prescribed flux, ``h`` a convection coefficient,
 ``ε`` the long-wave emissivity (= absorptivity, Kirchhoff) and ``L_in`` the incident long-wave
 irradiance; or a fixed surface temperature.
+
+A convection coefficient may depend on the surface temperature itself (natural convection):
+a :class:`ConvectionLaw` beside ``h`` makes ``h`` the forced part and gives the natural part
+as a law of ``ΔT = T_s − T_fluid``; the solver then evaluates the coefficient at the surface
+temperature it solves for (:func:`law_h`), inside the surface balance's Newton iteration.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable, Union
 
 import numpy as np
+from numba import njit
 
 from .errors import InputError, check_finite, require
 from .units import SIGMA
 
 __all__ = ["FixedTemperature", "HeatFlux", "Convection", "Radiation", "SurfaceBalance",
-           "Adiabatic", "FaceForcing", "evaluate", "BoundaryCondition"]
+           "Adiabatic", "FaceForcing", "evaluate", "BoundaryCondition", "ConvectionLaw",
+           "LAW_PARAMETERS", "law_h", "law_h_and_slope"]
 
 Value = Union[float, np.ndarray, Callable[[float], Union[float, np.ndarray]]]
 
@@ -49,10 +56,14 @@ class HeatFlux:
 
 @dataclass(frozen=True)
 class Convection:
-    """Convection to a fluid: ``h (temp_fluid − T_s)``; ``h`` [W m-2 K-1], ``temp_fluid`` [K]."""
+    """Convection to a fluid: ``h (temp_fluid − T_s)``; ``h`` [W m-2 K-1], ``temp_fluid`` [K].
+
+    With ``law`` (:class:`ConvectionLaw`), ``h`` is the forced part and the coefficient is
+    evaluated at the solved surface temperature."""
 
     h: Value
     temp_fluid: Value
+    law: "ConvectionLaw | None" = None
 
 
 @dataclass(frozen=True)
@@ -79,8 +90,11 @@ class SurfaceBalance:
     longwave_in : incident long-wave irradiance [W m-2] (sky, sea, surroundings weighted by
         view factors); give this or ``temp_env``
     temp_env : equivalent black-body temperature of the surroundings [K]
-    h : convection coefficient [W m-2 K-1]
+    h : convection coefficient [W m-2 K-1] (with ``law``: its forced part)
     temp_air : air temperature [K]
+    law : ConvectionLaw, optional
+        The coefficient's dependence on the surface temperature, evaluated by the solver at
+        the surface temperature it solves for.
     """
 
     absorbed_shortwave: Value = 0.0
@@ -89,11 +103,177 @@ class SurfaceBalance:
     temp_env: Value | None = None
     h: Value = 0.0
     temp_air: Value = 0.0
+    law: "ConvectionLaw | None" = None
 
 
 @dataclass(frozen=True)
 class Adiabatic:
     """No heat flow through the face."""
+
+
+# ---------------------------------------------------------------------------------------
+# Temperature-dependent convection coefficients
+# ---------------------------------------------------------------------------------------
+LAW_PARAMETERS = ("c1", "p1", "c2", "p2", "a", "b")
+"""Per face and side, the natural-convection law ``h_N(x) = max(c1 x^p1, c2 x^p2,
+(a + b x^(1/6))²)`` of ``x = |ΔT|`` [K]: two power laws (horizontal plates, building
+correlations) and the Churchill–Chu form of a vertical plate; unused terms are zero."""
+
+
+@dataclass(frozen=True)
+class ConvectionLaw:
+    """The temperature dependence of a convection coefficient.
+
+    With ``ΔT = T_s − T_fluid`` and ``x = |ΔT|``::
+
+        h = h_N + R [(h_F^n + h_N^n)^(1/n) − h_N]
+        h_N = max(c1 x^p1, c2 x^p2, (a + b x^(1/6))²)       (side: unstable or stable)
+
+    ``h_F`` is the condition's ``h`` (the forced part), ``n`` the blending exponent, ``R`` a
+    roughness multiplier of the forced part. ``n = 1, R = 1``: forced + natural (TARP);
+    ``n = 2``: quadrature (MoWiTT; with ``R`` ≠ 1 the DOE-2 form); ``n = 3, R = 1``: Churchill
+    (1977) mixed convection; a zero natural law leaves ``h = R h_F``.
+
+    The side is *unstable* where the buoyant flow leaves the face freely, ``ΔT · normal_z >
+    0`` (a hot face looking up, a cold face looking down), else *stable*; a vertical face
+    (``normal_z = 0``) uses the unstable row for both.
+
+    Parameters
+    ----------
+    natural : value
+        ``(k, 2, 6)`` per face: rows [unstable, stable], columns :data:`LAW_PARAMETERS`
+        ([W m-2 K-(1+p)], [-], …; ``a``, ``b`` in [W^½ m-1 K-½], [W^½ m-1 K-(½+1/6)]);
+        a number, an array or ``f(t)``.
+    blend : value
+        ``n`` [-] (≥ 1) per face.
+    multiplier : value
+        ``R`` [-] (> 0) per face.
+    normal_z : value
+        Upward component of the unit normal pointing into the fluid [-].
+    """
+
+    natural: Value = 0.0
+    blend: Value = 1.0
+    multiplier: Value = 1.0
+    normal_z: Value = 0.0
+
+
+@njit(cache=True, inline="always")
+def _power(x, p, r):
+    """``x^p`` for ``x > 0`` given ``r = x^(1/3)``: the common exponents without ``pow``."""
+    if p == 0.0:
+        return 1.0
+    if abs(p - 1.0 / 3.0) < 1e-15:
+        return r
+    if p == 0.25:
+        return np.sqrt(np.sqrt(x))
+    return x ** p
+
+
+@njit(cache=True)
+def law_h_and_slope(h_forced, blend, mult, nz, law, delta):
+    """``(h, x ∂h/∂x)`` of a :class:`ConvectionLaw` at ``ΔT = delta`` [K] (``law`` the
+    face's ``(2, 6)`` parameters). ``x ∂h/∂x`` (``x = |ΔT|``) is finite at ``ΔT = 0``: the
+    convective flux ``h ΔT`` has the slope ``h + x ∂h/∂x`` there and everywhere."""
+    x = abs(delta)
+    side = 1 if delta * nz < 0.0 else 0      # ΔT = 0: both sides give the same h
+    c1 = law[side, 0]
+    c2 = law[side, 2]
+    a = law[side, 4]
+    b = law[side, 5]
+    hn = 0.0
+    gn = 0.0              # x ∂h_N/∂x
+    if x > 0.0:
+        r = np.cbrt(x)
+        if c1 > 0.0:
+            p1 = law[side, 1]
+            hn = c1 * _power(x, p1, r)
+            gn = p1 * hn
+        if c2 > 0.0:
+            p2 = law[side, 3]
+            v = c2 * _power(x, p2, r)
+            if v > hn:
+                hn = v
+                gn = p2 * v
+        if b > 0.0:
+            y = np.sqrt(r)
+            s = a + b * y
+            v = s * s
+            if v > hn:
+                hn = v
+                gn = s * b * y / 3.0          # x d/dx (a + b x^(1/6))² = 2 s b y / 6
+    if a * a > hn:
+        hn = a * a
+        gn = 0.0
+    if hn == 0.0:
+        return mult * h_forced, 0.0
+    if h_forced <= 0.0:
+        # no forced part: S = h_N, h = h_N whatever R and n
+        return hn, gn
+    if blend == 1.0:
+        tot = h_forced + hn
+        ratio = 1.0
+    elif blend == 2.0:
+        tot = np.sqrt(h_forced * h_forced + hn * hn)
+        ratio = hn / tot
+    elif blend == 3.0:
+        tot = np.cbrt(h_forced * h_forced * h_forced + hn * hn * hn)
+        q = hn / tot
+        ratio = q * q
+    else:
+        tot = (h_forced ** blend + hn ** blend) ** (1.0 / blend)
+        ratio = (hn / tot) ** (blend - 1.0)
+    h = hn + mult * (tot - hn)
+    # ∂S/∂h_N = (h_N / S)^(n−1)
+    g = gn * (1.0 - mult + mult * ratio)
+    return h, g
+
+
+@njit(cache=True)
+def _law_h_array(h_forced, blend, mult, nz, law, delta, out_h, out_g):
+    for i in range(delta.shape[0]):
+        h, g = law_h_and_slope(h_forced[i], blend[i], mult[i], nz[i], law[i], delta[i])
+        out_h[i] = h
+        out_g[i] = g
+
+
+def law_h(h_forced, law: "ConvectionLaw", delta, return_slope: bool = False):
+    """The coefficient of a :class:`ConvectionLaw` (evaluated, arrays) at ``ΔT = delta``
+    [K]: the same function the solver evaluates per face (:func:`law_h_and_slope`).
+
+    Parameters
+    ----------
+    h_forced : array_like
+        Forced part ``h_F`` [W m-2 K-1].
+    law : ConvectionLaw
+        With array values (``natural`` of shape ``(..., 2, 6)``).
+    delta : array_like
+        ``T_s − T_fluid`` [K].
+    return_slope : bool
+        Also return ``x ∂h/∂x`` [W m-2 K-1].
+
+    Returns
+    -------
+    numpy.ndarray
+        h [W m-2 K-1], broadcast shape of the inputs.
+    """
+    d = np.asarray(delta, dtype=float)
+    nat = np.asarray(law.natural, dtype=float)
+    shape = np.broadcast_shapes(np.shape(h_forced), d.shape, np.shape(law.blend),
+                                np.shape(law.multiplier), np.shape(law.normal_z),
+                                nat.shape[:-2] if nat.ndim >= 2 else ())
+    n = int(np.prod(shape)) if shape else 1
+    def flat(v):
+        return np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=float), shape)).reshape(n)
+    if nat.ndim < 2:
+        nat = np.zeros((2, 6)) + nat
+    law_flat = np.ascontiguousarray(np.broadcast_to(nat, shape + (2, 6))).reshape(n, 2, 6)
+    h = np.empty(n)
+    g = np.empty(n)
+    _law_h_array(flat(h_forced), flat(law.blend), flat(law.multiplier), flat(law.normal_z),
+                 law_flat, flat(d), h, g)
+    h, g = h.reshape(shape), g.reshape(shape)
+    return (h, g) if return_slope else h
 
 
 BoundaryCondition = Union[FixedTemperature, HeatFlux, Convection, Radiation, SurfaceBalance,
@@ -102,7 +282,10 @@ BoundaryCondition = Union[FixedTemperature, HeatFlux, Convection, Radiation, Sur
 
 @dataclass
 class FaceForcing:
-    """Per-boundary-face forcing at one time (all arrays of length b)."""
+    """Per-boundary-face forcing at one time (all arrays of length b).
+
+    Faces with a :class:`ConvectionLaw` have ``law_index ≥ 0``: their ``h`` is the forced
+    part and ``law_*[law_index]`` the law (compact: only those faces carry one)."""
 
     fixed: np.ndarray        # bool: fixed temperature
     temp_fixed: np.ndarray   # [K]
@@ -111,11 +294,40 @@ class FaceForcing:
     temp_fluid: np.ndarray   # [K]
     emissivity: np.ndarray   # [-]
     longwave_in: np.ndarray  # [W m-2]
+    law_index: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))  # (b,)
+    law_natural: np.ndarray = field(default_factory=lambda: np.zeros((0, 2, 6)))
+    law_blend: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    law_multiplier: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    law_normal_z: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @classmethod
     def zeros(cls, b: int) -> "FaceForcing":
         z = np.zeros(b)
-        return cls(np.zeros(b, bool), z.copy(), z.copy(), z.copy(), z.copy(), z.copy(), z.copy())
+        return cls(np.zeros(b, bool), z.copy(), z.copy(), z.copy(), z.copy(), z.copy(), z.copy(),
+                   law_index=np.full(b, -1, np.int64))
+
+    @property
+    def has_law(self) -> bool:
+        """Whether some face's coefficient depends on its temperature."""
+        return self.law_blend.shape[0] > 0
+
+    def set_law(self, idx: np.ndarray, natural, blend, multiplier, normal_z) -> None:
+        """Give the faces ``idx`` a law (arrays of ``len(idx)`` rows); :meth:`finish` joins
+        the laws of all patches."""
+        parts = self.__dict__.setdefault("_law_parts", [])
+        start = sum(len(p[0]) for p in parts) + self.law_blend.shape[0]
+        self.law_index[idx] = start + np.arange(len(idx))
+        parts.append((natural, blend, multiplier, normal_z))
+
+    def finish(self) -> "FaceForcing":
+        """Join the laws given by :meth:`set_law` (one copy instead of one per patch)."""
+        parts = self.__dict__.pop("_law_parts", None)
+        if parts:
+            self.law_natural = np.concatenate([self.law_natural] + [p[0] for p in parts])
+            self.law_blend = np.concatenate([self.law_blend] + [p[1] for p in parts])
+            self.law_multiplier = np.concatenate([self.law_multiplier] + [p[2] for p in parts])
+            self.law_normal_z = np.concatenate([self.law_normal_z] + [p[3] for p in parts])
+        return self
 
 
 def evaluate(value: Value, t: float, n: int, field: str) -> np.ndarray:
@@ -149,6 +361,8 @@ def fill(forcing: FaceForcing, idx: np.ndarray, bc: BoundaryCondition, t: float,
         require(bool(np.all(h >= 0)), f"{field}.h", float(h.min()), "must be ≥ 0 W m-2 K-1")
         forcing.h[idx] = h
         forcing.temp_fluid[idx] = ev("temp_fluid", bc.temp_fluid)
+        if bc.law is not None:
+            _fill_law(forcing, idx, bc.law, t, f"{field}.law")
     elif isinstance(bc, Radiation):
         eps = ev("emissivity", bc.emissivity)
         _check_emissivity(f"{field}.emissivity", eps)
@@ -171,13 +385,37 @@ def fill(forcing: FaceForcing, idx: np.ndarray, bc: BoundaryCondition, t: float,
         h = ev("h", bc.h)
         require(bool(np.all(h >= 0)), f"{field}.h", float(h.min()), "must be ≥ 0 W m-2 K-1")
         forcing.h[idx] = h
-        forcing.temp_fluid[idx] = ev("temp_air", bc.temp_air) if np.any(h > 0) else 0.0
+        if bc.law is not None:
+            forcing.temp_fluid[idx] = ev("temp_air", bc.temp_air)
+            _fill_law(forcing, idx, bc.law, t, f"{field}.law")
+        else:
+            forcing.temp_fluid[idx] = ev("temp_air", bc.temp_air) if np.any(h > 0) else 0.0
     elif isinstance(bc, Adiabatic):
         pass
     else:
         raise InputError(field, type(bc).__name__,
                          "must be one of FixedTemperature, HeatFlux, Convection, Radiation, "
                          "SurfaceBalance, Adiabatic")
+
+
+def _fill_law(forcing: FaceForcing, idx: np.ndarray, law: ConvectionLaw, t: float,
+              field: str) -> None:
+    n = len(idx)
+    nat = law.natural(t) if callable(law.natural) else law.natural
+    nat = np.asarray(nat, dtype=float)
+    nat = np.broadcast_to(nat, (n, 2, len(LAW_PARAMETERS))) if nat.ndim <= 2 else nat
+    require(nat.shape == (n, 2, len(LAW_PARAMETERS)), f"{field}.natural", nat.shape,
+            f"must be ({n}, 2, {len(LAW_PARAMETERS)}): per face, [unstable, stable] × "
+            f"{', '.join(LAW_PARAMETERS)}")
+    low = float(nat.min()) if nat.size else 0.0
+    require(np.isfinite(nat.sum()) and low >= 0.0, f"{field}.natural", low,
+            "must be finite and ≥ 0")
+    blend = evaluate(law.blend, t, n, f"{field}.blend")
+    require(bool(np.all(blend >= 1)), f"{field}.blend", float(blend.min()), "must be ≥ 1")
+    mult = evaluate(law.multiplier, t, n, f"{field}.multiplier")
+    require(bool(np.all(mult > 0)), f"{field}.multiplier", float(mult.min()), "must be > 0")
+    nz = evaluate(law.normal_z, t, n, f"{field}.normal_z")
+    forcing.set_law(idx, np.ascontiguousarray(nat), blend, mult, nz)
 
 
 def _check_emissivity(field: str, eps: np.ndarray, allow_zero: bool = False) -> None:

@@ -35,6 +35,7 @@ import json
 import time as _time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Mapping
 
 import numpy as np
 import pandas as pd
@@ -103,9 +104,12 @@ class DiurnalSettings:
         (rounded up to whole output intervals); ``SPINUP_LEAD_IN`` by default.
     samples_per_face, rays_per_face, seed, backend
         Ray tracing (see :func:`shipthermal.forcing.build_ship_forcing`).
-    convection : str
+    convection : str or mapping
         Exterior convection model of the air faces, a name of
-        :data:`shipthermal.environment.convection.CONVECTION_MODELS`.
+        :data:`shipthermal.environment.convection.CONVECTION_MODELS`, or ``{part: name}``.
+    convection_roughness : str or mapping, optional
+        Roughness class (per part) of the DOE-2 / TARP roughness multiplier (default
+        :data:`shipthermal.parameters.CONVECTION_ROUGHNESS`).
     initial_temperature : float, optional
         Start temperature [K]; default the day's mean air temperature.
     night_step : float
@@ -123,7 +127,8 @@ class DiurnalSettings:
     rays_per_face: int = 256
     seed: int = 0
     backend: str = "auto"
-    convection: str = DEFAULT_CONVECTION_MODEL
+    convection: str | Mapping = DEFAULT_CONVECTION_MODEL
+    convection_roughness: str | Mapping | None = None
     initial_temperature: float | None = None
     lead_in: float = SPINUP_LEAD_IN
     night_step: float = NIGHT_STEP
@@ -528,7 +533,8 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
                                  rays_per_face=settings.rays_per_face, seed=settings.seed,
                                  absorptivity=absorptivity, emissivity=emissivity,
                                  backend=settings.backend, progress=progress, traced=traced,
-                                 convection=settings.convection)
+                                 convection=settings.convection,
+                                 roughness=settings.convection_roughness)
     timings["forcing"] = _time.perf_counter() - t0
     say(f"forcing: ray tracing and tables ({timings['forcing']:.1f} s)")
 
@@ -800,7 +806,8 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
                                rays_per_face=settings.rays_per_face, seed=settings.seed,
                                absorptivity=absorptivity, emissivity=emissivity,
                                backend=settings.backend, progress=progress and traced is None,
-                               traced=traced, convection=settings.convection)
+                               traced=traced, convection=settings.convection,
+                               roughness=settings.convection_roughness)
         f.traced.clear_lit_cache()
         return f
 

@@ -49,9 +49,11 @@ emissivity ε_i), at time t with sun direction s in the ship frame:
   long-wave, conserving energy between faces exactly (the part (1 − ε_j) of i's emission
   reflected by j is taken to return to i). Without the exchange (``with_exchange=False``) the
   other ship faces a face sees are replaced by black bodies at the air temperature.
-* **convection, air faces**: by default (``convection='flat_plate_mixed'``) mixed forced +
-  natural convection of :func:`~shipthermal.environment.convection.h_exterior_air`
-  (Churchill 1977, n = 3).
+* **convection, air faces**: a model of
+  :data:`~shipthermal.environment.convection.CONVECTION_MODELS` per part (default
+  :data:`~shipthermal.parameters.DEFAULT_CONVECTION_MODEL`, the flat plate turbulent from
+  its leading edge, forced + natural convection combined by Churchill 1977, n = 3;
+  docs/CONVECTION.md).
   Forced: flat plate at the apparent wind at the face's height (true wind brought from
   10 m to the centroid height by the neutral log profile, then the ship's velocity
   subtracted); flow length = extent of the part's horizontal bounding box along the
@@ -66,12 +68,15 @@ emissivity ε_i), at time t with sun direction s in the ship frame:
   ``interior_h``.
 
 Convection coefficients depend on the surface temperature (natural convection, film
-properties, the heat-flow direction of ISO 6946), which a boundary value f(t) cannot know.
-They are evaluated at a quasi-steady estimate of the surface temperature: the root of the
-face's energy balance with the heat capacity neglected and conduction through the part's
-layup to the compartment air (Newton, 4 steps). A thin plate follows that estimate within
-a few kelvin; natural convection scales as ΔT^(1/3), so the coefficients are insensitive
-to its error.
+properties, the heat-flow direction of ISO 6946). The air faces' coefficient is a forced
+part, tabulated, and a law of the surface temperature
+(:class:`~shipthermal.conditions.ConvectionLaw`, :meth:`ShipForcing.convection_law`) that
+the solver evaluates at the surface temperature it solves for. What the tables still need
+of the surface temperature, the air properties of the film (flat-plate models) and the
+inner faces' heat-flow direction, comes from a quasi-steady estimate: the root of the face's
+energy balance with the heat capacity neglected and conduction through the part's layup to
+the compartment air (Newton, 3 steps). A thin plate follows that estimate within a few
+kelvin; the film's properties change by ~0.3 % per kelvin.
 
 Tables. Everything that varies per face and time is tabulated at the given ``times``
 (seconds after local midnight, one periodic design day) as ``(n_times, n_faces)`` arrays
@@ -82,6 +87,7 @@ spin-up sees exactly day 0's forcing. Values are exact at the table times.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import time as _time
 from dataclasses import dataclass, field
@@ -92,12 +98,13 @@ import pandas as pd
 import scipy.sparse as sp
 
 from ._threads import thread_map
-from .conditions import Convection, SurfaceBalance
+from .conditions import LAW_PARAMETERS, Convection, ConvectionLaw, SurfaceBalance, law_h
 from .environment import Environment, to_ship_frame
 from .environment import convection as conv
 from .errors import check_range, require
 from .geometry.parts import MAIN_PARTS, main_part
-from .parameters import LONGWAVE_EMISSIVITY, SOLAR_ABSORPTIVITY, part_default
+from .parameters import (CONVECTION_ROUGHNESS, LONGWAVE_EMISSIVITY, SOLAR_ABSORPTIVITY,
+                         part_default)
 from .raytrace import make_tracer, sun_lit_fraction, symmetrize, view_factors
 from .raytrace.viewfactors import ViewFactors
 from .units import DAY, SIGMA
@@ -106,7 +113,8 @@ __all__ = ["MAX_TABLE_GAP", "INTERIOR_EMISSIVITY", "TracedShip", "ShipForcing", 
            "build_ship_forcing", "part_values", "quasi_steady_surface_temperature",
            "PeriodicTable", "RecordTable", "SurfaceProperties", "surface_properties",
            "FlowLengths", "flow_lengths", "BackSide", "back_side", "wetted_hull_convection",
-           "air_convection"]
+           "air_convection", "AirConvection", "air_convection_models", "exterior_terms",
+           "part_choices"]
 
 INTERIOR_EMISSIVITY = 0.9
 """Hemispherical emissivity of the inner faces for the linearised interior radiation of the
@@ -609,8 +617,11 @@ class ShipForcing:
         Per outer face [-].
     temp_air, longwave_down, sea_longwave_up, temp_sea, h_water : (n,) float
         Scalar series at the table times [K], [W m-2], [W m-2], [K], [W m-2 K-1].
-    convection_model : str
-        Name of the exterior convection model of the air faces.
+    convection_model : str or dict
+        The exterior convection model of the air faces as chosen (a name, or names per
+        part); ``convection_models`` gives the model of every part.
+    convection_models : dict
+        Part → model name (air parts).
     seconds : dict
         Wall time of each stage [s].
     """
@@ -634,13 +645,18 @@ class ShipForcing:
     compartment_temperature: dict
     patches: dict
     _sw: dict          # patch -> (n, m) absorbed short-wave (air patches)
-    _h: dict           # patch -> (n, m) convection coefficient (air and inner patches)
+    _h: dict           # patch -> (n, m) convection coefficient: forced part (air patches,
+                       # with the law of :meth:`convection_law`), the whole (inner patches)
     _lit: np.ndarray   # (n, k) lit fraction of the receivers
     inner_bfaces: np.ndarray
     unforced_patches: tuple
     sun_ship: np.ndarray
-    convection_model: str = conv.DEFAULT_CONVECTION_MODEL
+    convection_model: str | dict = conv.DEFAULT_CONVECTION_MODEL
     seconds: dict = field(default_factory=dict)
+    _est: dict = field(default_factory=dict)   # patch -> (n, m) quasi-steady T_s (air)
+    air_faces: _AirFaces | None = None
+    convection_models: dict = field(default_factory=dict)
+    convection_roughness: str | dict | None = None
 
     # ---- geometry and view factors per outer face -----------------------------------
     @property
@@ -766,7 +782,8 @@ class ShipForcing:
                     emissivity=eps_eff,
                     longwave_in=longwave_in,
                     h=lambda t, hh=hh: tab(hh, t),
-                    temp_air=lambda t: tab(t_air, t))
+                    temp_air=lambda t: tab(t_air, t),
+                    law=self.convection_law(name))
             elif p.kind == "sea":
                 out[name] = Convection(h=lambda t: tab(self.h_water, t),
                                        temp_fluid=lambda t: tab(self.temp_sea, t))
@@ -775,6 +792,64 @@ class ShipForcing:
                 out[name] = Convection(h=lambda t, hh=hh: tab(hh, t),
                                        temp_fluid=float(self.compartment_temperature[p.part]))
         return out
+
+    def _air_positions(self, patch: str) -> np.ndarray:
+        """Positions among the air faces of an air patch's faces."""
+        air = self.air_faces
+        pos = np.full(len(self.outer_bfaces), -1)
+        pos[air.cols] = np.arange(len(air.cols))
+        return pos[self.patches[patch].cols]
+
+    def convection_law(self, patch: str) -> ConvectionLaw:
+        """The law of the surface temperature of an air patch's coefficient
+        (:class:`~shipthermal.conditions.ConvectionLaw`, with the forced part tabulated):
+        natural convection of the part's model, its blending and roughness multiplier.
+        Flat-plate models take the air properties at the film temperature of the
+        quasi-steady estimate at the table times, their law's coefficients interpolated
+        between them like every table; the others have none."""
+        air = self.air_faces
+        pos = self._air_positions(patch)
+        model = air.convection.models[air.convection.model_index[pos[0]]]
+        nz = air.normals[pos, 2]
+        flow = conv.ExteriorFlow(normal_z=nz, wind_speed=0.0,
+                                 length_flow=1.0, length_vertical=air.lengths.vertical[pos],
+                                 length_horizontal=air.lengths.horizontal[pos],
+                                 perimeter_over_area=air.convection.perimeter_over_area[pos],
+                                 roughness=air.convection.roughness[pos])
+        tab, t_air = self.table, self.temp_air
+        if model.film_dependent:
+            est = self._est[patch]
+            rows: dict = {}
+
+            def at_row(i):
+                # the law at a table time's estimate (its film temperature), kept for the
+                # few rows the solver is between
+                if i not in rows:
+                    if len(rows) >= 4:
+                        rows.pop(next(iter(rows)))
+                    film = 0.5 * (est[i].astype(float) + float(t_air[i]))
+                    rows[i] = model.terms(film, flow)[1].natural
+                return rows[i]
+
+            def natural(t):
+                i, j, w = tab.weights(t)
+                return at_row(i) if w == 0.0 else (1.0 - w) * at_row(i) + w * at_row(j)
+        else:
+            natural = np.ascontiguousarray(model.terms(np.full(len(pos), 300.0), flow)[1].natural)
+        law = model.terms(np.full(len(pos), 300.0), flow)[1]
+        return ConvectionLaw(natural=natural, blend=np.broadcast_to(law.blend, nz.shape).copy(),
+                             multiplier=np.broadcast_to(law.multiplier, nz.shape).copy(),
+                             normal_z=nz.copy())
+
+    def convection_coefficient(self, patch: str, t: float, temp_surface=None) -> np.ndarray:
+        """The coefficient of an air patch's faces at ``t`` [W m-2 K-1]: the law at
+        ``temp_surface`` [K] (default the quasi-steady estimate)."""
+        law = self.convection_law(patch)
+        nat = law.natural(t) if callable(law.natural) else law.natural
+        ts = self.table(self._est[patch], t) if temp_surface is None else temp_surface
+        return law_h(self.table(self._h[patch], t),
+                     ConvectionLaw(nat, law.blend, law.multiplier, law.normal_z),
+                     np.asarray(ts, dtype=float) - self.table(self.temp_air, t))
 
     def radiative_exchange(self):
         """Face-to-face long-wave exchange for ``RadiativeExchange(bfaces, area_exchange)``.
@@ -831,7 +906,8 @@ class ShipForcing:
                 air = [p for p in outer if p.kind == "air"]
                 if air:
                     sw = np.concatenate([self._sw[p.name] for p in air], axis=1).astype(float)
-                    hh = np.concatenate([self._h[p.name] for p in air], axis=1).astype(float)
+                    hh = np.concatenate([np.stack([self.convection_coefficient(p.name, t)
+                                                   for t in self.times]) for p in air], axis=1)
                     ca = np.concatenate([p.cols for p in air])
                     aa = A[ca]
                     mean_t = sw @ aa / aa.sum()
@@ -1112,40 +1188,190 @@ class _AirFaces:
     share: np.ndarray         # F_sky + F_sea [-]
     inv_share: np.ndarray     # 1 / share (0 where share = 0)
     lengths: FlowLengths
+    convection: "AirConvection"
 
 
-def air_convection(model: conv.ConvectionModel, air: _AirFaces, state, rows, environment,
-                   absorbed, eps_env, u_back, temp_back, F_sky, F_sea):
-    """Stage 3b: convection coefficients of the air faces at the table rows ``rows``.
+@dataclass(frozen=True)
+class AirConvection:
+    """Stage 3b's static half: the exterior convection model of every air face.
 
-    The apparent wind at face height (true wind brought from 10 m by the neutral log
-    profile, then the ship's velocity subtracted) over the flow length of the part along
-    it; the temperature-dependent ``model.h`` evaluated at the quasi-steady surface
-    estimate (:func:`quasi_steady_surface_temperature`).
-
-    Returns
-    -------
-    h : (n_rows, k) float
-        [W m-2 K-1].
-    temp_surface : (n_rows, k) float
-        The estimate [K].
+    Attributes
+    ----------
+    models : tuple of ConvectionModel
+        The models in use.
+    model_index : (k,) int
+        Model of each air face (index into ``models``).
+    roughness : (k,) float
+        Roughness multiplier R_f of each face's part [-].
+    perimeter_over_area : (k,) float
+        P/A of the face's facade or deck [m-1] (TARP): the part's horizontal bounding box for
+        a horizontal face (``|n_z| ≥ 0.98``), else the rectangle of the box's extent across
+        the face's horizontal normal by the part's height.
     """
-    ta = state.temp_air[rows, None]
+
+    models: tuple
+    model_index: np.ndarray
+    roughness: np.ndarray
+    perimeter_over_area: np.ndarray
+
+    def groups(self):
+        """``(model, columns of its faces among the air faces)`` for every model in use."""
+        for k, model in enumerate(self.models):
+            cols = np.flatnonzero(self.model_index == k)
+            if len(cols):
+                yield model, cols
+
+
+def air_convection_models(surface: SurfaceProperties, normals, lengths: FlowLengths,
+                          convection, roughness=None) -> AirConvection:
+    """Stage 3b's static half: model, roughness and facade P/A of each air face.
+
+    ``convection``: a model name (every part) or ``{part: name}`` (parts, main parts or
+    ``'hull'``; the rest :data:`~shipthermal.parameters.DEFAULT_CONVECTION_MODEL`);
+    ``roughness``: a class name or ``{part: class}`` of
+    :data:`~shipthermal.environment.convection.ROUGHNESS_MULTIPLIERS` (default
+    :data:`~shipthermal.parameters.CONVECTION_ROUGHNESS`)."""
+    names = surface.part_names
+    by_part = part_choices(names, conv.DEFAULT_CONVECTION_MODEL, convection, "convection.model",
+                           lambda v, f: conv.convection_model(v, f).name)
+    rough_part = part_choices(names, None, roughness, "convection.roughness",
+                              lambda v, f: (conv.roughness_multiplier(v, f), v)[1],
+                              defaults=CONVECTION_ROUGHNESS)
+    used = tuple(dict.fromkeys(by_part[n] for n in names))
+    models = tuple(conv.convection_model(m) for m in used)
+    air_part = surface.outer_part[surface.outer_is_air]
+    model_of_part = np.array([used.index(by_part[n]) for n in names])
+    rf_of_part = np.array([conv.ROUGHNESS_MULTIPLIERS[rough_part[n]] for n in names])
+    nz = normals[:, 2]
+    horizontal = np.abs(nz) >= conv.WINDWARD_HORIZONTAL_COS
+    hor = np.hypot(normals[:, 0], normals[:, 1])
+    nx = np.divide(np.abs(normals[:, 0]), hor, out=np.zeros_like(hor), where=hor > 0)
+    ny = np.divide(np.abs(normals[:, 1]), hor, out=np.ones_like(hor), where=hor > 0)
+    width = lengths.along_x * ny + lengths.along_y * nx
+    facade = 2.0 * (width + lengths.vertical) / (width * lengths.vertical)
+    p_over_a = np.where(horizontal, 1.0 / lengths.horizontal, facade)
+    return AirConvection(models=models, model_index=model_of_part[air_part],
+                         roughness=rf_of_part[air_part], perimeter_over_area=p_over_a)
+
+
+def part_choices(part_names, default, overrides, field_name: str, check,
+                 defaults: Mapping | None = None) -> dict:
+    """A name per part from a default (or per-main-part ``defaults``) and user overrides
+    (one name, or ``{part: name}`` with parts, main parts or ``'hull'``); every name passes
+    ``check(name, field) -> name``."""
+    if overrides is None:
+        overrides = {}
+    if not isinstance(overrides, Mapping):
+        one = check(overrides, field_name)
+        return {n: one for n in part_names}
+    allowed = set(part_names) | set(MAIN_PARTS) | {"hull"}
+    for key, value in overrides.items():
+        require(key in allowed, f"{field_name}[{key!r}]", key,
+                f"unknown part; parts are {', '.join(part_names)} (or a main part / 'hull')")
+        check(value, f"{field_name}[{key!r}]")
+    out = {}
+    for name in part_names:
+        main = main_part(name)
+        for key in (name, main, "hull" if main.startswith("hull") else None):
+            if key in overrides:
+                out[name] = overrides[key]
+                break
+        else:
+            out[name] = default if defaults is None else part_default(defaults, main)
+    return out
+
+
+def _exterior_flow(air: _AirFaces, state, rows, environment) -> conv.ExteriorFlow:
+    """The wind of the air faces at the table rows: the apparent wind at face height, its
+    flow length over the part and which faces face it."""
     speed_true = conv.wind_speed_at_height(state.wind_speed[rows, None], air.height[None, :])
     speed_rel, _, off_bow = conv.relative_wind(speed_true, state.wind_direction[rows, None],
                                                environment.ship_speed,
                                                environment.ship_heading)
-    length_flow = air.lengths.along_wind(off_bow)
+    ang = np.radians(off_bow)
+    # where the apparent wind comes from, in the ship frame (x bow, y port; off the bow
+    # clockwise = towards starboard)
+    wind_from = np.stack([np.cos(ang), -np.sin(ang)], axis=-1)
+    windward = conv.is_windward(air.normals[None, :, :], wind_from)
+    c = air.convection
+    return conv.ExteriorFlow(normal_z=air.normals[:, 2], wind_speed=speed_rel,
+                             length_flow=air.lengths.along_wind(off_bow),
+                             length_vertical=air.lengths.vertical,
+                             length_horizontal=air.lengths.horizontal, windward=windward,
+                             perimeter_over_area=c.perimeter_over_area,
+                             roughness=c.roughness)
+
+
+def _flow_columns(flow: conv.ExteriorFlow, cols) -> conv.ExteriorFlow:
+    """The flow of some air faces (columns)."""
+    def sub(v):
+        v = np.asarray(v)
+        return v[..., cols] if v.ndim else v
+    return conv.ExteriorFlow(**{f.name: sub(getattr(flow, f.name))
+                                for f in dataclasses.fields(flow)})
+
+
+def exterior_terms(air: _AirFaces, flow: conv.ExteriorFlow, temp_film, law: bool = True):
+    """Forced part [W m-2 K-1] and :class:`~shipthermal.conditions.ConvectionLaw` arrays of
+    every air face (each face by its part's model) at the film temperature ``temp_film``
+    [K] (shape of ``flow``'s time rows × faces); ``law=False``: the forced part only."""
+    temp_film = np.asarray(temp_film, dtype=float)
+    shape = np.broadcast_shapes(temp_film.shape, np.shape(flow.wind_speed))
+    hf = np.empty(shape)
+    if not law:
+        for model, cols in air.convection.groups():
+            film = np.broadcast_to(temp_film, shape)[..., cols]
+            hf[..., cols] = model.terms(film, _flow_columns(flow, cols), law=False)[0]
+        return hf, None
+    nat = np.empty(shape + (2, len(LAW_PARAMETERS)))
+    blend = np.empty(shape)
+    mult = np.empty(shape)
+    for model, cols in air.convection.groups():
+        sub = _flow_columns(flow, cols)
+        film = np.broadcast_to(temp_film, shape)[..., cols]
+        h_g, law = model.terms(film, sub)
+        hf[..., cols] = h_g
+        nat[..., cols, :, :] = np.broadcast_to(law.natural, shape[:-1] + (len(cols), 2,
+                                                                          len(LAW_PARAMETERS)))
+        blend[..., cols] = law.blend
+        mult[..., cols] = law.multiplier
+    return hf, ConvectionLaw(nat, blend, mult, air.normals[:, 2])
+
+
+def air_convection(air: _AirFaces, state, rows, environment, absorbed, eps_env, u_back,
+                   temp_back, F_sky, F_sea):
+    """Stage 3b: convection of the air faces at the table rows ``rows``.
+
+    The apparent wind at face height (true wind brought from 10 m by the neutral log
+    profile, then the ship's velocity subtracted) over the flow length of the part along
+    it; each face's model (:class:`AirConvection`) evaluated at the quasi-steady surface
+    estimate (:func:`quasi_steady_surface_temperature`).
+
+    Returns
+    -------
+    h_forced : (n_rows, k) float
+        The forced part at the estimate's film temperature [W m-2 K-1]: what the solver
+        takes with each model's law of the surface temperature.
+    temp_surface : (n_rows, k) float
+        The estimate [K].
+    """
+    ta = state.temp_air[rows, None]
+    flow = _exterior_flow(air, state, rows, environment)
     lw_env = (F_sky[air.cols] * state.longwave_down[rows, None]
               + F_sea[air.cols] * state.sea_longwave_up[rows, None])
-    lv, lh, nz = air.lengths.vertical, air.lengths.horizontal, air.normals[:, 2]
 
     def h_of(temp_s):
-        return model.h(temp_s, ta, nz, speed_rel, length_flow, lv, lh)
+        shape = np.broadcast_shapes(np.shape(temp_s), np.shape(flow.wind_speed))
+        out = np.empty(shape)
+        temp_s = np.broadcast_to(temp_s, shape)
+        for model, cols in air.convection.groups():
+            out[..., cols] = model.h_direct(temp_s[..., cols], ta, _flow_columns(flow, cols))
+        return out
 
     ts = quasi_steady_surface_temperature(absorbed, eps_env, lw_env * air.inv_share, ta, h_of,
                                           u_back, temp_back)
-    return h_of(ts), ts
+    hf, _ = exterior_terms(air, flow, 0.5 * (ts + ta), law=False)
+    return hf, ts
 
 
 def _absorbed_shortwave(state, rows, sun, lit, air: _AirFaces, traced, alpha, n_out,
@@ -1185,16 +1411,20 @@ def _inner_faces(graph, surface: SurfaceProperties, traced, back: BackSide) -> _
 
 
 def _tables(patches: dict, n_times: int, dtype):
-    """Empty tables: absorbed short-wave of the air patches, coefficients of the air and
-    inner patches, ``(n_times, faces of the patch)``."""
+    """Empty tables: absorbed short-wave and the surface estimate of the air patches,
+    coefficients of the air (forced part) and inner patches, ``(n_times, faces of the
+    patch)``."""
     sw = {n: np.empty((n_times, len(p.cols)), dtype) for n, p in patches.items()
           if p.kind == "air"}
+    est = {n: np.empty((n_times, len(p.cols)), dtype) for n, p in patches.items()
+           if p.kind == "air"}
     h = {n: np.empty((n_times, len(p.cols)), dtype) for n, p in patches.items()
          if p.kind in ("air", "inner")}
-    return sw, h
+    return sw, h, est
 
 
-def _store_rows(rows, patches, sw_tab, h_tab, absorbed, h_air, h_inner, air: _AirFaces):
+def _store_rows(rows, patches, sw_tab, h_tab, est_tab, absorbed, h_air, ts_air, h_inner,
+                air: _AirFaces):
     """Copy one block of rows into the per-patch tables (columns in patch-face order)."""
     air_pos = np.full(absorbed.shape[1], -1)
     air_pos[air.cols] = np.arange(len(air.cols))
@@ -1202,6 +1432,7 @@ def _store_rows(rows, patches, sw_tab, h_tab, absorbed, h_air, h_inner, air: _Ai
         if p.kind == "air":
             sw_tab[name][rows] = absorbed[:, p.cols]
             h_tab[name][rows] = h_air[:, air_pos[p.cols]]
+            est_tab[name][rows] = ts_air[:, air_pos[p.cols]]
         elif p.kind == "inner":
             h_tab[name][rows] = h_inner[:, p.cols]
 
@@ -1245,8 +1476,9 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
                        interior_emissivity: float = INTERIOR_EMISSIVITY,
                        current_speed: float = 0.0, traced: TracedShip | None = None,
                        dtype=np.float32,
-                       convection: str | conv.ConvectionModel = conv.DEFAULT_CONVECTION_MODEL,
-                       window=None) -> ShipForcing:
+                       convection: str | conv.ConvectionModel | Mapping =
+                       conv.DEFAULT_CONVECTION_MODEL,
+                       roughness: str | Mapping | None = None, window=None) -> ShipForcing:
     """Precompute the boundary forcing of every outer and inner face for a design day.
 
     Parameters
@@ -1296,10 +1528,17 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
         and ``backend`` are then those of ``traced``.
     dtype : numpy dtype
         Storage of the per-face tables (float32 halves the memory; float64 for tests).
-    convection : str or ConvectionModel
+    convection : str or ConvectionModel or mapping
         Exterior convection model of the air faces, a name of
         :data:`~shipthermal.environment.convection.CONVECTION_MODELS` (default
-        ``'flat_plate_mixed'``).
+        :data:`~shipthermal.parameters.DEFAULT_CONVECTION_MODEL`), or ``{part: name}``
+        (parts, main parts or ``'hull'``; others take the default). Each model's
+        temperature dependence is evaluated by the solver at the solved surface
+        temperature (:meth:`ShipForcing.conditions`).
+    roughness : str or mapping, optional
+        Roughness class per part of the DOE-2 / TARP roughness multiplier
+        (:data:`~shipthermal.environment.convection.ROUGHNESS_MULTIPLIERS`; default
+        :data:`~shipthermal.parameters.CONVECTION_ROUGHNESS`).
     window : (float, float), optional
         Weather records only: ``(start, end)`` [s after the record's start], the part of
         the record ``times`` must cover (default: the whole record). A long record is run
@@ -1313,7 +1552,8 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
     t_start = _time.perf_counter()
     require(isinstance(environment, Environment), "environment", type(environment).__name__,
             "must be a shipthermal.environment.Environment")
-    model = conv.convection_model(convection, "convection")
+    if isinstance(convection, conv.ConvectionModel):
+        convection = convection.name
     times, table = _table_times(environment, times, window)
     check_range("current_speed", current_speed, 0.0, 10.0, "m/s")
     check_range("interior_emissivity", interior_emissivity, 0.0, 1.0)
@@ -1341,21 +1581,25 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
 
     F_sky, F_sea = traced.view.F_sky, traced.view.F_sea
     share = (F_sky + F_sea)[a_]
-    air = _AirFaces(cols=a_, normals=traced.normals[a_],
+    lengths = flow_lengths(surface, traced, tri)
+    normals_air = traced.normals[a_]
+    air = _AirFaces(cols=a_, normals=normals_air,
                     height=np.maximum(traced.centroids[a_, 2], 0.0), share=share,
                     inv_share=np.divide(1.0, share, out=np.zeros_like(share), where=share > 0),
-                    lengths=flow_lengths(surface, traced, tri))
+                    lengths=lengths,
+                    convection=air_convection_models(surface, normals_air, lengths, convection,
+                                                     roughness))
     back = back_side(ship, surface, interior_h, interior_emissivity)
     h_water, temp_wet = wetted_hull_convection(ship, environment, state, traced, surface,
                                                back, current_speed)
     inner = _inner_faces(graph, surface, traced, back)
     patches = _patches(graph, surface, ship)
-    sw_tab, h_tab = _tables(patches, n_t, dtype)
+    sw_tab, h_tab, est_tab = _tables(patches, n_t, dtype)
 
     def block(rows):
         absorbed = _absorbed_shortwave(state, rows, sun, lit, air, traced, surface.alpha,
                                        n_out, ship_reflection)
-        h_air, ts_air = air_convection(model, air, state, rows, environment, absorbed[:, a_],
+        h_air, ts_air = air_convection(air, state, rows, environment, absorbed[:, a_],
                                        surface.epsilon[a_] * share, back.u_back[a_],
                                        back.temp_face[a_], F_sky, F_sea)
         h_inner = None
@@ -1365,7 +1609,8 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
             temp_surface[:, s_] = temp_wet[rows, None]
             h_inner = _inner_convection(temp_surface, inner, back, interior_h,
                                         interior_emissivity)
-        _store_rows(rows, patches, sw_tab, h_tab, absorbed, h_air, h_inner, air)
+        _store_rows(rows, patches, sw_tab, h_tab, est_tab, absorbed, h_air, ts_air, h_inner,
+                    air)
 
     # Blocks of rows are independent and write disjoint rows; their array arithmetic
     # releases the GIL, so they run on the process's thread budget (numba's, which a sweep
@@ -1387,8 +1632,11 @@ def build_ship_forcing(ship, environment: Environment, graph, *, times=None,
         temp_sea=np.asarray(state.temp_sea, float), h_water=np.asarray(h_water, float),
         compartment_temperature=back.temp_part, patches=patches, _sw=sw_tab, _h=h_tab,
         _lit=lit.astype(dtype), inner_bfaces=inner_bfaces,
-        unforced_patches=surface.unforced, sun_ship=sun, convection_model=model.name,
-        seconds=seconds)
+        unforced_patches=surface.unforced, sun_ship=sun, convection_model=convection,
+        seconds=seconds, _est=est_tab, air_faces=air,
+        convection_models={surface.part_names[p]: air.convection.models[m].name for p, m in
+                           zip(surface.outer_part[a_], air.convection.model_index)},
+        convection_roughness=roughness)
 
 
 def _trace(traced, tri, surface, samples_per_face, rays_per_face, seed, backend, progress):

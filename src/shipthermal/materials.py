@@ -15,9 +15,24 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Mapping, Sequence
 
-from .errors import InputError, check_positive, require
+from .errors import InputError, check_positive, check_range, require
 
-__all__ = ["Material", "MATERIALS", "get_material", "Layer", "Layup"]
+__all__ = ["Material", "MATERIALS", "MATERIAL_RANGES", "get_material", "Layer", "Layup"]
+
+MATERIAL_RANGES = {"conductivity": (1.0e-3, 500.0, "W m-1 K-1"),
+                   "density": (1.0, 23000.0, "kg m-3"),
+                   "specific_heat": (100.0, 5000.0, "J kg-1 K-1")}
+"""Accepted range of each property of a material [unit]. ASSUMPTION bracketing the solids
+(and the liquids a layer could hold) of engineering use, with Incropera et al., 6th ed.,
+Tables A.1–A.3 at 300 K as the anchors: conductivity from vacuum insulation panels and
+aerogels (0.004–0.02) to silver (429); density from aerogels and foams (a few kg m-3) to
+the densest metals (osmium 22 590); specific heat from lead and tungsten (129, 132) to water
+(4 179). A value outside is a unit mistake (k in mW m-1 K-1, c in kJ kg-1 K-1, ρ in
+g cm-3)."""
+
+_UNIT_HINTS = {"conductivity": "k in W m-1 K-1 (steel ~50, paint ~0.2, mineral wool ~0.04)",
+               "density": "rho in kg m-3 (steel 7850; not g cm-3)",
+               "specific_heat": "c in J kg-1 K-1 (steel ~450; not kJ kg-1 K-1)"}
 
 
 @dataclass(frozen=True)
@@ -45,9 +60,14 @@ class Material:
     source: str = ""
 
     def __post_init__(self):
-        for attr, unit in (("density", "kg m-3"), ("specific_heat", "J kg-1 K-1"),
-                           ("conductivity", "W m-1 K-1")):
-            check_positive(f"material[{self.name!r}].{attr}", getattr(self, attr), unit)
+        for attr, (lo, hi, unit) in MATERIAL_RANGES.items():
+            field = f"material[{self.name!r}].{attr}"
+            check_positive(field, getattr(self, attr), unit)
+            try:
+                check_range(field, getattr(self, attr), lo, hi, unit)
+            except InputError as exc:
+                raise InputError(exc.field, exc.value, exc.allowed,
+                                 f"Give {_UNIT_HINTS[attr]}") from None
 
     @property
     def volumetric_heat_capacity(self) -> float:

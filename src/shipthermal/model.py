@@ -22,6 +22,16 @@ balance is solved per face by Newton's method (the function is concave and decre
 ``T_s``, so Newton converges monotonically from any positive start), which makes T⁴ fully
 implicit: nothing is lagged across a time step. Its derivative gives the boundary part of
 the global Jacobian, ``∂Q_b/∂T_P = −A γ κ/(γ + κ)`` with ``γ = g/A``, ``κ = h + 4 e σ T_s³``.
+
+A coefficient that depends on the surface temperature (natural convection:
+:class:`~shipthermal.conditions.ConvectionLaw`) is evaluated at the surface temperature of
+the iterate (:func:`law_coefficients` at the surface temperatures the pass starts from: the
+previous pass's solution), a fixed point carried by the outer Newton iteration: when it has
+converged, ``h`` is the coefficient at the solved ``T_s`` (the change of ``T_s`` between the
+last two passes is below the tolerance). The flux's full slope ``h + ΔT ∂h/∂ΔT`` enters
+``κ``, so the Jacobian is that of the coefficient at the solved temperature. One evaluation
+of the law per face and pass: solving each face balance with ``h(T)`` inside
+(:func:`solve_law_face`, a bracketed Newton) took 5–6 times the boundary time.
 """
 
 from __future__ import annotations
@@ -33,12 +43,13 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit, prange
 
-from .conditions import BoundaryCondition, FaceForcing, evaluate, fill
+from .conditions import BoundaryCondition, FaceForcing, evaluate, fill, law_h_and_slope
 from .errors import InputError, check_finite, require
 from .mesh.graph import CellGraph
 from .units import SIGMA
 
 __all__ = ["RadiativeExchange", "ThermalModel", "BoundaryState", "surface_balance",
+           "solve_law_face", "law_coefficients",
            "nonorthogonal_flows", "conduction_flows", "boundary_state", "add_exchange_flow"]
 
 
@@ -156,7 +167,7 @@ class ThermalModel:
         f = FaceForcing.zeros(self.graph.n_bfaces)
         for name, bc in self.conditions.items():
             fill(f, self._patch_idx[name], bc, t, f"conditions[{name!r}]")
-        return f
+        return f.finish()
 
     def source(self, t: float) -> np.ndarray:
         """Heat generated in each cell at time ``t`` [W]."""
@@ -171,7 +182,8 @@ class ThermalModel:
         """True when some boundary can exchange heat with a fixed reference (needed for a
         steady state)."""
         f = self.forcing(0.0)
-        return bool(np.any(f.fixed) or np.any(f.h > 0) or np.any(f.emissivity > 0))
+        return bool(np.any(f.fixed) or np.any(f.h > 0) or np.any(f.emissivity > 0)
+                    or f.has_law)
 
 
 @dataclass
@@ -189,7 +201,8 @@ def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarra
                     exchange: RadiativeExchange | None = None,
                     exchange_temp: np.ndarray | None = None, tol: float = 1e-12,
                     max_iterations: int = 60, exchange_flow: bool = True,
-                    received: np.ndarray | None = None) -> BoundaryState:
+                    received: np.ndarray | None = None,
+                    law_values: tuple | None = None) -> BoundaryState:
     """Solve every boundary face's energy balance for its surface temperature (see module
     docstring) and return the flows into the cells and their derivatives.
 
@@ -207,6 +220,9 @@ def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarra
     received : (k,) array, optional
         ``Σ_j R_ij T_j⁴`` of the exchanging faces at ``exchange_temp`` [m2 K4], when the
         caller has it (computed here otherwise).
+    law_values : (h, slope), optional
+        The coefficients of :func:`law_coefficients` when the caller has them (computed
+        here at ``temp_guess`` otherwise).
     """
     area = graph.bface_area
     g = graph.bface_conductance
@@ -222,11 +238,15 @@ def surface_balance(graph: CellGraph, forcing: FaceForcing, temp_cell: np.ndarra
     ts = np.empty_like(area)
     flow = np.empty_like(area)
     cond = np.empty_like(area)
+    h, slope, temp_ref = forcing.h, none, none
+    if forcing.has_law:
+        h, slope, temp_ref = (law_coefficients(forcing, temp_guess) if law_values is None
+                              else law_values)
     step = _balance_kernel(area, g, np.ascontiguousarray(temp_cell, dtype=np.float64),
-                           graph.bface_cell, cb, forcing.q0, forcing.h, forcing.temp_fluid,
+                           graph.bface_cell, cb, forcing.q0, h, forcing.temp_fluid,
                            forcing.emissivity, forcing.longwave_in, forcing.fixed,
                            forcing.temp_fixed, gain, loss, np.asarray(temp_guess, float),
-                           float(tol), int(max_iterations), ts, flow, cond)
+                           float(tol), int(max_iterations), ts, flow, cond, slope, temp_ref)
     if step > 0.0:
         raise RuntimeError(f"surface energy balance did not converge (max step {step:.3g} K)")
     state = BoundaryState(ts, flow, cond)
@@ -275,19 +295,47 @@ def _received_kernel(indptr, indices, data, bfaces, temp_face, out):
         out[i] = s
 
 
+def law_coefficients(forcing: FaceForcing, temp_face: np.ndarray):
+    """``(h, slope, temp_face)`` of every boundary face: the coefficient [W m-2 K-1] at the
+    surface temperatures ``temp_face`` [K] (its :class:`~shipthermal.conditions.ConvectionLaw`
+    where it has one, else ``forcing.h``), ``ΔT ∂h/∂ΔT`` [W m-2 K-1] (zero without a law) and
+    the temperatures themselves (where the balance linearises the flux)."""
+    h = forcing.h.copy()
+    slope = np.zeros_like(h)
+    temp = np.ascontiguousarray(temp_face, dtype=np.float64)
+    _law_kernel(forcing.law_index, forcing.h, forcing.temp_fluid, forcing.law_natural,
+                forcing.law_blend, forcing.law_multiplier, forcing.law_normal_z, temp, h, slope)
+    return h, slope, temp
+
+
+@njit(parallel=True, cache=True)
+def _law_kernel(law_index, h_forced, tfl, natural, blend, mult, nz, temp_face, h, slope):
+    for i in prange(law_index.shape[0]):
+        j = law_index[i]
+        if j >= 0:
+            h[i], slope[i] = law_h_and_slope(h_forced[i], blend[j], mult[j], nz[j], natural[j],
+                                             temp_face[i] - tfl[i])
+
+
 @njit(parallel=True, cache=True)
 def _balance_kernel(area, g, temp_cell, bface_cell, cb_in, q0, h, tfl, eps, lw, fixed, tfix,
                     gain_in, loss_in, guess,
-                    tol, max_iterations, ts, flow, cond):
+                    tol, max_iterations, ts, flow, cond, slope_in, temp_ref):
     """Per face: Newton on ``f(T) = rhs − (γ + h) T − e σ T⁴`` (concave, decreasing: monotone
     convergence from any positive start), then the flow into the cell (without the
     face-to-face part, added by the caller) and ``−∂flow/∂T_cell``. One pass over the faces
     (on the process's threads) instead of ~30 array operations per Newton sweep; each face
-    stops on its own step ``|ΔT| ≤ tol·T``. Empty ``cb_in`` / ``gain_in`` / ``loss_in`` read
-    as zeros. Returns 0.0, or the largest last step of faces that did not converge."""
+    stops on its own step ``|ΔT| ≤ tol·T``. Empty ``cb_in`` / ``gain_in`` / ``loss_in`` /
+    ``slope_in`` read as zeros. ``slope_in`` is ``ΔT ∂h/∂ΔT`` of a coefficient that depends
+    on the surface temperature, ``h`` its value at ``temp_ref`` (:func:`law_coefficients`):
+    the convective flux is then taken to first order about ``temp_ref``,
+    ``h (T_ref − T_fl) + (h + slope)(T − T_ref)``, exact where ``T = T_ref`` (the outer
+    iteration's fixed point). Returns 0.0, or the largest last step of faces that did not
+    converge."""
     unconverged = np.zeros(area.shape[0])
     with_cb = cb_in.shape[0] > 0
     with_exchange = gain_in.shape[0] > 0
+    with_slope = slope_in.shape[0] > 0
     for i in prange(area.shape[0]):
         tci = temp_cell[np.uint64(bface_cell[i])]
         cbi = cb_in[i] if with_cb else 0.0
@@ -296,8 +344,12 @@ def _balance_kernel(area, g, temp_cell, bface_cell, cb_in, q0, h, tfl, eps, lw, 
         gamma = g[i] / area[i]
         e = eps[i] + loss / area[i]
         es = e * SIGMA
-        lin = gamma + h[i]
-        rhs = gamma * tci - cbi / area[i] + q0[i] + h[i] * tfl[i] + eps[i] * lw[i] \
+        hi_ = h[i]
+        sl = slope_in[i] if with_slope else 0.0
+        # convective flux out of the face: (h + sl) T − h T_fl − sl T_ref
+        lin = gamma + hi_ + sl
+        conv0 = hi_ * tfl[i] + (sl * temp_ref[i] if sl != 0.0 else 0.0)
+        rhs = gamma * tci - cbi / area[i] + q0[i] + conv0 + eps[i] * lw[i] \
             + gain / area[i]
         if es > 0.0:
             t = max(guess[i], 1.0)
@@ -316,7 +368,7 @@ def _balance_kernel(area, g, temp_cell, bface_cell, cb_in, q0, h, tfl, eps, lw, 
                 unconverged[i] = abs(step)
         else:
             t = rhs / lin
-        kappa = h[i] + 4.0 * es * t * t * t
+        kappa = hi_ + sl + 4.0 * es * t * t * t
         if fixed[i]:
             ts[i] = tfix[i]
             flow[i] = g[i] * (tfix[i] - tci) + cbi
@@ -324,10 +376,46 @@ def _balance_kernel(area, g, temp_cell, bface_cell, cb_in, q0, h, tfl, eps, lw, 
         else:
             ts[i] = t
             t2 = t * t
-            flow[i] = area[i] * (q0[i] + h[i] * (tfl[i] - t) + eps[i] * lw[i]
+            flow[i] = area[i] * (q0[i] + conv0 - (hi_ + sl) * t + eps[i] * lw[i]
                                  - eps[i] * SIGMA * t2 * t2)
             cond[i] = area[i] * gamma * kappa / (gamma + kappa)
     return unconverged.max() if area.shape[0] else 0.0
+
+
+@njit(cache=True)
+def solve_law_face(rhs0, gamma, es, h_forced, tfl, blend, mult, nz, law, guess, tol,
+              max_iterations):
+    """One face's balance ``rhs0 − γ T − h(T)(T − T_fl) − e σ T⁴ = 0`` with ``h`` of its
+    convection law at ``T``: Newton with the flux slope ``h + ΔT ∂h/∂ΔT``, kept inside a
+    bracket of the root (``f`` is strictly decreasing) by bisection. Returns ``(T, h(T),
+    flux slope, 0.0)`` or, when it did not converge, the last step as the fourth value."""
+    t = max(guess, 1.0)
+    lo = 0.0
+    hi = np.inf
+    step = 0.0
+    for _ in range(max_iterations):
+        d = t - tfl
+        hh, gg = law_h_and_slope(h_forced, blend, mult, nz, law, d)
+        t3 = t * t * t
+        f = rhs0 - gamma * t - hh * d - es * t3 * t
+        if f > 0.0:
+            lo = t
+        else:
+            hi = t
+        df = -gamma - (hh + gg) - 4.0 * es * t3
+        step = f / df
+        t_new = t - step
+        if abs(step) <= tol * t_new:
+            t = t_new
+            hh, gg = law_h_and_slope(h_forced, blend, mult, nz, law, t - tfl)
+            return t, hh, hh + gg, 0.0
+        if t_new <= lo or t_new >= hi:
+            # a step out of the bracket (the flux's curvature changes sign at T_fl)
+            t_new = 0.5 * (lo + hi) if np.isfinite(hi) else 2.0 * t
+            step = t - t_new
+        t = t_new
+    hh, gg = law_h_and_slope(h_forced, blend, mult, nz, law, t - tfl)
+    return t, hh, hh + gg, step
 
 
 @njit(cache=True)
@@ -424,13 +512,19 @@ def boundary_state(model: "ThermalModel", forcing: FaceForcing, temp_cell: np.nd
     cb = None
     limit = max_iterations if sweeps is None else max(1, int(sweeps))
     converged = False
+    # a temperature-dependent coefficient at the temperatures the sweeps start from (the
+    # outer iteration carries it to the solved ones); an uncapped fixed point (a steady
+    # state) carries it along itself, sweep by sweep
+    law = law_coefficients(forcing, tf) if forcing.has_law else None
     for _ in range(limit):
         if g.correction is not None:
             grad = (bgrad @ np.concatenate([temp_cell, tf])).reshape(3, m).T
             cb = np.einsum("ij,ij->i", bkt, grad[local])
         received = _received(exch, tf) if exch is not None else None
         bs = surface_balance(g, forcing, temp_cell, tf, cb, exch, tf, exchange_flow=False,
-                             received=received)
+                             received=received, law_values=law)
+        if law is not None and sweeps is None:
+            law = law_coefficients(forcing, bs.temp_face)
         change, top = _change_and_max(bs.temp_face, tf)
         tf_in, tf = tf, bs.temp_face
         if change <= tol * max(1.0, top):

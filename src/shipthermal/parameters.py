@@ -28,7 +28,7 @@ __all__ = [
     "BAND_EMISSIVITY", "LONGWAVE_EMISSIVITY", "SOLAR_ABSORPTIVITY", "SEA_EMISSIVITY",
     "BANDS", "BAND_ALIASES", "ATMOSPHERE_WAVELENGTH_UM", "parse_band",
     "WIND_SPEED_MAX", "check_wind_speed", "part_default", "DEFAULT_CONVECTION_MODEL",
-    "CONVECTION_MODEL_SOURCES", "CLEAR_SKY_MODEL_NAMES", "CLOUD_MODEL_NAMES", "DECOMPOSITIONS",
+    "CONVECTION_MODEL_SOURCES", "CONVECTION_ROUGHNESS", "ROUGHNESS_CLASSES", "CLEAR_SKY_MODEL_NAMES", "CLOUD_MODEL_NAMES", "DECOMPOSITIONS",
     "SEA_SKIN_MODEL_NAMES", "DEFAULT_SEA_SKIN_MODEL",
     "STATION_FORMATS", "STATION_SUFFIXES", "MAX_GAP_HOURS", "TEMP_UNITS", "CLOUD_COVER_SCALE",
     "AIR_SEA_DIFFERENCE_K", "AIR_SEA_WARN_K", "HUMIDITY_FRACTION_MAX", "WIND_SPEED_WARN",
@@ -136,15 +136,43 @@ CONVECTION_MODEL_SOURCES: dict[str, dict[str, str]] = {
     "flat_plate_mixed": {
         "source": "forced: flat plate, laminar to Re_c = 5e5 then turbulent (Incropera et al., "
                   "6th ed., eq. 7.38); natural: Churchill & Chu (1975) vertical, Lloyd & Moran "
-                  "(1974) / 0.52 Ra^1/5 horizontal, tilt by Raithby & Hollands (1998); "
-                  "combined by Churchill (1977), n = 3",
-        "validity": "0.6 <= Pr <= 60 (air 0.7), Re_L <= 1e8; natural convection all Ra"},
+                  "(1974) / 0.52 Ra^1/5 horizontal with Walton's (1983) stable floor, tilt by "
+                  "Raithby & Hollands (1998); combined by Churchill (1977), n = 3",
+        "validity": "smooth plates with a sharp leading edge in a uniform stream (wind tunnel "
+                    "data), 0.6 <= Pr <= 60, Re_L <= 1e8; natural convection all Ra"},
     "flat_plate_turbulent": {
         "source": "forced: flat plate tripped at the leading edge, 0.037 Re^0.8 Pr^1/3 "
                   "(Incropera et al., 6th ed., eq. 7.41); natural and blending as "
-                  "flat_plate_mixed",
-        "validity": "0.6 <= Pr <= 60, 5e5 <= Re_L <= 1e8 (disturbed leading edge: "
-                    "superstructure fittings, a rough sea)"},
+                  "flat_plate_mixed. Large-plate evidence: measured on the flat roofs of two "
+                  "commercial buildings, the turbulent flat-plate forced term plus natural "
+                  "convection explained about 90 % of the variance (Clear, Gartland & "
+                  "Winkelmann 2003, Energy Build. 35, 797-811)",
+        "validity": "0.6 <= Pr <= 60, 5e5 <= Re_L <= 1e8 (real large plates: edges, fittings, "
+                    "a gusty wind disturb the leading edge); roofs tens of metres across "
+                    "(Clear et al. 2003); smooth surfaces (no roughness multiplier)"},
+    "doe2": {
+        "source": "DOE-2.1E (LBL 1994) as in EnergyPlus (its default outside convection): "
+                  "h = h_n + R_f ((h_n^2 + (a V^b)^2)^1/2 - h_n), MoWiTT forced a V^b "
+                  "(Yazdanian & Klems 1994: windward 3.26 V^0.89, leeward 3.55 V^0.617), "
+                  "Walton's (1983) natural h_n, roughness multiplier R_f (Walton 1981)",
+        "validity": "low-rise building surfaces; MoWiTT measured on window glass of a "
+                    "full-scale outdoor test facility; no size dependence"},
+    "tarp": {
+        "source": "TARP (Walton 1983, NBSIR 83-2655) as in EnergyPlus: h = 2.537 W_f R_f "
+                  "(P V / A)^1/2 (Sparrow, Ramsey & Mass 1979; W_f 1 windward, 0.5 leeward) "
+                  "+ Walton's natural h_n",
+        "validity": "building facades and roofs; Sparrow et al. measured small plates in a "
+                    "wind tunnel, extended by P/A of the whole facade"},
+    "mowitt": {
+        "source": "MoWiTT (Yazdanian & Klems 1994, ASHRAE Trans. 100(1)): h = ((0.84 "
+                  "|dT|^1/3)^2 + (a V^b)^2)^1/2, windward 3.26 V^0.89, leeward 3.55 V^0.617",
+        "validity": "very smooth vertical surfaces (window glass) of low-rise buildings"},
+    "mcadams": {
+        "source": "McAdams (1954) h = 5.7 + 3.8 V as cast in SI by Palyvos (2008, Appl. "
+                  "Therm. Eng. 28, 801-808), a convective coefficient as in EnergyPlus's "
+                  "adaptive algorithm",
+        "validity": "a small vertical plate in a wind tunnel; the constant is read as natural "
+                    "convection; some authors read the whole as convection plus radiation"},
     "iso6946": {
         "source": "ISO 6946:2017 Annex C, eq. C.2: h_ce = 4 + 4 v (v wind speed at the surface)",
         "validity": "building envelopes; the standard's design values use v = 4 m/s "
@@ -152,11 +180,30 @@ CONVECTION_MODEL_SOURCES: dict[str, dict[str, str]] = {
 }
 """Exterior (air-side) convection models by name, with their source and validity; the
 functions are :data:`shipthermal.environment.convection.CONVECTION_MODELS`. The names are
-what a scenario may choose."""
+what a scenario may choose, for the whole ship or per part."""
 
-DEFAULT_CONVECTION_MODEL = "flat_plate_mixed"
-"""Exterior convection model of the air faces when none is chosen (forced flat plate,
-laminar then turbulent, combined with natural convection by Churchill 1977)."""
+DEFAULT_CONVECTION_MODEL = "flat_plate_turbulent"
+"""Exterior convection model of the air faces when none is chosen: the flat plate with its
+boundary layer turbulent from the leading edge, combined with natural convection (Churchill
+1977). Chosen by the evidence on large plates outdoors (docs/CONVECTION.md): on the flat
+roofs of two commercial buildings the turbulent flat-plate forced term with natural
+convection explained about 90 % of the measured variance (Clear, Gartland & Winkelmann
+2003); a deck's edges, bulwarks and fittings in a gusty wind trip its boundary layer as a
+roof's parapets do, where the laminar start of ``flat_plate_mixed`` needs a sharp, smooth
+leading edge in a uniform stream. No measurements on ship decks were found to choose by."""
+
+ROUGHNESS_CLASSES = ("very_rough", "rough", "medium_rough", "medium_smooth", "smooth",
+                     "very_smooth")
+"""Walton's (1981) six surface roughness classes, roughest first (their multipliers:
+:data:`shipthermal.environment.convection.ROUGHNESS_MULTIPLIERS`)."""
+
+CONVECTION_ROUGHNESS = {"hull": "smooth", "deck": "medium_rough", "superstructure": "smooth"}
+"""Roughness class per main part for the roughness multiplier R_f of DOE-2 and TARP
+(:data:`shipthermal.environment.convection.ROUGHNESS_MULTIPLIERS`). ASSUMPTION by analogy
+with Walton's example materials: painted steel plate is as smooth as smooth plaster
+(``smooth``, R_f 1.11); a grit-filled epoxy non-skid deck covering is like a concrete
+finish (``medium_rough``, 1.52). Unused by the flat-plate, MoWiTT, McAdams and ISO
+models."""
 
 CLEAR_SKY_MODEL_NAMES = ("brutsaert", "prata", "swinbank")
 """Clear-sky emissivity models by name; the functions (with their sources) are

@@ -3,7 +3,7 @@
 A horizontal paving slab (asphalt / concrete / soil over a fixed bottom temperature) and a
 flat roof (membrane / concrete deck / insulation over a room at a fixed temperature) on the
 TMY3 weather of two climates shipped with the EnergyPlus wheel, a July and a January week
-each, one EnergyPlus run per climate (see ``energyplus_peer.py`` for the model).
+each, one EnergyPlus run per climate (see ``energyplus_land.py`` for the model).
 
 * matched: the same convection h = 4 + 4 v (EnergyPlus's user curve), the same sky
   (the EPW's horizontal infrared), the same beam and diffuse irradiance, materials and
@@ -22,7 +22,7 @@ import pytest
 pytest.importorskip("pyenergyplus.api", reason="EnergyPlus (pyenergyplus-lbnl) not installed: "
                     "the peer comparison needs its engine")
 
-import energyplus_peer as ep  # noqa: E402
+import energyplus_land as ep  # noqa: E402
 
 CLIMATES = ("phoenix", "san_francisco")
 

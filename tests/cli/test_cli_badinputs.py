@@ -759,6 +759,31 @@ def test_atmosphere_and_sensor_bad_input(case, extra, fragments, tmp_path, capsy
     assert _tree(tmp_path) == before
 
 
+@pytest.mark.parametrize("case, extra, fragments", [
+    ("material-without-k", '\n[materials.plate]\ndensity = 7850.0\nspecific_heat = 470.0\n'
+     'source = "mill certificate"\n',
+     ["materials.plate.conductivity", "is required", "[0.001, 500] W m-1 K-1",
+      "e.g. [materials.my_steel]"]),
+    ("layup-unknown-material", '\n[ship.layups]\ndeck = [{material = "plate", thickness = '
+     '0.008}]\n', ["ship.layups.deck[0].material", "'mild_steel'", "[materials.plate]"]),
+    ("layer-zero-thickness", '\n[ship.layups]\ndeck = [{material = "mild_steel", thickness = '
+     '0.0}]\n', ["ship.layups.deck[0].thickness", "(0, 1] m", "in metres"]),
+    ("convection-model-for-a-part", '\n[convection.parts]\ndeck = "doe-2"\n',
+     ["convection.parts.deck", "'doe2'", "'flat_plate_turbulent'", "Did you mean 'doe2'?"]),
+])
+def test_bad_materials_and_convection_exit_2(case, extra, fragments, tmp_path, capsys):
+    # a user's material, a layer and a part's convection model: exit 2 naming the key, the
+    # allowed values and the fix; nothing written
+    path = write_tiny(tmp_path, name="t", extra=extra)
+    before = _tree(tmp_path)
+    code, err = _run(["-q", "run", str(path), "--out", str(tmp_path / "out")], capsys)
+    assert code == 2, err
+    for f in fragments:
+        assert f in err, f"{f!r} not in {err!r}"
+    assert "Traceback" not in err
+    assert _tree(tmp_path) == before
+
+
 @pytest.mark.parametrize("rows, fragments", [
     ([(-1.0, 0.0), (10.0, 1.0)], ["response_file", "positive", "micrometres"]),
     ([(10.0, 0.5), (9.0, 1.0), (11.0, 0.0)], ["response_file", "increase", "Sort the table"]),

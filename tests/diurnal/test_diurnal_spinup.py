@@ -145,9 +145,11 @@ def test_energy_closes_over_lead_in_and_days(runs):
 
 def test_surface_balance_kernel_solves_the_face_balance(runs):
     """The converged surface temperature of every face zeroes its balance
-    g (T_P − T_s) + A q(T_s) = 0 (with the face-to-face gain at the given lagged temperatures),
-    and the reported conductance is −∂flow/∂T_P by central differences."""
-    from shipthermal.model import RadiativeExchange, ThermalModel, surface_balance
+    g (T_P − T_s) + A q(T_s) = 0 (with the face-to-face gain at the given lagged temperatures,
+    and the air faces' convection law taken to first order about them), and the reported
+    conductance is −∂flow/∂T_P by central differences."""
+    from shipthermal.model import (RadiativeExchange, ThermalModel, law_coefficients,
+                                   surface_balance)
 
     fast, _ = runs
     g = fast.graph
@@ -167,8 +169,11 @@ def test_surface_balance_kernel_solves_the_face_balance(runs):
     e[ex.bfaces] += np.asarray(ex.area_exchange.sum(axis=1)).ravel() / area[ex.bfaces]
     gain[ex.bfaces] = SIGMA * (ex.area_exchange @ lag[ex.bfaces] ** 4)
     ts = bs.temp_face
-    q = (forcing.q0 + forcing.h * (forcing.temp_fluid - ts) + forcing.emissivity
-         * forcing.longwave_in - e * SIGMA * ts ** 4 + gain / area)
+    assert forcing.has_law
+    h0, slope, ref = law_coefficients(forcing, lag)
+    conv = h0 * (forcing.temp_fluid - ref) - (h0 + slope) * (ts - ref)
+    q = (forcing.q0 + conv + forcing.emissivity * forcing.longwave_in - e * SIGMA * ts ** 4
+         + gain / area)
     resid = cond * (tc - ts) + area * q
     scale = cond * tc + area * (forcing.q0 + SIGMA * ts ** 4)
     assert np.max(np.abs(resid) / scale) < 1e-12

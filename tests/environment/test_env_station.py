@@ -160,6 +160,11 @@ def test_tmy3_record_through_the_scenario():
     data, _ = pvlib.iotools.read_tmy3(src, coerce_year=2023, map_variables=True)
     ref = data["temp_air"].tz_convert("Etc/GMT+9").loc[w.time[1:]]   # 01:00 … 24:00
     np.testing.assert_allclose(w.temp_air[1:], ref.to_numpy() + 273.15, atol=1e-9)
+    # the irradiance stays the file's hourly energy, the hour ending at each label (the
+    # environment spreads it over the hour: tests/forcing/test_forcing_solar.py)
+    assert w.solar_interval == "ending" and sc.environment().weather.solar_interval == "ending"
+    ghi = data["ghi"].tz_convert("Etc/GMT+9").loc[w.time[1:]]
+    np.testing.assert_allclose(w.ghi[1:], ghi.to_numpy(), atol=1e-9)
     assert sc.check_weather()[0].startswith("weather tmy3:703165TY.csv: 73 hourly values")
 
 

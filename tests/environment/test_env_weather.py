@@ -165,9 +165,15 @@ def test_epw_reader(tmp_path):
     np.testing.assert_allclose(w.temp_air[:4], 273.15 + 20 + np.arange(4) / 4)
     np.testing.assert_allclose(w.cloud_cover, 0.5)
     np.testing.assert_allclose(w.wind_speed, 3.5)
-    # hour-ending GHI / IR re-centred on the labels: mean of neighbouring hours
-    np.testing.assert_allclose(w.ghi[:3], [50.0, 150.0, 100.0])
-    np.testing.assert_allclose(w.longwave_down[:2], [390.5, 391.5])
+    # GHI is the hour's energy, kept as the file gives it (the environment spreads it over
+    # the hour); the infrared is the value at the hour's end, as EnergyPlus reads it
+    assert w.solar_interval == "ending"
+    np.testing.assert_allclose(w.ghi[:3], [0.0, 100.0, 200.0])
+    np.testing.assert_allclose(w.longwave_down[:2], [390.0, 391.0])
+    # between labels, the weather gives the mean of the hour a time falls in
+    s = w.at(pd.DatetimeIndex([w.time[1] - pd.Timedelta(minutes=30), w.time[1],
+                               w.time[1] + pd.Timedelta(seconds=1)]))
+    np.testing.assert_allclose(s.ghi, [100.0, 100.0, 200.0])
     assert w.temp_dew[0] == pytest.approx(sky.dew_point(w.temp_air[0], 80.0))
 
 

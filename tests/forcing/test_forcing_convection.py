@@ -26,12 +26,23 @@ def boat():
     return ship, env, graph, f
 
 
-def _air_h_table(f):
-    """(n_times, K) convection coefficients of the outer faces (air faces filled)."""
+def _air_table(f, tables=None):
+    """(n_times, K) table of the air faces (default: the forced part of the coefficient)."""
+    tables = f._h if tables is None else tables
     out = np.full((len(f.times), len(f.outer_bfaces)), np.nan)
     for name, p in f.patches.items():
         if p.kind == "air":
-            out[:, p.cols] = f._h[name]
+            out[:, p.cols] = tables[name]
+    return out[:, f.outer_is_air]
+
+
+def _air_h_table(f):
+    """(n_times, K) convection coefficients of the air faces at the quasi-steady estimate
+    (the forced part with each model's law)."""
+    out = np.full((len(f.times), len(f.outer_bfaces)), np.nan)
+    for name, p in f.patches.items():
+        if p.kind == "air":
+            out[:, p.cols] = np.stack([f.convection_coefficient(name, t) for t in f.times])
     return out[:, f.outer_is_air]
 
 
@@ -49,9 +60,10 @@ def test_default_model_is_the_churchill_flat_plate_bit_for_bit(boat):
     # the default tables are those of the documented physics, composed here from the public
     # correlation functions and nothing of the forcing's own stages: apparent wind at face
     # height over the part's box length along it, h_exterior_air at the quasi-steady
-    # estimate with the layup + ISO 6946 back side
+    # estimate with the layup + ISO 6946 back side. The tables hold the estimate and the
+    # forced part; the solver adds natural convection at the solved temperature.
     ship, env, graph, f = boat
-    assert f.convection_model == conv.DEFAULT_CONVECTION_MODEL == "flat_plate_mixed"
+    assert f.convection_model == conv.DEFAULT_CONVECTION_MODEL
     state = env.at(f.times)
     air = np.flatnonzero(f.outer_is_air)
     speed, off_bow = _apparent_wind(f, env, state)
@@ -88,12 +100,18 @@ def test_default_model_is_the_churchill_flat_plate_bit_for_bit(boat):
     inv_share = np.divide(1.0, share, out=np.zeros_like(share), where=share > 0)
     ts = quasi_steady_surface_temperature(absorbed, f.epsilon[air] * share, lw * inv_share, ta,
                                           h_of, u_back, t_room)
-    np.testing.assert_array_equal(_air_h_table(f), h_of(ts))
+    np.testing.assert_array_equal(_air_table(f, f._est), ts)
+    props = conv.air_properties(0.5 * (ts + ta))
+    np.testing.assert_array_equal(_air_table(f), conv.h_forced(speed, length, props))
+    # the forced part with the law: the coefficient at the estimate (the law's air
+    # properties are those of the estimate's film temperature, as the correlation's)
+    np.testing.assert_allclose(_air_h_table(f), h_of(ts), rtol=1e-12)
     # choosing it by name or passing the model object changes nothing
-    for model in ("flat_plate_mixed", conv.CONVECTION_MODELS["flat_plate_mixed"]):
+    name = conv.DEFAULT_CONVECTION_MODEL
+    for model in (name, conv.CONVECTION_MODELS[name]):
         g = build_ship_forcing(ship, env, graph, times=TIMES, dtype=np.float64,
                                traced=f.traced, convection=model)
-        np.testing.assert_array_equal(_air_h_table(g), _air_h_table(f))
+        np.testing.assert_array_equal(_air_table(g), _air_table(f))
 
 
 def test_iso6946_model_is_four_plus_four_v_at_the_apparent_wind(boat):
@@ -103,6 +121,7 @@ def test_iso6946_model_is_four_plus_four_v_at_the_apparent_wind(boat):
                            convection="iso6946")
     assert g.convection_model == "iso6946"
     speed, _ = _apparent_wind(g, env, env.at(g.times))
+    np.testing.assert_allclose(_air_table(g), 4.0 + 4.0 * speed, rtol=1e-14)
     np.testing.assert_allclose(_air_h_table(g), 4.0 + 4.0 * speed, rtol=1e-14)
     # the short-wave does not depend on the convection model
     for t in (6 * 3600.0, 13 * 3600.0):
@@ -112,10 +131,18 @@ def test_iso6946_model_is_four_plus_four_v_at_the_apparent_wind(boat):
 def test_unknown_model_lists_the_known_ones(boat):
     ship, env, graph, f = boat
     with pytest.raises(InputError) as err:
-        build_ship_forcing(ship, env, graph, times=TIMES, traced=f.traced, convection="mcadams")
-    assert err.value.field == "convection" and err.value.value == "mcadams"
+        build_ship_forcing(ship, env, graph, times=TIMES, traced=f.traced, convection="jurges")
+    assert err.value.field == "convection.model" and err.value.value == "jurges"
     for name in conv.CONVECTION_MODELS:
         assert name in str(err.value)
+    with pytest.raises(InputError) as err:
+        build_ship_forcing(ship, env, graph, times=TIMES, traced=f.traced,
+                           convection={"dek": "doe2"})
+    assert err.value.field == "convection.model['dek']"
+    with pytest.raises(InputError) as err:
+        build_ship_forcing(ship, env, graph, times=TIMES, traced=f.traced,
+                           convection={"deck": "doe3"})
+    assert err.value.field == "convection.model['deck']" and "doe2" in err.value.allowed
 
 
 def test_direct_api_takes_the_parameter_module_optics(boat):
@@ -150,7 +177,7 @@ def test_diurnal_settings_choose_the_model():
     res = run_diurnal(patrol_boat(edge_length=4.0), env, settings, progress=False)
     assert res.forcing.convection_model == "iso6946"
     speed, _ = _apparent_wind(res.forcing, env, env.at(res.forcing.times))
-    np.testing.assert_allclose(_air_h_table(res.forcing), 4.0 + 4.0 * speed, rtol=1e-6)
+    np.testing.assert_allclose(_air_table(res.forcing), 4.0 + 4.0 * speed, rtol=1e-6)
 
 
 def test_scenario_key_chooses_the_model_and_names_the_allowed_ones():
@@ -160,8 +187,8 @@ def test_scenario_key_chooses_the_model_and_names_the_allowed_ones():
     sc = loads_scenario('[convection]\nmodel = "flat_plate_turbulent"\n')
     assert settings_from_scenario(sc).convection == "flat_plate_turbulent"
     with pytest.raises(InputError) as err:
-        loads_scenario('[convection]\nmodel = "mcadams"\n')
-    assert err.value.field == "convection.model" and err.value.value == "mcadams"
+        loads_scenario('[convection]\nmodel = "jurges"\n')
+    assert err.value.field == "convection.model" and err.value.value == "jurges"
     for name in conv.CONVECTION_MODELS:
         assert repr(name) in str(err.value)
 
@@ -182,8 +209,45 @@ def test_tables_do_not_depend_on_threads_or_row_blocks(boat, monkeypatch):
                                traced=f.traced, progress=False)
     finally:
         numba.set_num_threads(threads)
-    assert set(g._sw) == set(f._sw) and set(g._h) == set(f._h)
+    assert set(g._sw) == set(f._sw) and set(g._h) == set(f._h) and set(g._est) == set(f._est)
     for name in f._sw:
         np.testing.assert_array_equal(g._sw[name], f._sw[name])
     for name in f._h:
         np.testing.assert_array_equal(g._h[name], f._h[name])
+    for name in f._est:
+        np.testing.assert_array_equal(g._est[name], f._est[name])
+
+
+def test_models_per_part_with_their_roughness(boat):
+    # DOE-2 on the deck (a rough covering), TARP on the superstructure, the default on the
+    # hull: each part's coefficient at the estimate is its correlation's, with the part's
+    # roughness multiplier and each face's windward / leeward side of the apparent wind
+    ship, env, graph, f = boat
+    g = build_ship_forcing(ship, env, graph, times=TIMES, dtype=np.float64, traced=f.traced,
+                           convection={"deck": "doe2", "superstructure": "tarp"},
+                           roughness={"deck": "rough"})
+    models = g.convection_models
+    assert models["deck"] == "doe2" and models["hull_dry"] == conv.DEFAULT_CONVECTION_MODEL
+    assert all(m == "tarp" for p, m in models.items() if p.startswith("superstructure"))
+    state = env.at(g.times)
+    speed, off_bow = _apparent_wind(g, env, state)
+    air = np.flatnonzero(g.outer_is_air)
+    normals = g.traced.normals[air]
+    ang = np.radians(off_bow)
+    windward = conv.is_windward(normals[None], np.stack([np.cos(ang), -np.sin(ang)], -1))
+    ts, ta = _air_table(g, g._est), state.temp_air[:, None]
+    h = _air_h_table(g)
+    part = np.array(g.part_names)[g.outer_part[air]]
+    deck = part == "deck"
+    want = conv.h_exterior_doe2(ts, ta, normals[:, 2], speed, windward,
+                                conv.ROUGHNESS_MULTIPLIERS["rough"])
+    np.testing.assert_allclose(h[:, deck], want[:, deck], rtol=1e-6)
+    sup = np.char.startswith(part.astype(str), "superstructure")
+    p_over_a = g.air_faces.convection.perimeter_over_area
+    want = conv.h_exterior_tarp(ts, ta, normals[:, 2], speed, p_over_a, windward,
+                                conv.ROUGHNESS_MULTIPLIERS["smooth"])
+    np.testing.assert_allclose(h[:, sup], want[:, sup], rtol=1e-6)
+    # faces on both sides of the wind, and the hull keeps the default's table
+    assert windward[:, sup].any() and (~windward[:, sup]).any()
+    hull = ~deck & ~sup
+    np.testing.assert_array_equal(_air_table(g)[:, hull], _air_table(f)[:, hull])

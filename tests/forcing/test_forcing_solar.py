@@ -201,3 +201,54 @@ def test_vertical_face_gets_half_sky_half_sea_and_the_beam(summer):
     morning = f.absorbed_shortwave(8 * 3600.0)[cols].mean()
     afternoon = f.absorbed_shortwave(16 * 3600.0)[cols].mean()
     assert morning > 2 * afternoon  # the east face is sunlit in the morning only
+
+
+@pytest.mark.parametrize("interval", ["ending", "centred"])
+def test_absorbed_sun_keeps_the_files_hourly_and_daily_integrals(interval):
+    # A weather file's irradiance is each hour's energy (hour-ending in EPW / TMY files).
+    # The environment spreads it over the hour by the sun's course on the forcing's 10-min
+    # knots; the forcing's table (linear between its times, what the solver reads) then
+    # carries every hour's and every day's energy exactly. On the lone open plate of the
+    # test above (F_sky 1, lit fraction 1), the absorbed sun integrates to α × the file's
+    # hourly values: 1e-9 relative (float64 tables; round-off only). Broken cloud, a dark
+    # hour between sunny ones and 3 W m-2 in the hour of sunrise included.
+    import pandas as pd
+
+    from shipthermal.environment import Weather
+
+    tz = "Etc/GMT-8"
+    time = pd.date_range("2023-07-14 00:00", periods=73, freq="h", tz=tz)
+    hour = time.hour.to_numpy()
+    rng = np.random.default_rng(11)
+    ghi = np.clip(950.0 * np.sin(np.pi * (hour - 5) / 14.0), 0.0, None) * rng.uniform(0.15, 1.0,
+                                                                                      73)
+    ghi[hour == 6] = 3.0
+    ghi[(hour == 12) & (time.day == 15)] = 0.0
+    w = Weather(time=time, temp_air=293.0 + 4 * np.sin(2 * np.pi * hour / 24), wind_speed=4.0,
+                relative_humidity=75.0, wind_direction=200.0, cloud_cover=0.5,
+                temp_sea=294.0, ghi=ghi, solar_interval=interval)
+    env = Environment(38.91, 121.63, w)
+    ship = scene_ship([rectangle([0, 0, 1.0], [10, 0, 0], [0, 10, 0], 3, 3)], ["deck"])
+    span = 72 * 3600.0
+    f, graph = forcing_of(ship, env, absorptivity=0.8, times=np.arange(0.0, span + 1.0, 600.0))
+    cond = f.conditions()["deck:outer"]
+    t = f.times
+    q = np.array([cond.absorbed_shortwave(x)[0] for x in t])
+    off = {"ending": 0.0, "centred": 1800.0}[interval]
+    hourly = []
+    for k in range(1, 72):                       # whole hours inside the record
+        a, b = (k - 1) * 3600.0 + off, k * 3600.0 + off
+        if b > span:
+            break
+        sel = (t >= a) & (t <= b)
+        hourly.append((np.trapezoid(q[sel], t[sel]) / 3600.0, 0.8 * ghi[k]))
+    got, want = np.array(hourly).T
+    scale = 0.8 * ghi.max()
+    np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-9 * scale)
+    # and the days (midnight to midnight) of the file's own hours
+    for d in range(1, 3):
+        sel = (t >= d * 86400.0 - 86400.0 + off) & (t <= d * 86400.0 + off)
+        day = np.trapezoid(q[sel], t[sel])
+        want_day = 0.8 * 3600.0 * ghi[(d - 1) * 24 + 1:d * 24 + 1].sum()
+        assert day == pytest.approx(want_day, rel=1e-9)
+    assert want.max() > 500.0 and (want == 0).any() and (want == 0.8 * 3.0).any()

@@ -200,13 +200,13 @@ def test_convection_coefficients(boat, env, day):
     assert np.median(hc_deck) < 1.6
     # outer air faces: at least the natural-convection floor, at most the forced value of
     # a 10 m/s wind on the shortest plate, and stronger wind means larger h
-    h_deck = cond["deck:outer"].h(t)
+    h_deck = f.convection_coefficient("deck:outer", t)
     assert np.all(h_deck > 0.5) and np.all(h_deck < 60.0)
     windy = Environment.from_climate_day(day.perturbed(wind=4.0), ship_heading=45.0)
     g = build_ship_forcing(ship, windy, graph, times=TIMES, traced=f.traced, dtype=np.float64)
     assert g.n_rays == f.n_rays  # the lit fractions came from the cache: nothing re-traced
     assert np.array_equal(g.absorbed_shortwave(t), f.absorbed_shortwave(t))
-    assert np.all(g.conditions()["deck:outer"].h(t) > h_deck)
+    assert np.all(g.convection_coefficient("deck:outer", t) > h_deck)
     assert g.summary().loc["deck", "h_mean"] > f.summary().loc["deck", "h_mean"] + 2.0
 
 
@@ -268,7 +268,9 @@ def test_part_values_and_defaults():
     (dict(times=np.arange(-600.0, DAY, 600.0)), "times[0]"),      # outside the day
     (dict(samples_per_face=0), "samples_per_face"),
     (dict(current_speed=-1.0), "current_speed"),
-    (dict(convection="mcadams"), "convection"),
+    (dict(convection="jurges"), "convection.model"),
+    (dict(convection={"deck": "flat"}), "convection.model['deck']"),
+    (dict(roughness="sandpaper"), "convection.roughness"),
 ])
 def test_bad_inputs_name_the_field(boat, env, kwargs, field):
     ship, graph, f = boat

@@ -165,6 +165,10 @@ def bases(d: Path) -> dict:
         "ship_parts": _merge(TINY, parts),
         "paper": _merge(TINY, {"background": {"model": "paper"}}),
         "cal_swath": _merge(TINY, {"calendar": {"swath": 185000.0}}),
+        # a user's material in the funnel's layup
+        "own_material": _merge(TINY, {"materials": {"own": dict(OWN_MATERIAL)},
+                                      "ship": {"layups": {FUNNEL: [
+                                          {"material": "own", "thickness": 0.008}]}}}),
         "bg_physical": _merge(TINY, {"background": {
             "source": "files", "mtl": str(PORT / "LC08_L2SP_204023_20200927_20201006_02_T1_MTL.txt"),
             "roi": str(PORT / "mersey_rois.geojson"), "size_px": None}}),
@@ -179,6 +183,8 @@ def bases(d: Path) -> dict:
 # key → (base, changed value, stages it must reach)
 # ---------------------------------------------------------------------------------------
 FUNNEL = "superstructure_funnel"          # a sub-part: takes its main part's value otherwise
+OWN_MATERIAL = {"conductivity": 50.0, "density": 7850.0, "specific_heat": 470.0,
+                "source": "test plate"}
 
 CASES = {
     "name": ("builtin", "other", {O}),
@@ -241,6 +247,12 @@ CASES = {
     "ship.layups.<part>[i].material": ("builtin", None, {T}),
     "ship.layups.<part>[i].thickness": ("builtin", None, {T}),
     "ship.layups.<part>[i].cells": ("builtin", None, {T}),
+    "ship.layups.<part>[i].solar_absorptivity": ("builtin", None, {T}),
+    "ship.layups.<part>[i].longwave_emissivity": ("builtin", None, {T}),
+    "materials.<name>.conductivity": ("own_material", 45.0, {T}),
+    "materials.<name>.density": ("own_material", 7800.0, {T}),
+    "materials.<name>.specific_heat": ("own_material", 480.0, {T}),
+    "materials.<name>.source": ("own_material", "another data sheet", {T}),
     "ship.compartment_temperature.<part>": ("builtin", {FUNNEL: 320.0}, {T}),
     "ship.solar_absorptivity.<part>": ("builtin", {FUNNEL: 0.9}, {T}),
     "ship.longwave_emissivity.<part>": ("builtin", {FUNNEL: 0.6}, {T}),
@@ -255,6 +267,8 @@ CASES = {
     "solver.seed": ("builtin", 7, {T}),
     "solver.backend": ("builtin", "numba", {T, I}),
     "convection.model": ("builtin", "iso6946", {T}),
+    "convection.parts.<part>": ("builtin", {FUNNEL: "doe2"}, {T}),
+    "convection.roughness.<part>": ("builtin", {FUNNEL: "rough"}, {T}),
     "background.source": ("builtin", "files", {B}),
     "background.model": ("builtin", "paper", {B}),
     "background.residual": ("bg_physical", "constant", {B}),
@@ -364,8 +378,17 @@ def _change(key: str, base: dict, value, d: Path) -> dict:
         layers = {"ship.layups.<part>": _layup(cells=3, thickness=0.010),
                   "ship.layups.<part>[i].material": _layup(material="aluminium_5083"),
                   "ship.layups.<part>[i].thickness": _layup(thickness=0.012),
-                  "ship.layups.<part>[i].cells": _layup(cells=4)}[key]
+                  "ship.layups.<part>[i].cells": _layup(cells=4),
+                  "ship.layups.<part>[i].solar_absorptivity": [
+                      {"material": "marine_paint", "thickness": 0.0003, "solar_absorptivity": 0.95},
+                      {"material": "mild_steel", "thickness": 0.008}],
+                  "ship.layups.<part>[i].longwave_emissivity": [
+                      {"material": "marine_paint", "thickness": 0.0003, "longwave_emissivity": 0.8},
+                      {"material": "mild_steel", "thickness": 0.008}]}[key]
         data["ship"]["layups"] = {FUNNEL: layers}
+        return data
+    if key.startswith("materials."):
+        data["materials"]["own"][key.rsplit(".", 1)[1]] = value
         return data
     path = key.split(".<")[0].split(".")
     node = data

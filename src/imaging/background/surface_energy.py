@@ -44,7 +44,7 @@ import numpy as np
 import pvlib
 from numba import njit, prange
 
-from shipthermal.environment.convection import convection_model
+from shipthermal.environment.convection import ExteriorFlow, convection_model
 from shipthermal.errors import InputError, check_finite, check_range, require
 from shipthermal.parameters import DEFAULT_CONVECTION_MODEL
 from shipthermal.units import DAY, SIGMA, ZERO_CELSIUS
@@ -590,8 +590,10 @@ def convection_correlation(model: str = DEFAULT_CONVECTION_MODEL, normal_z=1.0,
     cm = convection_model(model, "background.convection.model")
 
     def h(temp_surface, temp_air, wind_speed):
-        return cm.h(temp_surface, temp_air, normal_z, wind_speed, length_flow,
-                    length_vertical, length_horizontal)
+        return cm.h(temp_surface, temp_air,
+                    ExteriorFlow(normal_z=normal_z, wind_speed=wind_speed,
+                                 length_flow=length_flow, length_vertical=length_vertical,
+                                 length_horizontal=length_horizontal))
 
     h.__doc__ = f"{cm.name}: {cm.source}"
     return h

@@ -19,7 +19,10 @@ def settings_from_scenario(scenario) -> DiurnalSettings:
                            spinup_tolerance=s.spinup_tolerance, spinup_max_days=s.spinup_max_days,
                            samples_per_face=s.samples_per_face, rays_per_face=s.rays_per_face,
                            seed=s.seed, backend=s.backend,
-                           convection=scenario.convection.model)
+                           convection=(scenario.convection.per_part()
+                                       if scenario.convection.parts
+                                       else scenario.convection.model),
+                           convection_roughness=dict(scenario.convection.roughness))
 
 
 def thermal_inputs(scenario, ship=None) -> dict:

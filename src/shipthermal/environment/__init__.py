@@ -60,7 +60,13 @@ __all__ = [
     "sea_skin",
     "convection",
     "SEA_SKIN_STEP",
+    "SOLAR_KNOT",
 ]
+
+SOLAR_KNOT = 600.0
+"""Spacing [s] of the knots on which a weather file's hourly irradiance is spread over its
+hour (:meth:`Environment.solar_profile`): the forcing tables' spacing, so the tables hold
+the profile exactly (and a lit fraction per 10 min resolves the sun's course)."""
 
 SEA_SKIN_STEP = 600.0
 """Longest step [s] of the grid on which an :class:`Environment` integrates the sea's warm
@@ -246,6 +252,7 @@ class Environment:
         self.sea_emissivity = None if sea_emissivity is None else float(sea_emissivity)
         self.sea_skin = sea_skin_model(sea_skin)
         self._skin_table = None
+        self._solar = None
         tz = weather.tz
         if date is not None:
             require(weather.periodic, "environment.date", date,
@@ -298,12 +305,14 @@ class Environment:
         fields = ("temp_air", "relative_humidity", "wind_speed", "wind_direction",
                   "cloud_cover", "temp_sea", "ghi", "longwave_down")
         day = Weather(time=w.time[:n], periodic=True, source=f"{w.source} (first day)",
+                      solar_interval=w.solar_interval,
                       **{f: None if getattr(w, f) is None else getattr(w, f)[:n]
                          for f in fields})
         env = copy.copy(self)
         env.weather = day
         env.start = w.start
         env._skin_table = None      # the periodic day's own warm layer
+        env._solar = None
         return env
 
     def _seconds(self, times) -> np.ndarray:
@@ -365,8 +374,14 @@ class Environment:
                                  temperature=ws.temp_air - ZERO_CELSIUS)
         zen = pos["apparent_zenith"].to_numpy()
         azi = pos["azimuth"].to_numpy()
-        if ws.ghi is not None:
-            irr = sun.decompose_ghi(ws.ghi, instants, zen, self.decomposition,
+        ghi_in = ws.ghi
+        if ghi_in is not None and w.solar_interval != "instant":
+            knots, values = self.solar_profile()
+            t = np.mod(s, len(w.time) * w.step) if w.periodic else s
+            ghi_in = np.interp(t, knots, values)
+            ws = dataclasses.replace(ws, ghi=ghi_in)
+        if ghi_in is not None:
+            irr = sun.decompose_ghi(ghi_in, instants, zen, self.decomposition,
                                     temp_dew=sky.dew_point(ws.temp_air, np.maximum(
                                         ws.relative_humidity, 0.1)) - ZERO_CELSIUS)
         else:
@@ -376,12 +391,51 @@ class Environment:
             irr = sun.cloudy_sky_irradiance(clear, zen, ws.cloud_cover)
         up = zen < 90.0
         dni = np.where(up, irr["dni"].to_numpy(), 0.0)
-        dhi = np.where(up, irr["dhi"].to_numpy(), 0.0)
+        # a measured global with the sun just below the horizon (twilight, or an hour's
+        # energy spread where it has no sun at its knots) is diffuse: kept, not dropped
+        dhi = np.where(up, irr["dhi"].to_numpy(),
+                       np.clip(ghi_in, 0.0, None) if ghi_in is not None else 0.0)
         ghi = dni * np.clip(np.cos(np.radians(zen)), 0.0, None) + dhi
         lw = sky.longwave_down(ws.temp_air, ws.relative_humidity, ws.cloud_cover,
                                measured=ws.longwave_down, clear_model=self.clear_sky_model,
                                cloud_model=self.cloud_model)
         return ws, instants, zen, azi, dni, dhi, ghi, lw
+
+    def solar_profile(self):
+        """The weather's irradiance within its steps, when it gives step means
+        (``weather.solar_interval`` 'ending' or 'centred'): ``(knots, values)``, seconds
+        after :attr:`start` and the global horizontal irradiance there [W m-2], linear in
+        between (computed once, then cached).
+
+        Each step's energy is spread over the step by the sun's course (a constant
+        clearness index within the step: :func:`.sun.interval_profile`) on knots every
+        :data:`SOLAR_KNOT` s, so that the integral of every step, hence of every day, is
+        the file's exactly. The forcing's table times (every 600 s from midnight) fall on
+        the knots: its interpolation is this very profile.
+        """
+        if self._solar is None:
+            w = self.weather
+            n_sub = max(2, int(round(w.step / SOLAR_KNOT)))
+            offset = {"ending": -w.step, "centred": -0.5 * w.step}[w.solar_interval]
+            t0 = (w.time[0] - self.start).total_seconds() + offset
+            knots = t0 + np.arange(len(w.time) * n_sub + 1) * (w.step / n_sub)
+            instants = pd.DatetimeIndex(self.start + pd.to_timedelta(knots, unit="s"))
+            zen = sun.solar_position(instants, self.latitude, self.longitude,
+                                     self.altitude)["apparent_zenith"].to_numpy()
+            import pvlib
+
+            extra = np.asarray(pvlib.irradiance.get_extra_radiation(instants), dtype=float)
+            shape = extra * np.clip(np.cos(np.radians(zen)), 0.0, None)
+            values = sun.interval_profile(w.ghi, shape, n_sub, periodic=w.periodic)
+            if w.periodic:
+                # one period from 0: roll the knots that lie before 0 to its end
+                period = len(w.time) * w.step
+                k = np.mod(knots[:-1], period)
+                order = np.argsort(k)
+                knots = np.append(k[order], period)
+                values = np.append(values[:-1][order], values[:-1][order][0])
+            self._solar = (knots, values)
+        return self._solar
 
     def sea_skin_series(self) -> Optional[sea_skin.SeaSkin]:
         """The sea's skin temperature on the environment's own grid (computed once, then

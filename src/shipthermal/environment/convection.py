@@ -7,19 +7,27 @@ Pure vectorised functions over per-face arrays:
 * forced convection over flat plates (laminar, turbulent, mixed boundary layer),
 * natural convection for vertical, horizontal (facing up / down) and tilted plates,
 * mixed forced + natural convection (Churchill 1977, n = 3),
+* the building-envelope correlations of the EnergyPlus family (DOE-2, TARP, MoWiTT,
+  McAdams, ISO 6946),
 * wetted hull to sea water, inner faces to compartment air (ISO 6946 or natural).
+
+The exterior models of :data:`CONVECTION_MODELS` give their coefficient as a forced part and
+a law of the surface temperature (:class:`shipthermal.conditions.ConvectionLaw`), which the
+solver evaluates at the surface temperature it solves for.
 
 Temperatures in K, speeds in m/s, lengths in m, coefficients h in W m-2 K-1.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 
+from shipthermal.conditions import LAW_PARAMETERS, ConvectionLaw, law_h
 from shipthermal.errors import InputError, check_positive
 from shipthermal.parameters import CONVECTION_MODEL_SOURCES, DEFAULT_CONVECTION_MODEL
 from shipthermal.units import SIGMA, ZERO_CELSIUS
@@ -47,6 +55,21 @@ __all__ = [
     "ISO6946_INTERIOR_CONVECTION",
     "h_exterior_iso6946",
     "h_exterior_air_turbulent",
+    "h_natural_walton",
+    "h_exterior_doe2",
+    "h_exterior_tarp",
+    "h_exterior_mowitt",
+    "is_windward",
+    "WALTON_UNSTABLE",
+    "WALTON_STABLE",
+    "ASHRAE_VERTICAL",
+    "MOWITT_NATURAL",
+    "MOWITT_FORCED",
+    "SPARROW_FORCED",
+    "MCADAMS",
+    "ROUGHNESS_MULTIPLIERS",
+    "roughness_multiplier",
+    "ExteriorFlow",
     "ConvectionModel",
     "CONVECTION_MODELS",
     "DEFAULT_CONVECTION_MODEL",
@@ -345,19 +368,21 @@ def nusselt_horizontal_plate(ra, unstable):
     Notes
     -----
     Unstable side: Lloyd & Moran (1974), ASME 74-WA/HT-66: 0.54 Ra^1/4
-    (10^4–10^7), 0.15 Ra^1/3 (10^7–10^11) (Incropera 6th ed. eqs. 9.30–9.31); used
-    beyond those ranges as the nearest branch (the 1/3 law makes h independent of L,
-    the usual extrapolation for large decks). Stable side: 0.52 Ra^1/5
-    (10^4–10^9, Pr ≥ 0.7), Incropera et al. 7th ed. §9.6.2 (after Radziemska &
-    Lewandowski 2001, Appl. Energy 68, 347–366).
+    (10^4–10^7), 0.15 Ra^1/3 (10^7–10^11) (Incropera 6th ed. eqs. 9.30–9.31), taken as
+    the larger of the two: they cross at Ra = 4.8e6, so between 4.8e6 and 1e7 the
+    turbulent branch is used, at most 6 % above the laminar one, and Nu is continuous in
+    Ra (as the solver's Newton iteration on the surface temperature needs). Used beyond
+    those ranges as the nearest branch (the 1/3 law makes h independent of L, the usual
+    extrapolation for large decks). Stable side: 0.52 Ra^1/5 (10^4–10^9, Pr ≥ 0.7),
+    Incropera et al. 7th ed. §9.6.2 (after Radziemska & Lewandowski 2001, Appl. Energy
+    68, 347–366); beyond 1e9 (ship decks reach 1e10–1e12) see the floor of
+    :func:`h_natural`.
     """
     ra = np.asarray(ra, dtype=float)
     unstable = np.broadcast_to(np.asarray(unstable, dtype=bool), ra.shape)
     out = np.empty(ra.shape)
-    low = unstable & (ra < 1.0e7)
-    high = unstable & ~low
-    out[low] = 0.54 * np.sqrt(np.sqrt(ra[low]))
-    out[high] = 0.15 * np.cbrt(ra[high])
+    r_u = ra[unstable]
+    out[unstable] = np.maximum(0.54 * np.sqrt(np.sqrt(r_u)), 0.15 * np.cbrt(r_u))
     out[~unstable] = 0.52 * ra[~unstable] ** 0.2
     return out
 
@@ -414,6 +439,16 @@ def h_natural(temp_surface, temp_fluid, normal_z, length_vertical, length_horizo
     taken, as recommended for inclined plates by Raithby & Hollands (1998), Handbook
     of Heat Transfer, 3rd ed., ch. 4 §"Inclined surfaces". This recovers each
     correlation exactly for vertical and horizontal plates.
+
+    Stable side of a tilted or horizontal plate: at least Walton's stable correlation
+    (:func:`h_natural_walton`, ``1.810 |ΔT|^1/3 / (1.382 + |cos Σ|)``). The laminar
+    0.52 Ra^1/5 is stated for Ra ≤ 1e9; a deck of 10–100 m reaches 1e10–1e12 on calm
+    nights, where it would give h ≈ 0.3–0.4 W m-2 K-1 and fall further with size.
+    Walton's form (ASHRAE's turbulent large-plate coefficient, half the heated-upward
+    value; Walton 1983, NBSIR 83-2655) is independent of size and is what building
+    programs apply to roofs of any size; MoWiTT's calm-air term measured on full-scale
+    surfaces, 0.84 |ΔT|^1/3 (Yazdanian & Klems 1994), is close to it (0.76 |ΔT|^1/3 for a
+    horizontal face).
     """
     ts = np.asarray(temp_surface, dtype=float)
     tf = np.asarray(temp_fluid, dtype=float)
@@ -433,7 +468,11 @@ def h_natural(temp_surface, temp_fluid, normal_z, length_vertical, length_horizo
     # Churchill–Chu has a conduction floor 0.825² at Ra → 0; apply it only where the
     # plate is near vertical so a horizontal face does not inherit it.
     h_v = np.where(cos_t > 1e-12, h_v, 0.0)
-    return np.maximum(h_v, h_h)
+    # the stable side's floor at ship scale (a vertical plate has no stable side)
+    floor = np.where(~unstable & (sin_t > 0.0),
+                     WALTON_STABLE[0] * np.cbrt(np.abs(ts - tf)) / (WALTON_STABLE[1] + sin_t),
+                     0.0)
+    return np.maximum(np.maximum(h_v, h_h), floor)
 
 
 def combine_mixed(h_forced_, h_natural_, n: float = 3.0, opposing=False):
@@ -639,6 +678,204 @@ def h_interior(temp_surface, temp_room, normal_z, length_vertical=None,
 
 
 # ---------------------------------------------------------------------------------------
+# Building-envelope correlations (EnergyPlus family)
+# ---------------------------------------------------------------------------------------
+WALTON_UNSTABLE = (9.482, 7.238)
+"""Walton's (TARP) unstable natural convection ``9.482 |ΔT|^1/3 / (7.238 − |cos Σ|)``
+[W m-2 K-4/3], [-]: Walton (1983), Thermal Analysis Research Program Reference Manual,
+NBSIR 83-2655, "Surface Inside Heat Balances" pp. 79–80, as EnergyPlus evaluates it
+(``CalcWaltonUnstableHorizontalOrTilt``)."""
+
+WALTON_STABLE = (1.810, 1.382)
+"""Walton's (TARP) stable natural convection ``1.810 |ΔT|^1/3 / (1.382 + |cos Σ|)``
+[W m-2 K-4/3], [-] (same source)."""
+
+ASHRAE_VERTICAL = 1.31
+"""Natural convection of a large vertical plate, turbulent range, ``1.31 |ΔT|^1/3``
+[W m-2 K-4/3]: ASHRAE Handbook of Fundamentals (2001) p. 3.12 Table 5; Walton's form for
+a vertical face (``cos Σ = 0``)."""
+
+MOWITT_NATURAL = 0.84
+"""MoWiTT turbulent natural convection constant C_t [W m-2 K-4/3]: Yazdanian & Klems (1994),
+ASHRAE Trans. 100(1), 1087–1096."""
+
+MOWITT_FORCED = {"windward": (3.26, 0.89), "leeward": (3.55, 0.617)}
+"""MoWiTT forced convection ``a V^b`` [W m-2 K-1 (m/s)^-b], [-]: Yazdanian & Klems (1994),
+the coefficients EnergyPlus uses (``CalcMoWITTForcedWindward`` / ``...Leeward``)."""
+
+SPARROW_FORCED = 2.537
+"""TARP's forced convection ``2.537 W_f R_f (P V / A)^½`` [W m-2 K-1 (m/s)^-½ m^½]:
+Sparrow, Ramsey & Mass (1979), J. Heat Transfer 101, 204, as adopted by Walton (1981, 1983);
+W_f = 1 windward, 0.5 leeward."""
+
+MCADAMS = (5.7, 3.8)
+"""McAdams (1954), Heat Transmission, 3rd ed., as cast in SI by Palyvos (2008), Appl.
+Therm. Eng. 28, 801–808: ``h = 5.7 + 3.8 V`` [W m-2 K-1], [J m-3 K-1]."""
+
+ROUGHNESS_MULTIPLIERS = {"very_rough": 2.17, "rough": 1.67, "medium_rough": 1.52,
+                         "medium_smooth": 1.13, "smooth": 1.11, "very_smooth": 1.00}
+"""Surface roughness multipliers R_f of the forced convection of DOE-2 and TARP [-]: Walton
+(1981), from the ASHRAE (1981) graph of surface conductance; example materials stucco,
+brick, concrete, clear pine, smooth plaster, glass (EnergyPlus Engineering Reference,
+"Surface Roughness Multipliers")."""
+
+WINDWARD_HORIZONTAL_COS = 0.98
+"""|cos tilt| at and above which a face counts as horizontal, hence windward (EnergyPlus's
+``Windward`` function)."""
+
+
+def h_natural_walton(temp_surface, temp_air, normal_z):
+    """Walton's natural convection coefficient (TARP, DOE-2) [W m-2 K-1].
+
+    Parameters
+    ----------
+    temp_surface, temp_air : array_like
+        [K].
+    normal_z : array_like
+        Upward component of the outward unit normal, ``cos Σ`` [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        ``9.482 |ΔT|^1/3 / (7.238 − |cos Σ|)`` on the unstable side (hot face looking up,
+        cold face looking down), ``1.810 |ΔT|^1/3 / (1.382 + |cos Σ|)`` on the stable side,
+        ASHRAE's vertical ``1.31 |ΔT|^1/3`` at ``cos Σ = 0`` (both forms are within 0.03 %
+        of it there).
+
+    Notes
+    -----
+    Walton (1983), NBSIR 83-2655, pp. 79–80, from the ASHRAE Handbook of Fundamentals
+    turbulent coefficients of large vertical plates and of large horizontal plates (heated
+    facing up; half of it facing down); EnergyPlus Engineering Reference, "TARP
+    algorithm".
+    """
+    d = np.asarray(temp_surface, dtype=float) - np.asarray(temp_air, dtype=float)
+    c = np.abs(np.asarray(normal_z, dtype=float))
+    unstable = d * np.asarray(normal_z, dtype=float) > 0.0
+    x3 = np.cbrt(np.abs(d))
+    return x3 * np.where(c == 0.0, ASHRAE_VERTICAL,
+                         np.where(unstable, WALTON_UNSTABLE[0] / (WALTON_UNSTABLE[1] - c),
+                                  WALTON_STABLE[0] / (WALTON_STABLE[1] + c)))
+
+
+def is_windward(normal, wind_from):
+    """Whether faces face the wind (EnergyPlus's ``Windward``) [bool].
+
+    Parameters
+    ----------
+    normal : array_like, (..., 3)
+        Outward unit normals (any right-handed frame with z up) [-].
+    wind_from : array_like, (..., 2)
+        Horizontal unit vector pointing where the wind comes FROM, same frame [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        True where ``|n_z| ≥ 0.98`` (a horizontal face is windward) or the face's azimuth is
+        within 90° of the wind's direction (Walton 1981; EnergyPlus).
+    """
+    n = np.asarray(normal, dtype=float)
+    w = np.asarray(wind_from, dtype=float)
+    horizontal = np.abs(n[..., 2]) >= WINDWARD_HORIZONTAL_COS
+    return horizontal | (n[..., 0] * w[..., 0] + n[..., 1] * w[..., 1] >= 0.0)
+
+
+def h_exterior_mowitt(temp_surface, temp_air, wind_speed, windward=True):
+    """MoWiTT exterior coefficient ``[(C_t |ΔT|^1/3)² + (a V^b)²]^½`` [W m-2 K-1].
+
+    Parameters
+    ----------
+    temp_surface, temp_air : array_like
+        [K].
+    wind_speed : array_like
+        Wind speed at the surface [m s-1].
+    windward : array_like of bool
+        Windward (a = 3.26, b = 0.89) or leeward (3.55, 0.617) coefficients.
+
+    Notes
+    -----
+    Yazdanian & Klems (1994), ASHRAE Trans. 100(1), 1087–1096 (:data:`MOWITT_NATURAL`,
+    :data:`MOWITT_FORCED`).
+    """
+    d = np.asarray(temp_surface, dtype=float) - np.asarray(temp_air, dtype=float)
+    hf = _mowitt_forced(wind_speed, windward)
+    hn = MOWITT_NATURAL * np.cbrt(np.abs(d))
+    return np.sqrt(hn * hn + hf * hf)
+
+
+def _mowitt_forced(wind_speed, windward):
+    v = np.abs(np.asarray(wind_speed, dtype=float))
+    ww = np.asarray(windward, dtype=bool)
+    aw, bw = MOWITT_FORCED["windward"]
+    al, bl = MOWITT_FORCED["leeward"]
+    return np.where(ww, aw * v ** bw, al * v ** bl)
+
+
+def h_exterior_doe2(temp_surface, temp_air, normal_z, wind_speed, windward=True,
+                    roughness=1.0):
+    """DOE-2 exterior coefficient ``h_n + R_f (h_glass − h_n)`` [W m-2 K-1].
+
+    Parameters
+    ----------
+    temp_surface, temp_air : array_like
+        [K].
+    normal_z : array_like
+        ``cos Σ`` of the outward normal [-].
+    wind_speed : array_like
+        Wind speed at the surface [m s-1].
+    windward : array_like of bool
+        MoWiTT's windward or leeward forced coefficients.
+    roughness : array_like
+        Roughness multiplier R_f [-] (:data:`ROUGHNESS_MULTIPLIERS`).
+
+    Notes
+    -----
+    ``h_glass = (h_n² + (a V^b)²)^½`` with Walton's natural ``h_n``
+    (:func:`h_natural_walton`) and MoWiTT's forced term: LBL (1994), DOE-2.1E-053 source
+    code, as documented in the EnergyPlus Engineering Reference ("DOE-2 Model"); the
+    default outside convection of EnergyPlus.
+    """
+    hn = h_natural_walton(temp_surface, temp_air, normal_z)
+    hf = _mowitt_forced(wind_speed, windward)
+    return hn + np.asarray(roughness, dtype=float) * (np.sqrt(hn * hn + hf * hf) - hn)
+
+
+def h_exterior_tarp(temp_surface, temp_air, normal_z, wind_speed, perimeter_over_area,
+                    windward=True, roughness=1.0):
+    """TARP exterior coefficient ``h_f + h_n`` [W m-2 K-1].
+
+    Parameters
+    ----------
+    temp_surface, temp_air : array_like
+        [K].
+    normal_z : array_like
+        ``cos Σ`` of the outward normal [-].
+    wind_speed : array_like
+        Wind speed at the surface [m s-1].
+    perimeter_over_area : array_like
+        Perimeter / area of the facade or roof the face belongs to [m-1].
+    windward : array_like of bool
+        Wind-direction factor W_f = 1 (windward) or 0.5 (leeward).
+    roughness : array_like
+        R_f [-].
+
+    Notes
+    -----
+    ``h_f = 2.537 W_f R_f (P V / A)^½`` (Sparrow, Ramsey & Mass 1979), Walton's natural
+    ``h_n``: Walton (1983), NBSIR 83-2655; EnergyPlus Engineering Reference ("TARP").
+    """
+    hn = h_natural_walton(temp_surface, temp_air, normal_z)
+    return hn + _sparrow_forced(wind_speed, perimeter_over_area, windward, roughness)
+
+
+def _sparrow_forced(wind_speed, perimeter_over_area, windward, roughness):
+    wf = np.where(np.asarray(windward, dtype=bool), 1.0, 0.5)
+    v = np.abs(np.asarray(wind_speed, dtype=float))
+    return SPARROW_FORCED * wf * np.asarray(roughness, dtype=float) * np.sqrt(
+        np.asarray(perimeter_over_area, dtype=float) * v)
+
+
+# ---------------------------------------------------------------------------------------
 # Exterior convection models (registry)
 # ---------------------------------------------------------------------------------------
 def h_exterior_iso6946(temp_surface, temp_air, normal_z, wind_speed_relative, length_flow,
@@ -672,6 +909,155 @@ def h_exterior_air_turbulent(temp_surface, temp_air, normal_z, wind_speed_relati
 
 
 @dataclass(frozen=True)
+class ExteriorFlow:
+    """What an exterior convection model needs to know of each face and its wind.
+
+    Arrays broadcast against each other (rows: times, columns: faces).
+
+    Attributes
+    ----------
+    normal_z : array_like
+        Upward component of the outward unit normal [-].
+    wind_speed : array_like
+        Wind speed at the face (apparent wind at its height) [m s-1].
+    length_flow : array_like
+        Length of the part along the wind [m] (flat-plate models).
+    length_vertical, length_horizontal : array_like
+        Natural-convection lengths: height; area / perimeter [m] (flat-plate models).
+    windward : array_like of bool
+        The face faces the wind (:func:`is_windward`) (DOE-2, TARP, MoWiTT).
+    perimeter_over_area : array_like
+        Of the facade or deck the face belongs to [m-1] (TARP).
+    roughness : array_like
+        Roughness multiplier R_f [-] (:data:`ROUGHNESS_MULTIPLIERS`; DOE-2, TARP).
+    """
+
+    normal_z: object
+    wind_speed: object
+    length_flow: object = 1.0
+    length_vertical: object = 1.0
+    length_horizontal: object = 1.0
+    windward: object = True
+    perimeter_over_area: object = 1.0
+    roughness: object = 1.0
+
+
+def _natural(shape) -> np.ndarray:
+    return np.zeros(tuple(shape) + (2, len(LAW_PARAMETERS)))
+
+
+def _walton_law(normal_z, shape) -> np.ndarray:
+    """Walton's natural convection as a law (both sides ``c |ΔT|^1/3``)."""
+    c = np.broadcast_to(np.abs(np.asarray(normal_z, dtype=float)), shape)
+    nat = _natural(shape)
+    nat[..., 0, 0] = np.where(c == 0.0, ASHRAE_VERTICAL,
+                              WALTON_UNSTABLE[0] / (WALTON_UNSTABLE[1] - c))
+    nat[..., 1, 0] = np.where(c == 0.0, ASHRAE_VERTICAL, WALTON_STABLE[0] / (WALTON_STABLE[1] + c))
+    nat[..., :, 1] = 1.0 / 3.0
+    return nat
+
+
+def _flat_plate_law(temp_film, normal_z, length_vertical, length_horizontal, shape,
+                    pressure=101325.0) -> np.ndarray:
+    """:func:`h_natural` as a law at the film temperature's properties: the Churchill–Chu
+    vertical term (g cos θ over the height), Lloyd & Moran's two unstable branches and the
+    stable 0.52 Ra^1/5 (g sin θ over A/P), and Walton's stable floor."""
+    props = air_properties(np.broadcast_to(np.asarray(temp_film, dtype=float), shape), pressure)
+    nz = np.broadcast_to(np.clip(np.asarray(normal_z, dtype=float), -1.0, 1.0), shape)
+    sin_t = np.abs(nz)
+    cos_t = np.sqrt(np.clip(1.0 - nz ** 2, 0.0, 1.0))
+    lv = np.broadcast_to(np.asarray(length_vertical, dtype=float), shape)
+    lh = np.broadcast_to(np.asarray(length_horizontal, dtype=float), shape)
+    k = props.conductivity
+    # g β / (ν α): Ra per (K m³)
+    ra_unit = G * props.expansion * props.density ** 2 * props.heat_capacity / (
+        props.viscosity * props.conductivity)
+    ra_h = ra_unit * sin_t * lh ** 3            # Ra_h / |ΔT|
+    ra_v = ra_unit * cos_t * lv ** 3            # Ra_v / |ΔT|
+    nat = _natural(shape)
+    kh = k / lh
+    nat[..., 0, 0] = 0.54 * kh * ra_h ** 0.25
+    nat[..., 0, 1] = 0.25
+    nat[..., 0, 2] = 0.15 * kh * np.cbrt(ra_h)
+    nat[..., 0, 3] = 1.0 / 3.0
+    nat[..., 1, 0] = 0.52 * kh * ra_h ** 0.2
+    nat[..., 1, 1] = 0.2
+    nat[..., 1, 2] = np.where(sin_t > 0.0, WALTON_STABLE[0] / (WALTON_STABLE[1] + sin_t), 0.0)
+    nat[..., 1, 3] = 1.0 / 3.0
+    # Churchill & Chu: h = (k/L)(0.825 + 0.387 Ra^(1/6)/ψ)² = (a + b |ΔT|^(1/6))²
+    vertical = cos_t > 1e-12
+    x = 0.492 / props.prandtl
+    psi = (1.0 + x ** (9.0 / 16.0)) ** (8.0 / 27.0)
+    root = np.sqrt(k / lv)
+    a = np.where(vertical, 0.825 * root, 0.0)
+    b = np.where(vertical, root * 0.387 / psi * ra_v ** (1.0 / 6.0), 0.0)
+    nat[..., :, 4] = a[..., None]
+    nat[..., :, 5] = b[..., None]
+    return nat
+
+
+def _terms_flat_plate(boundary_layer):
+    def terms(temp_film, flow: ExteriorFlow, law: bool = True):
+        shape = _flow_shape(temp_film, flow)
+        props = air_properties(np.broadcast_to(np.asarray(temp_film, dtype=float), shape))
+        hf = h_forced(flow.wind_speed, flow.length_flow, props, boundary_layer)
+        if not law:
+            return np.broadcast_to(hf, shape), None
+        nat = _flat_plate_law(temp_film, flow.normal_z, flow.length_vertical,
+                              flow.length_horizontal, shape)
+        return np.broadcast_to(hf, shape), ConvectionLaw(nat, 3.0, 1.0, _bz(flow.normal_z, shape))
+    return terms
+
+
+def _flow_shape(temp_film, flow: ExteriorFlow) -> tuple:
+    return np.broadcast_shapes(np.shape(temp_film), *(np.shape(getattr(flow, f.name))
+                                                      for f in dataclasses.fields(flow)))
+
+
+def _bz(value, shape) -> np.ndarray:
+    return np.broadcast_to(np.asarray(value, dtype=float), shape)
+
+
+def _terms_doe2(temp_film, flow: ExteriorFlow, law: bool = True):
+    shape = _flow_shape(temp_film, flow)
+    hf = _mowitt_forced(flow.wind_speed, flow.windward)
+    if not law:
+        return _bz(hf, shape), None
+    return (_bz(hf, shape), ConvectionLaw(_walton_law(flow.normal_z, shape), 2.0,
+                                          _bz(flow.roughness, shape), _bz(flow.normal_z, shape)))
+
+
+def _terms_mowitt(temp_film, flow: ExteriorFlow, law: bool = True):
+    shape = _flow_shape(temp_film, flow)
+    if not law:
+        return _bz(_mowitt_forced(flow.wind_speed, flow.windward), shape), None
+    nat = _natural(shape)
+    nat[..., :, 0] = MOWITT_NATURAL
+    nat[..., :, 1] = 1.0 / 3.0
+    hf = _mowitt_forced(flow.wind_speed, flow.windward)
+    return _bz(hf, shape), ConvectionLaw(nat, 2.0, 1.0, _bz(flow.normal_z, shape))
+
+
+def _terms_tarp(temp_film, flow: ExteriorFlow, law: bool = True):
+    shape = _flow_shape(temp_film, flow)
+    hf = _sparrow_forced(flow.wind_speed, flow.perimeter_over_area, flow.windward,
+                         flow.roughness)
+    if not law:
+        return _bz(hf, shape), None
+    return (_bz(hf, shape), ConvectionLaw(_walton_law(flow.normal_z, shape), 1.0, 1.0,
+                                          _bz(flow.normal_z, shape)))
+
+
+def _terms_linear(a, b):
+    def terms(temp_film, flow: ExteriorFlow, law: bool = True):
+        shape = _flow_shape(temp_film, flow)
+        v = np.abs(np.asarray(flow.wind_speed, dtype=float))
+        return _bz(a + b * v, shape), (ConvectionLaw(_natural(shape), 1.0, 1.0, 0.0) if law
+                                       else None)
+    return terms
+
+
+@dataclass(frozen=True)
 class ConvectionModel:
     """An exterior (air-side) convection correlation.
 
@@ -679,32 +1065,77 @@ class ConvectionModel:
     ----------
     name : str
         Key in :data:`CONVECTION_MODELS`.
-    h : callable
-        ``h(temp_surface [K], temp_air [K], normal_z [-], wind_speed_relative [m s-1],
-        length_flow [m], length_vertical [m], length_horizontal [m]) -> [W m-2 K-1]``,
-        vectorised.
+    terms : callable
+        ``terms(temp_film [K], flow: ExteriorFlow, law=True) -> (h_forced [W m-2 K-1],
+        ConvectionLaw or None)``: the forced part and the law of the surface temperature
+        (:class:`shipthermal.conditions.ConvectionLaw`) that the solver evaluates at the
+        solved surface temperature; air properties (flat-plate models) at ``temp_film``.
     source : str
         Where the correlation comes from.
     validity : str
         Range in which its source supports it.
+    film_dependent : bool
+        Its terms depend on ``temp_film`` (air properties).
     """
 
     name: str
-    h: Callable
+    terms: Callable
     source: str
     validity: str
+    film_dependent: bool = False
+    direct: Callable | None = None
+
+    def h_direct(self, temp_surface, temp_air, flow: ExteriorFlow):
+        """The same coefficient from the correlation functions of this module (numpy, no
+        law arrays: the fast path of the forcing's quasi-steady estimate) [W m-2 K-1]."""
+        return self.direct(np.asarray(temp_surface, dtype=float),
+                           np.asarray(temp_air, dtype=float), flow)
+
+    def h(self, temp_surface, temp_air, flow: ExteriorFlow):
+        """The coefficient at a surface temperature [W m-2 K-1] (film temperature
+        ``(T_s + T_air)/2``), through :func:`shipthermal.conditions.law_h`: the function the
+        solver evaluates."""
+        ts = np.asarray(temp_surface, dtype=float)
+        ta = np.asarray(temp_air, dtype=float)
+        hf, law = self.terms(0.5 * (ts + ta), flow)
+        return law_h(hf, law, ts - ta)
 
 
-_MODEL_FUNCTIONS = {"flat_plate_mixed": h_exterior_air,
-                    "flat_plate_turbulent": h_exterior_air_turbulent,
-                    "iso6946": h_exterior_iso6946}
+def _direct_flat_plate(boundary_layer):
+    def h(ts, ta, f: ExteriorFlow):
+        return h_exterior_air(ts, ta, f.normal_z, f.wind_speed, f.length_flow,
+                              f.length_vertical, f.length_horizontal,
+                              boundary_layer=boundary_layer)
+    return h
+
+
+def _direct_linear(a, b):
+    def h(ts, ta, f: ExteriorFlow):
+        shape = np.broadcast_shapes(ts.shape, ta.shape, np.shape(f.wind_speed))
+        return np.broadcast_to(a + b * np.abs(np.asarray(f.wind_speed, dtype=float)),
+                               shape).astype(float)
+    return h
+
+
+_MODEL_TERMS = {
+    "flat_plate_mixed": (_terms_flat_plate("mixed"), True, _direct_flat_plate("mixed")),
+    "flat_plate_turbulent": (_terms_flat_plate("turbulent"), True,
+                             _direct_flat_plate("turbulent")),
+    "doe2": (_terms_doe2, False, lambda ts, ta, f: h_exterior_doe2(
+        ts, ta, f.normal_z, f.wind_speed, f.windward, f.roughness)),
+    "tarp": (_terms_tarp, False, lambda ts, ta, f: h_exterior_tarp(
+        ts, ta, f.normal_z, f.wind_speed, f.perimeter_over_area, f.windward, f.roughness)),
+    "mowitt": (_terms_mowitt, False, lambda ts, ta, f: h_exterior_mowitt(
+        ts, ta, f.wind_speed, f.windward)),
+    "mcadams": (_terms_linear(*MCADAMS), False, _direct_linear(*MCADAMS)),
+    "iso6946": (_terms_linear(4.0, 4.0), False, _direct_linear(4.0, 4.0))}
 
 CONVECTION_MODELS: dict[str, ConvectionModel] = {
-    name: ConvectionModel(name, _MODEL_FUNCTIONS[name], **info)
+    name: ConvectionModel(name, _MODEL_TERMS[name][0], **info,
+                          film_dependent=_MODEL_TERMS[name][1], direct=_MODEL_TERMS[name][2])
     for name, info in CONVECTION_MODEL_SOURCES.items()}
 """Exterior convection models by name (pvlib-style named set); names, sources and validity
 from :data:`shipthermal.parameters.CONVECTION_MODEL_SOURCES`."""
-
 
 
 def convection_model(name: str | ConvectionModel, field: str = "convection.model"
@@ -718,3 +1149,14 @@ def convection_model(name: str | ConvectionModel, field: str = "convection.model
                          "See shipthermal.environment.convection.CONVECTION_MODELS for the "
                          "sources and validity of each")
     return CONVECTION_MODELS[name]
+
+
+def roughness_multiplier(name: str, field: str = "convection.roughness") -> float:
+    """R_f of a roughness class (:data:`ROUGHNESS_MULTIPLIERS`); an unknown name raises
+    :class:`InputError` listing the classes."""
+    if name not in ROUGHNESS_MULTIPLIERS:
+        raise InputError(field, name, f"must be one of {', '.join(ROUGHNESS_MULTIPLIERS)}",
+                         "Walton's classes: stucco very_rough, brick rough, concrete "
+                         "medium_rough, clear pine medium_smooth, smooth plaster smooth, "
+                         "glass very_smooth")
+    return ROUGHNESS_MULTIPLIERS[name]

@@ -128,6 +128,9 @@ class StationRecord:
         The station of a typical-year file's header [deg, deg north and east].
     temp_unit : str or None
         The temperature unit a CSV file was read in ('C', 'K', 'F').
+    solar_interval : str
+        What the file's irradiance is (:data:`~shipthermal.environment.weather.SOLAR_INTERVALS`):
+        typical-year files give the hour's energy at its end (``'ending'``).
     """
 
     frame: pd.DataFrame
@@ -136,6 +139,7 @@ class StationRecord:
     notes: tuple = ()
     site: Optional[tuple] = None
     temp_unit: Optional[str] = None
+    solar_interval: str = "instant"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -252,7 +256,9 @@ def read_station(path, format: str, *, tz: Optional[str] = None, temp_unit: str 
         frame = frame.sort_index()
     return StationRecord(frame=frame, source=f"{format}:{name}", format=format,
                          notes=tuple(notes), site=site,
-                         temp_unit=temp_unit if format == "csv" else None)
+                         temp_unit=temp_unit if format == "csv" else None,
+                         solar_interval="ending" if format in ("epw", "tmy2", "tmy3")
+                         else "instant")
 
 
 def read_ndbc(path, tz: Optional[str] = None) -> StationRecord:
@@ -370,9 +376,10 @@ def _typical_year_frame(path, fmt, year):
                 "wind_speed": data["Wspd"].to_numpy(dtype=float) / 10.0,
                 "wind_direction": data["Wdir"].to_numpy(dtype=float),
                 "cloud_cover": data["TotCld"].to_numpy(dtype=float) / 10.0,
-                "ghi": _hour_ending_centred(data["GHI"].to_numpy(dtype=float))}
+                "ghi": data["GHI"].to_numpy(dtype=float)}
         notes.append("TMY2: hour-ending rows labelled at their end; 0.1 degC and 0.1 m/s "
-                     "converted; irradiance re-centred")
+                     "converted; irradiance: the hour's energy, spread over the hour by the "
+                     "sun's course")
     elif fmt == "epw":
         # EPW "hour h" is the hour ending at h; pvlib labels it h - 1 (the start)
         idx = data.index + pd.Timedelta(hours=1)
@@ -384,17 +391,20 @@ def _typical_year_frame(path, fmt, year):
         cols["cloud_cover"] = np.where(cloud >= 99, np.nan, cloud) / 10.0
         lw = data["ghi_infrared"].to_numpy(dtype=float) if "ghi_infrared" in data else None
         ghi = data["ghi"].to_numpy(dtype=float)
-        cols["ghi"] = _hour_ending_centred(np.where(ghi >= 9999, np.nan, ghi))
+        cols["ghi"] = np.where(ghi >= 9999, np.nan, ghi)
         if lw is not None:
-            cols["longwave_down"] = _hour_ending_centred(np.where(lw >= 9999, np.nan, lw))
-        notes.append("EPW: hour-ending rows labelled at their end; irradiance re-centred")
+            cols["longwave_down"] = np.where(lw >= 9999, np.nan, lw)
+        notes.append("EPW: hour-ending rows labelled at their end; irradiance: the hour's "
+                     "energy, spread over the hour by the sun's course; infrared: the value "
+                     "at the hour's end (as EnergyPlus reads it)")
     else:
         idx = data.index
         cols = {k: data[k].to_numpy(dtype=float) for k in
                 ("temp_air", "relative_humidity", "wind_speed", "wind_direction")}
         cols["cloud_cover"] = data["TotCld (tenths)"].to_numpy(dtype=float) / 10.0
-        cols["ghi"] = _hour_ending_centred(data["ghi"].to_numpy(dtype=float))
-        notes.append("TMY3: irradiance (hour-ending means) re-centred on the hours")
+        cols["ghi"] = data["ghi"].to_numpy(dtype=float)
+        notes.append("TMY3: irradiance: the hour's energy (hour-ending means), spread over "
+                     "the hour by the sun's course")
     cols["temp_air"] = cols["temp_air"] + ZERO_CELSIUS
     cols["wind_direction"] = cols["wind_direction"] % 360.0
     site = None
@@ -406,12 +416,6 @@ def _typical_year_frame(path, fmt, year):
     except (KeyError, TypeError, ValueError):
         pass
     return pd.DataFrame(cols, index=pd.DatetimeIndex(idx, name="time")), notes, site
-
-
-def _hour_ending_centred(v):
-    out = np.asarray(v, dtype=float).copy()
-    out[:-1] = 0.5 * (out[:-1] + out[1:])
-    return out
 
 
 # ---------------------------------------------------------------------------------------
@@ -624,7 +628,7 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
                       wind_speed=values["wind_speed"], wind_direction=values["wind_direction"],
                       cloud_cover=values["cloud_cover"], temp_sea=values["temp_sea"],
                       ghi=values.get("ghi"), longwave_down=values.get("longwave_down"),
-                      periodic=periodic, source=src)
+                      periodic=periodic, source=src, solar_interval=record.solar_interval)
     return weather, report, []
 
 

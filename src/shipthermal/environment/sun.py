@@ -20,6 +20,7 @@ from shipthermal.errors import InputError, check_range, require
 from shipthermal.parameters import DECOMPOSITIONS
 
 __all__ = [
+    "interval_profile",
     "solar_position",
     "sun_vector",
     "clearsky_irradiance",
@@ -261,6 +262,80 @@ def decompose_ghi(ghi, times, apparent_zenith, model: str = "erbs", pressure=101
     dni = np.where(cosz > 0, np.minimum(dni, ghi / np.maximum(cosz, 1e-9)), 0.0)
     dhi = ghi - dni * np.clip(cosz, 0.0, None)
     return pd.DataFrame({"ghi": ghi, "dni": dni, "dhi": dhi}, index=idx)
+
+
+def interval_profile(means, shape, n_sub: int, periodic: bool = False) -> np.ndarray:
+    """Knot values of a piecewise-linear irradiance whose mean over every interval is the
+    interval's given mean, exactly.
+
+    Parameters
+    ----------
+    means : (m,) array_like
+        Mean irradiance of each interval (a file's hourly value) [W m-2], ≥ 0.
+    shape : (m * n_sub + 1,) array_like
+        The within-interval shape at the knots, ≥ 0: the extraterrestrial irradiance on a
+        horizontal plane ``I0 max(cos Z, 0)`` (a constant clearness index within the
+        interval) [W m-2].
+    n_sub : int
+        Knot steps per interval (6: every 10 min of an hour).
+    periodic : bool
+        The last knot is the first (a design day repeated).
+
+    Returns
+    -------
+    numpy.ndarray
+        (m * n_sub + 1,) values at the knots [W m-2], ≥ 0, such that the trapezoid integral
+        of every interval (the exact integral of the linear interpolation between knots)
+        is its mean times its length.
+
+    Notes
+    -----
+    Each interval's clearness index is ``k = mean / <shape>`` (``<·>`` the trapezoid mean
+    over its knots). A knot shared by two intervals takes the smaller of their ``k ×
+    shape``; the interval's remainder goes to its inner knots in proportion to the shape,
+    which is then never negative. An interval with sunshine in its mean but none at its
+    inner knots (the sun rising in its last minutes, twilight) spreads the remainder evenly
+    over them. ASSUMPTION: the clearness index is constant within an interval (Liu & Jordan
+    1960's hourly clearness index; the within-hour variation of cloud is unknown to an
+    hourly file), so the hour's sun follows the sun's own course and no sun falls outside
+    the hours that had it.
+    """
+    mean = np.asarray(means, dtype=float)
+    g = np.asarray(shape, dtype=float)
+    n = int(n_sub)
+    m = len(mean)
+    require(n >= 2, "n_sub", n, "must be >= 2 (knots inside each interval)")
+    require(g.shape == (m * n + 1,), "shape", g.shape, f"must have m * n_sub + 1 = {m * n + 1} "
+            "values (one per knot)")
+    require(bool(np.all(mean >= 0)) and bool(np.all(g >= 0)), "means", float(np.min(mean)),
+            "must be >= 0 (and the shape too)")
+    seg = np.lib.stride_tricks.sliding_window_view(g, n + 1)[::n]      # (m, n + 1)
+    w = np.full(n + 1, 1.0 / n)
+    w[[0, -1]] = 0.5 / n
+    avg = seg @ w
+    dark = avg <= 0.0
+    k = np.divide(mean, avg, out=np.zeros(m), where=~dark)
+    # shared knots: the smaller of the two intervals' k × shape (a dark interval's own
+    # shape is uniform: its k × 1 = its mean)
+    left_of = np.where(dark, mean, k * seg[:, 0])        # value wished at each interval start
+    right_of = np.where(dark, mean, k * seg[:, -1])      # … and end
+    knots = np.empty(m * n + 1)
+    inner = np.minimum(right_of[:-1], left_of[1:])
+    knots[n:m * n:n] = inner
+    if periodic:
+        knots[0] = knots[-1] = min(right_of[-1], left_of[0])
+    else:
+        knots[0], knots[-1] = left_of[0], right_of[-1]
+    ends = 0.5 / n * (knots[0:m * n:n] + knots[n::n])
+    rest = np.maximum(mean - ends, 0.0) * n               # what the inner knots must sum to
+    s_in = seg[:, 1:-1]
+    tot = s_in.sum(axis=1)
+    even = tot <= 0.0
+    vals = np.where(even[:, None], (rest / (n - 1))[:, None],
+                    s_in * np.divide(rest, tot, out=np.zeros(m), where=~even)[:, None])
+    for j in range(1, n):
+        knots[j:m * n:n] = vals[:, j - 1]
+    return knots
 
 
 def sunrise_sunset(date, latitude: float, longitude: float, tz: str):

@@ -71,7 +71,13 @@ __all__ = [
     "read_weather_epw",
     "read_weather_tmy3",
     "read_csv_frame",
+    "SOLAR_INTERVALS",
 ]
+
+SOLAR_INTERVALS = ("instant", "ending", "centred")
+"""What a record's ``ghi`` value at time t is: the irradiance at t (``instant``), or its mean
+over the step ending at t (``ending``: EPW, TMY2, TMY3 files, whose irradiance is the
+energy of the hour before the time given) or centred on t (``centred``)."""
 
 CSV_COLUMNS = ("time", "temp_air", "relative_humidity", "temp_dew", "wind_speed",
                "wind_direction", "cloud_cover", "ghi", "longwave_down", "temp_sea")
@@ -137,9 +143,14 @@ class Weather:
     temp_sea : array_like
         Sea surface (bulk) temperature [K].
     ghi : array_like, optional
-        Measured global horizontal irradiance [W/m2].
+        Measured global horizontal irradiance [W/m2]: at each time, or the mean over the
+        step ending at or centred on each time (``solar_interval``).
     longwave_down : array_like, optional
         Measured downwelling long-wave [W/m2].
+    solar_interval : {'instant', 'ending', 'centred'}
+        What ``ghi`` means (:data:`SOLAR_INTERVALS`). With a mean, :meth:`at` gives the mean
+        of the step a time falls in; :class:`~shipthermal.environment.Environment` spreads
+        each step's energy over the step by the sun's course, keeping every step's integral.
     periodic : bool
         The record is one period of a repeating cycle (e.g. a climatological day):
         :meth:`at` wraps times modulo ``len(time) * step`` and interpolates across
@@ -159,6 +170,7 @@ class Weather:
     longwave_down: Optional[np.ndarray] = None
     periodic: bool = False
     source: str = ""
+    solar_interval: str = "instant"
 
     def __post_init__(self):
         time = self.time
@@ -171,6 +183,8 @@ class Weather:
                 "must be time-zone aware",
                 "Give an offset in the time strings or pass tz='Etc/GMT-8' (UTC+8) to the reader")
         require(len(time) >= 2, "weather.time", len(time), "needs at least 2 time steps")
+        require(self.solar_interval in SOLAR_INTERVALS, "weather.solar_interval",
+                self.solar_interval, f"must be one of {', '.join(SOLAR_INTERVALS)}")
         object.__setattr__(self, "time", time)
         n = len(time)
         for name in ("temp_air", "relative_humidity", "wind_speed", "wind_direction",
@@ -254,7 +268,8 @@ class Weather:
         WeatherSample
             Arrays shaped like ``times``. Wind speed is interpolated as a scalar and the
             direction from the interpolated wind vector (so the direction never
-            sweeps the long way round); cloud cover, humidity and irradiance linearly.
+            sweeps the long way round); cloud cover, humidity and irradiance linearly
+            (a ``ghi`` given as step means: the mean of the step ``t`` falls in).
 
         Raises
         ------
@@ -285,6 +300,14 @@ class Weather:
         def lin(a):
             return None if a is None else np.interp(s, tk, wrap(a))
 
+        ghi = lin(self.ghi)
+        if self.ghi is not None and self.solar_interval != "instant":
+            # the mean of the step the time falls in (the ends of a step belong to it)
+            offset = {"ending": 0.0, "centred": 0.5 * self.step}[self.solar_interval]
+            k = np.ceil((s - offset) / self.step - 1e-9).astype(int)
+            n = len(self.ghi)
+            ghi = self.ghi[np.mod(k, n)] if self.periodic else self.ghi[np.clip(k, 0, n - 1)]
+
         phi = np.radians(self.wind_direction)
         # unit vectors weighted by speed; a calm hour then does not steer the direction
         w = np.maximum(self.wind_speed, 1e-3)
@@ -297,7 +320,7 @@ class Weather:
             wind_speed=lin(self.wind_speed),
             wind_direction=direction,
             cloud_cover=lin(self.cloud_cover),
-            ghi=lin(self.ghi),
+            ghi=ghi,
             longwave_down=lin(self.longwave_down),
             temp_sea=lin(self.temp_sea),
         )
@@ -539,15 +562,6 @@ def _ragged_line(path) -> str:
     return ""
 
 
-def _hour_ending_to_instant(values):
-    """Re-centre hour-ending means on the hour labels: the mean of the hours ending at t
-    and at t + 1 h is centred on t (the last row is kept)."""
-    v = np.asarray(values, dtype=float)
-    out = v.copy()
-    out[:-1] = 0.5 * (v[:-1] + v[1:])
-    return out
-
-
 def _sst_required(temp_sea, fmt):
     require(temp_sea is not None, "temp_sea", None,
             f"{fmt} files carry no sea temperature: pass temp_sea= [K] (scalar or array)")
@@ -575,8 +589,9 @@ def read_weather_epw(path, temp_sea, year: Optional[int] = None,
     -------
     Weather
         Labelled at the end of each hour (EPW "hour 1" -> 01:00; pvlib labels it 00:00,
-        the start of the interval), fixed UTC offset from the header. GHI and long-wave
-        (means over the hour) are re-centred on the labels as for TMY3.
+        the start of the interval), fixed UTC offset from the header. GHI is the hour's
+        energy (``solar_interval='ending'``); the horizontal infrared is read as the value
+        at the end of its hour, as EnergyPlus reads it (its state values).
         Cloud cover from 'total_sky_cover' (tenths). EPW's 9999 "missing" codes for
         infrared are mapped to NaN and then rejected by validation unless
         ``use_measured_longwave=False``.
@@ -610,9 +625,8 @@ def read_weather_epw(path, temp_sea, year: Optional[int] = None,
                    wind_direction=data["wind_direction"].to_numpy(dtype=float) % 360.0,
                    cloud_cover=data["total_sky_cover"].to_numpy(dtype=float) / 10.0,
                    temp_sea=temp_sea,
-                   ghi=_hour_ending_to_instant(data["ghi"].to_numpy(dtype=float))
-                   if use_measured_irradiance else None,
-                   longwave_down=None if lw is None else _hour_ending_to_instant(lw),
+                   ghi=data["ghi"].to_numpy(dtype=float) if use_measured_irradiance else None,
+                   longwave_down=lw, solar_interval="ending",
                    source=f"epw:{meta.get('city', '')}")
 
 
@@ -641,9 +655,8 @@ def read_weather_tmy3(path, temp_sea, year: int = 2001,
     Returns
     -------
     Weather
-        Cloud cover from 'TotCld' (tenths); TMY3 has no long-wave column. GHI is an
-        hour-ending mean in TMY3; it is re-centred on the hour labels (mean of the two
-        hours around each label) so the interpolation sees instantaneous values.
+        Cloud cover from 'TotCld' (tenths); TMY3 has no long-wave column. GHI is the
+        hour-ending mean of TMY3 (``solar_interval='ending'``).
     """
     import pvlib
 
@@ -663,6 +676,6 @@ def read_weather_tmy3(path, temp_sea, year: int = 2001,
                    wind_direction=data["wind_direction"].to_numpy(dtype=float) % 360.0,
                    cloud_cover=data["TotCld (tenths)"].to_numpy(dtype=float) / 10.0,
                    temp_sea=temp_sea,
-                   ghi=_hour_ending_to_instant(data["ghi"].to_numpy(dtype=float))
-                   if use_measured_irradiance else None,
+                   ghi=data["ghi"].to_numpy(dtype=float) if use_measured_irradiance else None,
+                   solar_interval="ending",
                    source=f"tmy3:{str(meta.get('Name', '')).strip(chr(34))}")

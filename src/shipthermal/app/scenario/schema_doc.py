@@ -22,6 +22,7 @@ _TYPE_TEXT = {"float": "float", "int": "int", "bool": "bool", "choice": "string"
               "part_map": 'path or "auto"',
               "weather_source": "string", "part_table": "float per part",
               "part_bands": "float per part and band", "layups": "list of layers per part",
+              "part_choices": "string per part", "materials": "table per material",
               "part_files": "path per part", "surface_classes": "table per class",
               "instant_list": "list of instants"}
 
@@ -63,12 +64,15 @@ def _rows(cls, prefix: str):
             yield (f"[{key}]", "table", "", "", "", spec.doc)
             yield from _rows(spec.cls, key)
             continue
-        if spec.kind == "part_table":
+        if spec.kind in ("part_table", "part_choices"):
             key += ".<part>"
         elif spec.kind == "part_bands":
             key += ".<part>.<band>"
         elif spec.kind in ("part_files", "layups"):
             key += ".<part>"
+        elif spec.kind == "materials":
+            yield from _rows(spec.cls, f"{key}.<name>")
+            continue
         elif spec.kind == "surface_classes":
             key += ".<class>.<property>"
         allowed = spec.allowed()

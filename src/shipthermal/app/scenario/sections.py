@@ -15,20 +15,20 @@ from typing import Mapping, Optional
 from ...errors import InputError
 from ...geometry.layups import ISO7547_INDOOR_C
 from ...geometry.parts import MAIN_PARTS, main_part
-from ...materials import MATERIALS
+from ...materials import MATERIAL_RANGES, MATERIALS
 from ...parameters import NIGHT_SETTLE, NIGHT_STEP
 from ...units import ZERO_CELSIUS
 from .spec import _Context, _default, _opt, _part_key, _suggest, _thaw, parse_band
 from .values import (ATMOSPHERE_BACKENDS, ATMOSPHERE_MODELS, BACKGROUND_MODELS, BAND_EMISSIVITY,
                      BUILTIN_SHIP_NAMES, CLEAR_SKY_MODELS, CLIMATE_DATES, CLOUD_MODELS,
-                     CLOUD_TYPES, CLOUD_UNITS, CONVECTION_MODEL_SOURCES, DALIAN, DAY,
-                     DECOMPOSITIONS, DEFAULT_CLOUD_TYPE, DEFAULT_CONVECTION_MODEL, DEM_NODATA,
-                     LATITUDE_MAX, LONGWAVE_EMISSIVITY, MAX_GAP_HOURS, MAX_RECORD_DAYS,
-                     MAX_REPAIR_CHANGE, MAX_SITE_DISTANCE_KM, MAX_VIEW_ZENITH, MESH_EXTENSIONS,
-                     MESH_WITH_PART_ARRAY, MESH_WITH_PART_NAMES, MET_UNITS, OUTPUT_FORMATS,
-                     PAPER_IMAGE_TIMES, PAPER_SENSOR, RESIDUAL_MODES, ROI_SPLITS,
-                     SATELLITE_NAMES, SEA_SKIN_MODELS, SEASONS, SENSOR_BANDS, SENSOR_PRESETS,
-                     SHIP_LENGTH_RANGE, SHIP_SPEED_MAX,
+                     CLOUD_TYPES, CLOUD_UNITS, CONVECTION_MODEL_SOURCES, CONVECTION_ROUGHNESS,
+                     DALIAN, DAY, DECOMPOSITIONS, DEFAULT_CLOUD_TYPE, DEFAULT_CONVECTION_MODEL,
+                     DEM_NODATA, LATITUDE_MAX, LONGWAVE_EMISSIVITY, MAX_GAP_HOURS,
+                     MAX_RECORD_DAYS, MAX_REPAIR_CHANGE, MAX_SITE_DISTANCE_KM, MAX_VIEW_ZENITH,
+                     MESH_EXTENSIONS, MESH_WITH_PART_ARRAY, MESH_WITH_PART_NAMES, MET_UNITS,
+                     OUTPUT_FORMATS, PAPER_IMAGE_TIMES, PAPER_SENSOR, RESIDUAL_MODES, ROI_SPLITS,
+                     ROUGHNESS_CLASSES, SATELLITE_NAMES, SEA_SKIN_MODELS, SEASONS, SENSOR_BANDS,
+                     SENSOR_PRESETS, SHIP_LENGTH_RANGE, SHIP_SPEED_MAX,
                      SOLAR_ABSORPTIVITY, SYNTHETIC_PIXEL_M, TEMP_UNITS, UNITS, VALIDATION_TIMES,
                      VARIOGRAM_MODELS, WATER_VAPOUR_RANGE, WEATHER_FORMATS,
                      WEATHER_SUFFIXES)
@@ -260,19 +260,70 @@ def _is_leap(year: int) -> bool:
 class LayerSpec:
     """One plate layer (outer layer first)."""
 
-    material: str = _opt(None, "choice", "Material name (shipthermal.materials.MATERIALS)",
-                         choices=tuple(sorted(MATERIALS)))
+    material: str = _opt(None, "str", "Material name: a built-in one "
+                         "(shipthermal.materials.MATERIALS) or one of [materials]",
+                         allowed_text="one of " + ", ".join(repr(m) for m in sorted(MATERIALS))
+                                      + " or a name of [materials]")
     thickness: float = _opt(None, "float", "Layer thickness", unit="m", lo=0.0, hi=1.0,
-                            lo_open=True)
+                            lo_open=True, fix="Give the thickness in metres (0.3 mm is "
+                            "0.0003); leave a layer of no thickness out")
     cells: int = _opt(1, "int", "Finite-volume cells through the layer", lo=1, hi=50)
+    solar_absorptivity: Optional[float] = _opt(None, "float", "Outer layer only (a paint): "
+                                               "its solar absorptivity, the part's", lo=0.0,
+                                               hi=1.0, lo_open=True, optional=True)
+    longwave_emissivity: Optional[float] = _opt(None, "float", "Outer layer only (a paint): "
+                                                "its broadband long-wave emissivity, the "
+                                                "part's for the thermal stage", lo=0.0, hi=1.0,
+                                                lo_open=True, optional=True)
 
     @staticmethod
     def _check(obj, raw, path, ctx, bad):
         for key in ("material", "thickness"):
             if key not in raw:
                 spec = LayerSpec.__dataclass_fields__[key].metadata["spec"]
-                ctx.err(f"{path}.{key}", None, f"is required: {spec.allowed()}")
+                ctx.err(f"{path}.{key}", None, f"is required: {spec.allowed()}",
+                        'e.g. {material = "mild_steel", thickness = 0.008}')
         return obj
+
+
+@dataclass(frozen=True)
+class MaterialSpec:
+    """[materials.<name>]: a material of the user's, usable by name in ship.layups."""
+
+    conductivity: float = _opt(None, "float", "Thermal conductivity k",
+                               unit=MATERIAL_RANGES["conductivity"][2],
+                               lo=MATERIAL_RANGES["conductivity"][0],
+                               hi=MATERIAL_RANGES["conductivity"][1],
+                          fix="Give k in W m-1 K-1 (steel ~50, paint ~0.2, mineral wool ~0.04)")
+    density: float = _opt(None, "float", "Density rho", unit=MATERIAL_RANGES["density"][2],
+                          lo=MATERIAL_RANGES["density"][0], hi=MATERIAL_RANGES["density"][1],
+                          fix="Give rho in kg m-3 (steel 7850; not g cm-3)")
+    specific_heat: float = _opt(None, "float", "Specific heat capacity c",
+                                unit=MATERIAL_RANGES["specific_heat"][2],
+                                lo=MATERIAL_RANGES["specific_heat"][0],
+                                hi=MATERIAL_RANGES["specific_heat"][1],
+                          fix="Give c in J kg-1 K-1 (steel ~450; not kJ kg-1 K-1)")
+    source: str = _opt(None, "str", "Where the numbers come from (a data sheet, a handbook "
+                       "table, a measurement)", allowed_text="a non-empty string")
+
+    @staticmethod
+    def _check(obj, raw, path, ctx, bad):
+        example = ("e.g. [materials.my_steel] conductivity = 50.0, density = 7850.0, "
+                   "specific_heat = 470.0, source = \"mill certificate 2024\"")
+        for key in ("conductivity", "density", "specific_heat", "source"):
+            if key not in raw:
+                spec = MaterialSpec.__dataclass_fields__[key].metadata["spec"]
+                ctx.err(f"{path}.{key}", None, f"is required: {spec.allowed()}", example)
+        if "source" in raw and isinstance(raw["source"], str) and not raw["source"].strip():
+            ctx.err(f"{path}.source", raw["source"], "must name where the numbers come from",
+                    example)
+        return obj
+
+    def material(self, name: str):
+        """The :class:`shipthermal.materials.Material` of this entry."""
+        from ...materials import Material
+
+        return Material(name, self.density, self.specific_heat, self.conductivity, self.source)
 
 
 @dataclass(frozen=True)
@@ -462,6 +513,8 @@ class ShipSettings:
                                         "Broadband long-wave emissivity per part for the "
                                         "thermal stage (default: the 8-14 µm value)",
                                         lo=0.0, hi=1.0, lo_open=True)
+    user_materials: Mapping = dataclasses.field(default_factory=dict, compare=False,
+                                                repr=False, metadata={"internal": True})
     band_emissivity: Mapping = _opt(BAND_EMISSIVITY, "part_bands", "Emissivity per "
                                     "part and sensor band for the imaging stage (paper §5); "
                                     "a band inside 3-5 or 8-14 without its own value takes "
@@ -521,12 +574,27 @@ class ShipSettings:
                 return table[key]
         raise InputError("part", part, f"has no {what}; parts with a value: {', '.join(table)}")
 
+    def _outer_layer(self, part: str):
+        """The outer layer of the layup a (sub-)part takes from ``layups``, or None."""
+        for key in self._candidates(part):
+            if key in self.layups:
+                return self.layups[key][0]
+        return None
+
     def solar_absorptivity_of(self, part: str) -> float:
-        """Solar absorptivity of a (sub-)part [-]."""
+        """Solar absorptivity of a (sub-)part [-]: its layup's outer layer's (a paint's)
+        where given, else ``solar_absorptivity``."""
+        layer = self._outer_layer(part)
+        if layer is not None and layer.solar_absorptivity is not None:
+            return float(layer.solar_absorptivity)
         return float(self._lookup(self.solar_absorptivity, part, "solar_absorptivity"))
 
     def longwave_emissivity_of(self, part: str) -> float:
-        """Broadband long-wave emissivity of a (sub-)part [-]."""
+        """Broadband long-wave emissivity of a (sub-)part [-]: its layup's outer layer's
+        where given, else ``longwave_emissivity``."""
+        layer = self._outer_layer(part)
+        if layer is not None and layer.longwave_emissivity is not None:
+            return float(layer.longwave_emissivity)
         return float(self._lookup(self.longwave_emissivity, part, "longwave_emissivity"))
 
     def compartment_temperature_of(self, part: str) -> float:
@@ -570,7 +638,11 @@ class ShipSettings:
     def _layup_overrides(self) -> Optional[dict]:
         if not self.layups:
             return None
-        return {part: [(l.material, l.thickness, l.cells) for l in layers]
+        def material(name):
+            spec = self.user_materials.get(name)
+            return name if spec is None else spec.material(name)
+
+        return {part: [(material(l.material), l.thickness, l.cells) for l in layers]
                 for part, layers in self.layups.items()}
 
     def read_files(self):
@@ -715,11 +787,25 @@ class ConvectionSettings:
     """[convection]: the exterior convection correlation of the ship's air faces."""
 
     model: str = _opt(DEFAULT_CONVECTION_MODEL, "choice", "Convection correlation of the "
-                      "faces in the wind: flat plate (laminar then turbulent) or tripped at "
-                      "the leading edge, each with natural convection (Churchill 1977), or "
-                      "ISO 6946's 4 + 4v (sources and validity: "
-                      "shipthermal.parameters.CONVECTION_MODEL_SOURCES)",
+                      "faces in the wind: flat plate (laminar then turbulent, or tripped at the "
+                      "leading edge) with natural convection (Churchill 1977), the building "
+                      "correlations DOE-2 (EnergyPlus's default), TARP, MoWiTT, McAdams, or "
+                      "ISO 6946's 4 + 4v; each evaluated at the solved surface temperature "
+                      "(sources and validity: shipthermal.parameters.CONVECTION_MODEL_SOURCES, "
+                      "docs/CONVECTION.md)",
                       choices=tuple(CONVECTION_MODEL_SOURCES))
+    parts: Mapping = _opt({}, "part_choices", "Correlation per part (a part, a main part or "
+                          "'hull'), over model", choices=tuple(CONVECTION_MODEL_SOURCES))
+    roughness: Mapping = _opt(CONVECTION_ROUGHNESS, "part_choices", "Roughness class per part "
+                              "of the DOE-2 and TARP forced convection (Walton 1981: stucco "
+                              "very_rough, brick rough, concrete medium_rough, clear pine "
+                              "medium_smooth, smooth plaster smooth, glass very_smooth; "
+                              "ASSUMPTION: painted plate smooth, non-skid deck medium_rough)",
+                              choices=ROUGHNESS_CLASSES)
+
+    def per_part(self) -> dict:
+        """``{part: model}``: ``model`` for every main part, then ``parts``."""
+        return {**{p: self.model for p in ("hull", "deck", "superstructure")}, **self.parts}
 
 
 @dataclass(frozen=True)

@@ -87,6 +87,7 @@ class _Spec:
     cls: Any = None                        # nested dataclass of a 'section'
     allowed_text: str = ""
     optional: bool = False                 # may be absent (None)
+    fix: str = ""                          # how to fix a value out of range
 
     def range_text(self) -> str:
         if self.lo is None and self.hi is None:
@@ -178,7 +179,7 @@ def _number(raw: Any, path: str, spec: _Spec, ctx: _Context, integer: bool = Fal
         ctx.err(path, raw, "must be a finite number" + (f" in {rng}" if rng else ""))
         return _BAD
     if not spec.in_range(raw):
-        ctx.err(path, raw, f"must lie in {rng}")
+        ctx.err(path, raw, f"must lie in {rng}", spec.fix)
         return _BAD
     return int(raw) if integer else float(raw)
 
@@ -383,6 +384,15 @@ def _part_table(raw: Any, path: str, spec: _Spec, ctx: _Context, default: Mappin
     return _BAD if out is None else MappingProxyType(out)
 
 
+def _part_choices(raw: Any, path: str, spec: _Spec, ctx: _Context, default: Mapping) -> Any:
+    """``{part: name}`` (each name one of the spec's choices) merged over the defaults."""
+    example = "e.g. {" + ", ".join(f'{p} = "{c}"' for p, c in
+                                   zip(("deck", "superstructure"), spec.choices)) + "}"
+    out = _per_part(raw, path, ctx, "name", example,
+                    lambda val, sub, _: _choice(val, sub, spec, ctx), dict(default))
+    return _BAD if out is None else MappingProxyType(out)
+
+
 def _part_bands(raw: Any, path: str, spec: _Spec, ctx: _Context, default: Mapping) -> Any:
     """``{part: {band: emissivity}}`` merged band by band over the defaults."""
 
@@ -428,6 +438,40 @@ def _layups(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
     return _BAD if out is None else MappingProxyType(out)
 
 
+_MATERIAL_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,63}$")
+
+
+def _materials(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
+    """``{name: {conductivity, density, specific_heat, source}}``: the user's materials."""
+    from ...materials import MATERIALS
+
+    example = ("e.g. [materials.my_steel] with conductivity, density, specific_heat and "
+               "source")
+    if not isinstance(raw, dict):
+        ctx.err(path, raw, "must be a table of materials by name", example)
+        return _BAD
+    out, ok = {}, True
+    for name, table in raw.items():
+        sub = f"{path}.{name}"
+        if not _MATERIAL_NAME.match(str(name)):
+            ctx.err(sub, name, "must be a name of letters, digits and _ (a letter first, at "
+                    "most 64)", example)
+            ok = False
+            continue
+        if name in MATERIALS:
+            ctx.err(sub, name, "is a built-in material's name (shipthermal.materials."
+                    f"MATERIALS: {', '.join(sorted(MATERIALS))})",
+                    f"Give yours another name (e.g. {name}_own) and use that in ship.layups")
+            ok = False
+            continue
+        obj = _section(spec.cls, table, sub, ctx)
+        if obj is _BAD:
+            ok = False
+        else:
+            out[name] = obj
+    return MappingProxyType(out) if ok else _BAD
+
+
 def _part_files(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
     out = _per_part(raw, path, ctx, "file path",
                     'e.g. {hull = "hull.stl", deck = "deck.stl", superstructure = "sup.obj"}',
@@ -447,6 +491,7 @@ _CONVERTERS = {
     "choice_list": _choice_list,
     "vec2": _vec2,
     "layups": _layups,
+    "materials": _materials,
     "part_files": _part_files,
     "file": lambda raw, path, spec, ctx: _file(raw, path, ctx),
     "mesh_file": lambda raw, path, spec, ctx: _file(raw, path, ctx, MESH_EXTENSIONS),
@@ -524,9 +569,10 @@ def _convert(f: dataclasses.Field, raw: Any, path: str, ctx: _Context) -> Any:
     spec: _Spec = f.metadata["spec"]
     if spec.kind == "section":
         return _section(spec.cls, raw, path, ctx)
-    if spec.kind in ("part_table", "part_bands"):
+    if spec.kind in ("part_table", "part_bands", "part_choices"):
         default = _default(f, ctx, path)
-        conv = _part_table if spec.kind == "part_table" else _part_bands
+        conv = {"part_table": _part_table, "part_bands": _part_bands,
+                "part_choices": _part_choices}[spec.kind]
         return conv(raw, path, spec, ctx, default)
     if spec.kind == "weather_source":
         if raw == "builtin":

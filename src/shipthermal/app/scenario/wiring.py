@@ -13,9 +13,9 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ...errors import InputError
-from .sections import (_RECORD_HINT, BackgroundSettings, CalendarSettings, ConvectionSettings, ImagingSettings,
-                       Location, OutputSettings, ShipSettings, SolverSettings, Time,
-                       WeatherSettings, _is_leap)
+from .sections import (_RECORD_HINT, BackgroundSettings, CalendarSettings, ConvectionSettings,
+                       ImagingSettings, Location, MaterialSpec, OutputSettings, ShipSettings,
+                       SolverSettings, Time, WeatherSettings, _is_leap)
 from .spec import _BAD, ScenarioError, _Context, _opt, _section, _thaw, clock_seconds
 from ...parameters import season_of_date
 from .values import (CLIMATE_MONTHS, CLIMATE_RADIUS_DEG, DALIAN, DAY, MAX_RECORD_DAYS, SEASONS,
@@ -43,6 +43,8 @@ class Scenario:
     solver: SolverSettings = _opt(None, "section", "Thermal solver", cls=SolverSettings)
     convection: ConvectionSettings = _opt(None, "section", "Convection of the air faces",
                                           cls=ConvectionSettings)
+    materials: Mapping = _opt({}, "materials", "Materials of the user's, by name, for "
+                              "ship.layups (every property with its source)", cls=MaterialSpec)
     background: BackgroundSettings = _opt(None, "section", "Port background",
                                           cls=BackgroundSettings)
     imaging: ImagingSettings = _opt(None, "section", "Imaging", cls=ImagingSettings)
@@ -121,6 +123,7 @@ class Scenario:
                         f"{band!r} for {', '.join(missing)} (no band listed there contains it)",
                         f'Add "{band}" = <emissivity> to [ship.band_emissivity.{missing[0]}]'
                         + (" and the other parts" if len(missing) > 1 else ""))
+        obj = _check_layups(obj, raw, ctx)
         if obj.outputs.directory is None:
             obj = dataclasses.replace(obj, outputs=dataclasses.replace(
                 obj.outputs, directory=f"runs/{obj.name}"))
@@ -270,7 +273,7 @@ class Scenario:
                        cloud_cover=np.clip(weather.cloud_cover + w.cloud_cover_offset, 0.0, 1.0),
                        temp_sea=weather.temp_sea, ghi=weather.ghi,
                        longwave_down=weather.longwave_down, periodic=periodic,
-                       source=source or weather.source)
+                       source=source or weather.source, solar_interval=weather.solar_interval)
 
     def weather_span(self, record=None):
         """``(first, last)`` instants of weather the run needs (tz-aware, both included):
@@ -485,3 +488,48 @@ def _plain(value: Any) -> Any:
     if isinstance(value, tuple):
         return [_plain(v) for v in value]
     return value
+
+
+def _check_layups(obj, raw, ctx):
+    """Layers name a built-in or a [materials] material; a paint's optics sit on the outer
+    layer only, and are not given twice for a part. The ship gets the user's materials."""
+    from ...materials import MATERIALS
+
+    if ctx.failed("ship.layups", "materials"):
+        return obj
+    user = dict(obj.materials)
+    raw_ship = raw.get("ship", {}) if isinstance(raw.get("ship"), dict) else {}
+    for part, layers in obj.ship.layups.items():
+        for i, layer in enumerate(layers):
+            where = f"ship.layups.{part}[{i}]"
+            if layer.material not in MATERIALS and layer.material not in user:
+                known = sorted(MATERIALS) + sorted(user)
+                ctx.err(f"{where}.material", layer.material,
+                        "must be a built-in material ("
+                        + ", ".join(repr(m) for m in sorted(MATERIALS)) + ")"
+                        + (" or one of [materials] (" + ", ".join(repr(m) for m in sorted(user))
+                           + ")" if user else " or a name of [materials]"),
+                        (_suggest_name(layer.material, known) + " " if
+                         _suggest_name(layer.material, known) else "")
+                        + f"Or add [materials.{layer.material}] with conductivity, density, "
+                        "specific_heat and source")
+            for key in ("solar_absorptivity", "longwave_emissivity"):
+                if getattr(layer, key) is None:
+                    continue
+                if i > 0:
+                    ctx.err(f"{where}.{key}", getattr(layer, key), "may be given on the "
+                            "outer layer only (the surface: a paint's optics)",
+                            f"Move it to ship.layups.{part}[0]")
+                elif part in (raw_ship.get(key) or {}):
+                    ctx.err(f"ship.{key}.{part}", raw_ship[key][part], f"is given twice: "
+                            f"ship.layups.{part}[0].{key} = {getattr(layer, key)} sets it too",
+                            "Keep one of them")
+    return dataclasses.replace(obj, ship=dataclasses.replace(
+        obj.ship, user_materials=obj.materials))
+
+
+def _suggest_name(name, known) -> str:
+    import difflib
+
+    close = difflib.get_close_matches(str(name), known, n=1, cutoff=0.6)
+    return f"Did you mean {close[0]!r}?" if close else ""

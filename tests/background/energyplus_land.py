@@ -1,6 +1,7 @@
-"""EnergyPlus as the peer of the land surface-energy solver: the IDF writer, the EPW reader, the
-runner and the side-by-side comparison (used by ``test_bg_surface_energyplus.py`` and
-``benchmarks/bench_surface_energyplus.py``; EnergyPlus is no runtime dependency).
+"""EnergyPlus as the peer of the land surface-energy solver: the IDF writer and the side-by-side
+comparison (used by ``test_bg_surface_energyplus.py`` and
+``benchmarks/bench_surface_energyplus.py``; the weather reading, runs and statistics are the
+shared ``tests/energyplus_peer.py``; EnergyPlus is no runtime dependency).
 
 The EnergyPlus model: per test surface one 10 m × 10 m × 3 m box zone whose roof is the
 test surface (outdoors, sun- and wind-exposed, horizontal: it sees the sky only), walls and
@@ -15,27 +16,28 @@ paving slab). Outside, the matched cases impose ``h = a + b v`` through
 speed); the default cases keep EnergyPlus's DOE-2 outside convection. Rain and snow flags are
 off (EnergyPlus would otherwise pin a wet surface to the wet-bulb temperature).
 
-Weather on the 5-minute steps as EnergyPlus builds it: an EPW value is the value at the end
-of its hour and the steps interpolate linearly between the hour values.
+Weather on the steps as EnergyPlus builds it: :func:`energyplus_peer.forcing_on_steps`.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import os
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
-import pvlib
 
+from energyplus_peer import (CLIMATES, TIMESTEPS_PER_HOUR, WEEKS, CaseResult,  # noqa: F401
+                             eplus_column, energyplus_available, engine_version,
+                             forcing_on_steps, read_epw, run_energyplus_idf, statistics,
+                             sun_position, weather_file)
+from energyplus_peer import idf_object as _obj
+from energyplus_peer import idf_surface as _surface
 from imaging.background import surface_energy as se
 from imaging.background.physical import land_convection
 from imaging.background.surface_classes import SURFACE_CLASSES, Layer
 
-TIMESTEPS_PER_HOUR = 20
 ROOF_FILM = SURFACE_CLASSES["building"].room_film_coefficient   # [W m-2 K-1]
 FIXED_FILM = 1000.0             # inside coefficient that pins the slab's bottom [W m-2 K-1]
 USER_CURVE = (4.0, 4.0)         # h = a + b v, ISO 6946:2017 eq. C.2 [W m-2 K-1], [J m-3 K-1]
@@ -44,11 +46,6 @@ SLAB_ALGORITHM = "ConductionFiniteDifference"
 """EnergyPlus's conduction model for the 1 m paving slab: its CTFs for that construction take
 a 55-minute time step (the 'Construction CTF' report) and interpolate histories in between;
 the finite-difference model steps with the zone's 5 minutes."""
-
-CLIMATES = {"san_francisco": "USA_CA_San.Francisco.Intl.AP.724940_TMY3.epw",
-            "phoenix": "USA_AZ_Phoenix-Sky.Harbor.Intl.AP.722780_TMY3.epw",
-            "miami": "USA_FL_Miami.Intl.AP.722020_TMY3.epw"}
-WEEKS = {"july": (7, 8), "january": (1, 8)}          # month, first day (7 days each)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -74,99 +71,9 @@ def peer_surfaces() -> tuple:
     return tuple(out)
 
 
-def energyplus_available() -> bool:
-    try:
-        import pyenergyplus.api  # noqa: F401
-    except ImportError:
-        return False
-    return True
-
-
-def weather_file(climate: str) -> Path:
-    from pyenergyplus import dataset
-
-    return Path(dataset.weatherdir) / CLIMATES[climate]
-
-
-# ------------------------------------------------------------------------------------------
-# EPW
-# ------------------------------------------------------------------------------------------
-EPW_COLUMNS = {6: "temp_air", 8: "relative_humidity", 9: "pressure", 12: "longwave_down",
-               13: "ghi", 14: "dni", 15: "dhi", 21: "wind_speed"}
-
-
-def read_epw(path) -> tuple[pd.DataFrame, dict]:
-    """Hourly EPW fields (°C → K, the rest SI) indexed by month, day, hour (1–24: the hour
-    ending at that time), and the location header."""
-    lines = Path(path).read_text(encoding="latin-1").splitlines()
-    head = lines[0].split(",")
-    loc = {"latitude": float(head[6]), "longitude": float(head[7]), "tz": float(head[8]),
-           "altitude": float(head[9])}
-    rows = [line.split(",") for line in lines[8:] if line.strip()]
-    data = {"month": [int(r[1]) for r in rows], "day": [int(r[2]) for r in rows],
-            "hour": [int(r[3]) for r in rows]}
-    for col, name in EPW_COLUMNS.items():
-        data[name] = [float(r[col]) for r in rows]
-    df = pd.DataFrame(data)
-    df["temp_air"] += 273.15
-    return df, loc
-
-
-def forcing_on_steps(epw: pd.DataFrame, loc: dict, month: int, day: int, days: int,
-                     year: int = 2023) -> pd.DataFrame:
-    """The weather EnergyPlus uses on its 5-minute steps of ``days`` days from month/day
-    00:00 (standard time). Index: the step's end time; row 0 is 00:00 of the first day.
-
-    EnergyPlus's rules, checked against its reported site variables: a state value
-    (temperature, humidity, pressure, wind, long-wave) belongs to the end of its hour, a
-    solar value (an hour's total) to the middle of its hour, and the steps interpolate
-    linearly between them; before the first hour the run continues its warm-up, the first day
-    repeated, so the value "before" the first hour is that day's last. The sun (beam) is
-    zero while it is below the horizon."""
-    first = epw.index[(epw.month == month) & (epw.day == day) & (epw.hour == 1)][0]
-    hourly = epw.iloc[first:first + 24 * days].reset_index(drop=True)
-    n = 24 * days * TIMESTEPS_PER_HOUR + 1
-    x = np.arange(n) / TIMESTEPS_PER_HOUR                                   # hours
-    hours = np.arange(1, 24 * days + 1, dtype=float)
-    out = {}
-    for name in EPW_COLUMNS.values():
-        v = hourly[name].to_numpy()
-        if name in ("dni", "dhi", "ghi"):
-            out[name] = np.interp(x, np.concatenate([[-0.5], hours - 0.5]),
-                                  np.concatenate([[v[23]], v]))
-        else:
-            out[name] = np.interp(x, np.concatenate([[0.0], hours]), np.concatenate([[v[23]], v]))
-    tz = f"Etc/GMT{-int(loc['tz']):+d}"
-    start = pd.Timestamp(year=year, month=month, day=day, tz=tz)
-    index = start + pd.to_timedelta(x, unit="h")
-    return pd.DataFrame(out, index=index)
-
-
-def sun_position(index: pd.DatetimeIndex, loc: dict, shift_minutes: float = 0.0):
-    """Apparent zenith and azimuth [deg] (pvlib SPA) at the step times shifted by
-    ``shift_minutes`` (EnergyPlus computes its sun once per step)."""
-    sp = pvlib.solarposition.get_solarposition(index + pd.Timedelta(minutes=shift_minutes),
-                                               loc["latitude"], loc["longitude"],
-                                               altitude=loc["altitude"])
-    return sp["zenith"].to_numpy(), sp["azimuth"].to_numpy()
-
-
 # ------------------------------------------------------------------------------------------
 # IDF
 # ------------------------------------------------------------------------------------------
-def _obj(kind: str, *fields) -> str:
-    body = ",\n  ".join(str(f) for f in fields)
-    return f"{kind},\n  {body};\n"
-
-
-def engine_version() -> str:
-    """``major.minor`` of the EnergyPlus engine in the installed wheel (the IDF's Version)."""
-    from pyenergyplus.api import EnergyPlusAPI
-
-    v = EnergyPlusAPI().functional.ep_version()
-    return f"{v.major}.{v.minor}" if hasattr(v, "major") else ".".join(str(v).split(".")[:2])
-
-
 def write_idf(path, surfaces=None, weeks=("july", "january"), version: str = "25.2") -> None:
     """The EnergyPlus input for ``surfaces`` (default :func:`peer_surfaces`) over the weeks."""
     surfaces = surfaces or peer_surfaces()
@@ -236,12 +143,6 @@ def write_idf(path, surfaces=None, weeks=("july", "january"), version: str = "25
     Path(path).write_text("\n".join(parts), encoding="ascii")
 
 
-def _surface(name, kind, construction, zone, boundary, sun, wind, verts) -> str:
-    coords = [c for v in verts for c in v]
-    return _obj("BuildingSurface:Detailed", name, kind, construction, zone, "", boundary, "",
-                sun, wind, "autocalculate", len(verts), *coords)
-
-
 OUTPUT_VARIABLES = (
     "Surface Outside Face Temperature",
     "Surface Inside Face Temperature",
@@ -267,43 +168,10 @@ OUTPUT_VARIABLES = (
 # ------------------------------------------------------------------------------------------
 def run_energyplus(climate: str, weeks=("july", "january"), workdir=None) -> tuple:
     """Run EnergyPlus on a climate's TMY3 file; returns (outputs DataFrame with one row per
-    5-minute step of every week, wall time [s])."""
-    from pyenergyplus.api import EnergyPlusAPI
-
-    workdir = Path(workdir or tempfile.mkdtemp(prefix="eplus_"))
-    idf = workdir / "peer.idf"
-    write_idf(idf, weeks=weeks, version=engine_version())
-    api = EnergyPlusAPI()
-    state = api.state_manager.new_state()
-    api.runtime.set_console_output_status(state, False)
-    t0 = time.perf_counter()
-    code = api.runtime.run_energyplus(state, ["-w", str(weather_file(climate)), "-d",
-                                              str(workdir), str(idf)])
-    wall = time.perf_counter() - t0
-    api.state_manager.delete_state(state)
-    if code != 0:
-        err = (workdir / "eplusout.err").read_text(errors="replace")
-        raise RuntimeError(f"EnergyPlus failed ({code}):\n{err[-3000:]}")
-    df = pd.read_csv(workdir / "eplusout.csv")
-    df.columns = [c.strip() for c in df.columns]
-    return df, wall, workdir
-
-
-def eplus_column(df: pd.DataFrame, key: str, variable: str) -> np.ndarray:
-    matches = [c for c in df.columns if c.startswith(f"{key}:{variable} [")]
-    if not matches:
-        raise KeyError(f"{key}:{variable}")
-    return df[matches[0]].to_numpy(dtype=float)
-
-
-@dataclasses.dataclass
-class CaseResult:
-    climate: str
-    week: str
-    surface: str
-    eplus: dict          # name → (n,) arrays on the 5-minute steps (end of step)
-    ours: dict
-    wall_ours: float     # [s] our solver's wall time, the call's share of this surface
+    step of every week, wall time [s], work folder)."""
+    return run_energyplus_idf(lambda path, version: write_idf(path, weeks=weeks,
+                                                              version=version),
+                              climate, workdir)
 
 
 EPLUS_TERMS = ("Temperature", "Convection Heat Transfer Coefficient",
@@ -400,16 +268,3 @@ def _peer_class(s: PeerSurface):
     return dataclasses.replace(base, name=s.name.lower(), bottom="room",
                                room_film_coefficient=s.inside_film, albedo=1 - s.solar_absorptance,
                                emissivity=s.emissivity, layers=tuple(s.layers))
-
-
-def statistics(case: CaseResult, skip_days: int = 1) -> dict:
-    """RMS and max |difference| of the hourly outer surface temperature (days after
-    ``skip_days``), and each flux term at local noon of the last day."""
-    k = TIMESTEPS_PER_HOUR
-    start = skip_days * 24 * k
-    hourly = slice(start + k - 1, None, k)             # the steps ending on the hour
-    d = case.ours["Temperature"][hourly] - case.eplus["Temperature"][hourly]
-    noon = len(case.ours["Temperature"]) - 12 * k - 1
-    terms = {v: (case.ours[v][noon], case.eplus[v][noon]) for v in case.ours}
-    return {"rms": float(np.sqrt(np.mean(d ** 2))), "max": float(np.max(np.abs(d))),
-            "noon": terms}
