@@ -20,6 +20,7 @@ from imaging.background.surface_classes import (LABELS, SURFACE_CLASSES, Layer, 
 from shipthermal.environment import Environment, climate_day
 from shipthermal.environment.convection import CONVECTION_MODELS, ExteriorFlow
 from shipthermal.errors import InputError
+from shipthermal.parameters import DEFAULT_CONVECTION_MODEL
 from shipthermal.units import SIGMA
 
 DAY = 86400.0
@@ -399,7 +400,8 @@ def test_penman_monteith_equals_fao56_within_the_linearisation():
 def test_convection_helpers():
     ts, ta, v = np.array([300.0, 320.0]), np.array([295.0, 295.0]), np.array([1.0, 6.0])
     h = se.convection_correlation()(ts, ta, v)
-    ref = CONVECTION_MODELS["flat_plate_mixed"].h(ts, ta, ExteriorFlow(1.0, v, 30.0, 30.0, 7.5))
+    ref = CONVECTION_MODELS[DEFAULT_CONVECTION_MODEL].h(ts, ta,
+                                                        ExteriorFlow(1.0, v, 30.0, 30.0, 7.5))
     np.testing.assert_array_equal(h, ref)
     np.testing.assert_array_equal(se.convection_linear(4.0, 4.0)(ts, ta, v), 4 + 4 * v)
     grass = SURFACE_CLASSES["vegetation"]

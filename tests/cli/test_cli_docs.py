@@ -157,6 +157,7 @@ def test_runs_cover_the_documented_subcommands():
     ran |= {"ensemble"}       # tests/cli/test_cli_ensemble.py (3 serial members)
     ran |= {"check", "schema"}   # test_scenario_check_and_schema_commands below
     ran |= {"calendar"}   # tests/cli/test_cli_weather.py::test_calendar_of_a_record
+    ran |= {"--version"}  # tests/cli/test_cli_main.py (the version of the package's metadata)
     assert documented <= ran, documented - ran
 
 

@@ -4,6 +4,7 @@ run (image, crossover, report, mesh, validate plumbing)."""
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -137,7 +138,10 @@ def test_history_file_is_the_thermal_result(imaged_run):
 def test_image_command_reimages_with_another_step(imaged_run, tmp_path, capsys):
     """`image` on a finished run replaces the imaging stage (30-min frames: 49 rows per
     band instead of the scenario's 145), keeps COMPLETE and lists itself in the manifest's
-    amendments."""
+    amendments. (On a copy: the session's run stays as the other tests read it.)"""
+    import shutil
+
+    imaged_run = Path(shutil.copytree(imaged_run, tmp_path / "copy"))
     assert len(pd.read_csv(imaged_run / "imaging" / "metrics_summer_3-5.csv")) == 145
     assert main(["-q", "image", str(imaged_run), "--step-min", "30"]) == 0
     metrics = pd.read_csv(imaged_run / "imaging" / "metrics_summer_3-5.csv")

@@ -56,7 +56,7 @@ def _apparent_wind(f, env, state):
     return speed, off_bow
 
 
-def test_default_model_is_the_churchill_flat_plate_bit_for_bit(boat):
+def test_default_model_is_the_turbulent_churchill_flat_plate_bit_for_bit(boat):
     # the default tables are those of the documented physics, composed here from the public
     # correlation functions and nothing of the forcing's own stages: apparent wind at face
     # height over the part's box length along it, h_exterior_air at the quasi-steady
@@ -94,15 +94,18 @@ def test_default_model_is_the_churchill_flat_plate_bit_for_bit(boat):
     ta = state.temp_air[:, None]
     nz = f.traced.normals[air, 2]
 
+    assert conv.DEFAULT_CONVECTION_MODEL == "flat_plate_turbulent"
+
     def h_of(ts):
-        return conv.h_exterior_air(ts, ta, nz, speed, length, lv, lh)
+        return conv.h_exterior_air_turbulent(ts, ta, nz, speed, length, lv, lh)
 
     inv_share = np.divide(1.0, share, out=np.zeros_like(share), where=share > 0)
     ts = quasi_steady_surface_temperature(absorbed, f.epsilon[air] * share, lw * inv_share, ta,
                                           h_of, u_back, t_room)
     np.testing.assert_array_equal(_air_table(f, f._est), ts)
     props = conv.air_properties(0.5 * (ts + ta))
-    np.testing.assert_array_equal(_air_table(f), conv.h_forced(speed, length, props))
+    np.testing.assert_array_equal(_air_table(f), conv.h_forced(speed, length, props,
+                                                               boundary_layer="turbulent"))
     # the forced part with the law: the coefficient at the estimate (the law's air
     # properties are those of the estimate's film temperature, as the correlation's)
     np.testing.assert_allclose(_air_h_table(f), h_of(ts), rtol=1e-12)

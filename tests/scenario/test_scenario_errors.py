@@ -213,7 +213,7 @@ CASES = [
     ("scr-interval", {"imaging": {"scr_interval": 1800.0}}, "imaging.scr_interval",
      ["(0, 600] s"]),
     # ---- outputs / top level ------------------------------------------------------------------
-    ("output-format", {"outputs": {"formats": ["png", "pdf"]}}, "outputs.formats[1]",
+    ("output-format", {"outputs": {"formats": ["png", "docx"]}}, "outputs.formats[1]",
      ["'csv', 'geotiff'"]),
     ("checkpoint-vs-step", {"outputs": {"checkpoint_interval": 1000.0}},
      "outputs.checkpoint_interval", ["multiple of solver.time_step (300 s)"]),

@@ -318,6 +318,7 @@ CASES = {
     "imaging.atmosphere.cloud_type": ("builtin", "stratus", {I}),
     "outputs.directory": ("builtin", "runs/elsewhere", {O}),
     "outputs.formats": ("builtin", ["csv"], {O}),
+    "outputs.figure_dpi": ("builtin", 300, {O}),
     "outputs.checkpoint_interval": ("builtin", 7200.0, {T}),
 }
 

@@ -576,7 +576,7 @@ def convection_correlation(model: str = DEFAULT_CONVECTION_MODEL, normal_z=1.0,
     ----------
     model : str
         Key of :data:`shipthermal.environment.convection.CONVECTION_MODELS` (default the
-        project's default, forced flat plate + natural convection, Churchill 1977).
+        ship's default, :data:`shipthermal.parameters.DEFAULT_CONVECTION_MODEL`).
     normal_z : float or array_like
         (N,) upward component of the surface normal, cos(slope) [-].
     length_flow, length_vertical, length_horizontal : float

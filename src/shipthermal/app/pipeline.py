@@ -142,10 +142,12 @@ def _record_history(path):
 
 
 def output_inputs(scenario) -> dict:
-    """What the writers receive from a scenario: the run ``directory``, the ``formats`` and
-    the local hours of the surface maps (``map_hours`` [h])."""
+    """What the writers receive from a scenario: the run ``directory``, the ``formats``, the
+    local hours of the surface maps (``map_hours`` [h]) and the figures' options
+    (``figures``: :class:`~shipthermal.figures.FigureOptions`)."""
     return {"directory": scenario.outputs.directory, "formats": tuple(scenario.outputs.formats),
-            "map_hours": [s / HOUR for s in scenario.map_seconds()]}
+            "map_hours": [s / HOUR for s in scenario.map_seconds()],
+            "figures": FigureOptions.from_outputs(scenario.outputs)}
 
 
 def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
@@ -166,7 +168,7 @@ def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
     formats = ["csv", "json"] + (["png"] if fmts & {"png", "html"} else []) \
         + (["vtkhdf"] if "vtkhdf" in fmts else [])
     written = result.write(out, map_hours=given["map_hours"], formats=tuple(formats),
-                           progress=progress, figures=FigureOptions.from_outputs(scenario.outputs))
+                           progress=progress, figures=given["figures"])
     e = result.energy
     with atomic_path(out / "energy.csv") as tmp:
         with_units(pd.DataFrame({k: getattr(e, k) for k in EnergyLog.FIELDS})).to_csv(
