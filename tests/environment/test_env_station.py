@@ -7,14 +7,15 @@ independent parse of the raw text (plain string splitting, no pandas) and hand f
 
 from pathlib import Path
 
+import dataclasses
+
 import numpy as np
 import pandas as pd
 import pytest
 
 from shipthermal.environment import convection
 from shipthermal.environment.station import (MAX_GAP_HOURS, check_weather, read_ndbc,
-                                             read_station, to_weather, weather_sense,
-                                             wind_speed_at_10m)
+                                             read_station, to_weather, weather_sense)
 from shipthermal.errors import InputError
 from shipthermal.app.scenario import load_scenario
 
@@ -101,13 +102,21 @@ def test_ndbc_onto_the_hour_gaps_and_wind_height():
 
 
 def test_log_law_round_trip():
+    """The anemometer's wind to 10 m and back is the same profile (one function)."""
     u = np.array([0.0, 3.0, 12.5])
     for z in (2.0, 5.0, 25.0):
-        u10 = wind_speed_at_10m(u, z)
+        u10 = convection.wind_speed_at_height(u, 10.0, reference_height=z)
         np.testing.assert_allclose(convection.wind_speed_at_height(u10, z), u, rtol=1e-13)
-    assert wind_speed_at_10m(7.0, 10.0) == pytest.approx(7.0, rel=1e-15)
-    with pytest.raises(InputError, match="wind_height"):
-        wind_speed_at_10m(1.0, 1e-4)
+    assert convection.wind_speed_at_height(7.0, 10.0, reference_height=10.0) == pytest.approx(
+        7.0, rel=1e-15)
+
+
+def test_an_anemometer_height_below_the_profile_is_refused_at_the_input(tmp_path):
+    """The profile holds the wind below 10 roughness lengths; an anemometer height that
+    low is refused where the scenario is read (``weather.wind_height``, at least 0.1 m)."""
+    from shipthermal.app.scenario.sections import WeatherSettings
+    spec = {f.name: f for f in dataclasses.fields(WeatherSettings)}["wind_height"]
+    assert spec.metadata["spec"].lo >= 10.0 * convection.SEA_ROUGHNESS_LENGTH
 
 
 def test_long_gap_is_refused_naming_the_span():
