@@ -1456,8 +1456,8 @@ def _table_times(environment, times, window=None):
     if w.periodic:
         require(window is None, "window", window, "is for weather records only (a periodic "
                 "day's table covers its day)")
-        require(abs(len(w.time) * w.step - DAY) < 1e-6, "environment.weather.period",
-                len(w.time) * w.step, "must be 86400 s (one day)")
+        require(abs(w.period - DAY) < 1e-6, "environment.weather.period", w.period,
+                "must be 86400 s (one day)")
         times = _check_times(np.arange(0.0, DAY, 600.0) if times is None else times)
         return times, PeriodicTable(times)
     # a weather record: one table over the whole record or over a window of it (t = seconds

@@ -362,8 +362,7 @@ class Environment:
         instants, zenith, azimuth, dni, dhi, ghi, longwave_down)``."""
         w = self.weather
         if w.periodic:
-            period = len(w.time) * w.step
-            folded = np.mod(s, period)
+            folded = w.fold(s)
             ws = w.at(folded)
             instants = self.start + pd.to_timedelta(folded, unit="s")
         else:
@@ -377,7 +376,7 @@ class Environment:
         ghi_in = ws.ghi
         if ghi_in is not None and w.solar_interval != "instant":
             knots, values = self.solar_profile()
-            t = np.mod(s, len(w.time) * w.step) if w.periodic else s
+            t = w.fold(s)
             ghi_in = np.interp(t, knots, values)
             ws = dataclasses.replace(ws, ghi=ghi_in)
         if ghi_in is not None:
@@ -429,10 +428,9 @@ class Environment:
             values = sun.interval_profile(w.ghi, shape, n_sub, periodic=w.periodic)
             if w.periodic:
                 # one period from 0: roll the knots that lie before 0 to its end
-                period = len(w.time) * w.step
-                k = np.mod(knots[:-1], period)
+                k = w.fold(knots[:-1])
                 order = np.argsort(k)
-                knots = np.append(k[order], period)
+                knots = np.append(k[order], w.period)
                 values = np.append(values[:-1][order], values[:-1][order][0])
             self._solar = (knots, values)
         return self._solar
@@ -455,12 +453,11 @@ class Environment:
             return None
         if self._skin_table is None:
             w = self.weather
+            period = w.period
             if w.periodic:
-                period = len(w.time) * w.step
                 n = max(int(np.ceil(period / SEA_SKIN_STEP - 1e-9)), 2)
                 grid = np.arange(n) * (period / n)
             else:
-                period = None
                 span = (w.time[-1] - self.start).total_seconds()
                 n = max(int(np.ceil(span / SEA_SKIN_STEP - 1e-9)), 1) + 1
                 grid = np.linspace(0.0, span, n)
@@ -487,8 +484,8 @@ class Environment:
             return np.zeros_like(s), np.zeros_like(s)
         g, warm, cool = table.seconds, table.delta_warm, table.delta_cool
         if table.periodic:
-            period = len(self.weather.time) * self.weather.step
-            s = np.mod(s, period)
+            period = self.weather.period
+            s = self.weather.fold(s)
             g = np.append(g, g[0] + period)
             warm, cool = np.append(warm, warm[0]), np.append(cool, cool[0])
         return np.interp(s, g, warm), np.interp(s, g, cool)

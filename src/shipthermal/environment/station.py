@@ -41,7 +41,7 @@ from shipthermal.units import ZERO_CELSIUS
 
 from .convection import SEA_ROUGHNESS_LENGTH, wind_speed_at_height
 from .sky import relative_humidity_from_dew_point
-from .weather import _LIMITS, Weather, read_csv_frame
+from .weather import _LIMITS, Weather, interpolate_wind_direction, read_csv_frame
 
 __all__ = ["STATION_FORMATS", "FIELDS", "REQUIRED_FIELDS", "MAX_GAP_HOURS", "EDGE_HOLD_S",
            "NDBC_MISSING", "StationRecord", "WeatherReport", "read_station", "read_ndbc",
@@ -505,10 +505,7 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
             continue
         t_ok, v_ok = tx[ok], col[ok]
         if field == "wind_direction":
-            # interpolate the direction as a unit vector (350° -> 10° passes north)
-            phi = np.radians(v_ok)
-            v_grid = np.degrees(np.arctan2(np.interp(gx, t_ok, np.sin(phi)),
-                                           np.interp(gx, t_ok, np.cos(phi)))) % 360.0
+            v_grid = interpolate_wind_direction(gx, t_ok, v_ok)
         else:
             v_grid = np.interp(gx, t_ok, v_ok)
         # the valid observations around each grid time

@@ -72,6 +72,8 @@ __all__ = [
     "read_weather_tmy3",
     "read_csv_frame",
     "SOLAR_INTERVALS",
+    "CALM_WIND_SPEED",
+    "interpolate_wind_direction",
 ]
 
 SOLAR_INTERVALS = ("instant", "ending", "centred")
@@ -101,6 +103,41 @@ _LIMITS = {
     "ghi": (0.0, 1500.0, "W/m2"),
     "longwave_down": (50.0, 600.0, "W/m2"),
 }
+
+
+CALM_WIND_SPEED = 1e-3
+"""Least weight [m/s] of an hour's wind vector when the direction is interpolated between
+hours (:meth:`Weather.at`): a calm hour then does not steer the direction, yet still has one."""
+
+
+def interpolate_wind_direction(x, xp, wind_direction, weight=1.0):
+    """Wind direction at ``x`` from directions at ``xp``: the direction of the linearly
+    interpolated wind vector, so that 350° → 10° passes through north.
+
+    The one rule for the wind direction between observations or record steps.
+
+    Parameters
+    ----------
+    x : array_like
+        Times to interpolate to [s] (any common origin with ``xp``).
+    xp : array_like
+        Increasing times of the directions [s].
+    wind_direction : array_like
+        Direction the wind blows from at ``xp``, clockwise from north [deg].
+    weight : array_like
+        Length of each vector: the wind speed [m/s] where it is known at the same times
+        (a record: :meth:`Weather.at`), or 1 (unit vectors: a station's observations,
+        whose speed and direction go missing independently).
+
+    Returns
+    -------
+    numpy.ndarray
+        Direction in [0, 360) [deg].
+    """
+    phi = np.radians(wind_direction)
+    u = np.interp(x, xp, weight * np.sin(phi))
+    v = np.interp(x, xp, weight * np.cos(phi))
+    return np.degrees(np.arctan2(u, v)) % 360.0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -237,6 +274,20 @@ class Weather:
         return self.time[0]
 
     @property
+    def period(self) -> Optional[float]:
+        """Length of the repeated cycle of a periodic record, ``len(time) * step`` [s];
+        None for a record that does not repeat."""
+        return len(self.time) * self.step if self.periodic else None
+
+    def fold(self, seconds):
+        """Seconds after :attr:`start` folded into the cycle of a periodic record
+        (``seconds mod period``); unchanged for a record that does not repeat.
+
+        The one place where a time is folded into the weather's period.
+        """
+        return np.mod(seconds, self.period) if self.periodic else seconds
+
+    @property
     def temp_dew(self) -> np.ndarray:
         """Dew point [K] (Magnus)."""
         return dew_point(self.temp_air, np.maximum(self.relative_humidity, 0.1))
@@ -279,9 +330,8 @@ class Weather:
         s = np.atleast_1d(self.seconds(times)).astype(float)
         tk = np.asarray((self.time - self.start).total_seconds(), dtype=float)
         if self.periodic:
-            period = len(tk) * self.step
-            s = np.mod(s, period)
-            tk = np.append(tk, period)
+            s = self.fold(s)
+            tk = np.append(tk, self.period)
 
             def wrap(a):
                 return np.append(a, a[0])
@@ -308,12 +358,8 @@ class Weather:
             n = len(self.ghi)
             ghi = self.ghi[np.mod(k, n)] if self.periodic else self.ghi[np.clip(k, 0, n - 1)]
 
-        phi = np.radians(self.wind_direction)
-        # unit vectors weighted by speed; a calm hour then does not steer the direction
-        w = np.maximum(self.wind_speed, 1e-3)
-        u = lin(w * np.sin(phi))
-        v = lin(w * np.cos(phi))
-        direction = np.degrees(np.arctan2(u, v)) % 360.0
+        direction = interpolate_wind_direction(
+            s, tk, wrap(self.wind_direction), wrap(np.maximum(self.wind_speed, CALM_WIND_SPEED)))
         return WeatherSample(
             temp_air=lin(self.temp_air),
             relative_humidity=lin(self.relative_humidity),
