@@ -41,6 +41,7 @@ import numpy as np
 from scipy.special import bernoulli
 
 from shipthermal.errors import InputError, check_positive, check_range, require
+from shipthermal.geometry.parts import part_value
 from shipthermal.parameters import BAND_EMISSIVITY, BANDS, check_wind_speed
 from shipthermal.units import PLANCK_C1, PLANCK_C2
 
@@ -385,7 +386,9 @@ Fresnel value computed by :func:`sea_emissivity` at nadir (the test checks this)
 
 
 def ship_emissivity(part: str, band: str) -> float:
-    """Emissivity [-] of ship ``part`` (hull, deck, superstructure) in ``band`` (3-5, 8-14).
+    """Emissivity [-] of ship ``part`` in ``band`` (3-5, 8-14): a main part, ``hull`` or a
+    sub-part, looked up by the one part policy (:func:`shipthermal.geometry.parts.part_value`:
+    part, main part, hull).
 
     Notes
     -----
@@ -393,11 +396,7 @@ def ship_emissivity(part: str, band: str) -> float:
     """
     if band not in SHIP_EMISSIVITY:
         raise InputError("band", band, f"must be one of {sorted(SHIP_EMISSIVITY)}")
-    parts = SHIP_EMISSIVITY[band]
-    if part not in parts:
-        raise InputError("part", part, f"must be one of {sorted(parts)}",
-                         "Give other parts their own emissivity explicitly")
-    return parts[part]
+    return part_value(SHIP_EMISSIVITY[band], part, f"{band} emissivity")
 
 
 def background_emissivity(cls: str, band: str) -> float:
@@ -549,7 +548,7 @@ def _rough_albedo(theta_deg: float, index_re: float, index_im: float,
                               refractive_index=complex(index_re, index_im), shadowing=True)
 
 
-def rough_sea_emissivity(view_zenith, band="8-14", wind_speed=5.0):
+def rough_sea_emissivity(view_zenith, band, wind_speed):
     """Directional emissivity of a wind-roughened sea, consistent with its reflectance.
 
     ``eps(theta) = 1 - a(theta)``, ``a`` the directional-hemispherical reflectance of the
@@ -591,7 +590,7 @@ def rough_sea_emissivity(view_zenith, band="8-14", wind_speed=5.0):
 
 
 @lru_cache(maxsize=64)  # per (band, wind): the renderer asks once per frame
-def rough_sea_emissivity_hemispherical(band="8-14", wind_speed=5.0, n_nodes: int = 24):
+def rough_sea_emissivity_hemispherical(band, wind_speed, n_nodes: int = 24):
     """Hemispherical emissivity of the rough sea, ``2 int eps(theta) cos sin dtheta`` [-].
 
     Gauss-Legendre in ``mu = cos(theta)`` with ``n_nodes`` nodes over

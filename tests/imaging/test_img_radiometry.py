@@ -136,6 +136,8 @@ def test_ship_emissivities_come_from_the_parameter_module():
     for part, bands in BAND_EMISSIVITY.items():
         for band, value in bands.items():
             assert rad.ship_emissivity(part, band) == value
+    assert rad.ship_emissivity("hull_dry", "3-5") == BAND_EMISSIVITY["hull"]["3-5"]
+    assert rad.ship_emissivity("deck_helipad", "8-14") == BAND_EMISSIVITY["deck"]["8-14"]
     with pytest.raises(InputError, match="part"):
         rad.ship_emissivity("mast", "3-5")
 
