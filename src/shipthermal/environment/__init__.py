@@ -36,6 +36,7 @@ from shipthermal.parameters import (DECOMPOSITIONS, DEFAULT_SEA_SKIN_MODEL, LATI
 from shipthermal.units import DAY as DAY_SECONDS
 from shipthermal.units import ZERO_CELSIUS
 
+from ..optics import sea_emissivity_rough
 from . import climatology, convection, sea, sea_skin, sky, sun, weather
 from .climatology import ClimateDay, climate_day, dalian_summer, dalian_winter
 from .weather import Weather, read_weather_csv, read_weather_epw, read_weather_tmy3
@@ -193,7 +194,8 @@ class Environment:
         Override pvlib's Linke turbidity climatology [-].
     sea_emissivity : float or None
         Hemispherical sea emissivity [-]; None (default): the rough-sea model of the imaging
-        at each time's wind speed (:func:`.sea.sea_emissivity_rough`), so both stages see
+        at each time's wind speed (:func:`shipthermal.optics.sea_emissivity_rough`), so both
+        stages see
         the same sea.
     sea_skin : {'fairall_coare', 'zeng_beljaars', 'none'} or bool
         Model of the sea's skin temperature (:mod:`.sea_skin`): the weather's bulk SST plus
@@ -341,7 +343,7 @@ class Environment:
         """
         s = self._seconds(times)
         ws, instants, zen, azi, dni, dhi, ghi, lw = self._sample(s)
-        eps_sea = (sea.sea_emissivity_rough(ws.wind_speed) if self.sea_emissivity is None
+        eps_sea = (sea_emissivity_rough(ws.wind_speed) if self.sea_emissivity is None
                    else self.sea_emissivity)
         warm, cool = self.sea_skin_deltas(s)
         skin = ws.temp_sea + warm - cool
