@@ -200,23 +200,23 @@ def test_tmy2_units_and_hour_ending_labels():
 
 
 def test_epw_through_the_station_path(tmp_path):
-    """The same EPW rows as the plain reader, with a missing-value code (99.9 °C) bridged
-    and reported, and an infrared column that is all 9999 dropped (the sky model is used)."""
+    """The EPW rows as written, with a missing-value code (99.9 °C) bridged and reported,
+    and an infrared column that is all 9999 dropped (the sky model is used)."""
     from test_env_weather import EPW_HEADER, _epw_row
-
-    from shipthermal.environment.weather import read_weather_epw
 
     rows = [_epw_row(15 + i // 24, i % 24 + 1, 20 + (i % 24) / 4, 18.0, 80, 390 + i,
                      100 * (i % 3), 180, 3.5, 5) for i in range(48)]
     (tmp_path / "a.epw").write_text("\n".join(EPW_HEADER + rows) + "\n")
-    plain = read_weather_epw(tmp_path / "a.epw", temp_sea=295.0, year=2023)
     rec = read_station(tmp_path / "a.epw", "epw", tz="Etc/GMT-8", year=2023)
     start = pd.Timestamp("2023-07-15 01:00", tz="Etc/GMT-8")
     w, rep = to_weather(rec, start, start + pd.Timedelta(hours=47),
                         fallback={"temp_sea": 295.0})
-    for f in ("temp_air", "relative_humidity", "wind_speed", "cloud_cover", "ghi",
-              "longwave_down"):
-        np.testing.assert_allclose(getattr(w, f), getattr(plain, f), rtol=1e-12)
+    i = np.arange(48)
+    expected = {"temp_air": 273.15 + 20 + (i % 24) / 4, "relative_humidity": 80.0,
+                "wind_speed": 3.5, "cloud_cover": 0.5, "ghi": 100.0 * (i % 3),
+                "longwave_down": 390.0 + i}
+    for f, want in expected.items():
+        np.testing.assert_allclose(getattr(w, f), np.broadcast_to(want, (48,)), rtol=1e-12)
     rows = [_epw_row(15 + i // 24, i % 24 + 1, 20 + (i % 24) / 4 if i != 5 else 99.9, 18.0,
                      80, 9999, 100 * (i % 3), 180, 3.5, 5) for i in range(48)]
     (tmp_path / "b.epw").write_text("\n".join(EPW_HEADER + rows) + "\n")

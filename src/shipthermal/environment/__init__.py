@@ -39,7 +39,7 @@ from shipthermal.units import ZERO_CELSIUS
 from ..optics import sea_emissivity_rough
 from . import climatology, convection, sea, sea_skin, sky, sun, weather
 from .climatology import ClimateDay, climate_day, dalian_summer, dalian_winter
-from .weather import Weather, read_weather_csv, read_weather_epw, read_weather_tmy3
+from .weather import Weather, read_weather_csv
 
 __all__ = [
     "Environment",
@@ -51,8 +51,6 @@ __all__ = [
     "dalian_summer",
     "dalian_winter",
     "read_weather_csv",
-    "read_weather_epw",
-    "read_weather_tmy3",
     "sun",
     "weather",
     "climatology",
