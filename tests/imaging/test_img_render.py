@@ -14,6 +14,7 @@ from imaging.render import BandConditions, SceneRenderer
 from imaging.scene import GriddedBackground, ShipPaint, ShipPlacement, compass_to_math_azimuth
 from imaging.thermal_history import ShipThermalHistory
 from shipthermal.errors import InputError
+from shipthermal.parameters import BAND_EMISSIVITY
 from shipthermal.raytrace.scenes import box
 
 RES = 30.0
@@ -56,7 +57,7 @@ def test_box_covering_half_a_pixel_gives_the_half_mixed_radiance():
     row, col = _pixel(60.0, 30.0, ny)
     assert fr.coverage[row, col] == 0.5
     assert fr.coverage.sum() == 0.5          # nothing else is touched (nadir view)
-    eps_ship = 0.95                          # paper §5, deck at 8-14 um
+    eps_ship = BAND_EMISSIVITY["deck"]["8-14"]   # paper §5
     l_ship = eps_ship * band_radiance(310.0, "8-14")
     l_water = float(sea_emissivity(0.0, "8-14", wind_speed=WIND_SPEED)) * \
         band_radiance(295.0, "8-14")
