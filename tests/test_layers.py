@@ -3,7 +3,7 @@
 Three layers, lowest first:
 
 * **physics** — every module of ``shipthermal`` outside ``shipthermal.app`` (geometry, mesh,
-  environment, raytrace, forcing, model, simulation, diurnal, results, ...);
+  environment, optics, raytrace, forcing, model, simulation, diurnal, results, ...);
 * **imaging** — ``src/imaging``; it may use only the thermal package's lower layers
   (:data:`IMAGING_MAY_USE`);
 * **application** — ``shipthermal.app`` (scenario, pipeline, command line, sweeps, run
@@ -29,8 +29,8 @@ PACKAGES = ("shipthermal", "imaging")
 
 #: What the imaging package may import from the thermal package (with submodules)
 IMAGING_MAY_USE = ("shipthermal.geometry", "shipthermal.environment", "shipthermal.raytrace",
-                   "shipthermal.errors", "shipthermal.units", "shipthermal.parameters",
-                   "shipthermal.figures")
+                   "shipthermal.optics", "shipthermal.errors", "shipthermal.units",
+                   "shipthermal.parameters", "shipthermal.figures")
 
 #: Modules of the application layer besides ``shipthermal.app``: the command line's entry
 #: and the top-level package, whose exports are the application's front door
@@ -160,6 +160,19 @@ def test_the_graph_covers_the_layers():
     assert layers == {"physics", "imaging", "app"}, layers
     assert "shipthermal.app.scenario.wiring" in GRAPH["shipthermal.app.scenario"]
     assert "shipthermal.app.pipeline" in GRAPH["shipthermal.app.cli"]
+
+
+def test_the_optics_room_is_shared_by_both_stages():
+    """Water's index, Fresnel and the sea's emissivity have one home, below both stages:
+    it imports no other room of the physics layer, and the thermal stage and the imaging
+    take the sea's optics from it."""
+    assert layer("shipthermal.optics") == "physics"
+    assert _within("shipthermal.optics", IMAGING_MAY_USE)
+    own = set(GRAPH["shipthermal.optics"]) - {"shipthermal", "shipthermal.errors"}
+    assert not own, own
+    assert "shipthermal.optics" in GRAPH["shipthermal.environment"]
+    assert "shipthermal.optics" in GRAPH["imaging.radiometry"]
+    assert "shipthermal.optics" in GRAPH["imaging.brdf"]
 
 
 def test_the_front_door_is_the_application_layer():

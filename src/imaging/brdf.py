@@ -18,10 +18,8 @@ import math
 import numpy as np
 from scipy.special import erfc
 
-from shipthermal.environment.sea import (
-    fresnel_reflectance,  # the one Fresnel reflectance
-)
 from shipthermal.errors import InputError, check_positive, check_range, require
+from shipthermal.optics import fresnel_reflectance  # the one Fresnel reflectance
 from shipthermal.parameters import check_wind_speed
 
 from .quadrature import gauss_legendre

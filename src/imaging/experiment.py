@@ -169,7 +169,7 @@ class ImagingScenario:
         """A :class:`SceneRenderer` for ``ship`` in this scenario."""
         return SceneRenderer(ship, self.background, self.placement, self.view_zenith_deg,
                              self.view_azimuth_deg, self.samples_per_pixel, self.backend,
-                             self.wind_speed, **self.renderer_options)
+                             wind_speed=self.wind_speed, **self.renderer_options)
 
 
 def sun_positions(scenario: ImagingScenario, times_s) -> tuple[np.ndarray, np.ndarray]:

@@ -41,6 +41,8 @@ import numpy as np
 from scipy.special import bernoulli
 
 from shipthermal.errors import InputError, check_positive, check_range, require
+from shipthermal.geometry.parts import part_value
+from shipthermal.optics import WATER_INDEX_HALE_QUERRY, fresnel_reflectance, water_refractive_index
 from shipthermal.parameters import BAND_EMISSIVITY, BANDS, check_wind_speed
 from shipthermal.units import PLANCK_C1, PLANCK_C2
 
@@ -54,7 +56,7 @@ __all__ = [
     "brightness_temperature", "BandRadianceTable", "band_radiance_table",
     "SHIP_EMISSIVITY", "BACKGROUND_EMISSIVITY", "EmissivityValue",
     "ship_emissivity", "background_emissivity",
-    "WATER_INDEX_HALE_QUERRY", "water_refractive_index", "water_band_mean_index",
+    "water_band_mean_index",
     "sea_emissivity", "rough_sea_emissivity", "rough_sea_emissivity_hemispherical",
     "leaving_radiance",
 ]
@@ -385,7 +387,9 @@ Fresnel value computed by :func:`sea_emissivity` at nadir (the test checks this)
 
 
 def ship_emissivity(part: str, band: str) -> float:
-    """Emissivity [-] of ship ``part`` (hull, deck, superstructure) in ``band`` (3-5, 8-14).
+    """Emissivity [-] of ship ``part`` in ``band`` (3-5, 8-14): a main part, ``hull`` or a
+    sub-part, looked up by the one part policy (:func:`shipthermal.geometry.parts.part_value`:
+    part, main part, hull).
 
     Notes
     -----
@@ -393,11 +397,7 @@ def ship_emissivity(part: str, band: str) -> float:
     """
     if band not in SHIP_EMISSIVITY:
         raise InputError("band", band, f"must be one of {sorted(SHIP_EMISSIVITY)}")
-    parts = SHIP_EMISSIVITY[band]
-    if part not in parts:
-        raise InputError("part", part, f"must be one of {sorted(parts)}",
-                         "Give other parts their own emissivity explicitly")
-    return parts[part]
+    return part_value(SHIP_EMISSIVITY[band], part, f"{band} emissivity")
 
 
 def background_emissivity(cls: str, band: str) -> float:
@@ -413,50 +413,9 @@ def background_emissivity(cls: str, band: str) -> float:
     return classes[cls].value
 
 
-# Hale & Querry (1973), Appl. Opt. 12:555, Table 1, liquid water at 25 °C, 2.6-16 um:
-# columns wavelength [um], n, k. (Public-domain data, as tabulated in the original paper.)
-WATER_INDEX_HALE_QUERRY = np.array([
-    (2.60, 1.242, 3.17e-3), (2.65, 1.219, 6.70e-3), (2.70, 1.188, 0.019), (2.75, 1.157, 0.059),
-    (2.80, 1.142, 0.115), (2.85, 1.149, 0.185), (2.90, 1.201, 0.268), (2.95, 1.292, 0.298),
-    (3.00, 1.371, 0.272), (3.05, 1.426, 0.240), (3.10, 1.467, 0.192), (3.15, 1.483, 0.135),
-    (3.20, 1.478, 0.0924), (3.25, 1.467, 0.0610), (3.30, 1.450, 0.0368),
-    (3.35, 1.432, 0.0261), (3.40, 1.420, 0.0195), (3.45, 1.410, 0.0132),
-    (3.50, 1.400, 0.0094), (3.6, 1.385, 0.00515), (3.7, 1.374, 0.00360),
-    (3.8, 1.364, 0.00340), (3.9, 1.357, 0.00380), (4.0, 1.351, 0.00460),
-    (4.1, 1.346, 0.00562), (4.2, 1.342, 0.00688), (4.3, 1.338, 0.00845),
-    (4.4, 1.334, 0.0103), (4.5, 1.332, 0.0134), (4.6, 1.330, 0.0147), (4.7, 1.330, 0.0157),
-    (4.8, 1.330, 0.0150), (4.9, 1.328, 0.0137), (5.0, 1.325, 0.0124), (5.1, 1.322, 0.0111),
-    (5.2, 1.317, 0.0101), (5.3, 1.312, 0.0098), (5.4, 1.305, 0.0103), (5.5, 1.298, 0.0116),
-    (5.6, 1.289, 0.0142), (5.7, 1.277, 0.0203), (5.8, 1.262, 0.0330), (5.9, 1.248, 0.0622),
-    (6.0, 1.265, 0.107), (6.1, 1.319, 0.131), (6.2, 1.363, 0.0880), (6.3, 1.357, 0.0570),
-    (6.4, 1.347, 0.0449), (6.5, 1.339, 0.0392), (6.6, 1.334, 0.0356), (6.7, 1.329, 0.0337),
-    (6.8, 1.324, 0.0327), (6.9, 1.321, 0.0322), (7.0, 1.317, 0.0320), (7.1, 1.314, 0.0320),
-    (7.2, 1.312, 0.0321), (7.3, 1.309, 0.0322), (7.4, 1.307, 0.0324), (7.5, 1.304, 0.0326),
-    (7.6, 1.302, 0.0328), (7.7, 1.299, 0.0331), (7.8, 1.297, 0.0335), (7.9, 1.294, 0.0339),
-    (8.0, 1.291, 0.0343), (8.2, 1.286, 0.0351), (8.4, 1.281, 0.0361), (8.6, 1.275, 0.0372),
-    (8.8, 1.269, 0.0385), (9.0, 1.262, 0.0399), (9.2, 1.255, 0.0415), (9.4, 1.247, 0.0433),
-    (9.6, 1.239, 0.0454), (9.8, 1.229, 0.0479), (10.0, 1.218, 0.0508), (10.5, 1.185, 0.0662),
-    (11.0, 1.153, 0.0968), (11.5, 1.126, 0.142), (12.0, 1.111, 0.199), (12.5, 1.123, 0.259),
-    (13.0, 1.146, 0.305), (13.5, 1.177, 0.343), (14.0, 1.210, 0.370), (14.5, 1.241, 0.388),
-    (15.0, 1.270, 0.402), (15.5, 1.297, 0.414), (16.0, 1.325, 0.422),
-])
-WATER_INDEX_HALE_QUERRY.setflags(write=False)
-
-
-def water_refractive_index(wavelength_um):
-    """Complex refractive index ``n + i k`` of liquid water [-] at ``wavelength_um`` [um].
-
-    Linear interpolation in Hale & Querry (1973) Table 1 (2.6-16 um; 25 °C). Sea water's
-    salinity changes n by < 0.01 in the thermal IR (Friedman 1969), neglected here.
-    """
-    wl = np.asarray(wavelength_um, dtype=float)
-    tab = WATER_INDEX_HALE_QUERRY
-    check_range("wavelength_um", wl, tab[0, 0], tab[-1, 0], "um")
-    return np.interp(wl, tab[:, 0], tab[:, 1]) + 1j * np.interp(wl, tab[:, 0], tab[:, 2])
-
-
 def water_band_mean_index(band="8-14") -> complex:
-    """Response-weighted band mean of the Hale & Querry complex index of water [-].
+    """Response-weighted band mean of the Hale & Querry complex index of water [-]
+    (:data:`shipthermal.optics.WATER_INDEX_HALE_QUERRY`).
 
     ``band`` is ``"3-5"``, ``"8-14"`` or a :class:`SpectralResponse` inside 2.6-16 um.
     Means of n and of k taken separately (``int R n d lambda / int R d lambda``); 3-5 um:
@@ -508,13 +467,11 @@ def sea_emissivity(view_zenith, band="8-14", temp=None, nodes_per_segment: int =
     Notes
     -----
     Kirchhoff's law for an opaque specular surface: ``eps(theta) = 1 - (R_s + R_p)/2``
-    with the complex-index Fresnel equations (:func:`imaging.brdf.fresnel_reflectance`).
+    with the complex-index Fresnel equations (:func:`shipthermal.optics.fresnel_reflectance`).
     The flat surface ignores the wave slopes that raise the emissivity at large view
     angles (Masuda et al. 1988, Remote Sens. Environ. 24:313): the imaging uses the
     rough form, which closes with its Cox-Munk reflectance.
     """
-    from imaging.brdf import fresnel_reflectance  # reflection lives in brdf.py
-
     theta = np.asarray(view_zenith, dtype=float)
     check_range("view_zenith", theta, 0.0, 90.0, "deg")
     if wind_speed is not None:
@@ -549,7 +506,7 @@ def _rough_albedo(theta_deg: float, index_re: float, index_im: float,
                               refractive_index=complex(index_re, index_im), shadowing=True)
 
 
-def rough_sea_emissivity(view_zenith, band="8-14", wind_speed=5.0):
+def rough_sea_emissivity(view_zenith, band, wind_speed):
     """Directional emissivity of a wind-roughened sea, consistent with its reflectance.
 
     ``eps(theta) = 1 - a(theta)``, ``a`` the directional-hemispherical reflectance of the
@@ -591,7 +548,7 @@ def rough_sea_emissivity(view_zenith, band="8-14", wind_speed=5.0):
 
 
 @lru_cache(maxsize=64)  # per (band, wind): the renderer asks once per frame
-def rough_sea_emissivity_hemispherical(band="8-14", wind_speed=5.0, n_nodes: int = 24):
+def rough_sea_emissivity_hemispherical(band, wind_speed, n_nodes: int = 24):
     """Hemispherical emissivity of the rough sea, ``2 int eps(theta) cos sin dtheta`` [-].
 
     Gauss-Legendre in ``mu = cos(theta)`` with ``n_nodes`` nodes over

@@ -477,7 +477,8 @@ class SceneRenderer:
     backend : {"auto", "embree", "numba"}
         Ray tracer (:func:`shipthermal.raytrace.make_tracer`).
     wind_speed : float
-        Wind speed for the sea's Cox-Munk slopes [m s-1].
+        Wind speed for the sea's Cox-Munk slopes [m s-1] (required, keyword: the scene's
+        weather, e.g. :attr:`imaging.experiment.ImagingScenario.wind_speed`).
     paint : ShipPaint
         Ship reflection parameters.
     ship_emissivity : dict or None
@@ -500,7 +501,7 @@ class SceneRenderer:
 
     def __init__(self, ship, background, placement: ShipPlacement | None = None,
                  view_zenith_deg: float = 0.0, view_azimuth_deg: float = 0.0,
-                 samples_per_pixel: int = 16, backend: str = "auto", wind_speed: float = 5.0,
+                 samples_per_pixel: int = 16, backend: str = "auto", *, wind_speed: float,
                  paint: ShipPaint | None = None, ship_emissivity: dict | None = None,
                  background_emissivity: dict | None = None, sensor: SensorSpec = PAPER_SENSOR,
                  min_sun_elevation_deg: float = 1.0, jitter_seed: int | None = None):

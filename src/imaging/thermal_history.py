@@ -22,6 +22,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from shipthermal.errors import InputError, check_finite, check_range, require
+from shipthermal.geometry.parts import part_key
+from shipthermal.parameters import BAND_EMISSIVITY
 from shipthermal.units import DAY, HOUR
 
 __all__ = ["ShipThermalHistory", "synthetic_history", "emissivity_key", "SYNTHETIC_PART_RESPONSE"]
@@ -31,12 +33,10 @@ def emissivity_key(part_name: str) -> str:
     """Emissivity table key (hull, deck, superstructure) of a ship part or sub-part name.
 
     ``hull_wetted``/``hull_dry``/``hull`` -> ``hull``; ``superstructure_mast`` ->
-    ``superstructure`` (through :func:`shipthermal.geometry.main_part`).
+    ``superstructure``: the key of :data:`shipthermal.parameters.BAND_EMISSIVITY` that
+    :func:`shipthermal.geometry.parts.part_key` finds.
     """
-    from shipthermal.geometry import main_part
-
-    main = main_part(part_name)
-    return "hull" if main.startswith("hull") else main
+    return part_key(BAND_EMISSIVITY, part_name)
 
 
 def _interp_periodic(times, values, t, period):

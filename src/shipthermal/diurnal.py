@@ -40,10 +40,14 @@ from typing import Mapping
 import numpy as np
 import pandas as pd
 
+from . import geometry
 from .errors import check_positive, require
-from .parameters import DEFAULT_CONVECTION_MODEL, NIGHT_SETTLE, NIGHT_STEP
-from .results import EnergyLog, Results, atomic_path, graph_vtkhdf, write_surface_vtkhdf
 from .figures import LINE_STYLES, PART_LINE_STYLES, save_figure
+from .geometry import main_part
+from .geometry.surface_maps import render_surface_map
+from .parameters import DEFAULT_CONVECTION_MODEL, NIGHT_SETTLE, NIGHT_STEP
+from .record_stream import RecordFile, RecordParts, assemble, in_sample, sample_days
+from .results import EnergyLog, Results, atomic_path, graph_vtkhdf, write_surface_vtkhdf
 from .units import DAY, HOUR, with_units
 
 __all__ = ["DiurnalSettings", "DiurnalResult", "run_diurnal", "SPINUP_LEAD_IN",
@@ -73,8 +77,6 @@ MAIN_SERIES = ("hull", "deck", "superstructure", "hull_wetted")
 def part_groups(part_names) -> dict:
     """Pool sub-parts for reporting: ``hull_dry`` → ``hull`` (the visible hull),
     ``hull_wetted`` stays, ``superstructure_mast`` → ``superstructure``."""
-    from .geometry import main_part
-
     out = {}
     for name in part_names:
         main = main_part(name)
@@ -355,8 +357,6 @@ class DiurnalResult:
                     with_units(fs).to_csv(tmp, float_format="%.5g")
                 written["forcing_csv"] = out / "forcing_summary.csv"
         if "png" in formats:
-            from .geometry.surface_maps import render_surface_map
-
             where = self.where()
             written["part_means_png"] = plot_part_means(self.part_means, out / "part_means.png",
                                                         title=f"{self.ship.name}: area-mean "
@@ -507,8 +507,8 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
     -------
     DiurnalResult
     """
+    # lazy: the solver stack (numba kernels, pvlib, the ray tracer) takes seconds to import
     from .forcing import build_ship_forcing
-    from .geometry import build_ship_mesh
     from .model import RadiativeExchange, ThermalModel
     from .simulation import Simulation
 
@@ -522,7 +522,7 @@ def run_diurnal(ship, environment, settings: DiurnalSettings | None = None, *,
     timings = {}
     t0 = _time.perf_counter()
     if graph is None:
-        graph, _ = build_ship_mesh(ship)
+        graph, _ = geometry.build_ship_mesh(ship)   # through the module: tests replace it
     timings["mesh"] = _time.perf_counter() - t0
     say(f"mesh: {ship.n_faces} surface faces, {graph.n_cells} cells ({timings['mesh']:.1f} s)")
 
@@ -725,10 +725,9 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
     <shipthermal.simulation.Simulation.continue_with>`): the result does not depend on
     the window length, nor on interruptions.
     """
+    # lazy: the solver stack (numba kernels, pvlib, the ray tracer) takes seconds to import
     from .forcing import build_ship_forcing
-    from .geometry import build_ship_mesh
     from .model import RadiativeExchange, ThermalModel
-    from .record_stream import RecordFile, RecordParts, assemble, sample_days
     from .simulation import Simulation
 
     settings = settings or DiurnalSettings()
@@ -772,7 +771,7 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
         day_changes = [float(x) for x in spin_info["day_changes"]]
         timings.update(json.loads(str(spin_info["timings"])))
         if graph is None:
-            graph, _ = build_ship_mesh(ship)
+            graph, _ = geometry.build_ship_mesh(ship)
         temp0 = None
         say(f"record: resumed from {ckpt} after {done} of {n_days} recorded day(s)")
     else:
@@ -918,8 +917,6 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
 
 def _write_part(parts, index, sim, environment, groups, graph, n_faces, sampled, face_dtype):
     """The window's recorded outputs (and energy log) as part ``index`` of the record."""
-    from .record_stream import in_sample
-
     res = sim.results()
     pm = res.part_mean("outer", groups=groups)
     pm = pm[[c for c in MAIN_SERIES if c in pm.columns]

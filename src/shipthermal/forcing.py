@@ -102,9 +102,8 @@ from .conditions import LAW_PARAMETERS, Convection, ConvectionLaw, SurfaceBalanc
 from .environment import Environment, to_ship_frame
 from .environment import convection as conv
 from .errors import check_range, require
-from .geometry.parts import MAIN_PARTS, main_part
-from .parameters import (CONVECTION_ROUGHNESS, LONGWAVE_EMISSIVITY, SOLAR_ABSORPTIVITY,
-                         part_default)
+from .geometry.parts import MAIN_PARTS, part_key, part_value
+from .parameters import CONVECTION_ROUGHNESS, LONGWAVE_EMISSIVITY, SOLAR_ABSORPTIVITY
 from .raytrace import make_tracer, sun_lit_fraction, symmetrize, view_factors
 from .raytrace.viewfactors import ViewFactors
 from .units import DAY, SIGMA
@@ -182,15 +181,9 @@ def part_values(part_names, defaults: Mapping[str, float], overrides, field_name
         check_range(f"{field_name}[{key!r}]", value, low, high, low_open=low_open)
     out = {}
     for name in part_names:
-        main = main_part(name)
-        if name in overrides:
-            out[name] = float(overrides[name])
-        elif main in overrides:
-            out[name] = float(overrides[main])
-        elif main.startswith("hull") and "hull" in overrides:
-            out[name] = float(overrides["hull"])
-        else:
-            out[name] = float(part_default(defaults, main))
+        key = part_key(overrides, name)
+        out[name] = float(overrides[key] if key is not None
+                          else part_value(defaults, name, field_name))
     return out
 
 
@@ -1271,13 +1264,11 @@ def part_choices(part_names, default, overrides, field_name: str, check,
         check(value, f"{field_name}[{key!r}]")
     out = {}
     for name in part_names:
-        main = main_part(name)
-        for key in (name, main, "hull" if main.startswith("hull") else None):
-            if key in overrides:
-                out[name] = overrides[key]
-                break
+        key = part_key(overrides, name)
+        if key is not None:
+            out[name] = overrides[key]
         else:
-            out[name] = default if defaults is None else part_default(defaults, main)
+            out[name] = default if defaults is None else part_value(defaults, name, field_name)
     return out
 
 
@@ -1456,8 +1447,8 @@ def _table_times(environment, times, window=None):
     if w.periodic:
         require(window is None, "window", window, "is for weather records only (a periodic "
                 "day's table covers its day)")
-        require(abs(len(w.time) * w.step - DAY) < 1e-6, "environment.weather.period",
-                len(w.time) * w.step, "must be 86400 s (one day)")
+        require(abs(w.period - DAY) < 1e-6, "environment.weather.period", w.period,
+                "must be 86400 s (one day)")
         times = _check_times(np.arange(0.0, DAY, 600.0) if times is None else times)
         return times, PeriodicTable(times)
     # a weather record: one table over the whole record or over a window of it (t = seconds

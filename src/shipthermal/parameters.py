@@ -27,7 +27,7 @@ from .errors import InputError, check_range
 __all__ = [
     "BAND_EMISSIVITY", "LONGWAVE_EMISSIVITY", "SOLAR_ABSORPTIVITY", "SEA_EMISSIVITY",
     "BANDS", "BAND_ALIASES", "ATMOSPHERE_WAVELENGTH_UM", "parse_band",
-    "WIND_SPEED_MAX", "check_wind_speed", "part_default", "DEFAULT_CONVECTION_MODEL",
+    "WIND_SPEED_MAX", "check_wind_speed", "DEFAULT_CONVECTION_MODEL",
     "CONVECTION_MODEL_SOURCES", "CONVECTION_ROUGHNESS", "ROUGHNESS_CLASSES", "CLEAR_SKY_MODEL_NAMES", "CLOUD_MODEL_NAMES", "DECOMPOSITIONS",
     "SEA_SKIN_MODEL_NAMES", "DEFAULT_SEA_SKIN_MODEL",
     "STATION_FORMATS", "STATION_SUFFIXES", "MAX_GAP_HOURS", "TEMP_UNITS", "CLOUD_COVER_SCALE",
@@ -68,12 +68,6 @@ paint is a medium grey: 0.70 (the hull below the waterline never sees the sun; i
 unused). Weather decks carry a dark-grey epoxy non-skid covering: 0.85, near the dark end.
 Fixed before any comparison with the paper's reference deck temperatures (and part of the
 validation's ±0.05 sensitivity table); override per part when paint data are known."""
-
-
-def part_default(table: dict, part: str) -> float:
-    """The value of ``table`` (keyed by main part, ``hull`` for both hull parts) for a main
-    part or ``hull_wetted`` / ``hull_dry``."""
-    return table["hull" if part.startswith("hull") else part]
 
 
 SEA_EMISSIVITY = 0.984

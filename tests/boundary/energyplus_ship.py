@@ -51,6 +51,7 @@ from energyplus_peer import (TIMESTEPS_PER_HOUR, WEEKS, CaseResult, eplus_column
                              forcing_on_steps, idf_object, idf_surface, read_epw,
                              run_energyplus_idf, sun_position, weather_file, week_rows)
 from shipthermal.conditions import ConvectionLaw, SurfaceBalance, law_h
+from shipthermal import optics
 from shipthermal.environment import convection as conv
 from shipthermal.environment import sea
 from shipthermal.materials import MATERIALS, Layer, Layup, Material
@@ -372,7 +373,7 @@ def _longwave_in(plate: Plate, wk: Week, air: np.ndarray, below: str) -> np.ndar
         return f_sky * beta * lw_sky + (f_sky * (1.0 - beta) + f_gnd) * SIGMA * air ** 4
     t_sea = float(np.mean(wk.weather["temp_air"]))           # ASSUMPTION (module notes)
     wind = wk.weather["wind_speed"].to_numpy()
-    lw_sea = sea.sea_longwave_up(t_sea, lw_sky, sea.sea_emissivity_rough(wind))
+    lw_sea = sea.sea_longwave_up(t_sea, lw_sky, optics.sea_emissivity_rough(wind))
     return f_sky * lw_sky + f_gnd * lw_sea
 
 

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from shipthermal import optics
 from shipthermal.environment import sea
 from shipthermal.units import SIGMA
 
@@ -18,9 +19,9 @@ def test_sst_diurnal_mean_and_peak():
 def test_fresnel_nadir_and_grazing():
     n, k = 1.218, 0.0508
     nadir = 1 - ((n - 1) ** 2 + k ** 2) / ((n + 1) ** 2 + k ** 2)
-    assert sea.sea_emissivity_angular(0.0) == pytest.approx(nadir, abs=1e-12)
-    assert sea.sea_emissivity_angular(0.0, complex(1.5, 0)) == pytest.approx(0.96, abs=1e-12)
-    eps = sea.sea_emissivity_angular(np.linspace(0, 89.999, 50))
+    assert optics.sea_emissivity_angular(0.0) == pytest.approx(nadir, abs=1e-12)
+    assert optics.sea_emissivity_angular(0.0, complex(1.5, 0)) == pytest.approx(0.96, abs=1e-12)
+    eps = optics.sea_emissivity_angular(np.linspace(0, 89.999, 50))
     assert np.all(np.diff(eps) < 0) and eps[-1] < 1e-3
 
 
@@ -33,14 +34,14 @@ def test_hemispherical_emissivity_vs_dunkle_closed_form(n):
          - n ** 2 * (n ** 2 - 1) ** 2 / (n ** 2 + 1) ** 3 * np.log((n - 1) / (n + 1))
          + 2 * n ** 3 * (n ** 2 + 2 * n - 1) / ((n ** 2 + 1) * (n ** 4 - 1))
          - 8 * n ** 4 * (n ** 4 + 1) / ((n ** 2 + 1) * (n ** 4 - 1) ** 2) * np.log(n))
-    assert sea.sea_emissivity_hemispherical(complex(n, 0)) == pytest.approx(d, abs=1e-6)
+    assert optics.sea_emissivity_hemispherical(complex(n, 0)) == pytest.approx(d, abs=1e-6)
 
 
 def test_flat_water_hemispherical_below_measured_sea():
     # Flat water at 10 um: ~0.95; the measured broadband sea value (Konda et al. 1994,
     # 0.984) is higher (roughness, band, and a sky warmest near the horizon where the sea
     # reflects most). Both must be in (0.9, 1).
-    flat = sea.sea_emissivity_hemispherical()
+    flat = optics.sea_emissivity_hemispherical()
     assert 0.93 < flat < sea.SEA_EMISSIVITY < 1.0
 
 
@@ -68,7 +69,7 @@ def test_environment_sea_follows_the_wind_by_default():
 
     day = climate_day("winter")
     st = Environment.from_climate_day(day).at([0.0, 12 * 3600.0])
-    want = sea.sea_emissivity_rough(st.wind_speed)
+    want = optics.sea_emissivity_rough(st.wind_speed)
     np.testing.assert_allclose(st.sea_emissivity, want, rtol=1e-12)
     assert np.all((want > 0.947) & (want < 0.967))   # the table's calm and 20 m/s ends
     # the sea radiates from its skin (bulk SST + warm layer - cool skin)
@@ -79,6 +80,6 @@ def test_environment_sea_follows_the_wind_by_default():
 
 
 def test_rough_sea_table_monotone_between_flat_and_one():
-    t = np.array(sea.ROUGH_SEA_HEMISPHERICAL_EMISSIVITY)
+    t = np.array(optics.ROUGH_SEA_HEMISPHERICAL_EMISSIVITY)
     assert np.all(np.diff(t) > 0) and t[-1] < 1.0
-    assert sea.sea_emissivity_rough(-1.0) == t[0]
+    assert optics.sea_emissivity_rough(-1.0) == t[0]

@@ -7,14 +7,15 @@ independent parse of the raw text (plain string splitting, no pandas) and hand f
 
 from pathlib import Path
 
+import dataclasses
+
 import numpy as np
 import pandas as pd
 import pytest
 
 from shipthermal.environment import convection
 from shipthermal.environment.station import (MAX_GAP_HOURS, check_weather, read_ndbc,
-                                             read_station, to_weather, weather_sense,
-                                             wind_speed_at_10m)
+                                             read_station, to_weather, weather_sense)
 from shipthermal.errors import InputError
 from shipthermal.app.scenario import load_scenario
 
@@ -101,13 +102,21 @@ def test_ndbc_onto_the_hour_gaps_and_wind_height():
 
 
 def test_log_law_round_trip():
+    """The anemometer's wind to 10 m and back is the same profile (one function)."""
     u = np.array([0.0, 3.0, 12.5])
     for z in (2.0, 5.0, 25.0):
-        u10 = wind_speed_at_10m(u, z)
+        u10 = convection.wind_speed_at_height(u, 10.0, reference_height=z)
         np.testing.assert_allclose(convection.wind_speed_at_height(u10, z), u, rtol=1e-13)
-    assert wind_speed_at_10m(7.0, 10.0) == pytest.approx(7.0, rel=1e-15)
-    with pytest.raises(InputError, match="wind_height"):
-        wind_speed_at_10m(1.0, 1e-4)
+    assert convection.wind_speed_at_height(7.0, 10.0, reference_height=10.0) == pytest.approx(
+        7.0, rel=1e-15)
+
+
+def test_an_anemometer_height_below_the_profile_is_refused_at_the_input(tmp_path):
+    """The profile holds the wind below 10 roughness lengths; an anemometer height that
+    low is refused where the scenario is read (``weather.wind_height``, at least 0.1 m)."""
+    from shipthermal.app.scenario.sections import WeatherSettings
+    spec = {f.name: f for f in dataclasses.fields(WeatherSettings)}["wind_height"]
+    assert spec.metadata["spec"].lo >= 10.0 * convection.SEA_ROUGHNESS_LENGTH
 
 
 def test_long_gap_is_refused_naming_the_span():
@@ -191,23 +200,23 @@ def test_tmy2_units_and_hour_ending_labels():
 
 
 def test_epw_through_the_station_path(tmp_path):
-    """The same EPW rows as the plain reader, with a missing-value code (99.9 °C) bridged
-    and reported, and an infrared column that is all 9999 dropped (the sky model is used)."""
+    """The EPW rows as written, with a missing-value code (99.9 °C) bridged and reported,
+    and an infrared column that is all 9999 dropped (the sky model is used)."""
     from test_env_weather import EPW_HEADER, _epw_row
-
-    from shipthermal.environment.weather import read_weather_epw
 
     rows = [_epw_row(15 + i // 24, i % 24 + 1, 20 + (i % 24) / 4, 18.0, 80, 390 + i,
                      100 * (i % 3), 180, 3.5, 5) for i in range(48)]
     (tmp_path / "a.epw").write_text("\n".join(EPW_HEADER + rows) + "\n")
-    plain = read_weather_epw(tmp_path / "a.epw", temp_sea=295.0, year=2023)
     rec = read_station(tmp_path / "a.epw", "epw", tz="Etc/GMT-8", year=2023)
     start = pd.Timestamp("2023-07-15 01:00", tz="Etc/GMT-8")
     w, rep = to_weather(rec, start, start + pd.Timedelta(hours=47),
                         fallback={"temp_sea": 295.0})
-    for f in ("temp_air", "relative_humidity", "wind_speed", "cloud_cover", "ghi",
-              "longwave_down"):
-        np.testing.assert_allclose(getattr(w, f), getattr(plain, f), rtol=1e-12)
+    i = np.arange(48)
+    expected = {"temp_air": 273.15 + 20 + (i % 24) / 4, "relative_humidity": 80.0,
+                "wind_speed": 3.5, "cloud_cover": 0.5, "ghi": 100.0 * (i % 3),
+                "longwave_down": 390.0 + i}
+    for f, want in expected.items():
+        np.testing.assert_allclose(getattr(w, f), np.broadcast_to(want, (48,)), rtol=1e-12)
     rows = [_epw_row(15 + i // 24, i % 24 + 1, 20 + (i % 24) / 4 if i != 5 else 99.9, 18.0,
                      80, 9999, 100 * (i % 3), 180, 3.5, 5) for i in range(48)]
     (tmp_path / "b.epw").write_text("\n".join(EPW_HEADER + rows) + "\n")

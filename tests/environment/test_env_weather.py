@@ -8,8 +8,8 @@ import pvlib
 import pytest
 
 from shipthermal.environment import sky
-from shipthermal.environment.weather import (Weather, read_weather_csv, read_weather_epw,
-                                             read_weather_tmy3)
+from shipthermal.environment.station import check_weather, read_station, to_weather
+from shipthermal.environment.weather import Weather, read_weather_csv
 from shipthermal.errors import InputError
 
 TMY3 = pvlib.__path__[0] + "/data/703165TY.csv"   # Sand Point, Alaska (coastal)
@@ -108,8 +108,10 @@ def test_csv_kelvin_given_as_celsius_hint(tmp_path):
 
 
 def test_tmy3_reader_matches_raw_file():
-    w = read_weather_tmy3(TMY3, temp_sea=280.0)
-    assert len(w.time) == 8760 and w.step == 3600.0 and w.time.is_monotonic_increasing
+    rec = read_station(TMY3, "tmy3")
+    frame = rec.frame
+    assert len(frame) == 8760 and frame.index.is_monotonic_increasing
+    assert rec.solar_interval == "ending"
     # independent parse of the raw file (line 1 metadata, line 2 header)
     with open(TMY3, newline="") as fh:
         rows = list(csv.reader(fh))
@@ -121,12 +123,14 @@ def test_tmy3_reader_matches_raw_file():
     raw_cld = np.array([float(r[col_cld]) for r in rows[2:]])
     # the reader sorts the year; row order is unchanged except for pvlib's move of the
     # final 24:00 row, which lands last in either case
-    np.testing.assert_allclose(w.temp_air, raw_t + 273.15)
-    np.testing.assert_allclose(w.relative_humidity, raw_rh)
-    np.testing.assert_allclose(w.cloud_cover, raw_cld / 10)
-    assert w.ghi is not None and w.longwave_down is None
-    with pytest.raises(InputError, match="temp_sea"):
-        read_weather_tmy3(TMY3, temp_sea=None)
+    np.testing.assert_allclose(frame["temp_air"], raw_t + 273.15)
+    np.testing.assert_allclose(frame["relative_humidity"], raw_rh)
+    np.testing.assert_allclose(frame["cloud_cover"], raw_cld / 10)
+    assert "ghi" in frame and "longwave_down" not in frame
+    # TMY3 carries no sea temperature: a run needs weather.temp_sea
+    start = frame.index[0]
+    _, _, problems = check_weather(rec, start, start + pd.Timedelta(hours=23))
+    assert any("weather.temp_sea" in str(p) for p in problems), problems
 
 
 EPW_HEADER = [
@@ -149,6 +153,14 @@ def _epw_row(day, hour, t, td, rh, ir, ghi, wd, ws, cld):
     return ",".join(str(x) for x in f)
 
 
+def _epw_weather(path, **kwargs):
+    """An EPW file through the one EPW parser, on the hours of its two days."""
+    rec = read_station(path, "epw", tz="Etc/GMT-8", year=2023, **kwargs)
+    start = pd.Timestamp("2023-07-15 01:00", tz="Etc/GMT-8")
+    return to_weather(rec, start, start + pd.Timedelta(hours=47),
+                      fallback={"temp_sea": 295.0})[0]
+
+
 def test_epw_reader(tmp_path):
     rows = []
     for i in range(48):
@@ -157,7 +169,7 @@ def test_epw_reader(tmp_path):
                              (170 + i) % 360, 3.5, 5))
     p = tmp_path / "dalian.epw"
     p.write_text("\n".join(EPW_HEADER + rows) + "\n")
-    w = read_weather_epw(p, temp_sea=295.0, year=2023)
+    w = _epw_weather(p)
     assert len(w.time) == 48 and w.step == 3600.0
     assert w.time[0].utcoffset() == pd.Timedelta(hours=8)
     # EPW "hour 1" holds the values at the end of 00:00-01:00
@@ -177,11 +189,16 @@ def test_epw_reader(tmp_path):
     assert w.temp_dew[0] == pytest.approx(sky.dew_point(w.temp_air[0], 80.0))
 
 
-def test_epw_missing_longwave_rejected_unless_disabled(tmp_path):
-    rows = [_epw_row(15 + i // 24, i % 24 + 1, 20, 18, 80, 9999, 0, 180, 3, 5) for i in range(24)]
+def test_epw_missing_longwave_falls_back_to_the_sky_model(tmp_path):
+    """An infrared column of missing-value codes (9999) is no measurement: dropped, as is
+    a measured one with ``use_measured_longwave=False`` (the sky model is used)."""
+    rows = [_epw_row(15 + i // 24, i % 24 + 1, 20, 18, 80, 9999, 0, 180, 3, 5)
+            for i in range(48)]
     p = tmp_path / "m.epw"
     p.write_text("\n".join(EPW_HEADER + rows) + "\n")
-    with pytest.raises(InputError, match="longwave_down"):
-        read_weather_epw(p, temp_sea=295.0, year=2023)
-    w = read_weather_epw(p, temp_sea=295.0, year=2023, use_measured_longwave=False)
-    assert w.longwave_down is None
+    assert _epw_weather(p).longwave_down is None
+    rows = [_epw_row(15 + i // 24, i % 24 + 1, 20, 18, 80, 390, 0, 180, 3, 5)
+            for i in range(48)]
+    p.write_text("\n".join(EPW_HEADER + rows) + "\n")
+    assert _epw_weather(p).longwave_down is not None
+    assert _epw_weather(p, use_measured_longwave=False).longwave_down is None

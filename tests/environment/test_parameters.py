@@ -45,11 +45,11 @@ def test_wind_speed_range():
 
 
 def test_part_defaults_cover_every_main_part():
-    from shipthermal.geometry.parts import MAIN_PARTS
+    from shipthermal.geometry.parts import MAIN_PARTS, part_value
 
     for table in (P.LONGWAVE_EMISSIVITY, P.SOLAR_ABSORPTIVITY):
-        for part in MAIN_PARTS:
-            assert 0.0 < P.part_default(table, part) <= 1.0
+        for part in MAIN_PARTS + ("hull", "superstructure_funnel", "hull_dry_bow"):
+            assert 0.0 < part_value(table, part) <= 1.0
     # the thermal stage's broadband emissivity is the imaging stage's 8-14 µm one
     assert all(P.LONGWAVE_EMISSIVITY[p] == P.BAND_EMISSIVITY[p]["8-14"] for p in P.BAND_EMISSIVITY)
 

@@ -156,3 +156,20 @@ def test_parameter_variations_stay_closed_and_exact(length, beam, draught, freeb
     assert s.vertices[:, 2].min() == pytest.approx(-draught, abs=1e-9)
     assert s.vertices[s.faces[s.part_mask("hull_wetted")], 2].max() <= 0.0
     assert s.vertices[s.faces[s.part_mask("deck")], 2].min() == pytest.approx(freeboard, abs=1e-9)
+
+
+def test_one_lookup_policy_for_per_part_values():
+    """Part, then main part, then 'hull' for the hull's parts: the one policy of every
+    per-part table (scenario, overrides, parameter sets, emissivity keys)."""
+    from shipthermal.errors import InputError
+    from shipthermal.geometry.parts import part_key, part_keys, part_value
+
+    assert part_keys("hull_dry_bow") == ("hull_dry_bow", "hull_dry", "hull")
+    assert part_keys("hull") == ("hull",)
+    assert part_keys("superstructure_funnel") == ("superstructure_funnel", "superstructure")
+    table = {"hull": 1.0, "deck": 2.0, "superstructure_funnel": 3.0}
+    assert part_key(table, "hull_wetted") == "hull"
+    assert part_key(table, "superstructure_mast") is None
+    assert part_value(table, "superstructure_funnel") == 3.0
+    with pytest.raises(InputError, match="has no absorptivity"):
+        part_value(table, "superstructure", "absorptivity")

@@ -11,6 +11,8 @@ from imaging.thermal_history import ShipThermalHistory
 from shipthermal.raytrace.scenes import box
 from shipthermal.app.scenario import default_scenario
 
+WIND_SPEED = 5.0    # m/s: the sea's Cox-Munk slopes (the coverage does not depend on it)
+
 
 @pytest.mark.parametrize("season", ["summer", "winter"])
 def test_default_mooring_is_alongside_a_pier(season):
@@ -24,7 +26,7 @@ def test_default_mooring_is_alongside_a_pier(season):
     V, F = box([-66.0, -7.5, -4.0], [66.0, 7.5, 8.0])
     hist = ShipThermalHistory(V, F, np.zeros(len(F), int), ("deck",), [0.0, 3600.0],
                               np.full((2, len(F)), 300.0))
-    cov = SceneRenderer(hist, bg, place, samples_per_pixel=4).coverage > 0
+    cov = SceneRenderer(hist, bg, place, samples_per_pixel=4, wind_speed=WIND_SPEED).coverage > 0
     assert cov.any() and np.all(bg.class_map[cov] == 1)          # the ship floats on water
     rows = np.flatnonzero(cov.any(axis=1))
     west = np.array([np.flatnonzero(cov[r])[0] for r in rows])

@@ -8,6 +8,7 @@ from scipy.integrate import quad
 
 from imaging import radiometry as rad
 from imaging.brdf import fresnel_reflectance
+from shipthermal import optics
 from shipthermal.errors import InputError
 from shipthermal.units import PLANCK_C1, PLANCK_C2, SIGMA
 
@@ -136,6 +137,8 @@ def test_ship_emissivities_come_from_the_parameter_module():
     for part, bands in BAND_EMISSIVITY.items():
         for band, value in bands.items():
             assert rad.ship_emissivity(part, band) == value
+    assert rad.ship_emissivity("hull_dry", "3-5") == BAND_EMISSIVITY["hull"]["3-5"]
+    assert rad.ship_emissivity("deck_helipad", "8-14") == BAND_EMISSIVITY["deck"]["8-14"]
     with pytest.raises(InputError, match="part"):
         rad.ship_emissivity("mast", "3-5")
 
@@ -190,11 +193,11 @@ def test_sea_emissivity_angular_shape(band):
 
 
 def test_water_index_interpolation_reproduces_table_knots():
-    tab = rad.WATER_INDEX_HALE_QUERRY
-    m = rad.water_refractive_index(tab[:, 0])
+    tab = optics.WATER_INDEX_HALE_QUERRY
+    m = optics.water_refractive_index(tab[:, 0])
     assert np.array_equal(m.real, tab[:, 1]) and np.array_equal(m.imag, tab[:, 2])
     with pytest.raises(InputError):
-        rad.water_refractive_index(1.0)
+        optics.water_refractive_index(1.0)
 
 
 def test_leaving_radiance_kirchhoff_blackbody_enclosure():

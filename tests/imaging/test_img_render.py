@@ -14,11 +14,13 @@ from imaging.render import BandConditions, SceneRenderer
 from imaging.scene import GriddedBackground, ShipPaint, ShipPlacement, compass_to_math_azimuth
 from imaging.thermal_history import ShipThermalHistory
 from shipthermal.errors import InputError
+from shipthermal.parameters import BAND_EMISSIVITY
 from shipthermal.raytrace.scenes import box
 
 RES = 30.0
 S = 16                   # samples per pixel axis: sub-cells of 30/16 = 1.875 m
 SCENE = ShipPlacement(0.0, 0.0, 90.0)   # heading east: ship frame (x fwd, y port) = (east, north)
+WIND_SPEED = 5.0         # m/s: the sea's Cox-Munk slopes in these scenes
 
 
 @pytest.fixture(scope="module")
@@ -49,15 +51,16 @@ def test_box_covering_half_a_pixel_gives_the_half_mixed_radiance():
     # 45 m falls between sub-cell centres 44.06 and 45.94, so exactly 8 of 16 columns
     V, F = box([30.0, 60.0, -2.0], [45.0, 90.0, 5.0])
     hist = _history(V, F, temp=310.0)
-    r = SceneRenderer(hist, _water(ny, nx), SCENE, samples_per_pixel=S)
+    r = SceneRenderer(hist, _water(ny, nx), SCENE, samples_per_pixel=S, wind_speed=WIND_SPEED)
     cond = BandConditions.simple("8-14", transmittance=0.6, path_radiance=2.0)
     fr = r.render(cond, hist.at(0.0), np.full((ny, nx), 295.0))
     row, col = _pixel(60.0, 30.0, ny)
     assert fr.coverage[row, col] == 0.5
     assert fr.coverage.sum() == 0.5          # nothing else is touched (nadir view)
-    eps_ship = 0.95                          # paper §5, deck at 8-14 um
+    eps_ship = BAND_EMISSIVITY["deck"]["8-14"]   # paper §5
     l_ship = eps_ship * band_radiance(310.0, "8-14")
-    l_water = float(sea_emissivity(0.0, "8-14", wind_speed=5.0)) * band_radiance(295.0, "8-14")
+    l_water = float(sea_emissivity(0.0, "8-14", wind_speed=WIND_SPEED)) * \
+        band_radiance(295.0, "8-14")
     # float32 images: 1e-6 relative is ~8 ulp
     assert fr.leaving[row, col] == pytest.approx(0.5 * l_ship + 0.5 * l_water, rel=1e-6)
     assert fr.radiance[row, col] == pytest.approx(0.6 * (0.5 * l_ship + 0.5 * l_water) + 2.0,
@@ -71,11 +74,12 @@ def test_nadir_coverage_of_a_rotated_box_equals_its_footprint_area():
     # sub-cell (1.875 m)^2 per boundary sub-cell: perimeter 104 m / 1.875 m ~ 56 cells
     V, F = box([-20.0, -6.0, -1.0], [20.0, 6.0, 4.0])
     hist = _history(V, F)
-    r = SceneRenderer(hist, _water(8, 8), ShipPlacement(120.0, 120.0, 30.0), samples_per_pixel=S)
+    r = SceneRenderer(hist, _water(8, 8), ShipPlacement(120.0, 120.0, 30.0), samples_per_pixel=S,
+                      wind_speed=WIND_SPEED)
     area = r.coverage.sum() * RES * RES
     assert abs(area - 480.0) < 56 * 1.875**2 / 4, area
     with pytest.raises(InputError, match="placement"):
-        SceneRenderer(hist, _water(8, 8), ShipPlacement(5000.0, 120.0, 0.0))
+        SceneRenderer(hist, _water(8, 8), ShipPlacement(5000.0, 120.0, 0.0), wind_speed=WIND_SPEED)
 
 
 def _points_in_polygon(points, polygon):
@@ -104,7 +108,7 @@ def test_box_shadow_on_water_removes_reflected_sun_on_the_right_samples(
     V, F = box(lo, hi)
     hist = _history(V, F)
     r = SceneRenderer(hist, _water(ny, nx), SCENE, view_zenith_deg=view_zenith,
-                      view_azimuth_deg=view_azimuth, samples_per_pixel=S, wind_speed=5.0)
+                      view_azimuth_deg=view_azimuth, samples_per_pixel=S, wind_speed=WIND_SPEED)
     cond = BandConditions.simple("3-5", sun_zenith_deg=sun_zenith, sun_azimuth_deg=sun_azimuth,
                                  solar_irradiance=10.0, sky_radiance=0.5)
     fr = r.render(cond, hist.at(0.0), np.full((ny, nx), 295.0))
@@ -134,7 +138,7 @@ def test_box_shadow_on_water_removes_reflected_sun_on_the_right_samples(
 
     # radiance: water pixel = emitted + sky + (lit share) * sun glint (Cox-Munk, eq. 7)
     th_v = view_zenith
-    eps_w = float(sea_emissivity(th_v, "3-5", wind_speed=5.0))  # rough sea (renderer default)
+    eps_w = float(sea_emissivity(th_v, "3-5", wind_speed=WIND_SPEED))  # rough sea (the scene's)
     f_sun = float(cox_munk_brdf(sun_zenith,
                                 float(compass_to_math_azimuth(sun_azimuth)), th_v,
                                 float(compass_to_math_azimuth(view_azimuth)), 5.0,
@@ -153,7 +157,8 @@ def test_box_top_reflects_the_sun_by_cook_torrance_and_is_not_self_shadowed():
     V, F = box([30.0, 60.0, -1.0], [60.0, 90.0, 5.0])     # fills pixel column 1 exactly
     hist = _history(V, F, temp=300.0)
     paint = ShipPaint(roughness=0.3)
-    r = SceneRenderer(hist, _water(ny, nx), SCENE, samples_per_pixel=S, paint=paint)
+    r = SceneRenderer(hist, _water(ny, nx), SCENE, samples_per_pixel=S, paint=paint,
+                      wind_speed=WIND_SPEED)
     cond = BandConditions.simple("3-5", sun_zenith_deg=30.0, sun_azimuth_deg=180.0,
                                  solar_irradiance=8.0, sky_radiance=0.7)
     fr = r.render(cond, hist.at(0.0), np.full((ny, nx), 295.0))
@@ -174,7 +179,7 @@ def test_off_nadir_view_shows_layover_and_the_wall_facing_the_sensor():
     V, F = box([90.0, 60.0, 0.0], [120.0, 90.0, 30.0], n=2)
     hist = _history(V, F)
     r = SceneRenderer(hist, _water(ny, nx), SCENE, view_zenith_deg=45.0, view_azimuth_deg=90.0,
-                      samples_per_pixel=S)
+                      samples_per_pixel=S, wind_speed=WIND_SPEED)
     row = _pixel(60.0, 0.0, ny)[0]
     np.testing.assert_allclose(r.coverage[row], [0, 0, 1, 1, 0, 0], atol=1e-12)
     assert r.coverage.sum() == 2.0
@@ -198,7 +203,8 @@ def test_isothermal_blackbody_surroundings_give_zero_contrast(frigate_coarse, ba
                               frigate_coarse.face_part, frigate_coarse.part_names, [0.0, 1.0],
                               np.full((2, frigate_coarse.n_faces), temp))
     bg = _water(12, 12)
-    r = SceneRenderer(hist, bg, ShipPlacement(180.0, 180.0, 35.0), samples_per_pixel=S)
+    r = SceneRenderer(hist, bg, ShipPlacement(180.0, 180.0, 35.0), samples_per_pixel=S,
+                      wind_speed=WIND_SPEED)
     cond = BandConditions.simple(band, sky_radiance=bb)
     fr = r.render(cond, hist.at(0.0), np.full(bg.shape, temp), temp_sea=temp)
     mixed = (fr.coverage > 0) & (fr.coverage < 1)
@@ -219,7 +225,8 @@ def test_black_ship_on_black_water_in_sun_and_sky_gives_zero_contrast(frigate_co
                               np.full((2, frigate_coarse.n_faces), temp))
     r = SceneRenderer(hist, _water(12, 12), ShipPlacement(180.0, 180.0, 20.0),
                       view_zenith_deg=30.0, view_azimuth_deg=200.0, samples_per_pixel=S,
-                      ship_emissivity={"3-5": one}, background_emissivity={"3-5": {"water": 1.0}})
+                      ship_emissivity={"3-5": one}, background_emissivity={"3-5": {"water": 1.0}},
+                      wind_speed=WIND_SPEED)
     cond = BandConditions.simple("3-5", sun_zenith_deg=50.0, sun_azimuth_deg=110.0,
                                  solar_irradiance=12.0, sky_radiance=0.8, transmittance=0.5,
                                  path_radiance=0.3)
@@ -244,7 +251,7 @@ def test_embree_and_numba_renders_agree(frigate_coarse):
     for backend in ("embree", "numba"):
         r = SceneRenderer(hist, _water(14, 14), ShipPlacement(210.0, 200.0, 60.0),
                           view_zenith_deg=20.0, view_azimuth_deg=250.0, samples_per_pixel=S,
-                          backend=backend)
+                          backend=backend, wind_speed=WIND_SPEED)
         rend.append(r)
         frames.append(r.render(cond, hist.at(0.5), np.full((14, 14), 296.0)))
     e, n = frames
@@ -266,26 +273,26 @@ def test_embree_and_numba_renders_agree(frigate_coarse):
 def test_render_rejects_bad_inputs(frigate_coarse):
     V, F = box([30.0, 60.0, -1.0], [60.0, 90.0, 5.0])
     hist = _history(V, F)
-    r = SceneRenderer(hist, _water(), SCENE, samples_per_pixel=4)
+    r = SceneRenderer(hist, _water(), SCENE, samples_per_pixel=4, wind_speed=WIND_SPEED)
     cond = BandConditions.simple("8-14")
     with pytest.raises(InputError, match="face_temperature"):
         r.render(cond, np.full(3, 300.0), np.full((6, 6), 295.0))
     with pytest.raises(InputError, match="background_temperature"):
         r.render(cond, hist.at(0.0), np.full((5, 6), 295.0))
     with pytest.raises(InputError, match="samples_per_pixel"):
-        SceneRenderer(hist, _water(), SCENE, samples_per_pixel=0)
+        SceneRenderer(hist, _water(), SCENE, samples_per_pixel=0, wind_speed=WIND_SPEED)
     with pytest.raises(InputError, match="view_zenith_deg"):
-        SceneRenderer(hist, _water(), SCENE, view_zenith_deg=85.0)
+        SceneRenderer(hist, _water(), SCENE, view_zenith_deg=85.0, wind_speed=WIND_SPEED)
     under = _history(*box([30.0, 60.0, -5.0], [60.0, 90.0, -1.0]))
     with pytest.raises(InputError, match="waterline"):
-        SceneRenderer(under, _water(), SCENE)
+        SceneRenderer(under, _water(), SCENE, wind_speed=WIND_SPEED)
 
 
 def test_sensor_chain_camera_equation_psf_noise_and_quantisation():
     ny = nx = 16
     V, F = box([210.0, 210.0, -1.0], [270.0, 240.0, 6.0])
     hist = _history(V, F, temp=305.0)
-    r = SceneRenderer(hist, _water(ny, nx), SCENE, samples_per_pixel=4)
+    r = SceneRenderer(hist, _water(ny, nx), SCENE, samples_per_pixel=4, wind_speed=WIND_SPEED)
     cond = BandConditions.simple("8-14", transmittance=0.5, path_radiance=15.0)
     clean = r.render(cond, hist.at(0.0), np.full((ny, nx), 295.0))
     # camera equation of the paper's sensor: E = tau_o pi L / (4 N^2), N = 2, tau_o = 0.7
@@ -321,6 +328,6 @@ def test_default_mooring_is_in_the_harbour_water_with_a_water_scr_window():
     bg = build_port_background("winter")
     place = default_mooring(bg)
     V, F = box([-66.0, -7.5, -4.0], [66.0, 7.5, 8.0])          # frigate-sized box
-    r = SceneRenderer(_history(V, F), bg, place, samples_per_pixel=4)
+    r = SceneRenderer(_history(V, F), bg, place, samples_per_pixel=4, wind_speed=WIND_SPEED)
     r0, r1, c0, c1 = background_window(r.coverage > 0, 2.0)
     assert np.all(bg.class_map[r0:r1, c0:c1] == 1)

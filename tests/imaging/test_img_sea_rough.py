@@ -10,7 +10,7 @@ from imaging.radiometry import (ROUGH_SEA_QUADRATURE, rough_sea_emissivity,
                                 rough_sea_emissivity_hemispherical, sea_emissivity,
                                 water_band_mean_index)
 from imaging.scene import background_optics
-from shipthermal.environment import sea
+from shipthermal import optics
 
 BANDS = ("3-5", "8-14")
 ANGLES_DEG = (0.0, 30.0, 60.0, 70.0, 75.0, 80.0)
@@ -67,18 +67,18 @@ def test_quadrature_converged():
 
 
 def test_thermal_stage_table_is_the_imaging_model():
-    nodes = np.array(sea.ROUGH_SEA_WIND_NODES)
-    table = np.array(sea.ROUGH_SEA_HEMISPHERICAL_EMISSIVITY)
+    nodes = np.array(optics.ROUGH_SEA_WIND_NODES)
+    table = np.array(optics.ROUGH_SEA_HEMISPHERICAL_EMISSIVITY)
     for u in (0.0, 13.0):
         k = int(np.flatnonzero(nodes == u)[0])
         assert table[k] == pytest.approx(rough_sea_emissivity_hemispherical("8-14", u),
                                          abs=6e-6)  # stored to 1e-5
     # between nodes (measured < 1e-4 off the model)
-    assert float(sea.sea_emissivity_rough(4.5)) == pytest.approx(
+    assert float(optics.sea_emissivity_rough(4.5)) == pytest.approx(
         rough_sea_emissivity_hemispherical("8-14", 4.5), abs=1e-4)
-    assert float(sea.sea_emissivity_rough(35.0)) == table[-1]
+    assert float(optics.sea_emissivity_rough(35.0)) == table[-1]
     # flat limit: the flat-water hemispherical value with the same band-mean index
-    flat = sea.sea_emissivity_hemispherical(water_band_mean_index("8-14"))
+    flat = optics.sea_emissivity_hemispherical(water_band_mean_index("8-14"))
     assert table[0] == pytest.approx(flat, abs=3e-3)
 
 

@@ -41,9 +41,15 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..diurnal import part_groups
 from ..errors import InputError, require
 from ..results import atomic_path
 from ..units import ZERO_CELSIUS
+from .chain import Simulation
+from .paper import REFERENCE_DECK, crossover_rows
+from .rundir import RunDir, scenario_inputs
+from .scenario import default_scenario, load_scenario
+from .thermal import run_scenario_thermal
 
 __all__ = ["CALIBRATION_SETTINGS", "DEFAULT_SIGMA_K", "Unknown", "CalibrationResult",
            "read_measurements", "parse_unknown", "calibrate", "paper_calibration"]
@@ -199,8 +205,6 @@ class _Case:
     """One scenario: ship, graph and ray tracing built once; warm-started evaluations."""
 
     def __init__(self, name, scenario, rows: pd.DataFrame, progress=False):
-        from ..diurnal import part_groups
-
         self.name = name
         self.scenario = scenario
         self.rows = rows
@@ -233,8 +237,6 @@ class _Case:
 
     def run(self, changes: dict):
         """The full diurnal result with these changes (warm-started, ray tracing reused)."""
-        from .thermal import run_scenario_thermal
-
         sc = self.scenario.updated(changes) if changes else self.scenario
         return run_scenario_thermal(sc, ship=self.ship, progress=False, traced=self.traced,
                                     graph=self.graph, initial_state=self.state)
@@ -243,7 +245,6 @@ class _Case:
         key = tuple(sorted((k, round(float(v), 10)) for k, v in changes.items()))
         if key in self.memo:
             return self.memo[key]
-        from .thermal import run_scenario_thermal
 
         t0 = _time.perf_counter()
         sc = self.scenario.updated(changes) if changes else self.scenario
@@ -408,8 +409,6 @@ def calibrate(measurements, unknowns, scenarios: dict | None = None, *, holdout:
     """
     from scipy import stats
     from scipy.optimize import least_squares
-
-    from .scenario import default_scenario, load_scenario
 
     say = log or (lambda m: None)
     t_start = _time.perf_counter()
@@ -618,8 +617,6 @@ PAINT_ABSORPTIVITY_RANGE = (0.2, 0.95)
 def paper_measurements() -> pd.DataFrame:
     """The paper's reference deck means as a measurement table: the two noon moments are
     fitted, the two crossover moments (07:00 summer, 08:00 winter) held out."""
-    from .paper import REFERENCE_DECK
-
     rows = [{"case": s, "hour": h, "target": "deck", "temperature_K": t,
              "sigma_K": DEFAULT_SIGMA_K, "split": "fit" if h == 12.0 else "holdout",
              "line": i + 2} for i, ((s, h), t) in enumerate(REFERENCE_DECK.items())]
@@ -636,6 +633,7 @@ def paper_variants() -> dict:
     * ``absorptivity`` — the coating: one deck solar absorptivity for both seasons (bounds
       :data:`PAINT_ABSORPTIVITY_RANGE`).
     """
+    # lazy: shipthermal.environment loads pvlib (seconds, measured)
     from ..environment.climatology import climate_day
 
     cloud = []
@@ -649,6 +647,7 @@ def paper_variants() -> dict:
 def plausibility(result: CalibrationResult) -> list:
     """Say, for each fitted unknown, what it means for Dalian against the climatology's
     sourced numbers."""
+    # lazy: shipthermal.environment loads pvlib (seconds, measured)
     from ..environment.climatology import climate_day
 
     out = []
@@ -693,10 +692,6 @@ def paper_calibration(settings: dict | None = None, log=None, crossovers: bool =
     --image`` does (:class:`~shipthermal.app.chain.Simulation`, every
     ``imaging.scr_interval``) and put the crossover moments beside the paper's
     (``'crossovers'``)."""
-    from .chain import Simulation
-    from .paper import crossover_rows
-    from .scenario import default_scenario
-
     meas = paper_measurements()
     scen = {s: default_scenario(s) for s in ("summer", "winter")}
     out = {}
@@ -758,9 +753,6 @@ def paper_text(paper: dict) -> str:
 def _measurement_inputs(path, meas: pd.DataFrame) -> list:
     """The files a calibration reads: the measurement CSV, the scenario files its cases
     name (relative to the CSV) and the files those scenarios name."""
-    from .rundir import scenario_inputs
-    from .scenario import load_scenario
-
     out = [str(path)]
     base = Path(path).parent
     for name in dict.fromkeys(meas["case"]):
@@ -779,8 +771,6 @@ def _measurement_inputs(path, meas: pd.DataFrame) -> list:
 def run_calibrate_command(args, con) -> int:
     """``shipthermal calibrate``: inputs checked first; products written only when the fit
     has finished (a user error leaves no folder behind)."""
-    from .rundir import RunDir
-
     settings = {} if args.full else None
     if args.paper:
         require(not args.measurements and not args.unknown, "--paper", True,

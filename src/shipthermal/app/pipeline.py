@@ -29,13 +29,16 @@ import numpy as np
 import pandas as pd
 
 from imaging.parameters import SENSOR_BANDS
+from imaging.thermal_history import ShipThermalHistory
 
 from ..errors import InputError, require
 from ..figures import FigureOptions
-from ..results import write_vtu_series
+from ..record_stream import RecordFile
+from ..results import EnergyLog, atomic_path, write_vtu_series
 from ..units import DAY, HOUR, with_units
 from .run_environment import aerosol_conditions, sea_glint_wind_speed, sky_weather
-from .thermal import ship_thermal_history
+from .scenario import default_scenario
+from .thermal import run_scenario_thermal, ship_thermal_history
 
 __all__ = ["QUICK_EDGE_LENGTH", "demo_scenarios", "thermal_case", "store_thermal", "prepare",
            "check_imaging_bands", "output_inputs", "write_thermal", "save_history",
@@ -59,8 +62,6 @@ def demo_scenarios(quick: bool = False, seasons=("summer", "winter")) -> dict:
     They are :func:`~shipthermal.app.scenario.default_scenario` itself; ``quick`` changes
     only the ship's edge length (:data:`QUICK_EDGE_LENGTH`).
     """
-    from .scenario import default_scenario
-
     if not quick:
         return {s: default_scenario(s) for s in seasons}
     return {s: default_scenario(s).updated({"ship.edge_length": QUICK_EDGE_LENGTH})
@@ -72,8 +73,6 @@ def demo_scenarios(quick: bool = False, seasons=("summer", "winter")) -> dict:
 # ---------------------------------------------------------------------------------------
 def save_history(history, path) -> Path:
     """Write an :class:`imaging.thermal_history.ShipThermalHistory` to ``.npz`` (atomic)."""
-    from ..results import atomic_path
-
     path = Path(path)
     with atomic_path(path) as tmp:
         np.savez_compressed(
@@ -105,8 +104,6 @@ def history_file(case_dir) -> Path:
 def load_history(path):
     """Read what :func:`save_history` (``.npz``) or the record stream (``.h5``,
     :mod:`shipthermal.record_stream`) wrote; ``path`` may be the case folder."""
-    from imaging.thermal_history import ShipThermalHistory
-
     path = Path(path)
     if path.is_dir():
         path = history_file(path)
@@ -128,10 +125,6 @@ def load_history(path):
 
 def _record_history(path):
     """The history of a weather record's outputs file, face temperatures read lazily."""
-    from imaging.thermal_history import ShipThermalHistory
-
-    from ..record_stream import RecordFile
-
     rec = RecordFile(path)
     pm = rec.part_means()
     return ShipThermalHistory(**rec.ship_arrays(), times_s=rec.times,
@@ -160,8 +153,6 @@ def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
     ``outputs.formats``; ``thermal.vtkhdf`` with ``vtkhdf``; a VTU series with ``vtu``
     (a record: its sampled days, :data:`shipthermal.record_stream.SAMPLE_DAYS_MAX`).
     """
-    from ..results import EnergyLog, atomic_path
-
     out = Path(out_dir)
     given = output_inputs(scenario)
     fmts = set(given["formats"])
@@ -192,8 +183,6 @@ def _link_or_copy(src, dst) -> Path:
     file system); atomically either way."""
     import shutil
 
-    from ..results import atomic_path
-
     dst = Path(dst)
     with atomic_path(dst) as tmp:
         tmp.unlink()
@@ -212,8 +201,6 @@ def thermal_case(scenario, run, case: str, *, resume: bool = False, progress: bo
     A finished stage (``thermal/<case>/`` exists) is skipped on ``resume``. Returns the
     run's summary (``thermal_summary.json``).
     """
-    from .thermal import run_scenario_thermal
-
     stage = f"thermal/{case}"
     if resume and run.has(stage):
         if log:
@@ -313,6 +300,7 @@ def record_span_s(scenario) -> float | None:
 
 def _ground(spec: dict, progress: bool = False):
     """The :class:`imaging.background.physical.GroundCover` of ``background_inputs``."""
+    # lazy: imaging.background loads scikit-learn, pykrige and scipy.stats (seconds, measured)
     from imaging.background.physical import ground_from_overpass, ground_from_synthetic
 
     spec = dict(spec)
@@ -344,8 +332,8 @@ def build_background(scenario, progress: bool = False):
     environment; with ``model = 'paper'`` the paper's chain."""
     kind, kwargs = background_inputs(scenario)
     if kind == "physical":
+        # lazy: imaging.background loads scikit-learn, pykrige and scipy.stats (seconds)
         from imaging.background.physical import build_physical_background
-
         from imaging.background.surface_classes import apply_overrides
 
         return _reading_rasters(scenario, lambda: build_physical_background(
@@ -395,6 +383,7 @@ def imaging_scenario(scenario, background, ship):
     mean wind (sea glint), wind and humidity (aerosol) and near-surface weather (the
     image's thermal sky follows the thermal stage's).
     """
+    # lazy: the renderer loads the ray tracer and the atmosphere (seconds, measured)
     from imaging.experiment import ImagingScenario
     from imaging.render import SensorOptions
     from imaging.scene import ShipPlacement, as_scene_background
@@ -511,6 +500,7 @@ def image_cases(cases: dict, out_dir, progress: bool = True, log=None,
     background goes to ``<group>/background/<case>/`` (GeoTIFFs in K, class map, tables).
     Returns ``{group folder: ExperimentResult}`` and writes the products.
     """
+    # lazy: the background's products and the renderer take seconds to import (measured)
     from imaging.background.outputs import write_outputs
     from imaging.experiment import run_experiment
 

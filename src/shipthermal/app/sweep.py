@@ -64,7 +64,14 @@ import pandas as pd
 
 from ..errors import InputError
 from ..figures import OKABE_ITO, band_label
+from ..results import atomic_path, save_png
 from ..units import HOUR
+from . import pipeline
+from .pipeline import check_imaging_bands, frame_times, imaging_scenario
+from .rundir import atomic_write_text, named_files
+from .scenario import SEASONS, ScenarioError, load_scenario, loads_scenario
+from .scenario.reading import read_toml
+from .thermal import run_scenario_thermal, ship_thermal_history
 
 __all__ = ["SweepSpec", "SweepCase", "load_sweep", "run_case", "run_sweep", "SweepResult",
            "plot_table", "default_workers", "CASE_THREADS", "sweep_inputs"]
@@ -143,8 +150,6 @@ def _digest(text: str) -> str:
 
 def _first_error(reader, path, field):
     """A reader's :class:`ScenarioError` of one problem as a plain one-line InputError."""
-    from .scenario import ScenarioError
-
     try:
         return reader(path, field)
     except ScenarioError as exc:
@@ -162,9 +167,6 @@ def load_sweep(path) -> SweepSpec:
         read; or a :class:`~shipthermal.app.scenario.ScenarioError` naming the case and every
         problem of its scenario.
     """
-    from .scenario import SEASONS, ScenarioError, load_scenario
-    from .scenario.reading import read_toml
-
     path = Path(path)
     text, raw = _first_error(read_toml, path, "sweep")
     for k in raw:
@@ -269,8 +271,6 @@ def load_sweep(path) -> SweepSpec:
                                        e.fix) for e in exc.errors)
             continue
         if "imaging" in stages:
-            from .pipeline import check_imaging_bands
-
             try:
                 check_imaging_bands(sc)
             except InputError as e:
@@ -297,9 +297,6 @@ on the season, date, location and [background], and costs seconds)."""
 def sweep_inputs(spec: SweepSpec) -> list:
     """The files a sweep reads: the sweep file, its base scenario and every file its cases'
     scenarios name (the sweep folder may hold none of them)."""
-    from .rundir import named_files
-    from .scenario import SEASONS
-
     out = []
     src = Path(spec.source)
     if src.is_file():
@@ -321,13 +318,11 @@ def _background_key(sc) -> str:
 
 
 def _background(sc):
-    from .pipeline import build_background
-
     key = _background_key(sc)
     if key not in _BACKGROUNDS:
         if len(_BACKGROUNDS) >= 4:
             _BACKGROUNDS.pop(next(iter(_BACKGROUNDS)))
-        _BACKGROUNDS[key] = build_background(sc)
+        _BACKGROUNDS[key] = pipeline.build_background(sc)   # through the module: tests replace it
     return _BACKGROUNDS[key]
 
 
@@ -398,9 +393,6 @@ def _fail(out: dict, exc: BaseException) -> None:
 def _thermal_part(spec: dict, threads: int = CASE_THREADS):
     """The thermal stage of a case: ``(result, history)``; ``history`` (the imaging
     stage's input) is ``None`` when the case failed or has no imaging stage."""
-    from .scenario import loads_scenario
-    from .thermal import run_scenario_thermal, ship_thermal_history
-
     t0, c0 = _time.perf_counter(), _time.process_time()
     out = _new_result(spec)
     history = None
@@ -435,10 +427,8 @@ def _imaging_part(part, spec: dict, threads: int = CASE_THREADS) -> dict:
     out, history = part
     if history is None:            # thermal only, or the thermal stage failed
         return out
+    # lazy: the renderer loads the ray tracer and the atmosphere (seconds, measured)
     from imaging.experiment import render_series
-
-    from .pipeline import frame_times, imaging_scenario
-    from .scenario import loads_scenario
 
     t1, c1 = _time.perf_counter(), _time.process_time()
     try:
@@ -527,8 +517,6 @@ def plot_table(table: pd.DataFrame, axis_names, path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..results import save_png
-
     labels = [" | ".join(str(r[a]) for a in axis_names) for _, r in table.iterrows()]
     x = np.arange(len(table))
     bands = sorted({c[len("scr_min_"):] for c in table.columns if c.startswith("scr_min_")})
@@ -583,8 +571,6 @@ def plot_table(table: pd.DataFrame, axis_names, path) -> Path:
 
 
 def _write_case(cases_dir: Path, result: dict) -> None:
-    from .rundir import atomic_write_text
-
     atomic_write_text(cases_dir / f"{result['id']}.json",
                       json.dumps(result, indent=1, default=str) + "\n")
 
@@ -783,7 +769,6 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
     finally:
         bar.close()
     table = _table(spec, results)
-    from ..results import atomic_path
 
     files = {}
     with atomic_path(out / "table.csv") as tmp:

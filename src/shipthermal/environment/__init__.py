@@ -36,9 +36,10 @@ from shipthermal.parameters import (DECOMPOSITIONS, DEFAULT_SEA_SKIN_MODEL, LATI
 from shipthermal.units import DAY as DAY_SECONDS
 from shipthermal.units import ZERO_CELSIUS
 
+from ..optics import sea_emissivity_rough
 from . import climatology, convection, sea, sea_skin, sky, sun, weather
 from .climatology import ClimateDay, climate_day, dalian_summer, dalian_winter
-from .weather import Weather, read_weather_csv, read_weather_epw, read_weather_tmy3
+from .weather import Weather, read_weather_csv
 
 __all__ = [
     "Environment",
@@ -50,8 +51,6 @@ __all__ = [
     "dalian_summer",
     "dalian_winter",
     "read_weather_csv",
-    "read_weather_epw",
-    "read_weather_tmy3",
     "sun",
     "weather",
     "climatology",
@@ -193,7 +192,8 @@ class Environment:
         Override pvlib's Linke turbidity climatology [-].
     sea_emissivity : float or None
         Hemispherical sea emissivity [-]; None (default): the rough-sea model of the imaging
-        at each time's wind speed (:func:`.sea.sea_emissivity_rough`), so both stages see
+        at each time's wind speed (:func:`shipthermal.optics.sea_emissivity_rough`), so both
+        stages see
         the same sea.
     sea_skin : {'fairall_coare', 'zeng_beljaars', 'none'} or bool
         Model of the sea's skin temperature (:mod:`.sea_skin`): the weather's bulk SST plus
@@ -341,7 +341,7 @@ class Environment:
         """
         s = self._seconds(times)
         ws, instants, zen, azi, dni, dhi, ghi, lw = self._sample(s)
-        eps_sea = (sea.sea_emissivity_rough(ws.wind_speed) if self.sea_emissivity is None
+        eps_sea = (sea_emissivity_rough(ws.wind_speed) if self.sea_emissivity is None
                    else self.sea_emissivity)
         warm, cool = self.sea_skin_deltas(s)
         skin = ws.temp_sea + warm - cool
@@ -362,8 +362,7 @@ class Environment:
         instants, zenith, azimuth, dni, dhi, ghi, longwave_down)``."""
         w = self.weather
         if w.periodic:
-            period = len(w.time) * w.step
-            folded = np.mod(s, period)
+            folded = w.fold(s)
             ws = w.at(folded)
             instants = self.start + pd.to_timedelta(folded, unit="s")
         else:
@@ -377,7 +376,7 @@ class Environment:
         ghi_in = ws.ghi
         if ghi_in is not None and w.solar_interval != "instant":
             knots, values = self.solar_profile()
-            t = np.mod(s, len(w.time) * w.step) if w.periodic else s
+            t = w.fold(s)
             ghi_in = np.interp(t, knots, values)
             ws = dataclasses.replace(ws, ghi=ghi_in)
         if ghi_in is not None:
@@ -429,10 +428,9 @@ class Environment:
             values = sun.interval_profile(w.ghi, shape, n_sub, periodic=w.periodic)
             if w.periodic:
                 # one period from 0: roll the knots that lie before 0 to its end
-                period = len(w.time) * w.step
-                k = np.mod(knots[:-1], period)
+                k = w.fold(knots[:-1])
                 order = np.argsort(k)
-                knots = np.append(k[order], period)
+                knots = np.append(k[order], w.period)
                 values = np.append(values[:-1][order], values[:-1][order][0])
             self._solar = (knots, values)
         return self._solar
@@ -455,12 +453,11 @@ class Environment:
             return None
         if self._skin_table is None:
             w = self.weather
+            period = w.period
             if w.periodic:
-                period = len(w.time) * w.step
                 n = max(int(np.ceil(period / SEA_SKIN_STEP - 1e-9)), 2)
                 grid = np.arange(n) * (period / n)
             else:
-                period = None
                 span = (w.time[-1] - self.start).total_seconds()
                 n = max(int(np.ceil(span / SEA_SKIN_STEP - 1e-9)), 1) + 1
                 grid = np.linspace(0.0, span, n)
@@ -487,8 +484,8 @@ class Environment:
             return np.zeros_like(s), np.zeros_like(s)
         g, warm, cool = table.seconds, table.delta_warm, table.delta_cool
         if table.periodic:
-            period = len(self.weather.time) * self.weather.step
-            s = np.mod(s, period)
+            period = self.weather.period
+            s = self.weather.fold(s)
             g = np.append(g, g[0] + period)
             warm, cool = np.append(warm, warm[0]), np.append(cool, cool[0])
         return np.interp(s, g, warm), np.interp(s, g, cool)

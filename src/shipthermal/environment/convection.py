@@ -227,31 +227,44 @@ SEA_ROUGHNESS_LENGTH = 2.0e-4
 Aerodyn. 41, 357–368, Table 1: "open sea, fetch at least 5 km", z0 = 0.0002 m)."""
 
 
-def wind_speed_at_height(wind_speed_10m, height, roughness_length=SEA_ROUGHNESS_LENGTH):
-    """Wind speed at another height by the neutral logarithmic profile.
+def wind_speed_at_height(wind_speed, height, reference_height=10.0,
+                         roughness_length=SEA_ROUGHNESS_LENGTH):
+    """Wind speed at ``height`` from a speed measured at ``reference_height`` (neutral
+    logarithmic profile over the sea).
+
+    The one home of the wind profile: the forcing takes the 10 m wind to each face's height,
+    the station readers take an anemometer's wind to 10 m (``height=10.0,
+    reference_height=<anemometer height>``).
 
     Parameters
     ----------
-    wind_speed_10m : array_like
-        Wind speed measured at 10 m [m s-1].
+    wind_speed : array_like
+        Wind speed measured at ``reference_height`` [m s-1].
     height : array_like
-        Height above the sea surface [m] (clipped below at 10 roughness lengths).
+        Height above the sea surface the speed is wanted at [m].
+    reference_height : array_like
+        Height above the sea surface the speed was measured at [m] (10 m: the weather's).
     roughness_length : float
         Aerodynamic roughness length of the sea [m] (:data:`SEA_ROUGHNESS_LENGTH`).
 
     Returns
     -------
     numpy.ndarray
-        ``u10 ln(z / z0) / ln(10 / z0)`` [m s-1].
+        ``u(z_ref) ln(z / z0) / ln(z_ref / z0)`` [m s-1]; both heights are clipped below at
+        10 roughness lengths (the log law's lower end: a face at the waterline takes the
+        wind there). Anemometer heights are validated at the input
+        (``weather.wind_height``).
 
     Notes
     -----
-    Neutral surface layer (Stull 1988, An Introduction to Boundary Layer Meteorology,
-    §9.7); stability and the ship's own flow disturbance are ignored.
+    Neutral surface layer, u(z) = (u*/κ) ln(z / z0) (Stull 1988, An Introduction to
+    Boundary Layer Meteorology, eq. 9.7.5c); stability and the ship's own flow
+    disturbance are ignored.
     """
     z0 = float(roughness_length)
     z = np.maximum(np.asarray(height, dtype=float), 10.0 * z0)
-    return np.asarray(wind_speed_10m, dtype=float) * np.log(z / z0) / np.log(10.0 / z0)
+    z_ref = np.maximum(np.asarray(reference_height, dtype=float), 10.0 * z0)
+    return np.asarray(wind_speed, dtype=float) * np.log(z / z0) / np.log(z_ref / z0)
 
 
 def reynolds(speed, length, kinematic_viscosity):

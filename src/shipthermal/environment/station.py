@@ -14,7 +14,8 @@ and says what it did:
 * **Missing-value codes** are turned into NaN by the readers (NDBC 99 / 999 / 9999 by
   column, EPW's codes through pvlib's documented values).
 * **Wind height**: the speed measured at ``wind_height`` is reduced to 10 m by the
-  neutral logarithmic profile over the sea (:func:`wind_speed_at_10m`).
+  neutral logarithmic profile over the sea
+  (:func:`~shipthermal.environment.convection.wind_speed_at_height`).
 * Quantities a file does not carry (NDBC: cloud cover; EPW/TMY: sea temperature) come
   from constants given by the caller (``fallback``), and the report says so.
 
@@ -38,14 +39,14 @@ from shipthermal.parameters import (AIR_SEA_DIFFERENCE_K, AIR_SEA_WARN_K, HUMIDI
                                     STATION_SUFFIXES, WIND_SPEED_WARN)
 from shipthermal.units import ZERO_CELSIUS
 
-from .convection import SEA_ROUGHNESS_LENGTH
+from .convection import SEA_ROUGHNESS_LENGTH, wind_speed_at_height
 from .sky import relative_humidity_from_dew_point
-from .weather import _LIMITS, Weather, read_csv_frame
+from .weather import _LIMITS, Weather, interpolate_wind_direction, read_csv_frame
 
 __all__ = ["STATION_FORMATS", "FIELDS", "REQUIRED_FIELDS", "MAX_GAP_HOURS", "EDGE_HOLD_S",
            "NDBC_MISSING", "StationRecord", "WeatherReport", "read_station", "read_ndbc",
            "to_weather", "check_weather", "weather_sense", "great_circle_km",
-           "wind_speed_at_10m", "guess_format"]
+           "guess_format"]
 
 FIELDS = ("temp_air", "relative_humidity", "wind_speed", "wind_direction", "cloud_cover",
           "temp_sea", "ghi", "longwave_down")
@@ -77,37 +78,6 @@ _NDBC_ALIASES = {"#YY": "YY", "WD": "WDIR", "BAR": "PRES"}  # NDBC historical fi
 _FALLBACK_KEY = {"temp_sea": "weather.temp_sea", "cloud_cover": "weather.cloud_cover",
                  "wind_direction": "weather.wind_direction"}
 _FALLBACK_UNIT = {"temp_sea": "K", "cloud_cover": "fraction 0-1", "wind_direction": "deg"}
-
-
-def wind_speed_at_10m(wind_speed, height, roughness_length=SEA_ROUGHNESS_LENGTH):
-    """Wind speed at 10 m from a speed measured at ``height`` (neutral log law).
-
-    Parameters
-    ----------
-    wind_speed : array_like
-        Speed measured at ``height`` [m s-1].
-    height : float
-        Anemometer height above the sea surface [m].
-    roughness_length : float
-        Aerodynamic roughness length of the sea [m]
-        (:data:`~shipthermal.environment.convection.SEA_ROUGHNESS_LENGTH`).
-
-    Returns
-    -------
-    numpy.ndarray
-        ``u(z) ln(10 / z0) / ln(z / z0)`` [m s-1] — the inverse of
-        :func:`~shipthermal.environment.convection.wind_speed_at_height`.
-
-    Notes
-    -----
-    Neutral surface layer, u(z) = (u*/κ) ln(z / z0) (Stull 1988, An Introduction to
-    Boundary Layer Meteorology, eq. 9.7.5c); stability is ignored.
-    """
-    z0 = float(roughness_length)
-    z = float(height)
-    require(z > 10.0 * z0, "weather.wind_height", z,
-            f"must be above 10 roughness lengths of the sea ({10 * z0:g} m)")
-    return np.asarray(wind_speed, dtype=float) * np.log(10.0 / z0) / np.log(z / z0)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -276,8 +246,8 @@ def read_ndbc(path, tz: Optional[str] = None) -> StationRecord:
     StationRecord
         ``temp_air`` from ATMP, ``temp_sea`` from WTMP, ``relative_humidity`` from DEWP
         (Magnus), ``wind_speed`` from WSPD (at the anemometer height: see
-        :func:`wind_speed_at_10m`), ``wind_direction`` from WDIR. No cloud cover (NDBC
-        buoys do not observe it) and no irradiance.
+        :func:`~.convection.wind_speed_at_height`), ``wind_direction`` from WDIR. No cloud
+        cover (NDBC buoys do not observe it) and no irradiance.
     """
     return read_station(path, "ndbc", tz=tz)
 
@@ -535,10 +505,7 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
             continue
         t_ok, v_ok = tx[ok], col[ok]
         if field == "wind_direction":
-            # interpolate the direction as a unit vector (350° -> 10° passes north)
-            phi = np.radians(v_ok)
-            v_grid = np.degrees(np.arctan2(np.interp(gx, t_ok, np.sin(phi)),
-                                           np.interp(gx, t_ok, np.cos(phi)))) % 360.0
+            v_grid = interpolate_wind_direction(gx, t_ok, v_ok)
         else:
             v_grid = np.interp(gx, t_ok, v_ok)
         # the valid observations around each grid time
@@ -596,8 +563,9 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
         values[field] = v_grid
     notes = list(record.notes)
     if "wind_speed" in values and abs(wind_height - 10.0) > 1e-9:
-        values["wind_speed"] = wind_speed_at_10m(values["wind_speed"], wind_height)
-        factor = float(wind_speed_at_10m(1.0, wind_height))
+        values["wind_speed"] = wind_speed_at_height(values["wind_speed"], 10.0,
+                                                    reference_height=wind_height)
+        factor = float(wind_speed_at_height(1.0, 10.0, reference_height=wind_height))
         notes.append(f"wind_speed: reduced from {wind_height:g} m to 10 m (log law, z0 = "
                      f"{SEA_ROUGHNESS_LENGTH:g} m: x {factor:.4f})")
     # physical ranges, every field at once

@@ -1,12 +1,12 @@
-"""Hourly weather: a validated record, file readers and time interpolation.
+"""Hourly weather: a validated record, the CSV parser and time interpolation.
 
 :class:`Weather` holds one station record on a regular, time-zone-aware time axis
-(SI units, kelvin). Readers build it from
-
-* a CSV file with documented columns (:func:`read_weather_csv`), which also accepts
-  RadTherm-style names (AIRT, SOLAR, WIND, HUMID, CLOUD, LWIR, WINDIR, SST),
-* an EnergyPlus EPW file (:func:`read_weather_epw`, through ``pvlib.iotools.read_epw``),
-* a TMY3 file (:func:`read_weather_tmy3`, through ``pvlib.iotools.read_tmy3``).
+(SI units, kelvin). The CSV parser (:func:`read_csv_frame`, documented columns, also
+RadTherm-style names AIRT, SOLAR, WIND, HUMID, CLOUD, LWIR, WINDIR, SST) gives a strict,
+regular record directly (:func:`read_weather_csv`); every format (CSV, EPW, TMY2, TMY3,
+NDBC) is read, gap-checked and put on the hours by
+:func:`shipthermal.environment.station.read_station` and
+:func:`~shipthermal.environment.station.to_weather`: one parser per format.
 
 :meth:`Weather.at` interpolates every field to arbitrary solver times (vectorised;
 the wind direction is interpolated as a vector so 350° → 10° passes through north).
@@ -47,7 +47,6 @@ Records with gaps, off-the-hour times or other formats (NDBC) go through
 
 from __future__ import annotations
 
-import calendar
 import dataclasses
 import os
 import re
@@ -56,7 +55,7 @@ from typing import Optional
 import numpy as np
 import pandas as pd
 
-from shipthermal.errors import InputError, check_finite, require
+from shipthermal.errors import InputError, require
 from shipthermal.parameters import CLOUD_COVER_SCALE, TEMP_UNITS
 from shipthermal.units import ZERO_CELSIUS
 
@@ -68,10 +67,10 @@ __all__ = [
     "CSV_COLUMNS",
     "RADTHERM_ALIASES",
     "read_weather_csv",
-    "read_weather_epw",
-    "read_weather_tmy3",
     "read_csv_frame",
     "SOLAR_INTERVALS",
+    "CALM_WIND_SPEED",
+    "interpolate_wind_direction",
 ]
 
 SOLAR_INTERVALS = ("instant", "ending", "centred")
@@ -101,6 +100,41 @@ _LIMITS = {
     "ghi": (0.0, 1500.0, "W/m2"),
     "longwave_down": (50.0, 600.0, "W/m2"),
 }
+
+
+CALM_WIND_SPEED = 1e-3
+"""Least weight [m/s] of an hour's wind vector when the direction is interpolated between
+hours (:meth:`Weather.at`): a calm hour then does not steer the direction, yet still has one."""
+
+
+def interpolate_wind_direction(x, xp, wind_direction, weight=1.0):
+    """Wind direction at ``x`` from directions at ``xp``: the direction of the linearly
+    interpolated wind vector, so that 350° → 10° passes through north.
+
+    The one rule for the wind direction between observations or record steps.
+
+    Parameters
+    ----------
+    x : array_like
+        Times to interpolate to [s] (any common origin with ``xp``).
+    xp : array_like
+        Increasing times of the directions [s].
+    wind_direction : array_like
+        Direction the wind blows from at ``xp``, clockwise from north [deg].
+    weight : array_like
+        Length of each vector: the wind speed [m/s] where it is known at the same times
+        (a record: :meth:`Weather.at`), or 1 (unit vectors: a station's observations,
+        whose speed and direction go missing independently).
+
+    Returns
+    -------
+    numpy.ndarray
+        Direction in [0, 360) [deg].
+    """
+    phi = np.radians(wind_direction)
+    u = np.interp(x, xp, weight * np.sin(phi))
+    v = np.interp(x, xp, weight * np.cos(phi))
+    return np.degrees(np.arctan2(u, v)) % 360.0
 
 
 @dataclasses.dataclass(frozen=True)
@@ -237,6 +271,20 @@ class Weather:
         return self.time[0]
 
     @property
+    def period(self) -> Optional[float]:
+        """Length of the repeated cycle of a periodic record, ``len(time) * step`` [s];
+        None for a record that does not repeat."""
+        return len(self.time) * self.step if self.periodic else None
+
+    def fold(self, seconds):
+        """Seconds after :attr:`start` folded into the cycle of a periodic record
+        (``seconds mod period``); unchanged for a record that does not repeat.
+
+        The one place where a time is folded into the weather's period.
+        """
+        return np.mod(seconds, self.period) if self.periodic else seconds
+
+    @property
     def temp_dew(self) -> np.ndarray:
         """Dew point [K] (Magnus)."""
         return dew_point(self.temp_air, np.maximum(self.relative_humidity, 0.1))
@@ -279,9 +327,8 @@ class Weather:
         s = np.atleast_1d(self.seconds(times)).astype(float)
         tk = np.asarray((self.time - self.start).total_seconds(), dtype=float)
         if self.periodic:
-            period = len(tk) * self.step
-            s = np.mod(s, period)
-            tk = np.append(tk, period)
+            s = self.fold(s)
+            tk = np.append(tk, self.period)
 
             def wrap(a):
                 return np.append(a, a[0])
@@ -308,12 +355,8 @@ class Weather:
             n = len(self.ghi)
             ghi = self.ghi[np.mod(k, n)] if self.periodic else self.ghi[np.clip(k, 0, n - 1)]
 
-        phi = np.radians(self.wind_direction)
-        # unit vectors weighted by speed; a calm hour then does not steer the direction
-        w = np.maximum(self.wind_speed, 1e-3)
-        u = lin(w * np.sin(phi))
-        v = lin(w * np.cos(phi))
-        direction = np.degrees(np.arctan2(u, v)) % 360.0
+        direction = interpolate_wind_direction(
+            s, tk, wrap(self.wind_direction), wrap(np.maximum(self.wind_speed, CALM_WIND_SPEED)))
         return WeatherSample(
             temp_air=lin(self.temp_air),
             relative_humidity=lin(self.relative_humidity),
@@ -560,122 +603,3 @@ def _ragged_line(path) -> str:
             elif m != n:
                 return f"line {k} has {m} fields, the header {n}"
     return ""
-
-
-def _sst_required(temp_sea, fmt):
-    require(temp_sea is not None, "temp_sea", None,
-            f"{fmt} files carry no sea temperature: pass temp_sea= [K] (scalar or array)")
-    check_finite("temp_sea", temp_sea)
-
-
-def read_weather_epw(path, temp_sea, year: Optional[int] = None,
-                     use_measured_irradiance: bool = True,
-                     use_measured_longwave: bool = True) -> Weather:
-    """Read an EnergyPlus EPW file through ``pvlib.iotools.read_epw``.
-
-    Parameters
-    ----------
-    path : str or path-like
-        EPW file.
-    temp_sea : float or array_like
-        Sea surface temperature [K] (EPW has none).
-    year : int, optional
-        Coerce all rows to this year (typical-year files mix years; without it the
-        index may be unsorted).
-    use_measured_irradiance, use_measured_longwave : bool
-        Keep the file's GHI / horizontal infrared (long-wave down) columns.
-
-    Returns
-    -------
-    Weather
-        Labelled at the end of each hour (EPW "hour 1" -> 01:00; pvlib labels it 00:00,
-        the start of the interval), fixed UTC offset from the header. GHI is the hour's
-        energy (``solar_interval='ending'``); the horizontal infrared is read as the value
-        at the end of its hour, as EnergyPlus reads it (its state values).
-        Cloud cover from 'total_sky_cover' (tenths). EPW's 9999 "missing" codes for
-        infrared are mapped to NaN and then rejected by validation unless
-        ``use_measured_longwave=False``.
-    """
-    import pvlib
-
-    _sst_required(temp_sea, "EPW")
-    require(os.path.isfile(path), "weather.path", str(path), "must be an existing file")
-    try:
-        data, meta = pvlib.iotools.read_epw(path, coerce_year=year)
-    except Exception as exc:  # pvlib raises assorted parser errors
-        raise InputError("weather.path", str(path), f"must be a valid EPW file ({exc})")
-    if year is not None and calendar.isleap(int(year)) and not \
-            ((data.index.month == 2) & (data.index.day == 29)).any() and \
-            (data.index.month == 3).any():
-        raise InputError("year", year, "is a leap year but the file has no 29 February",
-                         "Use a non-leap year, e.g. 2001")
-    if year is None and not data.index.is_monotonic_increasing:
-        raise InputError("year", None, "the EPW rows mix years and are unsorted",
-                         "Pass year=... to coerce them to one year")
-    lw = None
-    if use_measured_longwave and "ghi_infrared" in data:
-        lw = data["ghi_infrared"].to_numpy(dtype=float)
-        lw = np.where(lw >= 9999, np.nan, lw)
-    # pvlib labels EPW row "hour h" at h - 1 (start of the interval); the instantaneous
-    # fields (temperature, humidity, wind) belong to the end of the hour
-    return Weather(time=data.index + pd.Timedelta(hours=1),
-                   temp_air=data["temp_air"].to_numpy(dtype=float) + ZERO_CELSIUS,
-                   relative_humidity=data["relative_humidity"].to_numpy(dtype=float),
-                   wind_speed=data["wind_speed"].to_numpy(dtype=float),
-                   wind_direction=data["wind_direction"].to_numpy(dtype=float) % 360.0,
-                   cloud_cover=data["total_sky_cover"].to_numpy(dtype=float) / 10.0,
-                   temp_sea=temp_sea,
-                   ghi=data["ghi"].to_numpy(dtype=float) if use_measured_irradiance else None,
-                   longwave_down=lw, solar_interval="ending",
-                   source=f"epw:{meta.get('city', '')}")
-
-
-def read_weather_tmy3(path, temp_sea, year: int = 2001,
-                      use_measured_irradiance: bool = True) -> Weather:
-    """Read a TMY3 file through ``pvlib.iotools.read_tmy3``.
-
-    Parameters
-    ----------
-    path : str or path-like
-        TMY3 CSV file (e.g. ``pvlib/data/703165TY.csv``, Sand Point, Alaska).
-    temp_sea : float or array_like
-        Sea surface temperature [K] (TMY3 has none).
-    year : int
-        Coerce all rows to this year. Always applied: without it pvlib returns an
-        unsorted mixed-year index. pvlib moves the final "24:00" row into January of
-        the next year; that row is kept (the record stays regular and sorted).
-    use_measured_irradiance : bool
-        Keep the file's GHI.
-
-    Notes
-    -----
-    ``year`` must not be a leap year: typical years have no 29 February and a leap
-    year would leave a 24 h hole.
-
-    Returns
-    -------
-    Weather
-        Cloud cover from 'TotCld' (tenths); TMY3 has no long-wave column. GHI is the
-        hour-ending mean of TMY3 (``solar_interval='ending'``).
-    """
-    import pvlib
-
-    _sst_required(temp_sea, "TMY3")
-    require(not calendar.isleap(int(year)), "year", year,
-            "must not be a leap year (TMY3 files have no 29 February)", "Use e.g. 2001")
-    require(os.path.isfile(path), "weather.path", str(path), "must be an existing file")
-    try:
-        data, meta = pvlib.iotools.read_tmy3(path, coerce_year=year, map_variables=True)
-    except Exception as exc:
-        raise InputError("weather.path", str(path), f"must be a valid TMY3 file ({exc})")
-    data = data.sort_index()
-    return Weather(time=data.index,
-                   temp_air=data["temp_air"].to_numpy(dtype=float) + ZERO_CELSIUS,
-                   relative_humidity=data["relative_humidity"].to_numpy(dtype=float),
-                   wind_speed=data["wind_speed"].to_numpy(dtype=float),
-                   wind_direction=data["wind_direction"].to_numpy(dtype=float) % 360.0,
-                   cloud_cover=data["TotCld (tenths)"].to_numpy(dtype=float) / 10.0,
-                   temp_sea=temp_sea,
-                   ghi=data["ghi"].to_numpy(dtype=float) if use_measured_irradiance else None,
-                   solar_interval="ending",
-                   source=f"tmy3:{str(meta.get('Name', '')).strip(chr(34))}")

@@ -15,13 +15,14 @@ on it and are shared by both sides, so a closed surface stays closed).
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Mapping, Optional, Sequence
 
 import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["MAIN_PARTS", "HULL_PARTS", "main_part", "split_at_waterline", "label_hull_by_side",
+__all__ = ["MAIN_PARTS", "HULL_PARTS", "main_part", "part_keys", "part_key", "part_value",
+           "split_at_waterline", "label_hull_by_side",
            "face_areas", "part_areas", "boundary_edges", "signed_volume"]
 
 MAIN_PARTS: tuple[str, ...] = ("hull_wetted", "hull_dry", "deck", "superstructure")
@@ -44,6 +45,42 @@ def main_part(name: str) -> str:
     raise InputError("part name", name,
                      f"must be one of {', '.join(MAIN_PARTS)}, 'hull' (split at the waterline "
                      "automatically) or a sub-part '<main>_<detail>' such as 'superstructure_funnel'")
+
+
+def part_keys(name: str) -> tuple[str, ...]:
+    """Keys a (sub-)part's value may be given under, most specific first: the part, its main
+    part, and ``'hull'`` for the parts of the hull (``hull_wetted``, ``hull_dry`` and their
+    sub-parts).
+
+    The one lookup policy of per-part values (scenario tables, user overrides, the
+    parameter sets of :mod:`shipthermal.parameters` keyed by main part and ``'hull'``).
+    """
+    main = main_part(name)
+    keys = [name, main] + (["hull"] if main in HULL_PARTS else [])
+    return tuple(dict.fromkeys(keys))
+
+
+def part_key(table: Mapping, name: str) -> Optional[str]:
+    """The key of ``table`` that holds the value of part ``name`` (the first of
+    :func:`part_keys` in it), or None when it holds none."""
+    for key in part_keys(name):
+        if key in table:
+            return key
+    return None
+
+
+def part_value(table: Mapping, name: str, what: str = "value"):
+    """The value of part ``name`` in ``table`` (looked up by :func:`part_key`).
+
+    Raises
+    ------
+    InputError
+        Naming the part, ``what`` it lacks and the parts with a value.
+    """
+    key = part_key(table, name)
+    if key is None:
+        raise InputError("part", name, f"has no {what}; parts with a value: {', '.join(table)}")
+    return table[key]
 
 
 def face_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:

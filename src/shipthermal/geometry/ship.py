@@ -34,8 +34,8 @@ from ..errors import InputError, check_positive, check_range, require
 from ..materials import Layup
 from .layups import compartment_temperatures, default_layups, outer_media
 from .limits import builtin_area_bound, check_surface_size
-from .parts import (MAIN_PARTS, boundary_edges, face_areas, main_part, part_areas,
-                    signed_volume, split_at_waterline)
+from .parts import (HULL_PARTS, MAIN_PARTS, boundary_edges, face_areas, main_part, part_areas,
+                    part_key, signed_volume, split_at_waterline)
 
 __all__ = ["ShipGeometry", "ShipParameters", "Block", "build_ship", "frigate", "patrol_boat",
            "cargo_ship", "BUILTIN_SHIPS", "DEFAULT_EDGE_LENGTH"]
@@ -177,7 +177,7 @@ class ShipGeometry:
         """Faces of a part; a main-part name also selects its sub-parts."""
         if name in MAIN_PARTS or name == "hull":
             members = [i for i, n in enumerate(self.part_names)
-                       if main_part(n) == name or (name == "hull" and main_part(n) in ("hull_wetted", "hull_dry"))]
+                       if main_part(n) == name or (name == "hull" and main_part(n) in HULL_PARTS)]
             require(members, "part", name, f"no faces; parts are {', '.join(self.part_names)}")
             return np.isin(self.face_part, members)
         return self.face_part == self.part_index(name)
@@ -242,8 +242,7 @@ class ShipGeometry:
 
 
 def _overridden(name: str, overrides: Mapping) -> bool:
-    main = main_part(name)
-    return name in overrides or main in overrides or (main.startswith("hull") and "hull" in overrides)
+    return part_key(overrides, name) is not None
 
 
 # ---------------------------------------------------------------------------------------

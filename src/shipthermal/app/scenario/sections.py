@@ -14,7 +14,7 @@ from typing import Mapping, Optional
 
 from ...errors import InputError
 from ...geometry.layups import ISO7547_INDOOR_C
-from ...geometry.parts import MAIN_PARTS, main_part
+from ...geometry.parts import MAIN_PARTS, main_part, part_key, part_keys, part_value
 from ...materials import MATERIAL_RANGES, MATERIALS
 from ...parameters import NIGHT_SETTLE, NIGHT_STEP
 from ...units import ZERO_CELSIUS
@@ -561,25 +561,10 @@ class ShipSettings:
         return ("parameters", "superstructure_material") if self.files is not None else ()
 
     # ---- surface properties --------------------------------------------------------------
-    @staticmethod
-    def _candidates(part: str) -> list:
-        """Keys a part's value may be under, most specific first."""
-        main = main_part(part)
-        keys = [part, main] + (["hull"] if main in ("hull_wetted", "hull_dry") else [])
-        return list(dict.fromkeys(keys))
-
-    def _lookup(self, table: Mapping, part: str, what: str):
-        for key in self._candidates(part):
-            if key in table:
-                return table[key]
-        raise InputError("part", part, f"has no {what}; parts with a value: {', '.join(table)}")
-
     def _outer_layer(self, part: str):
         """The outer layer of the layup a (sub-)part takes from ``layups``, or None."""
-        for key in self._candidates(part):
-            if key in self.layups:
-                return self.layups[key][0]
-        return None
+        key = part_key(self.layups, part)
+        return None if key is None else self.layups[key][0]
 
     def solar_absorptivity_of(self, part: str) -> float:
         """Solar absorptivity of a (sub-)part [-]: its layup's outer layer's (a paint's)
@@ -587,7 +572,7 @@ class ShipSettings:
         layer = self._outer_layer(part)
         if layer is not None and layer.solar_absorptivity is not None:
             return float(layer.solar_absorptivity)
-        return float(self._lookup(self.solar_absorptivity, part, "solar_absorptivity"))
+        return float(part_value(self.solar_absorptivity, part, "solar_absorptivity"))
 
     def longwave_emissivity_of(self, part: str) -> float:
         """Broadband long-wave emissivity of a (sub-)part [-]: its layup's outer layer's
@@ -595,11 +580,12 @@ class ShipSettings:
         layer = self._outer_layer(part)
         if layer is not None and layer.longwave_emissivity is not None:
             return float(layer.longwave_emissivity)
-        return float(self._lookup(self.longwave_emissivity, part, "longwave_emissivity"))
+        return float(part_value(self.longwave_emissivity, part, "longwave_emissivity"))
 
     def compartment_temperature_of(self, part: str) -> float:
         """Air temperature inside a (sub-)part [K]."""
-        return float(self._lookup(self.compartment_temperature, part, "compartment_temperature"))
+        return float(part_value(self.compartment_temperature, part,
+                                "compartment_temperature"))
 
     def emissivity(self, part: str, band) -> float:
         """Emissivity of a (sub-)part in a sensor band [-] (see :func:`parse_band`).
@@ -611,7 +597,7 @@ class ShipSettings:
         listed = []
         # most specific part first (sub-part, main part, hull); in each, the band itself,
         # then a listed band that contains it
-        for key in self._candidates(part):
+        for key in part_keys(part):
             table = self.band_emissivity.get(key)
             if table is None:
                 continue

@@ -417,8 +417,9 @@ def _part_bands(raw: Any, path: str, spec: _Spec, ctx: _Context, default: Mappin
                 merged[name] = v
         return merged if ok else _BAD
 
+    example = " and ".join(f"{b} = {e:.2f}" for b, e in default.get("deck", {}).items())
     out = _per_part(raw, path, ctx, "{band = emissivity}",
-                    "e.g. [ship.band_emissivity.deck] with 3-5 = 0.90 and 8-14 = 0.95", bands,
+                    f"e.g. [ship.band_emissivity.deck] with {example}", bands,
                     {k: dict(v) for k, v in default.items()})
     return _BAD if out is None else _freeze(out)
 
