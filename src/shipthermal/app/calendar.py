@@ -26,7 +26,8 @@ import pandas as pd
 
 from imaging.calendar import (crossover_table, image_dense, image_overpasses, monthly_table,
                               plot_calendar)
-from imaging.overpass import listed_overpasses, satellite_overpasses, tle_overpasses
+from imaging.overpass import (listed_overpasses, satellite, satellite_overpasses,
+                              tle_overpasses)
 
 from ..errors import InputError
 from .pipeline import (build_background, check_imaging_bands, imaging_scenario, load_history,
@@ -45,6 +46,15 @@ def calendar_overpasses(scenario, end_s: float) -> list:
     out = []
     for name in cal["satellites"]:
         out += satellite_overpasses(name, loc.latitude, loc.longitude, t0, t1)
+    flying = [n for n in cal["satellites"]
+              if pd.Timestamp(satellite(n).launched, tz="UTC") <= t1]
+    if cal["satellites"] and not flying and cal["tle"] is None and not cal["times"]:
+        launched = ", ".join(f"{n} {satellite(n).launched}" for n in cal["satellites"])
+        raise InputError("calendar.satellites", list(cal["satellites"]), "none of them flies "
+                         f"during the record ({t0:%Y-%m-%d} … {t1:%Y-%m-%d}); launched: "
+                         f"{launched}",
+                         "Give the elements of a satellite flying then (calendar.tle with "
+                         "calendar.swath), or list the overpass times (calendar.times)")
     if cal["tle"] is not None:
         try:
             text = Path(cal["tle"]).read_text(encoding="utf-8", errors="strict")
@@ -53,7 +63,7 @@ def calendar_overpasses(scenario, end_s: float) -> list:
                              f"({type(exc).__name__})",
                              "Save the two-line elements as plain text") from None
         out += tle_overpasses(text, loc.latitude, loc.longitude, t0, t1,
-                              swath_m=cal["swath_m"])
+                              swath_m=cal["swath_m"], source=Path(cal["tle"]).name)
     if cal["times"]:
         listed = listed_overpasses(cal["times"], scenario.imaging.sensor.view_zenith_deg,
                                    scenario.imaging.sensor.view_azimuth_deg)

@@ -1026,7 +1026,9 @@ class CalendarSettings:
 
     satellites: tuple = _opt(["landsat8", "landsat9"], "choice_list", "Named satellites whose "
                              "overpasses count (their reference ground track, repeated every "
-                             "cycle)", choices=SATELLITE_NAMES)
+                             "cycle)", choices=SATELLITE_NAMES,
+                             fix="For another satellite give its two-line elements: "
+                                 "calendar.tle = \"sat.tle\" with calendar.swath [m]")
     tle: Optional[str] = _opt(None, "file", "Two-line elements of another satellite (or a "
                               "fresher set), propagated over the record (give elements within "
                               "a few weeks of it)", optional=True, allowed_text="existing file")

@@ -303,7 +303,8 @@ def _choice_list(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
     for i, item in enumerate(raw):
         if not isinstance(item, str) or item not in spec.choices:
             ctx.err(f"{path}[{i}]", item, f"must be {spec.allowed()}",
-                    _suggest(item, spec.choices) if isinstance(item, str) else "")
+                    " ".join(t for t in (_suggest(item, spec.choices) if isinstance(
+                        item, str) else "", spec.fix) if t))
             ok = False
     if ok and len(set(raw)) != len(raw):
         ctx.err(path, raw, allowed)
