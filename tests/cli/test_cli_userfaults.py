@@ -692,6 +692,18 @@ case("calendar-tle-not-elements", _record(calendar=_TLE, tle="LANDSAT 8 from 202
 case("calendar-tle-decades-from-the-record", _record(calendar=_TLE, tle="\n".join(L8)),
      ["calendar.tle = 'sat.tle'", "holds elements of 2025-08-13, 4,546 days from the record",
       "366 days", "calendar.times"])
+case("calendar-year-missing-for-the-dates", _record(calendar="years = [2012, 2013]\n"),
+     ["calendar.years[0] = 2012", "needs buoy.txt (weather.source) over 2012-03-04",
+      "covers 2013-03-02 18:50", "Drop the year, or give a file that covers its dates "
+      "(calendar.year_sources)"])
+case("calendar-year-sources-one-short", _record(
+    calendar='years = [2012, 2013]\nyear_sources = ["buoy.txt"]\n'),
+     ["calendar.year_sources = '1 files'", "one file per year of calendar.years (2)"])
+case("calendar-year-source-missing", _record(
+    calendar='years = [2012, 2013]\nyear_sources = ["b2012.txt", "buoy.txt"]\n'),
+     ["calendar.year_sources[0] = 'b2012.txt'", "must be an existing file"])
+case("calendar-years-repeated", _record(calendar="years = [2013, 2013]\n"),
+     ["calendar.years = [2013, 2013]", "distinct years in [1950, 2100]"])
 case("calendar-tle-without-swath", _record(calendar='tle = "sat.tle"\n', tle="\n".join(L8)),
      ["calendar.swath = None", "is required with calendar.tle"])
 

@@ -45,8 +45,10 @@ __all__ = ["calendar_inputs", "calendar_overpasses", "calendar_span_s", "run_cal
            "write_calendar", "year_overpasses", "year_scenarios"]
 
 
-def calendar_overpasses(scenario, end_s: float) -> list:
-    """Every overpass of ``[calendar]`` inside ``[start, start + end_s]``."""
+def calendar_overpasses(scenario, end_s: float, *, times_elsewhere: bool = False) -> list:
+    """Every overpass of ``[calendar]`` inside ``[start, start + end_s]``; a listed instant
+    outside it is refused unless ``times_elsewhere`` (it belongs to another year's
+    record)."""
     cal, loc = calendar_inputs(scenario), scenario.location
     start = scenario.start
     t0, t1 = start.tz_convert("UTC"), (start + pd.Timedelta(seconds=end_s)).tz_convert("UTC")
@@ -67,7 +69,7 @@ def calendar_overpasses(scenario, end_s: float) -> list:
                                    scenario.imaging.sensor.view_azimuth_deg)
         out += [o for o in listed if t0 <= o.time_utc <= t1]
         outside = [str(o.time_utc) for o in listed if not t0 <= o.time_utc <= t1]
-        if outside:
+        if outside and not times_elsewhere:
             raise InputError("calendar.times", outside[0], f"must lie within the record "
                              f"({t0:%Y-%m-%d %H:%M} … {t1:%Y-%m-%d %H:%M} UTC)",
                              "Drop it, or extend weather.days")
@@ -78,9 +80,20 @@ def year_overpasses(years) -> dict:
     """``{year: overpasses}`` over the records of :func:`year_scenarios`; refused when the
     named satellites were all launched after the last record and no elements or instants
     are given (the calendar would have no overpass)."""
-    out = {y: calendar_overpasses(sc, calendar_span_s(sc)) for y, sc in years}
+    several = len(years) > 1
+    out = {y: calendar_overpasses(sc, calendar_span_s(sc), times_elsewhere=several)
+           for y, sc in years}
     sc = years[-1][1]
     cal = calendar_inputs(sc)
+    if several:
+        seen = {o.time_utc for found in out.values() for o in found
+                if o.source == "listed"}
+        for i, t in enumerate(cal["times"]):
+            if pd.Timestamp(t).tz_convert("UTC") not in seen:
+                raise InputError(f"calendar.times[{i}]", t, "must lie within the record of "
+                                 "one of calendar.years (the dates of time.date and "
+                                 "weather.days in that year)",
+                                 "Drop it, or add its year to calendar.years")
     end = sc.start + pd.Timedelta(seconds=calendar_span_s(sc))
     flying = [n for n in cal["satellites"]
               if pd.Timestamp(satellite(n).launched, tz="UTC") <= end]
