@@ -37,8 +37,8 @@ from shipthermal.errors import InputError, check_range, require
 from .parameters import MAX_TLE_DISTANCE_DAYS
 
 __all__ = ["Overpass", "Satellite", "SATELLITES", "swath_half_angle", "satellite",
-           "parse_tle", "check_tle_epoch", "tle_overpasses", "satellite_overpasses", "listed_overpasses",
-           "EARTH_RADIUS_M"]
+           "parse_tle", "check_tle_epoch", "tle_overpasses", "satellite_overpasses",
+           "listed_overpasses", "EARTH_RADIUS_M"]
 
 EARTH_RADIUS_M = 6371.0e3
 """Mean Earth radius [m] (IUGG), for the swath's angle from the satellite."""
