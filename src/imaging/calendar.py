@@ -29,7 +29,7 @@ from .experiment import render_series
 from .radiometry import brightness_temperature
 
 __all__ = ["SCR_THRESHOLD", "image_overpasses", "image_dense", "monthly_table",
-           "crossover_table", "plot_calendar", "overpass_seconds"]
+           "crossover_table", "crossover_dates_table", "plot_calendar", "overpass_seconds"]
 
 SCR_THRESHOLD = 1.0
 """Default SCR below which an overpass counts as "under the clutter" [-] (eq. 22: the
@@ -177,6 +177,26 @@ def crossover_table(dense: dict, start: pd.Timestamp) -> tuple:
     return every, pd.DataFrame(stats, columns=["month", "band", "direction", "crossovers",
                                                "days", "median_clock_h", "p05_clock_h",
                                                "p95_clock_h"])
+
+
+def crossover_dates_table(every: pd.DataFrame) -> pd.DataFrame:
+    """The crossovers of several years on the same calendar dates: per date (``MM-DD``),
+    band and direction, the years with such a crossover that day, the crossovers, and the
+    median and 5-95 % range of the local clock time [h] over all of them (``every``: the
+    rows of :func:`crossover_table` with a ``year`` column)."""
+    cols = ["date", "band", "direction", "years", "crossovers", "median_clock_h",
+            "p05_clock_h", "p95_clock_h", "first_year", "last_year"]
+    if not len(every):
+        return pd.DataFrame(columns=cols)
+    rows = []
+    for (date, band, direction), g in every.assign(
+            date=every["date_local"].str.slice(5)).groupby(["date", "band", "direction"]):
+        q = np.percentile(g["clock_h"], [5, 50, 95])
+        rows.append(dict(date=date, band=band, direction=direction,
+                         years=g["year"].nunique(), crossovers=len(g), median_clock_h=q[1],
+                         p05_clock_h=q[0], p95_clock_h=q[2], first_year=int(g["year"].min()),
+                         last_year=int(g["year"].max())))
+    return pd.DataFrame(rows, columns=cols)
 
 
 def plot_calendar(path, dense: dict, overpass_df: pd.DataFrame, monthly: pd.DataFrame,

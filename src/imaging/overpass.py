@@ -34,9 +34,11 @@ import pandas as pd
 
 from shipthermal.errors import InputError, check_range, require
 
+from .parameters import MAX_TLE_DISTANCE_DAYS
+
 __all__ = ["Overpass", "Satellite", "SATELLITES", "swath_half_angle", "satellite",
-           "parse_tle", "tle_overpasses", "satellite_overpasses", "listed_overpasses",
-           "EARTH_RADIUS_M"]
+           "parse_tle", "check_tle_epoch", "tle_overpasses", "satellite_overpasses",
+           "listed_overpasses", "EARTH_RADIUS_M"]
 
 EARTH_RADIUS_M = 6371.0e3
 """Mean Earth radius [m] (IUGG), for the swath's angle from the satellite."""
@@ -136,9 +138,10 @@ def satellite(name: str) -> Satellite:
         import difflib
 
         close = difflib.get_close_matches(key, list(SATELLITES), n=1)
-        raise InputError("calendar.satellite", name, f"must be one of {', '.join(SATELLITES)}",
+        raise InputError("calendar.satellites", name, f"must be one of {', '.join(SATELLITES)}",
                          f"Did you mean {close[0]!r}?" if close else
-                         "Or give the satellite's two-line elements (calendar.tle)")
+                         "For another satellite give its two-line elements: calendar.tle "
+                         "with calendar.swath [m]")
     return SATELLITES[key]
 
 
@@ -146,10 +149,16 @@ def _checksum(line: str) -> int:
     return sum(int(c) if c.isdigit() else (1 if c == "-" else 0) for c in line[:68]) % 10
 
 
-def parse_tle(text: str, field: str = "calendar.tle") -> tuple:
+_TLE_NUMBERS = ((1, 18, 32, "epoch"), (2, 8, 16, "inclination"), (2, 17, 25, "right ascension"),
+                (2, 26, 33, "eccentricity"), (2, 52, 63, "mean motion"))
+"""(line, first column - 1, last column, name) of the numbers SGP4 needs (NORAD format)."""
+
+
+def parse_tle(text: str, field: str = "calendar.tle", source: str | None = None) -> tuple:
     """``(name, line1, line2)`` of the first two-line element set in ``text`` (an optional
     name line before it), each line checked (length, line numbers, matching catalogue
-    numbers, checksum)."""
+    numbers, checksum, the numbers SGP4 reads). ``source`` (the file's name) is the value
+    the messages show."""
     lines = [ln.rstrip() for ln in str(text).splitlines() if ln.strip()]
     for i in range(len(lines) - 1):
         l1, l2 = lines[i], lines[i + 1]
@@ -158,20 +167,50 @@ def parse_tle(text: str, field: str = "calendar.tle") -> tuple:
                 else l1[2:7].strip()
             for k, ln in ((1, l1), (2, l2)):
                 if len(ln) < 69:
-                    raise InputError(field, f"line {k} ({len(ln)} characters)", "must be a "
-                                     "two-line element line of 69 characters",
+                    raise InputError(field, source or f"line {k}", f"line {k} has {len(ln)} "
+                                     "characters; a two-line element line has 69",
                                      "Copy both lines whole from CelesTrak or Space-Track")
                 if not ln[68].isdigit() or _checksum(ln) != int(ln[68]):
-                    raise InputError(field, f"line {k}", f"fails its checksum (column 69 is "
-                                     f"{ln[68]!r}, the digits give {_checksum(ln)})",
-                                     "The line was altered: copy it again")
+                    raise InputError(field, source or f"line {k}", f"line {k} fails its "
+                                     f"checksum (column 69 is {ln[68]!r}, the digits give "
+                                     f"{_checksum(ln)})", "The line was altered: copy it again")
             if l1[2:7] != l2[2:7]:
-                raise InputError(field, f"{l1[2:7]} / {l2[2:7]}", "lines 1 and 2 must belong "
-                                 "to the same satellite (catalogue number)")
+                raise InputError(field, source or f"{l1[2:7]} / {l2[2:7]}", "lines 1 and 2 "
+                                 f"must belong to the same satellite (catalogue numbers "
+                                 f"{l1[2:7].strip()} and {l2[2:7].strip()})",
+                                 "Copy both lines of one satellite")
+            for k, a, b, what in _TLE_NUMBERS:
+                cell = (l1, l2)[k - 1][a:b]
+                try:
+                    float(("0." + cell.strip()) if what == "eccentricity" else cell)
+                except ValueError:
+                    raise InputError(field, source or f"line {k}", f"line {k} columns "
+                                     f"{a + 1}-{b} ({what}) must be a number, not "
+                                     f"{cell.strip()[:12]!r}",
+                                     "Copy both lines whole from CelesTrak or Space-Track") \
+                        from None
             return name, l1, l2
-    raise InputError(field, (lines[0][:30] + "…") if lines else "(empty)",
-                     "must hold two-line elements: a line starting '1 ' then one starting '2 '",
-                     "Save the satellite's elements from CelesTrak as a text file")
+    shown = source or ((lines[0][:30] + "…") if lines else "(empty)")
+    raise InputError(field, shown, "must hold two-line elements: a line starting '1 ' then "
+                     "one starting '2 '", "Save the satellite's elements from CelesTrak as "
+                     "a text file")
+
+
+def check_tle_epoch(line1: str, start, end, field: str = "calendar.tle",
+                    source: str | None = None) -> pd.Timestamp:
+    """The epoch of a set of elements, refused when an instant of ``[start, end]`` lies
+    more than :data:`~imaging.parameters.MAX_TLE_DISTANCE_DAYS` from it."""
+    epoch = _tle_epoch(line1)
+    start, end = pd.Timestamp(start).tz_convert("UTC"), pd.Timestamp(end).tz_convert("UTC")
+    far = max(abs((start - epoch).total_seconds()), abs((end - epoch).total_seconds())) / 86400.0
+    if far > MAX_TLE_DISTANCE_DAYS:
+        raise InputError(field, source or line1[18:32].strip(), f"holds elements of "
+                         f"{epoch:%Y-%m-%d}, {far:,.0f} days from the record "
+                         f"({start:%Y-%m-%d} … {end:%Y-%m-%d}); SGP4 is trusted to "
+                         f"{MAX_TLE_DISTANCE_DAYS:g} days from the epoch",
+                         "Give elements from within a few weeks of the record (Space-Track "
+                         "keeps every past set), or list the overpass times (calendar.times)")
+    return epoch
 
 
 def _passes(l1, l2, name, latitude, longitude, start, end, half_angle, altitude_m, source):
@@ -206,11 +245,15 @@ def _passes(l1, l2, name, latitude, longitude, start, end, half_angle, altitude_
 
 
 def tle_overpasses(tle_text: str, latitude: float, longitude: float, start, end, *,
-                   swath_m: float, altitude_m: float | None = None) -> list:
+                   swath_m: float, altitude_m: float | None = None,
+                   source: str | None = None) -> list:
     """Passes of a satellite given by its two-line elements over ``[start, end]``
-    (tz-aware) with the site inside the swath ``swath_m`` [m]."""
-    name, l1, l2 = parse_tle(tle_text)
-    check_range("calendar.swath_m", swath_m, 1.0e3, 3.0e6, "m")
+    (tz-aware) with the site inside the swath ``swath_m`` [m]; elements farther than
+    :data:`~imaging.parameters.MAX_TLE_DISTANCE_DAYS` from the span are refused
+    (``source``, the file's name, is what the messages show)."""
+    name, l1, l2 = parse_tle(tle_text, source=source)
+    check_tle_epoch(l1, start, end, source=source)
+    check_range("calendar.swath", swath_m, 1.0e3, 3.0e6, "m")
     if altitude_m is None:
         n = float(l2[52:63])                     # mean motion [rev/day] -> semi-major axis
         mu = 3.986004418e14

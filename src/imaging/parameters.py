@@ -13,7 +13,7 @@ from __future__ import annotations
 __all__ = ["PAPER_SENSOR_PARAMETERS", "MAX_VIEW_ZENITH", "VARIOGRAM_MODELS", "MET_UNITS",
            "N_SPLITS", "DEM_NODATA", "SYNTHETIC_PIXEL_M", "BACKGROUND_MODELS", "RESIDUAL_MODES",
            "SATELLITE_NAMES", "ATMOSPHERE_MODELS", "CLOUD_TYPES", "DEFAULT_CLOUD_TYPE",
-           "SENSOR_BANDS", "SENSOR_PRESETS"]
+           "SENSOR_BANDS", "SENSOR_PRESETS", "MAX_TLE_DISTANCE_DAYS"]
 
 # ---------------------------------------------------------------------------------------
 # Sensor
@@ -72,6 +72,15 @@ not match the scene's day, a surface the class table does not describe — fades
 night overpass keeps it constant), ``constant`` (the observed detail the model cannot
 explain stays all day), ``none`` (the model alone, ``T(t_ov) = LST - residual``). With
 ``solar`` and ``constant``, ``T(t_ov) = LST`` exactly."""
+
+MAX_TLE_DISTANCE_DAYS = 366.0
+"""Farthest a span's instant may lie from the epoch of the user's two-line elements [days].
+ASSUMPTION, from SGP4's error growth: about 1 km at the epoch and 1-3 km a day along the
+track (Vallado et al. 2006, "Revisiting Spacetrack Report #3", AIAA 2006-6753). A year puts
+a pass 50-150 s off (at ~7 km/s), and the Earth turns the ground track by
+465 m/s x cos(latitude) x that time: 20-70 km at the equator, inside a 185 km swath's half
+width but not far from its edge; orbit-keeping manoeuvres after the epoch are in no element
+set. Beyond a year the passes are guesses, decades away SGP4 does not hold at all."""
 
 SATELLITE_NAMES = ("landsat8", "landsat9")
 """Satellites the overpass calendar knows by name (:data:`imaging.overpass.SATELLITES`

@@ -33,6 +33,7 @@ import os
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 import trimesh
 from cli_helpers import write_tiny
@@ -157,19 +158,21 @@ def _weather_csv(path, air=None, rh=75.0, sea=23.5, wind=4.0, header=HEADER, edi
     return path
 
 
-def _weather_scenario(d, source, weather_extra="", top="", name="w"):
+def _weather_scenario(d, source, weather_extra="", top="", name="w", date=None):
     sc = write_tiny(d, name=name)
     text = sc.read_text().replace("[ship]", f'[weather]\nsource = "{source}"\n'
                                   f"{weather_extra}\n[ship]")
-    sc.write_text(text.replace("[time]\n", top + "[time]\n"))
+    time = "[time]\n" + (f"date = {date}\n" if date else "")
+    sc.write_text(text.replace("[time]\n", top + time))
     return str(sc)
 
 
-def _weather_case(write, extra="", cmd="run", top=""):
+def _weather_case(write, extra="", cmd="run", top="", date=None):
     def make(d):
         src = write(d)
-        sc = _weather_scenario(d, src, extra, top)
-        return ["-q", cmd, sc] + (["--out", str(d / "out")] if cmd == "run" else [])
+        sc = _weather_scenario(d, src, extra, top, date=date)
+        return ["-q", cmd, sc] + (["--out", str(d / "out")] if cmd in ("run", "calendar")
+                                  else [])
     return make
 
 
@@ -637,7 +640,108 @@ case("calendar-of-a-periodic-day", lambda d: (
 case("calendar-unknown-satellite", lambda d: (
     write_tiny(d, name="c", extra='[calendar]\nsatellites = ["landsat5"]\n'),
     ["-q", "calendar", str(d / "c.toml"), "--out", str(d / "out")])[-1],
-     ["landsat5"])
+     ["calendar.satellites[0] = 'landsat5'", "Did you mean 'landsat9'? For another satellite "
+      "give its two-line elements: calendar.tle"])
+
+BUOY = ('[location]\nlatitude = 38.46\nlongitude = -74.70\ntime_zone = "Etc/GMT+5"\n'
+        '[weather]\nsource = "buoy.txt"\nday = "record"\ndays = {days}\nwind_height = 5.0\n'
+        'cloud_cover = 0.5\n')
+L8 = ("1 39084U 13008A   25225.93518726  .00000330  00000-0  83304-4 0  9991",
+      "2 39084  98.2219 295.6904 0001221  90.8808 269.2530 14.57106224653150")
+
+
+def _record(days=2, calendar="", tle=None, cmd="calendar", flags=()):
+    """The NDBC crop (2013-03-02 … 03-09) as a record from 2013-03-04, a [calendar] and
+    optionally a file of two-line elements ``sat.tle``."""
+    def make(d):
+        (d / "buoy.txt").write_text(NDBC.read_text())
+        if tle is not None:
+            (d / "sat.tle").write_text(tle)
+        sc = write_tiny(d, name="c", season="winter")
+        text = sc.read_text().replace("[time]\n", "[time]\ndate = 2013-03-04\n")
+        sc.write_text(text.replace("[ship]", BUOY.format(days=days) + "[ship]") +
+                      ("[calendar]\n" + calendar if calendar else ""))
+        return ["-q", cmd, str(sc), *flags] + (["--out", str(d / "out")]
+                                                if cmd != "check" else [])
+    return make
+
+
+_TLE = 'satellites = []\ntle = "sat.tle"\nswath = 185000.0\n'
+case("calendar-record-shorter-than-asked", _record(days=10),
+     ["weather.days = 10", "buoy.txt covers 5 whole day(s) from time.date 2013-03-04",
+      "Set weather.days = 5 or less"])
+case("check-record-shorter-than-asked", _record(days=10, cmd="check"),
+     ["weather.days = 10", "Set weather.days = 5 or less"])
+case("calendar-satellite-without-preset", _record(calendar='satellites = ["ecostress"]\n'),
+     ["calendar.satellites[0] = 'ecostress'", "must be one of 'landsat8', 'landsat9'",
+      "calendar.tle", "calendar.swath"])
+case("calendar-flag-satellite-without-preset", _record(flags=("--satellites", "sentinel3")),
+     ["calendar.satellites[0] = 'sentinel3'", "calendar.tle"])
+case("calendar-satellites-not-yet-launched", _record(calendar='satellites = ["landsat9"]\n'),
+     ["calendar.satellites = ['landsat9']", "none of them flies during the record",
+      "landsat9 2021-09-27", "calendar.tle", "calendar.times"])
+case("calendar-tle-line-cut", _record(calendar=_TLE, tle=f"LANDSAT 8\n{L8[0][:60]}\n{L8[1]}\n"),
+     ["calendar.tle = 'sat.tle'", "line 1 has 60 characters; a two-line element line has 69"])
+case("calendar-tle-checksum", _record(calendar=_TLE, tle=f"{L8[0][:-1]}2\n{L8[1]}\n"),
+     ["calendar.tle = 'sat.tle'", "line 1 fails its checksum", "copy it again"])
+case("calendar-tle-letters-in-a-number", _record(calendar=_TLE, tle=L8[0] + "\n" + (
+    L8[1][:52] + "14.571O6224" + L8[1][63:]) + "\n"),
+     ["calendar.tle = 'sat.tle'", "line 2 columns 53-63 (mean motion) must be a number"])
+case("calendar-tle-not-elements", _record(calendar=_TLE, tle="LANDSAT 8 from 2025\n"),
+     ["calendar.tle = 'sat.tle'", "must hold two-line elements"])
+case("calendar-tle-decades-from-the-record", _record(calendar=_TLE, tle="\n".join(L8)),
+     ["calendar.tle = 'sat.tle'", "holds elements of 2025-08-13, 4,546 days from the record",
+      "366 days", "calendar.times"])
+case("calendar-year-missing-for-the-dates", _record(calendar="years = [2012, 2013]\n"),
+     ["calendar.years[0] = 2012", "needs buoy.txt (weather.source) over 2012-03-04",
+      "covers 2013-03-02 18:50", "Drop the year, or give a file that covers its dates "
+      "(calendar.year_sources)"])
+case("calendar-year-sources-one-short", _record(
+    calendar='years = [2012, 2013]\nyear_sources = ["buoy.txt"]\n'),
+     ["calendar.year_sources = '1 files'", "one file per year of calendar.years (2)"])
+case("calendar-year-source-missing", _record(
+    calendar='years = [2012, 2013]\nyear_sources = ["b2012.txt", "buoy.txt"]\n'),
+     ["calendar.year_sources[0] = 'b2012.txt'", "must be an existing file"])
+case("calendar-years-repeated", _record(calendar="years = [2013, 2013]\n"),
+     ["calendar.years = [2013, 2013]", "distinct years in [1950, 2100]"])
+case("calendar-tle-without-swath", _record(calendar='tle = "sat.tle"\n', tle="\n".join(L8)),
+     ["calendar.swath = None", "is required with calendar.tle"])
+
+
+def _year_csv(path, edit=None):
+    """A year of hourly weather at Dalian (2023, +08:00) in the CSV columns."""
+    t = np.arange(365 * 24 + 1)
+    air = 285.0 - 273.15 + 10 * np.sin(2 * np.pi * (t / 8760 - 0.3)) + 3 * np.sin(
+        2 * np.pi * (t % 24 - 9) / 24)
+    stamps = pd.date_range("2023-01-01", periods=len(t), freq="h").strftime("%Y-%m-%dT%H:%M")
+    cols = {"temp_air": np.round(air, 2), "wind_speed": np.full(len(t), 4.0)}
+    sea = np.round(air.mean() + 1.0, 2)
+    if edit:
+        edit(stamps, cols)
+    rows = [f"{s}:00+08:00,{a},75,{w},180,0.3,{sea}".replace("nan", "")
+            for s, a, w in zip(stamps, cols["temp_air"], cols["wind_speed"])]
+    path.write_text(HEADER + "\n" + "\n".join(rows) + "\n")
+    return path.name
+
+
+def _gap(stamps, cols, field="temp_air", first="2023-07-15T08:00", hours=10):
+    i = int(np.flatnonzero(stamps == first)[0])
+    cols[field] = cols[field].astype(float)
+    cols[field][i:i + hours] = np.nan
+
+
+_YEAR = 'day = "record"\ndays = 365\n'
+case("calendar-gap-inside-a-year", _weather_case(lambda d: _year_csv(d / "y.csv", _gap),
+                                                 _YEAR, cmd="calendar", date="2023-01-01"),
+     ["weather.source[temp_air]", "has no valid temp_air from 2023-07-15 07:00 to "
+      "2023-07-15 18:00 +08 (11 h), longer than weather.max_gap_hours = 6 h",
+      "raise weather.max_gap_hours, or fill the gap"])
+case("run-wind-stops-inside-a-year", _weather_case(lambda d: _year_csv(
+    d / "y.csv", lambda s, c: _gap(s, c, "wind_speed", "2023-10-01T00:00", 24 * 100)), _YEAR,
+    date="2023-01-01"),
+     ["weather.source[wind_speed]", "has no valid wind_speed after 2023-09-30 23:00 +08 (its "
+      "last valid observation): the span runs 92.0 days longer, to 2024-01-01 00:00",
+      "End the span before it (time.date, weather.days)"])
 
 # ---- background from files ------------------------------------------------------------------
 

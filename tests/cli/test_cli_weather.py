@@ -175,3 +175,46 @@ def test_calendar_of_a_record(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "calendar.times" in err and "must lie within the record" in err
     assert not (tmp_path / "cal2").exists()
+
+
+@pytest.mark.slow
+def test_calendar_across_years(tmp_path, capsys):
+    # The buoy's three days in 2013 (the real crop) and the same dates of 2012 (the crop's
+    # rows moved to 2012 with the air 3 K warmer, written in the NDBC layout): one thermal
+    # case per year, the tables carry the year, and every calendar date's crossover times
+    # across the years are those of crossovers.csv (median and 5-95 % by numpy here).
+    shutil.copy(NDBC, tmp_path / "buoy.txt")
+    lines = NDBC.read_text().splitlines()
+    rows = [ln.split() for ln in lines[2:]]
+    for r in rows:
+        r[0], r[13] = "2012", f"{float(r[13]) + 3.0:.1f}"
+    (tmp_path / "b2012.txt").write_text("\n".join(lines[:2] + [" ".join(r) for r in rows])
+                                        + "\n")
+    text = BUOY.replace("days = 2", "days = 3") + (
+        "[calendar]\nyears = [2012, 2013]\nyear_sources = ['b2012.txt', 'buoy.txt']\n"
+        "dense_step = 3600.0\ntimes = ['2013-03-05T03:00:00Z']\n")
+    sc = _with(write_tiny(tmp_path, name="buoy", season="winter"), text, "2013-03-04")
+    assert main(["-q", "calendar", str(sc), "--out", str(tmp_path / "cal")]) == 0
+    d = tmp_path / "cal" / "calendar"
+    assert sorted(p.name for p in (tmp_path / "cal" / "thermal").iterdir()) == [
+        "buoy-2012", "buoy-2013"]
+    for year in (2012, 2013):
+        pm = strip_units(pd.read_csv(tmp_path / "cal" / "thermal" / f"buoy-{year}" /
+                                     "part_means.csv", index_col=0))
+        assert pm.index[-1] == 72
+        if year == 2012:
+            air12 = pm["temp_air"].to_numpy()
+        else:
+            np.testing.assert_allclose(air12 - pm["temp_air"].to_numpy(), 3.0, atol=2e-4)
+        assert (d / f"calendar_8-14_{year}.png").is_file()
+    op = pd.read_csv(d / "overpasses.csv")
+    assert set(op.loc[op["satellite"] == "listed", "year"]) == {2013}   # its instant's year
+    every = pd.read_csv(d / "crossovers.csv")
+    dates = pd.read_csv(d / "crossover_dates.csv", dtype={"date": str})
+    assert len(dates) and set(every["year"]) <= {2012, 2013}
+    for _, row in dates.iterrows():
+        g = every[every["date_local"].str.endswith(row["date"]) & (every["band"] == row["band"])
+                  & (every["direction"] == row["direction"])]
+        assert row["years"] == g["year"].nunique() and row["crossovers"] == len(g)
+        assert row["median_clock_h"] == pytest.approx(np.median(g["clock_h"]), abs=1e-4)
+        assert row["p95_clock_h"] == pytest.approx(np.percentile(g["clock_h"], 95), abs=1e-4)

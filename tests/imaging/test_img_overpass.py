@@ -77,7 +77,8 @@ def test_elements_are_checked():
         parse_tle(f"{l1}\n{SATELLITES['landsat9'].tle[1]}")
     with pytest.raises(InputError, match="two-line elements"):
         parse_tle("not elements at all")
-    with pytest.raises(InputError, match="69 characters"):
+    with pytest.raises(InputError, match="line 1 has 50 characters; a two-line element line "
+                                         "has 69"):
         parse_tle(f"{l1[:50]}\n{l2}")
     with pytest.raises(InputError, match="calendar.satellite.*Did you mean 'landsat8'"):
         satellite_overpasses("landsat-88", 0.0, 0.0, pd.Timestamp("2024-01-01", tz="UTC"),
@@ -96,3 +97,24 @@ def test_the_scenario_knows_every_named_satellite():
     from imaging.parameters import SATELLITE_NAMES
 
     assert tuple(SATELLITES) == SATELLITE_NAMES
+
+
+def test_elements_far_from_the_span_are_refused():
+    # SGP4 is trusted to MAX_TLE_DISTANCE_DAYS from the epoch (2025-08-13 here) at either
+    # end of the span; a record of 2013 is twelve years away
+    from imaging.overpass import check_tle_epoch
+    from imaging.parameters import MAX_TLE_DISTANCE_DAYS
+
+    l1 = SATELLITES["landsat8"].tle[0]
+    epoch = check_tle_epoch(l1, pd.Timestamp("2025-08-01", tz="UTC"),
+                            pd.Timestamp("2025-09-01", tz="UTC"))
+    assert epoch.strftime("%Y-%m-%d") == "2025-08-13"
+    edge = epoch + pd.Timedelta(days=MAX_TLE_DISTANCE_DAYS)
+    check_tle_epoch(l1, epoch, edge - pd.Timedelta(hours=1))
+    with pytest.raises(InputError, match="366 days from the epoch"):
+        check_tle_epoch(l1, epoch, edge + pd.Timedelta(hours=1))
+    with pytest.raises(InputError, match=r"calendar.tle = 'old.tle': holds elements of "
+                                         r"2025-08-13, 4,54\d days from the record"):
+        tle_overpasses("\n".join(SATELLITES["landsat8"].tle), 38.0, -74.0,
+                       pd.Timestamp("2013-03-04", tz="UTC"),
+                       pd.Timestamp("2013-03-06", tz="UTC"), swath_m=185e3, source="old.tle")

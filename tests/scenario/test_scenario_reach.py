@@ -165,6 +165,7 @@ def bases(d: Path) -> dict:
         "ship_parts": _merge(TINY, parts),
         "paper": _merge(TINY, {"background": {"model": "paper"}}),
         "cal_swath": _merge(TINY, {"calendar": {"swath": 185000.0}}),
+        "cal_years": _merge(TINY, {"calendar": {"years": [2023]}}),
         # a user's material in the funnel's layup
         "own_material": _merge(TINY, {"materials": {"own": dict(OWN_MATERIAL)},
                                       "ship": {"layups": {FUNNEL: [
@@ -315,6 +316,8 @@ CASES = {
     "calendar.times": ("builtin", ["2023-07-15T02:30:00Z"], {C}),
     "calendar.threshold": ("builtin", 2.0, {C}),
     "calendar.dense_step": ("builtin", 1800.0, {C}),
+    "calendar.years": ("builtin", [2022, 2023], {C}),
+    "calendar.year_sources": ("cal_years", ["a.epw"], {C}),
     "imaging.atmosphere.cloud_type": ("builtin", "stratus", {I}),
     "outputs.directory": ("builtin", "runs/elsewhere", {O}),
     "outputs.formats": ("builtin", ["csv"], {O}),

@@ -366,7 +366,7 @@ def cmd_run(args, con: Console) -> int:
 def cmd_calendar(args, con: Console) -> int:
     import pandas as pd
 
-    from .calendar import calendar_overpasses, calendar_span_s, run_calendar
+    from .calendar import run_calendar, year_overpasses, year_scenarios
     from .pipeline import output_inputs, prepare
     from .rundir import RunDir, scenario_inputs
 
@@ -384,10 +384,12 @@ def cmd_calendar(args, con: Console) -> int:
     inputs = scenario_inputs(sc)
     RunDir.check_target(out, force=args.force, scenario=sc, kind="calendar", inputs=inputs)
     t0 = time.perf_counter()
-    overpasses = calendar_overpasses(sc, calendar_span_s(sc))     # every refusal up front
+    years = year_scenarios(sc)                                    # every refusal up front
+    overpasses = year_overpasses(years)
     ship, _ = prepare(sc, progress=con.progress, log=con.info)
-    for line in sc.check_weather():
-        con.info(f"  {line}")
+    for _, s in years:
+        for line in s.check_weather():
+            con.info(f"  {line}")
     with RunDir(out, force=args.force, command=args.argv, kind="calendar", log=con.info,
                 scenario=sc, inputs=inputs) as run:
         run.add_scenario(sc)

@@ -366,6 +366,13 @@ def _calendar_section(d: Path) -> str:
         if len(c):
             parts.append("<h3>Crossover times by month (local clock, median and 5–95 %)</h3>"
                          + html_table(c, "{:.2f}"))
+    if (d / "crossover_dates.csv").is_file():
+        c = strip_units(pd.read_csv(d / "crossover_dates.csv", dtype={"date": str}))
+        years = ", ".join(str(y) for y in summary.get("years", []))
+        if len(c):
+            parts.append("<h3>Crossover times by calendar date over the years "
+                         f"{html.escape(years)} (local clock, median and 5–95 %)</h3>"
+                         + html_table(c, "{:.2f}"))
     if (d / "overpasses.csv").is_file():
         o = strip_units(pd.read_csv(d / "overpasses.csv"))
         if len(o):

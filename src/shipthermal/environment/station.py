@@ -520,14 +520,23 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
         # ends: hold the first / last value for up to EDGE_HOLD_S
         beyond = np.where(before & ~exact, t_ok[0] - gx, np.where(after, gx - t_ok[-1], 0.0))
         if np.any(beyond > EDGE_HOLD_S):
+            # the quantity starts after the span's start or stops before its end
             k = int(np.flatnonzero(beyond > EDGE_HOLD_S)[0])
-            ref = t_ok[0] if before[k] else t_ok[-1]
+            late = bool(before[k])
+            ref = pd.Timestamp(t_ok[0] if late else t_ok[-1], unit="s", tz="UTC").tz_convert(tz)
+            edge = grid[0] if late else grid[-1]
+            span = abs((edge - ref).total_seconds()) / 3600.0
+            span_text = f"{span / 24:.1f} days" if span >= 48 else f"{span:.1f} h"
             problems.append(InputError(
                 f"weather.source[{field}]", src,
-                f"has no valid {field} within {EDGE_HOLD_S / 3600:g} h of "
-                f"{grid[k]:%Y-%m-%d %H:%M %Z} (nearest valid observation "
-                f"{pd.Timestamp(ref, unit='s', tz='UTC').tz_convert(tz):%Y-%m-%d %H:%M %Z})",
-                "Pick a span the file covers, or a longer file"))
+                f"has no valid {field} {'before' if late else 'after'} "
+                f"{ref:%Y-%m-%d %H:%M %Z} (its {'first' if late else 'last'} valid "
+                f"observation): the span {'starts' if late else 'runs'} {span_text} "
+                f"{'earlier, at' if late else 'longer, to'} {edge:%Y-%m-%d %H:%M}; a value is "
+                f"held at most {EDGE_HOLD_S / 3600:g} h",
+                ("Start the span later (time.date)" if late else
+                 "End the span before it (time.date, weather.days)")
+                + ", or give a file that has it"))
             continue
         for k in np.flatnonzero(beyond > 0):
             ref = t_ok[0] if before[k] else t_ok[-1]

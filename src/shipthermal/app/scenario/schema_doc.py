@@ -24,7 +24,8 @@ _TYPE_TEXT = {"float": "float", "int": "int", "bool": "bool", "choice": "string"
               "part_bands": "float per part and band", "layups": "list of layers per part",
               "part_choices": "string per part", "materials": "table per material",
               "part_files": "path per part", "surface_classes": "table per class",
-              "instant_list": "list of instants"}
+              "instant_list": "list of instants",
+              "year_list": "list of years", "file_list": "list of files"}
 
 
 def _default_text(f: dataclasses.Field) -> str:

@@ -1012,7 +1012,9 @@ class CalendarSettings:
 
     satellites: tuple = _opt(["landsat8", "landsat9"], "choice_list", "Named satellites whose "
                              "overpasses count (their reference ground track, repeated every "
-                             "cycle)", choices=SATELLITE_NAMES)
+                             "cycle)", choices=SATELLITE_NAMES,
+                             fix="For another satellite give its two-line elements: "
+                                 "calendar.tle = \"sat.tle\" with calendar.swath [m]")
     tle: Optional[str] = _opt(None, "file", "Two-line elements of another satellite (or a "
                               "fresher set), propagated over the record (give elements within "
                               "a few weeks of it)", optional=True, allowed_text="existing file")
@@ -1027,6 +1029,14 @@ class CalendarSettings:
     dense_step: float = _opt(3600.0, "float", "Step of the every-day imaging behind the day x "
                              "local-time picture and the crossover times (0: overpasses only)",
                              unit="s", lo=0.0, hi=21600.0)
+    years: tuple = _opt([], "year_list", "Run the record's dates (the month and day of "
+                        "time.date, weather.days) in each of these years and give every "
+                        "calendar date's crossover times across them (median and 5-95 %); "
+                        "empty: the year of time.date only", lo=1950, hi=2100)
+    year_sources: tuple = _opt([], "file_list", "calendar.years: the weather file of each "
+                               "year, in the order of calendar.years (same format as "
+                               "weather.source); empty: weather.source holds every year",
+                               allowed_text="list of existing files")
 
     @staticmethod
     def _check(obj, raw, path, ctx, bad):
@@ -1036,6 +1046,12 @@ class CalendarSettings:
                     "e.g. swath = 185000.0 for Landsat's 185 km")
         if 0.0 < obj.dense_step < 60.0 and "dense_step" not in bad:
             ctx.err(f"{path}.dense_step", obj.dense_step, "must be 0 (off) or at least 60 s")
+        if obj.year_sources and len(obj.year_sources) != len(obj.years) \
+                and not {"years", "year_sources"} & set(bad):
+            ctx.err(f"{path}.year_sources", f"{len(obj.year_sources)} files", "must give one "
+                    f"file per year of calendar.years ({len(obj.years)})",
+                    "List the files in the order of the years, or leave year_sources out "
+                    "when weather.source holds every year")
         return obj
 
 

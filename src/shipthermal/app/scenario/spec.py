@@ -303,7 +303,8 @@ def _choice_list(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
     for i, item in enumerate(raw):
         if not isinstance(item, str) or item not in spec.choices:
             ctx.err(f"{path}[{i}]", item, f"must be {spec.allowed()}",
-                    _suggest(item, spec.choices) if isinstance(item, str) else "")
+                    " ".join(t for t in (_suggest(item, spec.choices) if isinstance(
+                        item, str) else "", spec.fix) if t))
             ok = False
     if ok and len(set(raw)) != len(raw):
         ctx.err(path, raw, allowed)
@@ -564,6 +565,36 @@ def _instant_list(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
 
 
 _CONVERTERS["instant_list"] = _instant_list
+
+
+def _year_list(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
+    """Distinct years within the spec's range, e.g. ``[2011, 2012, 2013]``."""
+    allowed = f"must be a list of distinct years in {spec.range_text()}"
+    if not isinstance(raw, list) or len(raw) > 200:
+        ctx.err(path, raw if not isinstance(raw, list) else f"{len(raw)} items", allowed)
+        return _BAD
+    for i, item in enumerate(raw):
+        if isinstance(item, bool) or not isinstance(item, int) or not spec.in_range(item):
+            ctx.err(f"{path}[{i}]", item, allowed)
+            return _BAD
+    if len(set(raw)) != len(raw):
+        ctx.err(path, raw, allowed, "Give each year once")
+        return _BAD
+    return tuple(raw)
+
+
+def _file_list(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
+    """Existing files, each resolved like a single file key."""
+    if not isinstance(raw, list) or len(raw) > 200:
+        ctx.err(path, raw if not isinstance(raw, list) else f"{len(raw)} items",
+                "must be a list of file paths")
+        return _BAD
+    out = [_file(item, f"{path}[{i}]", ctx) for i, item in enumerate(raw)]
+    return _BAD if any(o is _BAD for o in out) else tuple(out)
+
+
+_CONVERTERS["year_list"] = _year_list
+_CONVERTERS["file_list"] = _file_list
 
 
 def _convert(f: dataclasses.Field, raw: Any, path: str, ctx: _Context) -> Any:

@@ -287,15 +287,27 @@ class Scenario:
         if self.weather.day == "periodic":
             return start, start + pd.Timedelta(hours=23)
         days = self.weather.days
-        if days is None and record is not None and len(record.frame):
+        if record is not None and len(record.frame):
             from shipthermal.environment.station import EDGE_HOLD_S
 
-            last = record.frame.index[-1] + pd.Timedelta(seconds=EDGE_HOLD_S)
-            days = int((last - start).total_seconds() // DAY)
-            if days > MAX_RECORD_DAYS:
-                raise InputError("weather.days", None, f"the record covers {days} days from "
-                                 f"time.date; a record run takes at most {MAX_RECORD_DAYS}",
-                                 "Set weather.days")
+            first, last = record.frame.index[0], record.frame.index[-1]
+            covered = int((last + pd.Timedelta(seconds=EDGE_HOLD_S) - start).total_seconds()
+                          // DAY)
+            starts_inside = first <= start + pd.Timedelta(seconds=EDGE_HOLD_S)
+            if days is None and covered > MAX_RECORD_DAYS:
+                raise InputError("weather.days", None, f"the record covers {covered} days "
+                                 f"from time.date; a record run takes at most "
+                                 f"{MAX_RECORD_DAYS}", "Set weather.days")
+            if days is None:
+                days = covered
+            elif starts_inside and 1 <= covered < days:
+                # the file starts in time but ends before the days asked for
+                name = Path(self.weather.source).name
+                raise InputError("weather.days", days, f"{name} covers {covered} whole "
+                                 f"day(s) from time.date {self.time.date} (its last "
+                                 f"observation {last:%Y-%m-%d %H:%M %Z})",
+                                 f"Set weather.days = {covered} or less, an earlier "
+                                 "time.date, or give a longer file")
         days = max(int(days or 1), 1)
         return start, start + pd.Timedelta(days=days)
 
