@@ -31,3 +31,33 @@ def box_tets(extents, edge_length, material="mild_steel", builder=build_tet_grap
         return np.char.add(np.array(list("xyz"))[axis], side)
 
     return builder(pts, tets, material=material, patches=rule)
+
+
+def kuhn_cube_tets(n: int):
+    """The unit cube cut into n³ cells, each into the six tetrahedra of its Kuhn
+    (Freudenthal) subdivision along the main diagonal: a conforming, deterministic tet mesh
+    (every tetrahedron positively oriented). Returns (points (p, 3), tets (6 n³, 4))."""
+    g = np.linspace(0.0, 1.0, n + 1)
+    x, y, z = np.meshgrid(g, g, g, indexing="ij")
+    pts = np.column_stack([x.ravel(), y.ravel(), z.ravel()])
+
+    def vid(i, j, k):
+        return (i * (n + 1) + j) * (n + 1) + k
+
+    i, j, k = (a.ravel() for a in np.meshgrid(np.arange(n), np.arange(n), np.arange(n),
+                                              indexing="ij"))
+    corner = {(a, b, c): vid(i + a, j + b, k + c) for a in (0, 1) for b in (0, 1)
+              for c in (0, 1)}
+    tets = []
+    for perm in ((0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)):
+        path = [(0, 0, 0)]
+        for axis in perm:                       # walk from (0,0,0) to (1,1,1) axis by axis
+            step = list(path[-1])
+            step[axis] = 1
+            path.append(tuple(step))
+        tets.append(np.column_stack([corner[c] for c in path]))
+    tets = np.concatenate(tets)
+    a, b, c, d = (pts[tets[:, m]] for m in range(4))
+    flip = np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a) < 0.0
+    tets[flip, 2], tets[flip, 3] = tets[flip, 3], tets[flip, 2].copy()
+    return pts, tets

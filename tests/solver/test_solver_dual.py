@@ -21,7 +21,7 @@ from shipthermal.mesh.dual import SURFACE_CONDUCTANCE_FACTOR
 from shipthermal.model import ThermalModel
 from shipthermal.simulation import Simulation, steady_state
 from shipthermal.units import DAY
-from solver_meshes import box_tets
+from solver_meshes import box_tets, kuhn_cube_tets
 from test_solver_exact import BIOT, FO_END, H_CONV, HALF, T_END, T_INF, T_INIT, slab_series
 from test_solver_orders import K_MMS, MMS_MAT, _exact, _source
 
@@ -131,17 +131,19 @@ def _mms_vertex_error(pts, tets):
     return w.mean() ** (1 / 3), err
 
 
-def test_manufactured_solution_second_order_at_vertices(unit_cube_tets):
-    """The cell-centred test's manufactured field on the same three pytetwild cubes (the
-    session fixture), error at the vertices. pytetwild's meshes vary in quality from run to
-    run, so single ratios are noisy (measured pairwise orders 1.2–4.6); the fit over the
-    three levels measured 2.17–2.37, and the coarse-to-fine ratio alone over the observed
-    spread of coarse errors (0.052–0.095 at h ≈ 0.11) gives ≥ 2.2."""
+def test_manufactured_solution_second_order_at_vertices():
+    """The cell-centred test's manufactured field at the vertices of three Kuhn-subdivided
+    cubes (n = 5, 10, 14 cells a side: 750–16 464 tets, the sizes of the pytetwild cubes).
+    These meshes are the same on every run: pytetwild's are not (their pairwise orders ranged
+    1.2–4.6 between runs, a three-level fit once 1.77), so an order measured on them cannot
+    be a pass/fail criterion. Measured here: fit 2.21, pairwise 2.23 and 2.15, then 2.11 at
+    n = 20 (approaching 2 from above, as a second-order scheme's pre-asymptotic orders do);
+    required ≥ 1.9."""
     assert K_MMS == MMS_MAT.conductivity
-    hs, errs = np.array([_mms_vertex_error(p, t) for p, t in unit_cube_tets]).T
+    hs, errs = np.array([_mms_vertex_error(*kuhn_cube_tets(n)) for n in (5, 10, 14)]).T
     order = np.polyfit(np.log(hs), np.log(errs), 1)[0]
     print(f"MMS (vertex-centred): h {hs}, vertex L2 errors {errs}, observed order {order:.2f}")
-    assert order >= 1.8, f"observed spatial order {order:.2f} < 1.8 (errors {errs})"
+    assert order >= 1.9, f"observed spatial order {order:.2f} < 1.9 (errors {errs})"
 
 
 # ------------------------------------------------------------- convective slab ------------
