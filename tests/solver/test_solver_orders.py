@@ -54,7 +54,8 @@ def test_manufactured_solution_on_tets_is_second_order(mms):
     hs, errs = mms[:, 0], mms[:, 1]
     order = np.polyfit(np.log(hs), np.log(errs), 1)[0]
     print(f"MMS on pytetwild cubes: h {hs}, L2 errors {errs}, observed order {order:.2f}")
-    # Measured 2.3–2.5 (≥ 1.8 required in L2).
+    # Measured 2.0–2.5 over runs (pytetwild's meshes differ between runs; ≥ 1.8 required in
+    # L2). On Kuhn-subdivided cubes (the same mesh every run) the fit is 1.85, rising to 2.
     assert order >= 1.8, f"observed spatial order {order:.2f} < 1.8 (errors {errs})"
 
 
