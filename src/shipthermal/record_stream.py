@@ -31,15 +31,13 @@ asked for, never the whole array.
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from .errors import InputError, require
-from .results import EnergyLog
+from .results import EnergyLog, atomic_path
 
 __all__ = ["RECORD_FORMAT", "RECORD_VERSION", "SAMPLE_DAYS_MAX", "sample_days", "RecordParts",
            "assemble", "RecordFile", "LazyRows"]
@@ -87,20 +85,9 @@ class RecordParts:
 
     def write(self, index: int, **arrays) -> Path:
         """Write part ``index`` (arrays by name) atomically."""
-        self.folder.mkdir(parents=True, exist_ok=True)
         path = self.path(index)
-        fd, tmp = tempfile.mkstemp(dir=self.folder, prefix=f".{path.stem}.", suffix=".tmp.npz")
-        os.close(fd)
-        try:
+        with atomic_path(path) as tmp:
             np.savez(tmp, **arrays)
-            os.replace(tmp, path)
-        except OSError as exc:
-            if exc.errno is None or exc.filename not in (None, tmp):
-                raise
-            raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from exc
-        finally:
-            if os.path.exists(tmp):
-                os.remove(tmp)
         return path
 
     def drop_from(self, index: int) -> None:

@@ -30,8 +30,6 @@ last step's change (reported separately as ``stored_plain``).
 from __future__ import annotations
 
 import functools
-import os
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -45,7 +43,7 @@ from ._tridiagonal import ColumnSolve, column_bounds, column_factor
 from .errors import InputError, check_finite, check_positive, require
 from .linear import Anderson, Preconditioner, choose_backend, make_preconditioner, pcg
 from .model import ThermalModel, boundary_state, conduction_flows, surface_balance
-from .results import EnergyLog, Results
+from .results import EnergyLog, Results, atomic_path
 
 __all__ = ["SCHEMES", "Simulation", "steady_state", "SimulationError"]
 
@@ -939,20 +937,8 @@ class Simulation:
                                 self.graph.n_cells, self.graph.n_bfaces], dtype=float),
             **{f"energy_{k}": np.array(v) for k, v in st.energy.items()},
             **{f"extra_{k}": np.asarray(v) for k, v in (extra or {}).items()})
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp.npz")
-        os.close(fd)
-        try:
+        with atomic_path(path) as tmp:      # an error names the checkpoint, not tmp
             np.savez(tmp, **arrays)
-            os.replace(tmp, path)
-        except OSError as exc:
-            if exc.errno is None or exc.filename not in (None, tmp):
-                raise
-            # name the checkpoint, not its temporary file (disk full, quota, ...)
-            raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from exc
-        finally:
-            if os.path.exists(tmp):
-                os.remove(tmp)
         return path
 
     def load_checkpoint(self, path) -> dict:
