@@ -36,12 +36,7 @@ sys.path.insert(0, str(ROOT / "tests" / "boundary"))
 import energyplus_peer as ep  # noqa: E402
 import energyplus_ship as es  # noqa: E402
 
-TERMS = (("Temperature", "T_s [C]"),
-         ("Convection Heat Transfer Coefficient", "h"),
-         ("Solar Radiation Heat Gain Rate per Area", "SW abs"),
-         ("Net Thermal Radiation Heat Gain Rate per Area", "LW net"),
-         ("Convection Heat Gain Rate per Area", "conv"),
-         ("Conduction Heat Transfer Rate per Area", "cond"))
+TERMS = ep.NOON_TERMS
 
 
 def main() -> None:

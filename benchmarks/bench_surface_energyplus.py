@@ -31,14 +31,10 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "background"))
 
+import energyplus_peer as peer  # noqa: E402
 import energyplus_land as ep  # noqa: E402
 
-TERMS = (("Temperature", "T_s [C]"),
-         ("Convection Heat Transfer Coefficient", "h"),
-         ("Solar Radiation Heat Gain Rate per Area", "SW abs"),
-         ("Net Thermal Radiation Heat Gain Rate per Area", "LW net"),
-         ("Convection Heat Gain Rate per Area", "conv"),
-         ("Conduction Heat Transfer Rate per Area", "cond"))
+TERMS = peer.NOON_TERMS
 
 
 def main() -> None:

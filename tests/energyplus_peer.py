@@ -33,6 +33,40 @@ CLIMATES = {"san_francisco": "USA_CA_San.Francisco.Intl.AP.724940_TMY3.epw",
 WEEKS = {"july": (7, 8), "january": (1, 8)}          # month, first day (7 days each)
 
 
+#: Output variables of every surface that both peers read: temperatures and each term of the
+#: outer face's balance [EnergyPlus's names]
+SURFACE_OUTPUTS = (
+    "Surface Outside Face Temperature",
+    "Surface Inside Face Temperature",
+    "Surface Outside Face Convection Heat Transfer Coefficient",
+    "Surface Outside Face Convection Heat Gain Rate per Area",
+    "Surface Outside Face Net Thermal Radiation Heat Gain Rate per Area",
+    "Surface Outside Face Solar Radiation Heat Gain Rate per Area",
+    "Surface Outside Face Conduction Heat Transfer Rate per Area",
+    "Surface Outside Face Incident Solar Radiation Rate per Area",
+)
+
+#: The zone's and the site's output variables both peers read
+SITE_OUTPUTS = (
+    "Zone Mean Air Temperature",
+    "Site Outdoor Air Drybulb Temperature",
+    "Site Wind Speed",
+    "Site Direct Solar Radiation Rate per Area",
+    "Site Diffuse Solar Radiation Rate per Area",
+    "Site Horizontal Infrared Radiation Rate per Area",
+    "Site Solar Azimuth Angle",
+    "Site Solar Altitude Angle",
+)
+
+#: Noon terms the benchmarks print: (EnergyPlus's "Surface Outside Face ..." suffix, label)
+NOON_TERMS = (("Temperature", "T_s [C]"),
+              ("Convection Heat Transfer Coefficient", "h"),
+              ("Solar Radiation Heat Gain Rate per Area", "SW abs"),
+              ("Net Thermal Radiation Heat Gain Rate per Area", "LW net"),
+              ("Convection Heat Gain Rate per Area", "conv"),
+              ("Conduction Heat Transfer Rate per Area", "cond"))
+
+
 def energyplus_available() -> bool:
     try:
         import pyenergyplus.api  # noqa: F401

@@ -32,6 +32,7 @@ from energyplus_peer import (CLIMATES, TIMESTEPS_PER_HOUR, WEEKS, CaseResult,  #
                              eplus_column, energyplus_available, engine_version,
                              forcing_on_steps, read_epw, run_energyplus_idf, statistics,
                              sun_position, weather_file)
+from energyplus_peer import SITE_OUTPUTS, SURFACE_OUTPUTS
 from energyplus_peer import idf_object as _obj
 from energyplus_peer import idf_surface as _surface
 from imaging.background import surface_energy as se
@@ -143,24 +144,7 @@ def write_idf(path, surfaces=None, weeks=("july", "january"), version: str = "25
     Path(path).write_text("\n".join(parts), encoding="ascii")
 
 
-OUTPUT_VARIABLES = (
-    "Surface Outside Face Temperature",
-    "Surface Inside Face Temperature",
-    "Surface Outside Face Convection Heat Transfer Coefficient",
-    "Surface Outside Face Convection Heat Gain Rate per Area",
-    "Surface Outside Face Net Thermal Radiation Heat Gain Rate per Area",
-    "Surface Outside Face Solar Radiation Heat Gain Rate per Area",
-    "Surface Outside Face Conduction Heat Transfer Rate per Area",
-    "Surface Outside Face Incident Solar Radiation Rate per Area",
-    "Zone Mean Air Temperature",
-    "Site Outdoor Air Drybulb Temperature",
-    "Site Wind Speed",
-    "Site Direct Solar Radiation Rate per Area",
-    "Site Diffuse Solar Radiation Rate per Area",
-    "Site Horizontal Infrared Radiation Rate per Area",
-    "Site Solar Azimuth Angle",
-    "Site Solar Altitude Angle",
-)
+OUTPUT_VARIABLES = SURFACE_OUTPUTS + SITE_OUTPUTS
 
 
 # ------------------------------------------------------------------------------------------

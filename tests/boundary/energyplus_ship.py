@@ -47,6 +47,7 @@ import numpy as np
 import pandas as pd
 import pvlib
 
+from energyplus_peer import SITE_OUTPUTS, SURFACE_OUTPUTS
 from energyplus_peer import (TIMESTEPS_PER_HOUR, WEEKS, CaseResult, eplus_column,
                              forcing_on_steps, idf_object, idf_surface, read_epw,
                              run_energyplus_idf, sun_position, weather_file, week_rows)
@@ -176,28 +177,12 @@ def _kind(normal_z: float) -> str:
     return "Roof" if normal_z > 0.5 else ("Floor" if normal_z < -0.5 else "Wall")
 
 
-OUTPUT_VARIABLES = (
-    "Surface Outside Face Temperature",
-    "Surface Inside Face Temperature",
-    "Surface Outside Face Convection Heat Transfer Coefficient",
-    "Surface Outside Face Convection Heat Gain Rate per Area",
-    "Surface Outside Face Net Thermal Radiation Heat Gain Rate per Area",
-    "Surface Outside Face Solar Radiation Heat Gain Rate per Area",
-    "Surface Outside Face Conduction Heat Transfer Rate per Area",
-    "Surface Outside Face Incident Solar Radiation Rate per Area",
+OUTPUT_VARIABLES = SURFACE_OUTPUTS + (
     "Surface Outside Face Outdoor Air Drybulb Temperature",
     "Surface Outside Face Outdoor Air Wind Speed",
     "Surface Outside Face Outdoor Air Wind Direction",
     "Surface Inside Face Convection Heat Transfer Coefficient",
-    "Zone Mean Air Temperature",
-    "Site Outdoor Air Drybulb Temperature",
-    "Site Wind Speed",
-    "Site Direct Solar Radiation Rate per Area",
-    "Site Diffuse Solar Radiation Rate per Area",
-    "Site Horizontal Infrared Radiation Rate per Area",
-    "Site Solar Azimuth Angle",
-    "Site Solar Altitude Angle",
-)
+) + SITE_OUTPUTS
 
 
 def write_idf(path, plates=PLATES, weeks=("july", "january"), version: str = "25.2") -> None:
