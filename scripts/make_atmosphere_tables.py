@@ -76,6 +76,7 @@ import numpy as np  # noqa: E402
 from imaging.atmosphere import lowtran_backend as lb  # noqa: E402
 from imaging.atmosphere import lowtran_cards as lc  # noqa: E402
 from imaging.atmosphere import models as mdl  # noqa: E402
+from imaging.atmosphere import spectral_bins as sb  # noqa: E402
 from imaging.atmosphere import tables as tb  # noqa: E402
 from imaging.atmosphere._fortran_data import extract_aerosol_tables  # noqa: E402
 from imaging.atmosphere.bands import band_weights  # noqa: E402
@@ -89,7 +90,7 @@ STATE_SAMPLES = 40  # days per model for the state error: the 8 corners and rand
 
 
 def _save_npz(path: Path, arrays: dict) -> None:
-    tmp = path.with_name(path.stem + ".tmp.npz")
+    tmp = path.with_name(f"{path.stem}.{os.getpid()}.tmp.npz")   # runs side by side
     np.savez_compressed(tmp, **arrays)
     os.replace(tmp, path)
 
@@ -480,6 +481,155 @@ def verify(model, log=print, rng=None) -> dict:
     return out
 
 
+# ------------------------------------------------------------------ spectral bins
+#: User responses the bin tables are verified with (shapes no named band has)
+BIN_CHECK_RESPONSES = {
+    "triangle_10.0-12.5um": ([10.0, 11.25, 12.5], [0.0, 1.0, 0.0]),
+    "rect_3.7-4.1um": ([3.65, 3.7, 4.1, 4.15], [0.0, 1.0, 1.0, 0.0]),
+    "rect_8.2-9.2um": ([8.1, 8.2, 9.2, 9.3], [0.0, 1.0, 1.0, 0.0]),
+    "gauss_4.6um": (list(np.linspace(4.3, 4.9, 13)),
+                    list(np.exp(-0.5 * ((np.linspace(4.3, 4.9, 13) - 4.6) / 0.1) ** 2))),
+}
+
+
+def bin_weights(lam) -> np.ndarray:
+    """(n_bin, n): flat-response integration weights of each spectral bin (the samples of
+    a bin, :func:`spectral_bins.bin_index`)."""
+    flat = band_weights(lam, (float(lam.min()), float(lam.max())))
+    k = sb.bin_index(lam)
+    return np.array([np.where(k == j, flat, 0.0) for j in range(sb.BIN_EDGES_CM1.size - 1)])
+
+
+def bin_block(model, state, wb) -> np.ndarray:
+    """(n_bin, n_col) bin values at one state, columns of :data:`spectral_bins.BIN_QUANTITIES`."""
+    g = sb.BIN_GRID
+    up = [lb.upward(model, v, state) for v in g["view"]]
+    tau = np.array([u["transmittance"] for u in up])
+    path = np.array([u["path_radiance"] for u in up])
+    sol = np.array([lb.direct_solar(model, z, state)["solar_irradiance"] for z in g["sun"]])
+    sky = np.array([lb.sky(model, min(z, 89.9), state)["sky_radiance"] for z in g["sky"]])
+    iv = [int(np.flatnonzero(g["sky"] == v)[0]) for v in g["view"]]
+    norm = np.maximum(wb.sum(axis=1), 1e-300)
+    cols = {"transmittance": (tau @ wb.T) / norm, "path_radiance": path @ wb.T,
+            "solar_irradiance": sol @ wb.T, "sky_radiance": sky @ wb.T,
+            "tau_sky": ((tau * sky[iv]) @ wb.T) / np.maximum(sky[iv] @ wb.T, 1e-300)}
+    return np.concatenate([cols[q] for q in sb.BIN_QUANTITIES], axis=0).T   # (n_bin, n_col)
+
+
+def _log_steps(v, ref) -> np.ndarray:
+    """int16 steps of ln(v / ref) (:data:`tables.STATE_LOG_STEP`; zeros marked)."""
+    zero = (v <= 0.0) | (ref <= 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = np.where(zero, 0.0, np.log(np.where(zero, 1.0, v) / np.where(ref > 0, ref, 1.0)))
+    q = np.rint(np.clip(x, -13.0, 13.0) / tb.STATE_LOG_STEP)
+    return np.where(zero, tb.STATE_ZERO, q).astype(np.int16)
+
+
+def bin_tables(models, cache: Path) -> dict:
+    """Per model: ln F of every bin over ΔT × RH and the wind's ln W(w) / W(w₀) over RH ×
+    wind at the band tables' three temperature offsets (int16 steps), and the RH and wind
+    nodes."""
+    arrays = {"bin_edges_cm1": sb.BIN_EDGES_CM1,
+              **{f"bin_grid__{k}": v for k, v in sb.BIN_GRID.items()}}
+    for name in models:
+        t0 = time.time()
+        lam = lb.upward(name, 0.0)["wavelength_um"]
+        wb = bin_weights(lam)
+        own_rh = mdl.surface_state(name).rel_humidity
+        rhs = tb.humidity_nodes(own_rh)
+        ws = tb.wind_nodes(mdl.default_wind_speed(name))
+        v = _stage(cache, f"{name}__bins", lambda: np.array(
+            [[bin_block(name, _state(name, d, rh), wb) for rh in rhs]
+             for d in GRID["state_temp_offset_K"]]))
+        vw = np.array([_stage(cache, f"{name}__bins_w{d:+.0f}", lambda d=d: np.array(
+            [[bin_block(name, _state(name, d, rh, w), wb) for w in ws] for rh in rhs]))
+            for d in GRID["wind_layer_temp_offset_K"]])
+        i0 = int(np.flatnonzero(GRID["state_temp_offset_K"] == 0.0)[0])
+        j0 = int(np.argmin(np.abs(rhs - own_rh)))
+        k0 = int(np.flatnonzero(np.isclose(ws, mdl.default_wind_speed(name)))[0])
+        arrays[f"{name}__bins_q"] = _log_steps(v, v[i0, j0])
+        arrays[f"{name}__bins_w_q"] = _log_steps(vw, vw[:, :, k0:k0 + 1])
+        arrays[f"{name}__state_rh"] = rhs
+        arrays[f"{name}__state_wind"] = ws
+        print(f"  {name}: bins ({time.time() - t0:.0f} s)", flush=True)
+    return arrays
+
+
+def verify_bins(models, rng=None) -> dict:
+    """User responses (:data:`BIN_CHECK_RESPONSES`) through the product's lookup against
+    live LOWTRAN: random days (ΔT within 12 K, RH 40-95 %, wind 0-18 m/s) at random view,
+    sun and sky zeniths; max relative error per quantity. Also kept as the tests'
+    reference values."""
+    from imaging.atmosphere import core
+    from imaging.spectral_bands import response_from_table
+
+    rng = np.random.default_rng(20261127) if rng is None else rng
+    errors, cases = {}, []
+    for name in models:
+        surf = mdl.surface_state(name)
+        errors[name] = {}
+        days = [(rng.uniform(-12, 12), rng.uniform(40, 95), rng.uniform(0, 18),
+                 rng.uniform(0, 60), rng.uniform(0, 80), rng.uniform(0, 80)) for _ in range(8)]
+        for label, (wl, rr) in BIN_CHECK_RESPONSES.items():
+            resp = response_from_table(label, wl, rr)
+            worst = {}
+            for dt_, rh_, w_, v, s, k in days:
+                st = mdl.AtmosphereState(temp_air_K=surf.temp_air_K + dt_, rel_humidity=rh_,
+                                         wind_speed=w_)
+                up, sol = lb.upward(name, v, st), lb.direct_solar(name, s, st)
+                sk = lb.sky(name, k, st)
+                w = band_weights(up["wavelength_um"], None, resp)
+                live = {"transmittance": float(w @ up["transmittance"] / w.sum()),
+                        "path_radiance": float(w @ up["path_radiance"]),
+                        "solar_irradiance": float(w @ sol["solar_irradiance"]),
+                        "sky_radiance": float(w @ sk["sky_radiance"])}
+                r = core.atmosphere(name, resp, v, s, sky_zenith_deg=k, state=st,
+                                    spectral=False)
+                got = {"transmittance": r.transmittance, "path_radiance": r.path_radiance_thermal,
+                       "solar_irradiance": r.solar_irradiance_ground,
+                       "sky_radiance": r.sky_radiance}
+                for q in live:
+                    if live[q] > 0:
+                        worst[q] = max(worst.get(q, 0.0), abs(got[q] / live[q] - 1.0))
+                cases.append({"model": name, "response": label, "temp_offset_K": dt_,
+                              "rel_humidity": rh_, "wind_speed": w_, "view_zenith_deg": v,
+                              "sun_zenith_deg": s, "sky_zenith_deg": k, "live": live})
+            errors[name][label] = worst
+        print(f"  {name}: bins verified {json.dumps(errors[name])}", flush=True)
+    return {"errors": errors, "cases": cases}
+
+
+def write_bins(models, cache: Path, t0: float) -> None:
+    arrays = bin_tables(models, cache)
+    meta = {"generator": "scripts/make_atmosphere_tables.py --bins",
+            "created_utc": dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds"),
+            "lowtran_version": metadata.version("lowtran"), "models": list(models),
+            "quantities": list(sb.BIN_QUANTITIES),
+            "note": "ln(bin value at the state / at the model's own state), int16 steps of "
+                    f"{tb.STATE_LOG_STEP}; flat response in each bin; LOWTRAN 7, Navy "
+                    "maritime 23 km, LOWTRAN's default wind"}
+    arrays["meta_json"] = np.array(json.dumps(meta))
+    out = DATA / sb.BIN_FILE
+    _save_npz(out, arrays)
+    sb.load_bins.cache_clear()
+    check = verify_bins(models)
+    meta["verification"] = check["errors"]
+    arrays["meta_json"] = np.array(json.dumps(meta))
+    _save_npz(out, arrays)
+    ref = ROOT / "tests" / "imaging" / "data" / "user_band_lowtran.json"
+    ref.parent.mkdir(parents=True, exist_ok=True)
+    tmp = ref.with_suffix(".tmp")
+    tmp.write_text(json.dumps({"generator": meta["generator"],
+                               "lowtran_version": meta["lowtran_version"],
+                               "responses": {k: {"wavelength_um": list(map(float, v[0])),
+                                                 "response": list(map(float, v[1]))}
+                                             for k, v in BIN_CHECK_RESPONSES.items()},
+                               "cases": check["cases"]}, indent=1))
+    os.replace(tmp, ref)
+    print(f"wrote {out} ({out.stat().st_size / 1e6:.2f} MB) and {ref} in "
+          f"{time.time() - t0:.0f} s", flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--models", nargs="*", default=list(mdl.MODEL_NAMES))
@@ -488,8 +638,16 @@ def main() -> None:
     ap.add_argument("--no-verify", action="store_true")
     ap.add_argument("--verify-only", action="store_true",
                     help="measure the errors of the shipped tables and store them")
+    ap.add_argument("--bins", action="store_true",
+                    help="write the spectral bins' state factors (user responses) only")
     args = ap.parse_args()
     t0 = time.time()
+    if args.bins:
+        lc.load_lowtran_cards()
+        cache = Path(args.cache)
+        cache.mkdir(parents=True, exist_ok=True)
+        write_bins([mdl.model_name(m) for m in args.models], cache, t0)
+        return
     if args.verify_only:
         _verify_file(DATA / tb.TABLE_FILE, [mdl.model_name(m) for m in args.models], t0)
         return

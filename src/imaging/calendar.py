@@ -27,6 +27,7 @@ from shipthermal.units import HOUR, utc_offset_text
 
 from .experiment import render_series
 from .radiometry import brightness_temperature
+from .spectral_bands import user_bands
 
 __all__ = ["SCR_THRESHOLD", "image_overpasses", "image_dense", "monthly_table",
            "crossover_table", "crossover_dates_table", "plot_calendar", "overpass_seconds"]
@@ -98,8 +99,9 @@ def image_overpasses(history, scenario, overpasses, start: pd.Timestamp, bands=(
             m = sr.metrics.set_index("time_s")
             for s, o in members:
                 r = m.loc[s]
-                ship = float(brightness_temperature(r["mean_target"], band))
-                back = float(brightness_temperature(r["mean_background"], band))
+                with user_bands(scenario.user_bands):       # a user sensor's band
+                    ship = float(brightness_temperature(r["mean_target"], band))
+                    back = float(brightness_temperature(r["mean_background"], band))
                 local = o.time_utc.tz_convert(start.tz)
                 rows.append(dict(
                     time_utc=o.time_utc, date_local=str(local.date()),

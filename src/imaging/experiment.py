@@ -34,6 +34,7 @@ from .metrics import crossover_times, local_scr
 from .parameters import DEFAULT_CLOUD_TYPE
 from .render import BandConditions, SceneRenderer, SensorOptions, conditions_from_atmosphere
 from .scene import ShipPlacement, as_scene_background
+from .spectral_bands import user_bands
 
 __all__ = ["PAPER_TYPICAL_HOURS", "DEFAULT_TIMES_S", "ImagingScenario", "SeriesResult",
            "render_series", "sun_positions", "run_experiment", "ExperimentResult",
@@ -99,6 +100,9 @@ class ImagingScenario:
     cloud_type : str
         LOWTRAN cloud deck of the cloudy share of the sky
         (:data:`imaging.atmosphere.CLOUD_TYPES`).
+    user_bands : tuple of SpectralResponse
+        A user sensor's bands (e.g. ``[imaging.sensor] preset = "user"``), imaged by their
+        names like the named bands (:func:`imaging.spectral_bands.user_bands`).
     """
 
     season: str
@@ -120,6 +124,7 @@ class ImagingScenario:
     aerosol: dict | None = None
     atmosphere_model: str | None = None
     cloud_type: str = DEFAULT_CLOUD_TYPE
+    user_bands: tuple = ()
 
     def __post_init__(self):
         from .atmosphere import cloud_type_number, model_label, model_name
@@ -289,6 +294,13 @@ def render_series(history, scenario: ImagingScenario, bands=("3-5", "8-14"),
     dict
         ``{band: SeriesResult}``.
     """
+    with user_bands(scenario.user_bands):
+        return _render_series(history, scenario, bands, times_s, keep_times_s, crop_px,
+                              progress, renderer, stack_step_s)
+
+
+def _render_series(history, scenario, bands, times_s, keep_times_s, crop_px, progress,
+                   renderer, stack_step_s) -> dict:
     from tqdm.auto import tqdm
 
     t = np.asarray(times_s, dtype=float).reshape(-1)
@@ -520,8 +532,9 @@ def run_experiment(history_by_season: dict, out_dir, bands=("3-5", "8-14"),
         for b, sr in res.items():
             series[(season, b)] = sr
         scenarios[season] = scen
-    return experiment_products(out_dir, series, scenarios, history_by_season, typical,
-                               shared_panel_scale, crossover_window_h, seconds, figures)
+    with user_bands(tuple(r for sc in scenarios.values() for r in sc.user_bands)):
+        return experiment_products(out_dir, series, scenarios, history_by_season, typical,
+                                   shared_panel_scale, crossover_window_h, seconds, figures)
 
 
 def series_times(times, typical_hours=()) -> np.ndarray:

@@ -50,7 +50,8 @@ from shipthermal.errors import InputError, check_positive, require
 from .parameters import SENSOR_PRESETS
 from .radiometry import band_radiance, band_radiance_dt, brightness_temperature
 from .sensor import SensorSpec
-from .spectral_bands import SpectralResponse, named_band, read_response_file
+from .spectral_bands import (SpectralResponse, named_band, read_response_file,
+                             user_band_names)
 
 __all__ = ["InstrumentBand", "Instrument", "PRESETS", "PRESET_NAMES", "instrument",
            "user_instrument", "product_radiance", "product_brightness_temperature",
@@ -203,7 +204,8 @@ def band_product(key: str) -> InstrumentBand:
         for b in inst.bands:
             if b.key == key:
                 return b
-    return InstrumentBand(key, named_band(key), source="named band")
+    source = "user response" if key in user_band_names() else "named band"
+    return InstrumentBand(key, named_band(key), source=source)
 
 
 # ------------------------------------------------------------------------- products

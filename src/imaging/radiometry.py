@@ -547,13 +547,20 @@ def rough_sea_emissivity(view_zenith, band, wind_speed):
     return 1.0 - np.reshape(alb, theta.shape)
 
 
-@lru_cache(maxsize=64)  # per (band, wind): the renderer asks once per frame
 def rough_sea_emissivity_hemispherical(band, wind_speed, n_nodes: int = 24):
     """Hemispherical emissivity of the rough sea, ``2 int eps(theta) cos sin dtheta`` [-].
 
     Gauss-Legendre in ``mu = cos(theta)`` with ``n_nodes`` nodes over
     :func:`rough_sea_emissivity` (smooth in mu: 24 nodes agree with 48 within 1e-5).
     """
+    resp = _as_response(band)
+    return _rough_sea_hemispherical(resp.name, resp.wavelength_um.tobytes(),
+                                    resp.response.tobytes(), float(wind_speed), int(n_nodes))
+
+
+@lru_cache(maxsize=64)  # per (response, wind): the renderer asks once per frame
+def _rough_sea_hemispherical(name, wavelength_bytes, response_bytes, wind_speed, n_nodes):
+    band = SpectralResponse(name, np.frombuffer(wavelength_bytes), np.frombuffer(response_bytes))
     x, w = gauss_legendre(int(n_nodes))
     mu = 0.5 * (x + 1.0)
     eps = rough_sea_emissivity(np.degrees(np.arccos(mu)), band, wind_speed)

@@ -32,6 +32,7 @@ Bands
 from __future__ import annotations
 
 import csv
+from contextlib import contextmanager
 from dataclasses import dataclass
 from functools import lru_cache
 from importlib import resources
@@ -46,7 +47,7 @@ from .quadrature import gauss_legendre
 
 __all__ = ["SpectralResponse", "rectangular_response", "BAND_NAMES", "BAND_SOURCES", "named_band",
            "is_named_band", "read_response_file", "response_from_table", "thermal_band_of",
-           "thermal_band_key", "nominal_range"]
+           "thermal_band_key", "nominal_range", "user_bands", "user_band_names"]
 
 @dataclass(frozen=True)
 class SpectralResponse:
@@ -228,6 +229,54 @@ def _table_band(name: str) -> SpectralResponse:
     return response_from_table(name, wl, rr)
 
 
+_USER_BANDS: dict = {}
+"""The user bands in force (:func:`user_bands`): ``{name: SpectralResponse}``."""
+
+
+def user_band_names() -> tuple:
+    """Names of the user bands in force (:func:`user_bands`), besides :data:`BAND_NAMES`."""
+    return tuple(_USER_BANDS)
+
+
+@contextmanager
+def user_bands(responses):
+    """Let a user sensor's bands be named like the built-in ones inside the block.
+
+    The imaging run passes bands by name (file names, tables, metrics); a user's response
+    (e.g. ``[imaging.sensor] preset = "user"``) is taken by :func:`named_band` under its
+    name while the block runs, and the atmosphere integrates it from its tables' spectra
+    (:func:`imaging.atmosphere.resolve_band`).
+
+    Parameters
+    ----------
+    responses : iterable of SpectralResponse
+        Each is known by its ``name``, which must not be one of :data:`BAND_NAMES`; a name
+        already in force must carry the same response (nested blocks of the same sensor).
+    """
+    added = []
+    try:
+        for resp in responses:
+            require(isinstance(resp, SpectralResponse), "user band", resp,
+                    "must be a SpectralResponse (imaging.spectral_bands.read_response_file)")
+            require(resp.name not in BAND_NAMES, "user band", resp.name,
+                    f"must not be a named band ({', '.join(BAND_NAMES)})",
+                    "Give the user band another name")
+            old = _USER_BANDS.get(resp.name)
+            if old is None:
+                _USER_BANDS[resp.name] = resp
+                added.append(resp.name)
+            else:
+                require(old.wavelength_um.shape == resp.wavelength_um.shape
+                        and bool(np.array_equal(old.wavelength_um, resp.wavelength_um))
+                        and bool(np.array_equal(old.response, resp.response)),
+                        "user band", resp.name, "is already in force with another response",
+                        "Give the two sensors' bands different names")
+        yield tuple(_USER_BANDS)
+    finally:
+        for name in added:
+            _USER_BANDS.pop(name, None)
+
+
 def is_named_band(name) -> bool:
     """True for a name of :data:`BAND_NAMES`."""
     return isinstance(name, str) and name in BAND_NAMES
@@ -243,6 +292,8 @@ def named_band(name: str) -> SpectralResponse:
         return _gaussian(*_GAUSS[name], name)
     if name in _TABLES:
         return _table_band(name)
+    if name in _USER_BANDS:
+        return _USER_BANDS[name]
     raise InputError("band", name, f"must be one of {', '.join(BAND_NAMES)}",
                      "Or give the sensor's response table")
 

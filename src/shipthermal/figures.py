@@ -75,8 +75,11 @@ def unit_label(unit: str) -> str:
 
 
 def band_label(band: str) -> str:
-    """``"8-14"`` → ``"8–14 µm"``: a band as figures and files print it."""
-    return f"{str(band).replace('-', '–')} µm"
+    """``"8-14"`` → ``"8–14 µm"``: a band as figures and files print it; a named band
+    (``"landsat8_tirs_b10"``, a user sensor's ``"user"``) keeps its name."""
+    lo, sep, hi = str(band).partition("-")
+    numeric = sep and all(p.replace(".", "", 1).isdigit() for p in (lo, hi))
+    return f"{lo}–{hi} µm" if numeric else str(band)
 
 
 #: Vector formats a figure can also be written in (``outputs.formats``)

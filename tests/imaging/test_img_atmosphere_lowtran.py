@@ -71,6 +71,23 @@ def test_scaled_profile_has_the_days_surface_humidity():
     assert 100.0 * rho / mdl._sat_density(prof.temp_K[0]) == pytest.approx(55.0, rel=1e-9)
 
 
+def test_calm_air_is_not_lowtrans_default_wind():
+    """LOWTRAN reads a wind of 0 as "not given" (its default, ~7-10 m/s): calm air must be
+    passed as a small positive wind. The sea-salt modes are flat below 2.2 m/s (MARINE:
+    A2 = max(5.866 (W - 2.2), 0.5)), so 0 m/s lies with 0.5 m/s, not with the default."""
+    m = "midlatitude_winter"
+
+    def window(wind):
+        st = AtmosphereState(rel_humidity=70.0, wind_speed=wind)
+        up = lb.upward(m, 10.0, st)
+        w = band_weights(up["wavelength_um"], (3.7, 4.1))
+        return float(w @ up["path_radiance"])
+
+    calm, light, default = window(0.0), window(0.5), window(mdl.default_wind_speed(m))
+    assert calm == pytest.approx(light, rel=0.01)
+    assert abs(default / calm - 1.0) > 0.2
+
+
 # ------------------------------------------------- the evidence: tables vs live LOWTRAN
 # At the model's own state the view/sky angles 0, 30, 60 are table nodes: the comparison
 # is then the stored float32 numbers against a new run (a different column or band would

@@ -11,7 +11,8 @@ scaled to the day's weather (:class:`.models.AtmosphereState`), Navy maritime ae
 23 km driven by the day's wind and humidity, LOWTRAN's cloud decks and its
 single-scattering of sunlight. The tables (:mod:`.tables`) hold it for every named band;
 other responses are integrated from the tables' spectra at the model's own state and
-carried to the day's state by the nearest named band's factors.
+carried to the day's state bin by bin (:mod:`.spectral_bins`); their cloudy/clear sky
+ratio and scattered sunlight are the nearest named band's (in mean wavelength).
 """
 
 from __future__ import annotations
@@ -27,8 +28,9 @@ from shipthermal.errors import InputError, check_finite, check_range
 
 from ..parameters import DEFAULT_CLOUD_TYPE, MAX_VIEW_ZENITH
 from ..radiometry import SpectralResponse, planck_radiance, rectangular_response
-from ..spectral_bands import BAND_NAMES, named_band
+from ..spectral_bands import BAND_NAMES, named_band, user_band_names
 from . import models as mdl
+from . import spectral_bins as sb
 from . import tables as tb
 from .bands import band_weights, parse_band
 
@@ -62,20 +64,35 @@ def resolve_band(band, response=None) -> tuple[str, SpectralResponse, bool]:
     ``"mwir"``/``"lwir"``), a ``"lo-hi"`` string or pair [µm] (rectangular), a
     :class:`SpectralResponse`, or a legacy ``response=(wavelength_um, response)`` table."""
     if isinstance(band, SpectralResponse):
-        resp = band
-        return resp.name, resp, resp.name in BAND_NAMES and _same(resp, named_band(resp.name))
+        return _as_named(band)
     if response is not None:
         from ..spectral_bands import response_from_table
 
         resp = response if isinstance(response, SpectralResponse) else response_from_table(
             str(band), *response)
-        return resp.name, resp, False
+        return _as_named(resp)
     if isinstance(band, str) and band in BAND_NAMES:
         return band, named_band(band), True
+    if isinstance(band, str) and band in user_band_names():     # a user sensor's, by name
+        return _as_named(named_band(band))
     name, lim = parse_band(band)
     if name in BAND_NAMES:
         return name, named_band(name), True
     return name, rectangular_response(*lim, name=name), False
+
+
+def _as_named(resp: SpectralResponse) -> tuple[str, SpectralResponse, bool]:
+    """A response the tables hold as a named band (the same knots and values, e.g. a user's
+    copy of Landsat-8 band 10 or of the 8-14 µm rectangle) is looked up as that band;
+    any other goes through the spectral bins."""
+    match = _named_match(tuple(resp.wavelength_um), tuple(resp.response))
+    return (match, resp, True) if match else (resp.name, resp, False)
+
+
+@lru_cache(maxsize=64)
+def _named_match(wavelength_um: tuple, response: tuple) -> str | None:
+    resp = SpectralResponse("?", np.array(wavelength_um), np.array(response))
+    return next((b for b in BAND_NAMES if _same(resp, named_band(b))), None)
 
 
 def _same(a: SpectralResponse, b: SpectralResponse) -> bool:
@@ -279,6 +296,42 @@ def _user_std(model, resp: SpectralResponse, quantity: str, zenith):
     return _geom(axis, t.grid(axis), vals, zenith)
 
 
+_SPECTRA = {"transmittance": ("view", "spectral_transmittance"),
+            "path_radiance": ("view", "spectral_path_radiance"),
+            "solar_irradiance": ("sun", "spectral_solar_irradiance"),
+            "sky_radiance": ("sky", "spectral_sky_radiance")}
+
+
+@lru_cache(maxsize=1)
+def _bin_matrix() -> np.ndarray:
+    """(n_wavelength, n_bin) one-hot: the spectral bin of each table wavelength."""
+    k = sb.bin_index(tb.load_table().wavelength_um)
+    m = np.zeros((k.size, sb.BIN_EDGES_CM1.size - 1))
+    m[np.arange(k.size)[k >= 0], k[k >= 0]] = 1.0
+    m.setflags(write=False)
+    return m
+
+
+def _user_ratio(name, resp: SpectralResponse, state, quantity: str, zenith):
+    """A user response's value at the day's state over its value at the model's own:
+    ``Σ_j a_j F_j / Σ_j a_j`` over the spectral bins (:mod:`.spectral_bins`), ``a_j`` the
+    response-weighted own-state spectrum in bin ``j``, ``F_j`` the bin's state factor at
+    the day's temperature, humidity and wind."""
+    t = tb.load_table()
+    w = _user_weights((tuple(resp.wavelength_um), tuple(resp.response), resp.name))
+    if quantity == "tau_sky":
+        g = t.grid("view")
+        src = (_geom("view", g, t.get(name, "spectral_transmittance"), zenith)
+               * _geom("sky", t.grid("sky"), t.get(name, "spectral_sky_radiance"), zenith))
+    else:
+        axis, key = _SPECTRA[quantity]
+        src = _geom(axis, t.grid(axis), t.get(name, key), zenith)
+    a = (np.asarray(src) * w) @ _bin_matrix()                      # (..., n_bin)
+    f = np.exp(sb.bin_log_factors(name, quantity, *_state_key(name, state), zenith))
+    den = a.sum(axis=-1)
+    return np.where(den > 0, (a * f).sum(axis=-1) / np.where(den > 0, den, 1.0), 1.0)
+
+
 _SS_AXES = {"ss_path": ("ss_view", "ss_sun", "ss_azimuth"),
             "ss_sky": ("ss_sky", "ss_sun", "ss_azimuth"),
             "ss_sky_attenuated": ("ss_sky", "ss_sun", "ss_azimuth"),
@@ -367,10 +420,11 @@ def _table_values(name, band, resp, named, view_z, sun_z, sky_z, view_az, sky_az
     else:
         for q, z in (("transmittance", view_z), ("path_radiance", view_z),
                      ("solar_irradiance", sun), ("sky_radiance", sky_z)):
-            out[q] = float(_user_std(name, resp, q, z) * _ratio_std(name, ref, state, q, z))
+            out[q] = float(_user_std(name, resp, q, z)
+                           * _user_ratio(name, resp, state, q, z))
         g = t.grid("sky")
-        sky_nodes = _user_std(name, resp, "sky_radiance", g) * _ratio_std(
-            name, ref, state, "sky_radiance", g)
+        sky_nodes = _user_std(name, resp, "sky_radiance", g) * _user_ratio(
+            name, resp, state, "sky_radiance", g)
     out["sky_irradiance"] = float(tb.hemispherical(t.grid("sky"), sky_nodes))
     if cloud_cover > 0.0:
         dt, rh, _ = _state_key(name, state)
@@ -386,8 +440,12 @@ def _table_values(name, band, resp, named, view_z, sun_z, sky_z, view_az, sky_az
     # is in the state tables; the others at the model's own state, carried to the day's
     # by the ratio of the nearest state-table transmittance (sky-weighted for the
     # hemispherical sky, band mean for the sun's window spectrum)
-    tau_ratio = float(_ratio_std(name, ref, state, "transmittance", view_z))
-    sky_ratio = float(_ratio_std(name, ref, state, "tau_sky", view_z))
+    if named:
+        tau_ratio = float(_ratio_std(name, ref, state, "transmittance", view_z))
+        sky_ratio = float(_ratio_std(name, ref, state, "tau_sky", view_z))
+    else:
+        tau_ratio = float(_user_ratio(name, resp, state, "transmittance", view_z))
+        sky_ratio = float(_user_ratio(name, resp, state, "tau_sky", view_z))
     ib = t.band_index(ref)
     if named:
         out["tau_sky"] = float(band_value(name, band, "tau_sky", view_z, state))
@@ -664,7 +722,9 @@ def planck_weighted_transmittance(model, band, view_zenith_deg: float, temp_K,
     ndarray, shape of ``temp_K``
         Planck-weighted band transmittance [-]. Table backend: the tables' weighting at
         the model's own state (10 K grid, cubic in T) times the ratio of the day's 300 K
-        weighted transmittance (state tables) to the model's own.
+        weighted transmittance (state tables) to the model's own; a user response: its
+        own-state spectrum weighted with the blackbody, bin by bin times the bins'
+        transmittance factors (:mod:`.spectral_bins`).
     """
     t = np.asarray(temp_K, dtype=float)
     check_range("temp_K", t, 100.0, 2000.0, "K")
@@ -673,20 +733,20 @@ def planck_weighted_transmittance(model, band, view_zenith_deg: float, temp_K,
     st = _as_state(state, aerosol)
     if backend == "table":
         tab = tb.load_table()
-        ref = band_name if named else _reference_band(resp)
-        ratio = float(_ratio_std(name, ref, st, "tau_planck300", view_zenith_deg))
         grid_t = tab.grid("planck_temp_K")
-        if named:
-            per_t = _geom("view", tab.grid("view"),
-                          tab.get(name, "tau_planck")[tab.band_index(band_name)],
-                          view_zenith_deg)
-            if float(t.min()) >= grid_t[0] and float(t.max()) <= grid_t[-1]:
-                return CubicSpline(grid_t, per_t)(t) * ratio
         w = _user_weights((tuple(resp.wavelength_um), tuple(resp.response), resp.name))
         tau = _geom("view", tab.grid("view"), tab.get(name, "spectral_transmittance"),
                     view_zenith_deg)
-        lam = tab.wavelength_um
-        b = planck_radiance(lam[None, :], t.reshape(-1, 1))
+        b = planck_radiance(tab.wavelength_um[None, :], t.reshape(-1, 1))
+        if not named:     # each bin's own-state share carried by its factor (spectral bins)
+            f = np.exp(sb.bin_log_factors(name, "transmittance", *_state_key(name, st),
+                                          view_zenith_deg))
+            return (((b * tau * w) @ _bin_matrix()) @ f / (b @ w)).reshape(t.shape)
+        ratio = float(_ratio_std(name, band_name, st, "tau_planck300", view_zenith_deg))
+        per_t = _geom("view", tab.grid("view"),
+                      tab.get(name, "tau_planck")[tab.band_index(band_name)], view_zenith_deg)
+        if float(t.min()) >= grid_t[0] and float(t.max()) <= grid_t[-1]:
+            return CubicSpline(grid_t, per_t)(t) * ratio
         return ((b * tau) @ w / (b @ w)).reshape(t.shape) * ratio
     from . import lowtran_backend as lb
 
@@ -718,9 +778,8 @@ def sky_radiance(model, band, zenith_deg, backend: str = "table", state=None,
             clear = _thermal_columns(name, band_name, *_state_key(name, st))[
                 tb.columns("sky_radiance")]
         else:
-            ref = _reference_band(resp)
-            clear = _user_std(name, resp, "sky_radiance", g) * _ratio_std(
-                name, ref, st, "sky_radiance", g)
+            clear = _user_std(name, resp, "sky_radiance", g) * _user_ratio(
+                name, resp, st, "sky_radiance", g)
         nodes = clear
         if cloud_cover > 0.0:
             ref = band_name if named else _reference_band(resp)

@@ -52,11 +52,19 @@ def lowtran_available() -> bool:
     return True
 
 
+CALM_WIND = 0.001
+"""Wind passed to LOWTRAN for calm air [m s⁻¹] (its card field's resolution; 0 would mean
+the model's default wind)."""
+
+
 def _deck(model, state, **kw) -> lc.Deck:
     """A deck for ``model`` in ``state`` (:class:`.models.AtmosphereState`)."""
     state = mdl.AtmosphereState() if state is None else state
     name = mdl.model_name(model)
-    wind = state.wind(name)
+    # LOWTRAN reads a wind of 0 as "not given" and takes the model's default (MARINE:
+    # IF (WH .LE. 0.) WH = WSPD(MODEL+1)): calm air is passed as the smallest wind the
+    # card's F10.3 field holds (the sea-salt modes are flat below 2.2 m/s)
+    wind = max(state.wind(name), CALM_WIND)
     dt, s = state.offsets(name)
     cloud = kw.pop("icld", 0)
     common = dict(model=mdl.model_number(name), wss=wind, whh=wind, vis=state.vis_km,

@@ -67,7 +67,7 @@ GRID = {
     "planck_temp_K": np.arange(180.0, 421.0, 10.0),
     "state_temp_offset_K": np.array([-20, -15, -10, -5, 0, 5, 10, 15, 20], dtype=float),
     "state_rel_humidity": np.array([5, 20, 35, 50, 65, 75, 85, 90, 95, 98, 100], dtype=float),
-    "state_wind": np.array([0.0, 2.3, 4.0, 6.0, 8.0, 10.0, 13.0, 16.0, 20.0]),
+    "state_wind": np.array([0.0, 2.3, 2.6, 3.0, 4.0, 6.0, 8.0, 10.0, 13.0, 16.0, 20.0]),
     "wind_layer_temp_offset_K": np.array([-15.0, 0.0, 15.0]),
     "cloud_rel_humidity": np.array([20, 50, 75, 90, 100], dtype=float),
     "ss_view": np.array([0, 15, 30, 45, 60, 70, 80], dtype=float),

@@ -587,8 +587,10 @@ class SimulationResult:
             a = np.asarray(getattr(fr, attr), dtype=np.float32)
             if quantity == "brightness_temperature":
                 from imaging.radiometry import brightness_temperature
+                from imaging.spectral_bands import user_bands
 
-                a = brightness_temperature(np.maximum(a, 1e-12), band).astype(np.float32)
+                with user_bands(isc.user_bands):            # a user sensor's band
+                    a = brightness_temperature(np.maximum(a, 1e-12), band).astype(np.float32)
             arrays.append((a, fr))
         stamps = self._timestamps(secs)
         utc = stamps.tz_convert("UTC").tz_localize(None)

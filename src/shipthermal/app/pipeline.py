@@ -408,6 +408,8 @@ def imaging_scenario(scenario, background, ship):
     elif sens.psf or (sens.netd_k or 0.0) > 0:
         options = SensorOptions(psf=sens.psf, netd_k=sens.netd_k or None, seed=sc.solver.seed)
     emissivity = {band: sc.face_property(ship, "emissivity", band) for band in sc.bands}
+    users = (tuple(b.response for b in sc.instrument().bands) if sens.preset == "user"
+             else ())
     env = sc.environment()
     return ImagingScenario(
         season=sc.atmosphere_season, atmosphere_model=sc.atmosphere_model,
@@ -418,7 +420,7 @@ def imaging_scenario(scenario, background, ship):
         samples_per_pixel=img.samples_per_pixel_side, backend=sc.solver.backend,
         atmosphere_backend=img.atmosphere.backend, sensor_options=options,
         renderer_options={"ship_emissivity": emissivity, "sensor": sc.sensor()},
-        sky_weather=sky_weather(env), aerosol=aerosol_conditions(env))
+        sky_weather=sky_weather(env), aerosol=aerosol_conditions(env), user_bands=users)
 
 
 def experiment_inputs(scenario, step_s: float | None = None) -> dict:
@@ -443,28 +445,32 @@ def frame_times(scenario, step_s: float | None = None) -> np.ndarray:
 
 IMAGING_BANDS = SENSOR_BANDS
 """The bands the renderer draws: the paper's two and the real sensors' named bands (the
-atmosphere tables hold each, :data:`imaging.parameters.SENSOR_BANDS`)."""
+atmosphere tables hold each, :data:`imaging.parameters.SENSOR_BANDS`), and a user sensor's
+band ``"user"`` (its response integrated from the tables' spectra)."""
 
 
 def check_imaging_bands(scenario) -> None:
-    """The imaging stage renders the paper's two bands; the scenario also accepts custom
-    'lo-hi' bands (thermal emissivities), which imaging cannot take yet: say so up front.
-    A weather record is imaged over its whole span only with the physical background (the
-    paper's chain is one day of a met grid)."""
+    """The imaging stage renders the named bands and a user sensor's; the scenario also
+    accepts custom 'lo-hi' bands (thermal emissivities), which imaging cannot take: say so
+    up front. A weather record is imaged over its whole span only with the physical
+    background (the paper's chain is one day of a met grid)."""
     if (scenario.weather.day == "record" and scenario.weather.source != "builtin"
             and scenario.background.model == "paper"):
         raise InputError("background.model", "paper", "images one periodic day (a same-day "
                          "met grid); a weather record is imaged with the physical background",
                          "Set background.model = 'physical', or image one day with "
                          "weather.day = 'periodic'")
-    other = [b for b in scenario.bands if b not in IMAGING_BANDS]
+    user = ("user",) if scenario.imaging.sensor.preset == "user" else ()
+    other = [b for b in scenario.bands if b not in IMAGING_BANDS + user]
     if other:
         raise InputError("imaging.bands", list(scenario.bands), "the imaging stage takes the "
-                         "named bands of the atmosphere tables only ('3-5', '8-14' and the "
-                         f"sensor presets' bands; {other[0]!r} is not one: a custom rectangle "
-                         "or a user response is available through imaging.atmosphere and "
-                         "imaging.instruments, not in the imaging run yet)",
-                         'Use "3-5" / "8-14" or a sensor preset, or run the thermal stage only')
+                         "named bands of the atmosphere tables ('3-5', '8-14' and the "
+                         "sensor presets' bands) and a user sensor's band; "
+                         f"{other[0]!r} is not one (a custom rectangle is available through "
+                         "imaging.atmosphere, not in the imaging run)",
+                         'Use "3-5" / "8-14" or a sensor preset, give the band as a user '
+                         'sensor ([imaging.sensor] preset = "user", response_file), or run '
+                         'the thermal stage only')
 
 
 def prepare(scenario, imaging: bool = False, progress: bool = False, log=None):

@@ -474,6 +474,8 @@ def _image_frames(nc: Path, band: str, hours=SLIDER_HOURS):
 
     with xr.open_dataset(nc, engine="h5netcdf") as ds:
         rad = ds["radiance"].values
+        bt = (ds["brightness_temperature"].values if "brightness_temperature" in ds.variables
+              else None)
         cov = ds["coverage"].values
         # hours after local midnight (files written before CF time: "time" itself)
         th = (ds["time_local_h"] if "time_local_h" in ds.variables else ds["time"]).values
@@ -502,8 +504,15 @@ def _image_frames(nc: Path, band: str, hours=SLIDER_HOURS):
             wr0, wr1, wc0, wc1 = background_window(mask)
             boxes.append(((wr0 - r0, wr1 - r0, wc0 - c0, wc1 - c0), (255, 255, 255)))
     uris = [_b64png(_png_rgb(_colourise(f, vmin, vmax), _ZOOM, boxes)) for f in stack]
-    second = (lambda L: float(brightness_temperature(L, band)),
-              "apparent temperature at the aperture [K]")
+    if bt is not None:   # the product's own brightness temperature (K1/K2, a user band)
+        ok = np.isfinite(rad) & np.isfinite(bt)
+        order = np.argsort(rad[ok], kind="stable")
+        rs, bs = rad[ok][order], bt[ok][order]
+        second = (lambda L: float(np.interp(L, rs, bs)),
+                  "brightness temperature at the aperture [K]")
+    else:
+        second = (lambda L: float(brightness_temperature(L, band)),
+                  "apparent temperature at the aperture [K]")
     bar = _colourbar_png(float(vmin), float(vmax), f"at-aperture radiance {band_label(band)} "
                          f"[{_R_UNIT}]", second=second)
     cap = (f"{h * res / 1000:.1f} km × {w * res / 1000:.1f} km around the ship "

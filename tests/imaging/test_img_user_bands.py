@@ -1,0 +1,145 @@
+"""A user's spectral response: its atmosphere on the day's state (the spectral bins), and
+its name in the imaging run (``spectral_bands.user_bands``).
+
+Peer: live LOWTRAN 7 (Navy maritime aerosol, 23 km) at random days, stored by
+``scripts/make_atmosphere_tables.py --bins`` in ``data/user_band_lowtran.json`` (the
+responses are shapes no named band has: a triangle over 10-12.5 µm, rectangles over the
+3.7-4.1 µm window and 8.2-9.2 µm, a Gaussian on the 4.6 µm CO band wing).
+"""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from imaging.atmosphere import MODEL_NAMES, AtmosphereState, atmosphere, surface_state
+from imaging.atmosphere import spectral_bins as sb
+from imaging.spectral_bands import (named_band, response_from_table, user_band_names,
+                                    user_bands)
+from shipthermal.errors import InputError
+
+REFERENCE = json.loads((Path(__file__).parent / "data" / "user_band_lowtran.json")
+                       .read_text(encoding="utf-8"))
+
+#: Largest relative error allowed against live LOWTRAN per quantity: the 1 % the
+#: atmosphere is held to against LOWTRAN (issue's target for the named bands); the direct
+#: sun 1.5 %, the named bands' own stated state error for it (1.4 %, ``interpolation_errors``)
+#: rounded up — a bin carries the state with the same interpolation over the same nodes.
+TOLERANCE = {"transmittance": 0.01, "path_radiance": 0.01, "sky_radiance": 0.01,
+             "solar_irradiance": 0.015}
+
+
+def _response(label):
+    r = REFERENCE["responses"][label]
+    return response_from_table(label, r["wavelength_um"], r["response"])
+
+
+def _cases(model):
+    return [c for c in REFERENCE["cases"] if c["model"] == model]
+
+
+@pytest.mark.parametrize("model", MODEL_NAMES)
+def test_user_response_on_the_days_state_against_live_lowtran(model):
+    worst = {q: 0.0 for q in TOLERANCE}
+    for c in _cases(model):
+        s0 = surface_state(model)
+        st = AtmosphereState(temp_air_K=s0.temp_air_K + c["temp_offset_K"],
+                             rel_humidity=c["rel_humidity"], wind_speed=c["wind_speed"])
+        r = atmosphere(model, _response(c["response"]), c["view_zenith_deg"],
+                       c["sun_zenith_deg"], sky_zenith_deg=c["sky_zenith_deg"], state=st,
+                       spectral=False)
+        got = {"transmittance": r.transmittance, "path_radiance": r.path_radiance_thermal,
+               "sky_radiance": r.sky_radiance, "solar_irradiance": r.solar_irradiance_ground}
+        for q, live in c["live"].items():
+            if live > 0:
+                worst[q] = max(worst[q], abs(got[q] / live - 1.0))
+    assert len(_cases(model)) >= 32
+    for q, tol in TOLERANCE.items():
+        assert worst[q] <= tol, (q, worst[q])
+
+
+@pytest.mark.parametrize("model", ["tropical", "subarctic_winter"])
+def test_user_response_at_the_models_own_state_is_its_spectra(model):
+    """At the model's own state every bin factor is 1: the value is the response's integral
+    of the stored own-state spectra at that zenith (table nodes: between them the band value
+    and the spectrum are each interpolated, which PCHIP does not commute with)."""
+    from imaging.atmosphere import band_integrate
+
+    resp = _response("rect_3.7-4.1um")
+    for vz in (0.0, 30.0, 70.0):
+        r = atmosphere(model, resp, vz, 120.0, spectral=True)
+        lam = r.wavelength_um
+        tau = band_integrate(lam, r.transmittance_spectral, None, response=resp, mean=True)
+        path = band_integrate(lam, r.path_radiance_spectral, None, response=resp)
+        assert r.transmittance == pytest.approx(tau, rel=1e-6)
+        assert r.path_radiance_thermal == pytest.approx(path, rel=1e-6)
+
+
+def test_bins_cover_the_tables_wavelengths():
+    from imaging.atmosphere import load_table
+
+    k = sb.bin_index(load_table().wavelength_um)
+    assert np.all(k >= 0)                                   # every sample has a bin
+    assert np.all(np.bincount(k) >= 2)                      # and no bin is empty or single
+
+
+def test_a_copy_of_a_named_band_is_looked_up_as_that_band():
+    """A user's copy of Landsat-8 band 10 (its measured table) takes the band's own tables:
+    the same numbers on any day."""
+    resp = named_band("landsat8_tirs_b10")
+    user = response_from_table("l8_user", resp.wavelength_um, resp.response)
+    st = AtmosphereState(temp_air_K=300.0, rel_humidity=82.0, wind_speed=8.0)
+    a = atmosphere("midlatitude_summer", user, 20.0, 40.0, state=st, spectral=False)
+    b = atmosphere("midlatitude_summer", "landsat8_tirs_b10", 20.0, 40.0, state=st,
+                   spectral=False)
+    for f in ("transmittance", "path_radiance_thermal", "sky_radiance", "solar_irradiance_ground"):
+        assert getattr(a, f) == getattr(b, f), f
+
+
+def test_the_bins_agree_with_the_band_tables_for_a_slightly_different_response():
+    """Band 10 with one knot's response changed by 2 % is not a named band: it goes through
+    the spectral bins, whose values on a scaled day must agree with band 10's own tables
+    within the two methods' stated state errors (≤ 1.7 % path and sky for band 10)."""
+    resp = named_band("landsat8_tirs_b10")
+    r = resp.response.copy()
+    r[len(r) // 3] *= 0.98
+    user = response_from_table("l8_user", resp.wavelength_um, r)
+    for model in ("midlatitude_summer", "subarctic_winter"):
+        s0 = surface_state(model)
+        st = AtmosphereState(temp_air_K=s0.temp_air_K + 6.0, rel_humidity=82.0, wind_speed=3.0)
+        a = atmosphere(model, user, 20.0, 40.0, state=st, spectral=False)
+        b = atmosphere(model, "landsat8_tirs_b10", 20.0, 40.0, state=st, spectral=False)
+        assert a.transmittance == pytest.approx(b.transmittance, rel=0.005)
+        for f in ("path_radiance_thermal", "sky_radiance"):
+            assert getattr(a, f) == pytest.approx(getattr(b, f), rel=0.017), (model, f)
+
+
+# ---------------------------------------------------------------- user band names
+def test_user_bands_are_named_inside_the_block_only():
+    resp = response_from_table("user", [10.0, 11.0, 12.0], [0.0, 1.0, 0.0])
+    with user_bands([resp]):
+        assert "user" in user_band_names()
+        assert named_band("user") is resp
+        r = atmosphere("tropical", "user", 0.0, 120.0, spectral=False)
+        assert r.transmittance == pytest.approx(
+            atmosphere("tropical", resp, 0.0, 120.0, spectral=False).transmittance)
+    assert "user" not in user_band_names()
+    with pytest.raises(InputError):
+        named_band("user")
+
+
+def test_a_user_band_may_not_shadow_a_named_band_or_change_inside_a_block():
+    with pytest.raises(InputError, match="another name"):
+        with user_bands([response_from_table("8-14", [8.0, 14.0], [1.0, 1.0])]):
+            pass
+    a = response_from_table("user", [10.0, 12.0], [1.0, 1.0])
+    b = response_from_table("user", [3.5, 4.0], [1.0, 1.0])
+    with user_bands([a]):
+        with user_bands([a]):                   # the same sensor twice: fine
+            pass
+        with pytest.raises(InputError, match="different names"):
+            with user_bands([b]):
+                pass
+        assert named_band("user") is a
+    assert "user" not in user_band_names()
