@@ -143,3 +143,38 @@ def test_a_user_band_may_not_shadow_a_named_band_or_change_inside_a_block():
                 pass
         assert named_band("user") is a
     assert "user" not in user_band_names()
+
+
+# ---------------------------------------------------------------- the imaging run
+def test_a_user_band_equal_to_the_papers_renders_the_same_frames():
+    """The 8-14 µm rectangle as a user's band ("user") renders the paper's 8-14 µm frames:
+    same atmosphere (a copy of a named band takes its tables), emissivities (the band's
+    half-maximum range), sea optics and metrics; the name is known for the run only."""
+    from imaging.experiment import ImagingScenario, render_series
+    from imaging.scene import GriddedBackground, ShipPlacement
+    from imaging.thermal_history import ShipThermalHistory
+    from shipthermal.raytrace.scenes import box
+
+    V, F = box([-10.0, -3.0, -1.0], [10.0, 3.0, 4.0])
+    times = np.array([0.0, 86400.0])
+    h = ShipThermalHistory(V, F, np.zeros(len(F), int), ("deck",), times,
+                           np.array([[288.0] * len(F), [300.0] * len(F)]))
+    cm = np.ones((30, 30), np.uint8)
+    cm[:, :5] = 3
+    bg = GriddedBackground(cm, np.arange(24.0), np.broadcast_to(
+        289.0 + 0.2 * (np.indices((30, 30)).sum(axis=0) % 2), (24, 30, 30)).copy(), 30.0)
+    user = response_from_table("user", [8.0, 14.0], [1.0, 1.0])
+    common = dict(background=bg, wind_speed=4.0, placement=ShipPlacement(450.0, 450.0, 30.0),
+                  samples_per_pixel=16, date="2023-07-15", latitude=38.91, longitude=121.63,
+                  tz="Etc/GMT-8")
+    t = np.array([6.0, 12.0, 22.0]) * 3600.0
+    paper = render_series(h, ImagingScenario("summer", **common), ("8-14",), t,
+                          keep_times_s=t, progress=False)["8-14"]
+    mine = render_series(h, ImagingScenario("summer", user_bands=(user,), **common), ("user",),
+                         t, keep_times_s=t, progress=False)["user"]
+    for k in t:
+        np.testing.assert_array_equal(mine.frames[float(k)].radiance,
+                                      paper.frames[float(k)].radiance)
+    np.testing.assert_allclose(mine.metrics["contrast"], paper.metrics["contrast"], rtol=0,
+                               atol=0)
+    assert "user" not in user_band_names()
