@@ -205,7 +205,7 @@ def plot_calendar(path, dense: dict, overpass_df: pd.DataFrame, monthly: pd.Data
                   start: pd.Timestamp, band: str, threshold: float = SCR_THRESHOLD,
                   label: str = "") -> str:
     """Day × local-time map of log10 SCR (dense frames) with the overpasses marked (filled
-    white: under the clutter; black ring: seen), and the monthly fraction of overpasses
+    orange: under the clutter; black ring: seen), and the monthly fraction of overpasses
     under the clutter (bars from zero). PNG, written atomically."""
     import matplotlib
 
@@ -240,8 +240,11 @@ def plot_calendar(path, dense: dict, overpass_df: pd.DataFrame, monthly: pd.Data
         x = op["hours"].to_numpy() / 24.0
         clock = np.mod(op["hours"].to_numpy(), 24.0)
         under = op["under_clutter"].to_numpy()
-        ax.scatter(np.floor(x[under]) + 0.5, clock[under], s=28, c="white", edgecolors="k",
-                   linewidths=0.8, label=f"overpass, SCR < {threshold:g}", zorder=3)
+        # filled orange under the clutter, open rings where the ship is seen: told apart on
+        # the colour map's white centre and its dark ends alike
+        ax.scatter(np.floor(x[under]) + 0.5, clock[under], s=34, c=OKABE_ITO["orange"],
+                   edgecolors="k", linewidths=0.8, label=f"overpass, SCR < {threshold:g}",
+                   zorder=3)
         ax.scatter(np.floor(x[~under]) + 0.5, clock[~under], s=28, facecolors="none",
                    edgecolors="k", linewidths=1.0, label="overpass, ship seen", zorder=3)
         ax.legend(loc="upper right", fontsize=7, framealpha=0.8)
@@ -258,7 +261,8 @@ def plot_calendar(path, dense: dict, overpass_df: pd.DataFrame, monthly: pd.Data
         bx.bar(mb["month"], mb["fraction_under"], color=OKABE_ITO["blue"])
         for i, (n, k, f) in enumerate(zip(mb["overpasses"], mb["under_clutter"],
                                           mb["fraction_under"])):
-            bx.text(i, f + 0.02, f"{k}/{n}", ha="center", fontsize=7, color="black")
+            bx.text(i, f + 0.02, f"{k}/{n}", ha="center", va="bottom", fontsize=7,
+                    color="black", rotation=90 if len(mb) > 6 else 0)   # a year: upright
     bx.set_ylim(0.0, 1.0)
     bx.set_ylabel(f"overpasses with SCR < {threshold:g}")
     bx.set_title("by month", fontsize=9)
