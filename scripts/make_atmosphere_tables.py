@@ -525,10 +525,18 @@ def _log_steps(v, ref) -> np.ndarray:
     return np.where(zero, tb.STATE_ZERO, q).astype(np.int16)
 
 
+def bin_cloud_sky(model, state, wb, cloud: int) -> np.ndarray:
+    """(n_bin, n_sky) bin values of the sky radiance under a LOWTRAN cloud deck."""
+    sky = np.array([lb.sky(model, min(z, 89.9), state, cloud)["sky_radiance"]
+                    for z in sb.BIN_GRID["sky"]])
+    return (sky @ wb.T).T
+
+
 def bin_tables(models, cache: Path) -> dict:
     """Per model: ln F of every bin over ΔT × RH and the wind's ln W(w) / W(w₀) over RH ×
-    wind at the band tables' three temperature offsets (int16 steps), and the RH and wind
-    nodes."""
+    wind at the band tables' three temperature offsets, the sky under each LOWTRAN cloud deck
+    over ΔT × the cloud humidity grid relative to the own-state clear sky (int16 steps), and
+    the RH and wind nodes."""
     arrays = {"bin_edges_cm1": sb.BIN_EDGES_CM1,
               **{f"bin_grid__{k}": v for k, v in sb.BIN_GRID.items()}}
     for name in models:
@@ -549,6 +557,12 @@ def bin_tables(models, cache: Path) -> dict:
         k0 = int(np.flatnonzero(np.isclose(ws, mdl.default_wind_speed(name)))[0])
         arrays[f"{name}__bins_q"] = _log_steps(v, v[i0, j0])
         arrays[f"{name}__bins_w_q"] = _log_steps(vw, vw[:, :, k0:k0 + 1])
+        vc = _stage(cache, f"{name}__bins_cloud", lambda: np.array(
+            [[[bin_cloud_sky(name, _state(name, d, rh), wb, ic)
+               for rh in GRID["cloud_rel_humidity"]] for d in GRID["state_temp_offset_K"]]
+             for ic in mdl.CLOUD_TYPES.values()]))
+        clear_own = v[i0, j0][:, sb.bin_columns("sky_radiance")]          # (n_bin, n_sky)
+        arrays[f"{name}__bins_cloud_q"] = _log_steps(vc, clear_own)
         arrays[f"{name}__state_rh"] = rhs
         arrays[f"{name}__state_wind"] = ws
         print(f"  {name}: bins ({time.time() - t0:.0f} s)", flush=True)
@@ -594,6 +608,20 @@ def verify_bins(models, rng=None) -> dict:
                 cases.append({"model": name, "response": label, "temp_offset_K": dt_,
                               "rel_humidity": rh_, "wind_speed": w_, "view_zenith_deg": v,
                               "sun_zenith_deg": s, "sky_zenith_deg": k, "live": live})
+            for c, ic in mdl.CLOUD_TYPES.items():
+                dt_, rh_ = rng.uniform(-12, 12), rng.uniform(40, 95)
+                st = mdl.AtmosphereState(temp_air_K=surf.temp_air_K + dt_, rel_humidity=rh_)
+                for k in (0.0, 60.0):
+                    sk = lb.sky(name, k, st, ic)
+                    w = band_weights(sk["wavelength_um"], None, resp)
+                    live = float(w @ sk["sky_radiance"])
+                    got = float(core.sky_radiance(name, resp, k, state=st, cloud_cover=1.0,
+                                                  cloud_type=c))
+                    worst["sky_radiance_cloudy"] = max(worst.get("sky_radiance_cloudy", 0.0),
+                                                       abs(got / live - 1.0))
+                    cases.append({"model": name, "response": label, "temp_offset_K": dt_,
+                                  "rel_humidity": rh_, "cloud_type": c, "sky_zenith_deg": k,
+                                  "live": {"sky_radiance_cloudy": live}})
             errors[name][label] = worst
         print(f"  {name}: bins verified {json.dumps(errors[name])}", flush=True)
     return {"errors": errors, "cases": cases}

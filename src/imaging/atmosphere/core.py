@@ -11,8 +11,8 @@ scaled to the day's weather (:class:`.models.AtmosphereState`), Navy maritime ae
 23 km driven by the day's wind and humidity, LOWTRAN's cloud decks and its
 single-scattering of sunlight. The tables (:mod:`.tables`) hold it for every named band;
 other responses are integrated from the tables' spectra at the model's own state and
-carried to the day's state bin by bin (:mod:`.spectral_bins`); their cloudy/clear sky
-ratio and scattered sunlight are the nearest named band's (in mean wavelength).
+carried to the day's state bin by bin (:mod:`.spectral_bins`, also their sky under the
+cloud decks); their scattered sunlight is the nearest named band's (in mean wavelength).
 """
 
 from __future__ import annotations
@@ -332,6 +332,18 @@ def _user_ratio(name, resp: SpectralResponse, state, quantity: str, zenith):
     return np.where(den > 0, (a * f).sum(axis=-1) / np.where(den > 0, den, 1.0), 1.0)
 
 
+def _user_cloudy(name, resp: SpectralResponse, cloud: int, state, zenith):
+    """Sky radiance of a user response under LOWTRAN cloud deck ``cloud`` at the day's ΔT
+    and humidity: ``Σ_j a_j C_j``, ``a_j`` the response-weighted own-state clear sky in bin
+    ``j``, ``C_j`` the bin's cloudy sky over that clear sky (:mod:`.spectral_bins`)."""
+    t = tb.load_table()
+    w = _user_weights((tuple(resp.wavelength_um), tuple(resp.response), resp.name))
+    src = _geom("sky", t.grid("sky"), t.get(name, "spectral_sky_radiance"), zenith)
+    a = (np.asarray(src) * w) @ _bin_matrix()                      # (..., n_bin)
+    dt, rh, _ = _state_key(name, state)
+    return (a * np.exp(sb.bin_log_cloud(name, cloud, dt, rh, zenith))).sum(axis=-1)
+
+
 _SS_AXES = {"ss_path": ("ss_view", "ss_sun", "ss_azimuth"),
             "ss_sky": ("ss_sky", "ss_sun", "ss_azimuth"),
             "ss_sky_attenuated": ("ss_sky", "ss_sun", "ss_azimuth"),
@@ -428,12 +440,8 @@ def _table_values(name, band, resp, named, view_z, sun_z, sky_z, view_az, sky_az
     out["sky_irradiance"] = float(tb.hemispherical(t.grid("sky"), sky_nodes))
     if cloud_cover > 0.0:
         dt, rh, _ = _state_key(name, state)
-        cl = _cloud_columns(name, ref, cloud, dt, rh)
-        clear_ref = _thermal_columns(name, ref, *_state_key(name, state))[
-            tb.columns("sky_radiance")]
-        # a user response: the cloudy/clear ratio of its reference band
-        scale = (sky_nodes / np.where(clear_ref > 0, clear_ref, 1.0)) if not named else 1.0
-        cloudy = cl * scale
+        cloudy = (_cloud_columns(name, band, cloud, dt, rh) if named
+                  else _user_cloudy(name, resp, cloud, state, t.grid("sky")))
         out["sky_radiance_cloudy"] = float(_geom("sky", t.grid("sky"), cloudy, sky_z))
         out["sky_irradiance_cloudy"] = float(tb.hemispherical(t.grid("sky"), cloudy))
     # view transmittance weighted with each source spectrum: the specular thermal sky's
@@ -782,13 +790,9 @@ def sky_radiance(model, band, zenith_deg, backend: str = "table", state=None,
                 name, resp, st, "sky_radiance", g)
         nodes = clear
         if cloud_cover > 0.0:
-            ref = band_name if named else _reference_band(resp)
             dt, rh, _ = _state_key(name, st)
-            cl = _cloud_columns(name, ref, cloud, dt, rh)
-            if not named:
-                cref = _thermal_columns(name, ref, *_state_key(name, st))[
-                    tb.columns("sky_radiance")]
-                cl = cl * clear / np.where(cref > 0, cref, 1.0)
+            cl = (_cloud_columns(name, band_name, cloud, dt, rh) if named
+                  else _user_cloudy(name, resp, cloud, st, g))
             nodes = (1.0 - cloud_cover) * clear + cloud_cover * cl
         return _geom("sky", g, nodes, z)
     if backend != "lowtran":

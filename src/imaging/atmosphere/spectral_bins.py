@@ -13,7 +13,9 @@ sky-weighted view transmittance, over the band tables' ΔT × RH grid (LOWTRAN's
 wind), times the wind's factor ``W(ΔT, RH, w) / W(ΔT, RH, w₀)`` over their RH × wind
 grids at three temperature offsets (the sea-salt aerosol: in a clean window it is most of
 the path radiance, and what it adds depends on the water vapour around it), at the zenith
-nodes :data:`BIN_GRID`. A response ``R`` then takes
+nodes :data:`BIN_GRID`; and the sky radiance under each of LOWTRAN's cloud decks over ΔT
+× the band tables' cloud humidity grid, relative to the bin's own-state clear sky. A
+response ``R`` then takes
 
     Q_R(state, θ) = Σ_j a_j(θ) F_j(state, θ),   a_j(θ) = Σ_{λ ∈ j} w_λ q_own(λ, θ)
 
@@ -41,7 +43,7 @@ import numpy as np
 from . import tables as tb
 
 __all__ = ["BIN_FILE", "BIN_EDGES_CM1", "BIN_GRID", "BIN_QUANTITIES", "bin_index",
-           "BinTable", "load_bins", "bin_log_factors", "bin_errors"]
+           "BinTable", "load_bins", "bin_log_factors", "bin_log_cloud", "bin_errors"]
 
 BIN_FILE = "atmosphere_bins.npz"
 
@@ -105,6 +107,12 @@ class BinTable:
         q = self.arrays[f"{model}__bins_w_q"]
         return np.where(q == tb.STATE_ZERO, -np.inf, q * tb.STATE_LOG_STEP)
 
+    def log_cloud(self, model: str) -> np.ndarray:
+        """ln (sky under a cloud deck / own-state clear sky) (n_cloud, n_ΔT, n_RH_cloud,
+        n_bin, n_sky), −inf where zero."""
+        q = self.arrays[f"{model}__bins_cloud_q"]
+        return np.where(q == tb.STATE_ZERO, -np.inf, q * tb.STATE_LOG_STEP)
+
     def rh_nodes(self, model: str) -> np.ndarray:
         return self.arrays[f"{model}__state_rh"]
 
@@ -156,6 +164,29 @@ def bin_log_factors(model: str, quantity: str, dt: float, rh: float, wind: float
     # in the air mass for every axis: ln F of an absorber change grows like the path,
     # ~ 1 / cos θ, which cos θ (the band tables' sun and sky coordinate) bends
     return tb.interpolate_axis("view", BIN_GRID[BIN_AXIS[quantity]], cols.T, zenith_deg)
+
+
+@lru_cache(maxsize=256)
+def _log_cloud_at(model: str, cloud: int, dt: float, rh: float) -> np.ndarray:
+    v = load_bins().log_cloud(model)[cloud - 1]
+    out = tb.interp_nd(np.where(np.isfinite(v), v, -600.0),
+                       [tb.GRID["state_temp_offset_K"], tb.GRID["cloud_rel_humidity"]],
+                       [dt, rh])
+    out.setflags(write=False)
+    return out
+
+
+def bin_log_cloud(model: str, cloud: int, dt: float, rh: float, zenith_deg):
+    """ln of every bin's sky radiance under LOWTRAN cloud deck ``cloud`` (ICLD 1-5) at a
+    state (ΔT [K], surface RH [%]) over its own-state clear sky, at zenith(s) [deg]: PCHIP
+    over ΔT × the cloud humidity grid, then over the sky nodes in the air mass.
+
+    Returns
+    -------
+    ndarray, shape (n_bin,) or (n_zenith, n_bin)
+    """
+    cols = _log_cloud_at(model, int(cloud), float(dt), float(rh))
+    return tb.interpolate_axis("view", BIN_GRID["sky"], cols.T, zenith_deg)
 
 
 def bin_errors() -> dict:
