@@ -23,8 +23,8 @@ response ``R`` then takes
 model's own spectrum): exact at the model's own state, and as good elsewhere as the
 factor is uniform across a bin. Bins are 20 cm⁻¹ wide from 710 to 1430 cm⁻¹
 (6.99-14.1 µm; LOWTRAN 7's resolution, four of its samples each; the first from 680),
-two across the
-opaque 5.5-7 µm water band, and 40 cm⁻¹ from 1820 to 3450 cm⁻¹ (2.9-5.5 µm).
+two across the opaque 5.5-7 µm water band, and 40 cm⁻¹ from 1820 to 3460 cm⁻¹
+(2.89-5.49 µm).
 
 Stored as int16 steps of ln F (:data:`.tables.STATE_LOG_STEP`; ``STATE_ZERO`` where the
 bin's own value is zero). Measured errors against live LOWTRAN are in the file's
