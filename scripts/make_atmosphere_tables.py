@@ -353,11 +353,7 @@ def quantise_state(d: dict) -> dict:
             j0 = int(np.flatnonzero(np.isclose(d["state_wind"], d["default_wind"]))[0])
             w0 = v[:, :, j0:j0 + 1]
             v = np.where(w0 > 0, v / np.where(w0 > 0, w0, 1.0), 1.0) * ref
-        zero = (v <= 0.0) | (r <= 0.0)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x = np.where(zero, 0.0, np.log(np.where(zero, 1.0, v) / np.where(r > 0, r, 1.0)))
-        q = np.rint(np.clip(x, -13.0, 13.0) / tb.STATE_LOG_STEP)
-        out[f"{key}_q"] = np.where(zero, tb.STATE_ZERO, q).astype(np.int16)
+        out[f"{key}_q"] = _log_steps(v, r)
     return out
 
 

@@ -33,10 +33,8 @@ metadata (:func:`bin_errors`).
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from functools import lru_cache
-from importlib import resources
 
 import numpy as np
 
@@ -98,20 +96,17 @@ class BinTable:
 
     def log_factor(self, model: str) -> np.ndarray:
         """ln F (n_ΔT, n_RH, n_bin, n_col), −inf where the bin's value is zero."""
-        q = self.arrays[f"{model}__bins_q"]
-        return np.where(q == tb.STATE_ZERO, -np.inf, q * tb.STATE_LOG_STEP)
+        return tb.decode_log_steps(self.arrays[f"{model}__bins_q"])
 
     def log_wind_factor(self, model: str) -> np.ndarray:
         """ln W(w) / W(w₀) (n_layer, n_RH, n_wind, n_bin, n_col) at the temperature offsets
         :data:`.tables.GRID` ``["wind_layer_temp_offset_K"]``, −inf where zero."""
-        q = self.arrays[f"{model}__bins_w_q"]
-        return np.where(q == tb.STATE_ZERO, -np.inf, q * tb.STATE_LOG_STEP)
+        return tb.decode_log_steps(self.arrays[f"{model}__bins_w_q"])
 
     def log_cloud(self, model: str) -> np.ndarray:
         """ln (sky under a cloud deck / own-state clear sky) (n_cloud, n_ΔT, n_RH_cloud,
         n_bin, n_sky), −inf where zero."""
-        q = self.arrays[f"{model}__bins_cloud_q"]
-        return np.where(q == tb.STATE_ZERO, -np.inf, q * tb.STATE_LOG_STEP)
+        return tb.decode_log_steps(self.arrays[f"{model}__bins_cloud_q"])
 
     def rh_nodes(self, model: str) -> np.ndarray:
         return self.arrays[f"{model}__state_rh"]
@@ -123,16 +118,7 @@ class BinTable:
 @lru_cache(maxsize=1)  # immutable package data: read the file once per process
 def load_bins() -> BinTable:
     """Load ``data/atmosphere_bins.npz`` shipped with the package."""
-    ref = resources.files("imaging.atmosphere") / "data" / BIN_FILE
-    with resources.as_file(ref) as path, np.load(path) as npz:
-        arrays = {}
-        for k in npz.files:
-            if k == "meta_json":
-                continue
-            a = np.asarray(npz[k], dtype=np.int16 if k.endswith("_q") else float)
-            a.setflags(write=False)
-            arrays[k] = a
-        meta = json.loads(str(npz["meta_json"]))
+    arrays, meta = tb.read_package_npz(BIN_FILE)
     return BinTable(arrays=arrays, meta=meta)
 
 

@@ -55,7 +55,8 @@ from ..quadrature import gauss_legendre
 __all__ = ["AtmosphereTable", "load_table", "interpolation_errors", "axis_coordinate",
            "interpolate_axis", "pchip", "TABLE_FILE", "GRID", "THERMAL_QUANTITIES", "FORMAT",
            "columns", "humidity_nodes", "wind_nodes", "hemispherical", "hemispherical_solar",
-           "interp_nd", "pchip_point", "STATE_LOG_STEP", "STATE_ZERO"]
+           "interp_nd", "pchip_point", "STATE_LOG_STEP", "STATE_ZERO", "decode_log_steps",
+           "read_package_npz"]
 
 TABLE_FILE = "atmosphere_tables.npz"
 FORMAT = 2
@@ -269,19 +270,23 @@ class AtmosphereTable:
         if key == "cloud":
             ref = ref[:, columns("sky_radiance")]
         with np.errstate(divide="ignore"):
-            lref = np.log(ref)
-        out = lref + q * STATE_LOG_STEP
-        return np.where(q == STATE_ZERO, -np.inf, out)
+            return decode_log_steps(q, np.log(ref))
 
     def state(self, model: str, key: str) -> np.ndarray:
         """A state table's values (see :meth:`state_log`)."""
         return np.exp(self.state_log(model, key))
 
 
-@lru_cache(maxsize=1)  # immutable package data: read the file once per process
-def load_table() -> AtmosphereTable:
-    """Load ``data/atmosphere_tables.npz`` shipped with the package."""
-    ref = resources.files("imaging.atmosphere") / "data" / TABLE_FILE
+def decode_log_steps(q, log_ref=0.0) -> np.ndarray:
+    """Natural log of values stored as int16 steps (:data:`STATE_LOG_STEP`) above
+    ``log_ref``; :data:`STATE_ZERO` (a zero) as −inf."""
+    return np.where(q == STATE_ZERO, -np.inf, log_ref + q * STATE_LOG_STEP)
+
+
+def read_package_npz(filename: str) -> tuple[dict, dict]:
+    """``(arrays, meta)`` of an npz in ``imaging/atmosphere/data``: arrays read-only, the
+    ``*_q`` step tables as int16, the rest as float; ``meta`` from ``meta_json``."""
+    ref = resources.files("imaging.atmosphere") / "data" / filename
     with resources.as_file(ref) as path, np.load(path) as npz:
         arrays = {}
         for k in npz.files:
@@ -291,6 +296,13 @@ def load_table() -> AtmosphereTable:
             a.setflags(write=False)
             arrays[k] = a
         meta = json.loads(str(npz["meta_json"]))
+    return arrays, meta
+
+
+@lru_cache(maxsize=1)  # immutable package data: read the file once per process
+def load_table() -> AtmosphereTable:
+    """Load ``data/atmosphere_tables.npz`` shipped with the package."""
+    arrays, meta = read_package_npz(TABLE_FILE)
     return AtmosphereTable(arrays=arrays, meta=meta)
 
 

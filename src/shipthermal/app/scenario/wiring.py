@@ -384,17 +384,23 @@ class Scenario:
 
     def instrument(self):
         """The :class:`imaging.instruments.Instrument` of ``[imaging.sensor]``: the preset
-        with this scenario's optics, or the user's (``response_file``; NETD ``netd_k``)."""
+        with this scenario's optics, or the user's (``response_file``, read once per
+        scenario object; NETD ``netd_k``)."""
         import dataclasses as _dc
 
         from imaging.instruments import instrument, user_instrument
 
+        inst = self.__dict__.get("_instrument")
+        if inst is not None:
+            return inst
         s = self.imaging.sensor
         if s.preset == "user":
-            return user_instrument("user", {"user": s.response_file}, self.sensor(),
+            inst = user_instrument("user", {"user": s.response_file}, self.sensor(),
                                    netd_K=s.netd_k or None)
-        inst = instrument(s.preset)
-        return _dc.replace(inst, spec=self.sensor())
+        else:
+            inst = _dc.replace(instrument(s.preset), spec=self.sensor())
+        object.__setattr__(self, "_instrument", inst)      # frozen: a cache, not a field
+        return inst
 
     # ---- serialisation ----------------------------------------------------------------------
     def to_dict(self) -> dict:
