@@ -3,6 +3,7 @@
 Every check at the edge of the library raises :class:`InputError` naming the field
 (a dotted path such as ``layup.deck[0].thickness``), the value it got, what is allowed
 and, where useful, how to fix it. Inside the library inputs are trusted.
+:class:`SimulationError` is the other kind: a solve that failed on valid inputs.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from typing import Any
 import numpy as np
 
 __all__ = ["InputError", "require", "check_positive", "check_finite", "check_range",
-           "input_error_from_os"]
+           "input_error_from_os", "SimulationError"]
 
 
 class InputError(ValueError):
@@ -40,6 +41,10 @@ class InputError(ValueError):
         if fix:
             msg += f". {fix}"
         super().__init__(msg)
+
+
+class SimulationError(RuntimeError):
+    """The solve failed (NaN, no convergence): not a user input error."""
 
 
 def _short(value: Any) -> str:

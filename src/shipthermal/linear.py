@@ -34,7 +34,8 @@ Backends
     ``"column"`` for shell graphs. Otherwise chosen by measurement on the first matrix of a
     given size (:func:`measure_backends`): every candidate builds its preconditioner and
     does one PCG solve of a fixed right-hand side to ``rtol = 1e-10``; the predicted cost of
-    ``n`` solves is ``setup + n × solve`` with ``n`` = :data:`AUTO_SOLVES` (a preconditioner
+    ``n`` solves is ``setup + n × solve`` (CPU seconds of the process) with ``n`` =
+    :data:`AUTO_SOLVES` (a preconditioner
     is reused over many steps), and the cheapest wins (AMG only by a margin,
     :data:`AUTO_AMG_MARGIN`, over an exact factor). The loser's set-up is the price of
     the measurement; the winner's preconditioner is the one returned. The choice is logged
@@ -58,6 +59,7 @@ Backends
 
 from __future__ import annotations
 
+import functools
 import logging
 import time
 from dataclasses import dataclass
@@ -72,7 +74,7 @@ from .errors import require
 
 __all__ = ["LINEAR_SOLVERS", "Preconditioner", "make_preconditioner", "pcg", "choose_backend",
            "measure_backends", "has_cholmod", "Anderson", "AUTO_SOLVES", "AUTO_AMG_MARGIN",
-           "SUPERLU_MEASURE_LIMIT"]
+           "SUPERLU_MEASURE_LIMIT", "JacobianPattern", "single_threaded_blas"]
 
 LINEAR_SOLVERS = ("auto", "direct", "amg", "column", "cholmod")
 #: Number of solves one preconditioner is expected to serve, for ``auto``'s cost prediction
@@ -171,15 +173,21 @@ def measure_backends(matrix: sp.spmatrix, candidates=None, solves: int = AUTO_SO
     # AMG's PCG solve 40× slower in a measurement here and would bias the choice).
     from threadpoolctl import threadpool_limits
 
+    # Costs in the process's CPU time, not on the wall clock: on a shared machine a
+    # descheduled set-up or solve reads several times its cost on the wall clock (box of
+    # ``benchmarks/bench_solver.py`` beside five busy processes: CHOLMOD's factor 2.5 s on
+    # the wall for 0.3 s of CPU, which handed the choice to AMG and doubled the run's CPU).
     with threadpool_limits(limits=1, user_api="blas"):
         for b in candidates:
+            c0 = time.process_time()
             prec = make_preconditioner(m, b)
+            t_setup = time.process_time() - c0
             t_solve = np.inf
-            for _ in range(2):      # the faster of two: a descheduled solve is not its cost
-                t0 = time.perf_counter()
+            for _ in range(2):      # the cheaper of two: a cold first solve is not its cost
+                c0 = time.process_time()
                 _, it, _ = pcg(m, rhs, prec.apply, rtol=1e-10, max_iterations=500)
-                t_solve = min(t_solve, time.perf_counter() - t0)
-            table[b] = (prec.seconds_setup, t_solve, it, prec.seconds_setup + solves * t_solve)
+                t_solve = min(t_solve, time.process_time() - c0)
+            table[b] = (t_setup, t_solve, it, t_setup + solves * t_solve)
             precs[b] = prec
     best = min(table, key=lambda b: table[b][3])
     exact = [b for b in table if b in ("cholmod", "direct")]
@@ -426,3 +434,135 @@ class Anderson:
         dx = np.stack([b - a for a, b in zip(self._x[:-1], self._x[1:])], axis=1)
         gamma, *_ = np.linalg.lstsq(df, f, rcond=None)
         return x + f - (dx + df) @ gamma
+
+
+class JacobianPattern:
+    """A fixed sparse matrix ``B`` (θ K) plus a diagonal that changes every Newton iteration.
+
+    ``J = B + diag(d)`` was rebuilt with ``B + sp.diags(d)`` (a sparse sum: index checks,
+    a new CSR, a sort) at every iteration: that was a third of a small tetrahedral run's
+    time. Here the CSR structure of ``B`` with every diagonal entry stored is kept, and
+    ``J``'s values are one copy of ``B``'s plus the diagonal added in place. Each call
+    gives the matrix a fresh value array, so a preconditioner built from an earlier ``J``
+    (which may share that array) is not changed under it.
+    """
+
+    def __init__(self, base: sp.spmatrix, extra_rows=None, extra_cols=None):
+        n = base.shape[0]
+        coo = sp.coo_matrix(base)
+        eye = np.arange(n)
+        er = np.zeros(0, np.int64) if extra_rows is None else np.asarray(extra_rows, np.int64)
+        ec = np.zeros(0, np.int64) if extra_cols is None else np.asarray(extra_cols, np.int64)
+        m = sp.csr_matrix((np.concatenate([coo.data, np.zeros(n), np.zeros(len(er))]),
+                           (np.concatenate([coo.row, eye, er]), np.concatenate([coo.col, eye, ec]))),
+                          shape=base.shape)
+        m.sum_duplicates()
+        m.sort_indices()
+        rows = np.repeat(eye, np.diff(m.indptr))
+        self.diag_pos = np.flatnonzero(m.indices == rows)
+        assert len(self.diag_pos) == n
+        # Positions of extra entries (face-to-face exchange couplings) in the value array.
+        keys = rows.astype(np.int64) * n + m.indices
+        self.extra_pos = np.searchsorted(keys, er * n + ec)
+        # The same grouped by position (several exchange pairs may share one), in their
+        # own order within a position: the fill then runs over positions in parallel and
+        # adds in the order a plain loop over the extras would.
+        order = np.argsort(self.extra_pos, kind="stable")
+        upos, first = np.unique(self.extra_pos[order], return_index=True)
+        self._extra_order = order.astype(np.int64)
+        self._extra_upos = upos.astype(np.int64)
+        self._extra_ptr = np.append(first, len(order)).astype(np.int64)
+        # The cell whose diagonal such a position is (−1: off the diagonal).
+        cell_of_pos = np.full(len(m.data), -1, np.int64)
+        cell_of_pos[self.diag_pos] = eye
+        self._extra_upos_cell = cell_of_pos[self._extra_upos]
+        # Extras already in value-array order, one per position (the usual case): the fill
+        # then reads them straight, without the grouping arrays.
+        self._extra_plain = bool(len(upos) == len(order)
+                                 and np.array_equal(order, np.arange(len(order))))
+        self._filled = False    # does the matrix hold B everywhere the fill does not write?
+        # Extra entries that land on the diagonal (two exchanging faces of one cell).
+        self.extra_diag = np.flatnonzero(er == ec)
+        self.extra_diag_cell = er[self.extra_diag]
+        # Position of (i, i + 1) in the value array, −1 where not stored (column
+        # preconditioner: the through-thickness band, read without scipy's diagonal()).
+        pos = np.searchsorted(keys, eye[:-1] * (n + 1) + 1)
+        pos = np.minimum(pos, len(keys) - 1)
+        self.sup_pos = np.where(keys[pos] == eye[:-1] * (n + 1) + 1, pos, -1)
+        self.base = m.data.copy()
+        self.base_diag = self.base[self.diag_pos].copy()
+        self.matrix = m
+        self.n = n
+
+    def diagonal(self, diagonal: np.ndarray, extra: np.ndarray | None = None) -> np.ndarray:
+        """The diagonal of ``B + diag(diagonal)`` (+ ``extra``) without building the matrix."""
+        d = self.base_diag + diagonal
+        if extra is not None and len(self.extra_diag):
+            d += np.bincount(self.extra_diag_cell, extra[self.extra_diag], self.n)
+        return d
+
+    def jacobian(self, diagonal: np.ndarray, extra: np.ndarray | None = None,
+                 fresh: bool = True) -> sp.csr_matrix:
+        """``B + diag(diagonal)`` (+ ``extra`` values at the extra entries, summed where
+        they repeat). ``fresh=False`` refills the matrix's current value array in place
+        (for a caller whose preconditioner keeps nothing of an earlier matrix: a new array
+        of 10⁶–10⁷ values per Newton pass costs its page faults)."""
+        # In place, only the diagonal and the exchange positions change (B's other values
+        # stay): on the frigate a fresh fill takes 3.0 ms, this one 1.7 ms (two threads).
+        full = fresh or not self._filled
+        data = np.empty_like(self.matrix.data) if fresh else self.matrix.data
+        none = np.zeros(0, np.int64)
+        if extra is None:
+            _fill_values(self.base, self.diag_pos, diagonal, none, np.zeros(1, np.int64), none,
+                         np.zeros(0), none, data, full, True)
+        else:
+            _fill_values(self.base, self.diag_pos, diagonal, self._extra_upos, self._extra_ptr,
+                         self._extra_order, extra, self._extra_upos_cell, data, full,
+                         self._extra_plain)
+        self._filled = True
+        self.matrix.data = data
+        return self.matrix
+
+
+@njit(parallel=True, cache=True)
+def _fill_values(base, diag_pos, diagonal, upos, ptr, order, extra, upos_cell, out, full,
+                 plain):
+    """``out = B + diag(diagonal) + extras`` (``full``: every value; else only the diagonal
+    and the extra positions, ``out`` holding ``B`` elsewhere). Each value is summed as
+    ``(B + d) + e₁ + e₂ …`` in the extras' own order (``plain``: extra u is the only one at
+    ``upos[u]``)."""
+    if full:
+        for k in prange(base.shape[0]):
+            out[k] = base[k]
+    for i in prange(diag_pos.shape[0]):
+        p = np.uint64(diag_pos[i])
+        out[p] = base[p] + diagonal[i]
+    for u in prange(upos.shape[0]):
+        p = np.uint64(upos[u])
+        c = upos_cell[u]
+        acc = base[p] + diagonal[c] if c >= 0 else base[p]
+        if plain:
+            acc += extra[u]
+        else:
+            for k in range(np.uint64(ptr[u]), np.uint64(ptr[u + 1])):
+                acc += extra[np.uint64(order[k])]
+        out[p] = acc
+
+
+def single_threaded_blas():
+    """BLAS limited to one thread: the solver's vector operations (dot products of 10⁴–10⁶
+    entries) gain nothing from threads, and an OpenBLAS pool spinning against other busy
+    processes turned 10 µs dot products into milliseconds (measured here under load)."""
+    return _blas_controller().limit(limits=1, user_api="blas")
+
+
+@functools.cache
+def _blas_controller():
+    """threadpoolctl's view of the process's thread pools, found once: finding them scans
+    every loaded library (8.5 ms per call in a ship run, paid at every ``run_until``: 48 a
+    simulated day of 30-min outputs, 8 % of a weather record's solve at 2 m); limiting
+    through it then takes 10 µs. By the first solve every BLAS the solver uses is loaded
+    (numpy's and scipy's, imported with this module)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()

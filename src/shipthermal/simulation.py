@@ -29,21 +29,22 @@ last step's change (reported separately as ``stored_plain``).
 
 from __future__ import annotations
 
-import functools
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import scipy.sparse as sp
-from numba import njit, prange
 
-from ._aggregates import Aggregates, column_aggregates
+from ._aggregates import column_aggregates
+from ._step_kernels import cell_residual, exchange_values, max_ratio, moved_faces_kernel
 from ._tridiagonal import ColumnSolve, column_bounds, column_factor
-from .errors import InputError, check_finite, check_positive, require
-from .linear import Anderson, Preconditioner, choose_backend, make_preconditioner, pcg
+from .errors import SimulationError, check_finite, check_positive, require
+from .linear import (Anderson, JacobianPattern, Preconditioner, choose_backend,
+                     make_preconditioner, pcg, single_threaded_blas)
+from .steady import steady_state
 from .model import ThermalModel, boundary_state, conduction_flows, surface_balance
-from .results import EnergyLog, Results, atomic_path
+from .checkpoint import SolverState, read_checkpoint, write_checkpoint
+from .results import EnergyLog, Results
 
 __all__ = ["SCHEMES", "Simulation", "steady_state", "SimulationError"]
 
@@ -58,231 +59,6 @@ NEWTON_LINEAR_RTOL = 1e-4
 #: boundary balances take 7.0 → 5.0 s with the same 4.13 Newton passes a step (one pass:
 #: 4.1 s but 5.0 Newton passes a step, whose solves cost more than the saving).
 BOUNDARY_SWEEPS = 2
-
-
-def _single_threaded_blas():
-    """BLAS limited to one thread: the solver's vector operations (dot products of 10⁴–10⁶
-    entries) gain nothing from threads, and an OpenBLAS pool spinning against other busy
-    processes turned 10 µs dot products into milliseconds (measured here under load)."""
-    return _blas_controller().limit(limits=1, user_api="blas")
-
-
-@functools.cache
-def _blas_controller():
-    """threadpoolctl's view of the process's thread pools, found once: finding them scans
-    every loaded library (8.5 ms per call in a ship run, paid at every ``run_until``: 48 a
-    simulated day of 30-min outputs, 8 % of a weather record's solve at 2 m); limiting
-    through it then takes 10 µs. By the first solve every BLAS the solver uses is loaded
-    (numpy's and scipy's, imported with this module)."""
-    from threadpoolctl import ThreadpoolController
-
-    return ThreadpoolController()
-
-
-class _JacobianPattern:
-    """A fixed sparse matrix ``B`` (θ K) plus a diagonal that changes every Newton iteration.
-
-    ``J = B + diag(d)`` was rebuilt with ``B + sp.diags(d)`` (a sparse sum: index checks,
-    a new CSR, a sort) at every iteration: that was a third of a small tetrahedral run's
-    time. Here the CSR structure of ``B`` with every diagonal entry stored is kept, and
-    ``J``'s values are one copy of ``B``'s plus the diagonal added in place. Each call
-    gives the matrix a fresh value array, so a preconditioner built from an earlier ``J``
-    (which may share that array) is not changed under it.
-    """
-
-    def __init__(self, base: sp.spmatrix, extra_rows=None, extra_cols=None):
-        n = base.shape[0]
-        coo = sp.coo_matrix(base)
-        eye = np.arange(n)
-        er = np.zeros(0, np.int64) if extra_rows is None else np.asarray(extra_rows, np.int64)
-        ec = np.zeros(0, np.int64) if extra_cols is None else np.asarray(extra_cols, np.int64)
-        m = sp.csr_matrix((np.concatenate([coo.data, np.zeros(n), np.zeros(len(er))]),
-                           (np.concatenate([coo.row, eye, er]), np.concatenate([coo.col, eye, ec]))),
-                          shape=base.shape)
-        m.sum_duplicates()
-        m.sort_indices()
-        rows = np.repeat(eye, np.diff(m.indptr))
-        self.diag_pos = np.flatnonzero(m.indices == rows)
-        assert len(self.diag_pos) == n
-        # Positions of extra entries (face-to-face exchange couplings) in the value array.
-        keys = rows.astype(np.int64) * n + m.indices
-        self.extra_pos = np.searchsorted(keys, er * n + ec)
-        # The same grouped by position (several exchange pairs may share one), in their
-        # own order within a position: the fill then runs over positions in parallel and
-        # adds in the order a plain loop over the extras would.
-        order = np.argsort(self.extra_pos, kind="stable")
-        upos, first = np.unique(self.extra_pos[order], return_index=True)
-        self._extra_order = order.astype(np.int64)
-        self._extra_upos = upos.astype(np.int64)
-        self._extra_ptr = np.append(first, len(order)).astype(np.int64)
-        # The cell whose diagonal such a position is (−1: off the diagonal).
-        cell_of_pos = np.full(len(m.data), -1, np.int64)
-        cell_of_pos[self.diag_pos] = eye
-        self._extra_upos_cell = cell_of_pos[self._extra_upos]
-        # Extras already in value-array order, one per position (the usual case): the fill
-        # then reads them straight, without the grouping arrays.
-        self._extra_plain = bool(len(upos) == len(order)
-                                 and np.array_equal(order, np.arange(len(order))))
-        self._filled = False    # does the matrix hold B everywhere the fill does not write?
-        # Extra entries that land on the diagonal (two exchanging faces of one cell).
-        self.extra_diag = np.flatnonzero(er == ec)
-        self.extra_diag_cell = er[self.extra_diag]
-        # Position of (i, i + 1) in the value array, −1 where not stored (column
-        # preconditioner: the through-thickness band, read without scipy's diagonal()).
-        pos = np.searchsorted(keys, eye[:-1] * (n + 1) + 1)
-        pos = np.minimum(pos, len(keys) - 1)
-        self.sup_pos = np.where(keys[pos] == eye[:-1] * (n + 1) + 1, pos, -1)
-        self.base = m.data.copy()
-        self.base_diag = self.base[self.diag_pos].copy()
-        self.matrix = m
-        self.n = n
-
-    def diagonal(self, diagonal: np.ndarray, extra: np.ndarray | None = None) -> np.ndarray:
-        """The diagonal of ``B + diag(diagonal)`` (+ ``extra``) without building the matrix."""
-        d = self.base_diag + diagonal
-        if extra is not None and len(self.extra_diag):
-            d += np.bincount(self.extra_diag_cell, extra[self.extra_diag], self.n)
-        return d
-
-    def jacobian(self, diagonal: np.ndarray, extra: np.ndarray | None = None,
-                 fresh: bool = True) -> sp.csr_matrix:
-        """``B + diag(diagonal)`` (+ ``extra`` values at the extra entries, summed where
-        they repeat). ``fresh=False`` refills the matrix's current value array in place
-        (for a caller whose preconditioner keeps nothing of an earlier matrix: a new array
-        of 10⁶–10⁷ values per Newton pass costs its page faults)."""
-        # In place, only the diagonal and the exchange positions change (B's other values
-        # stay): on the frigate a fresh fill takes 3.0 ms, this one 1.7 ms (two threads).
-        full = fresh or not self._filled
-        data = np.empty_like(self.matrix.data) if fresh else self.matrix.data
-        none = np.zeros(0, np.int64)
-        if extra is None:
-            _fill_values(self.base, self.diag_pos, diagonal, none, np.zeros(1, np.int64), none,
-                         np.zeros(0), none, data, full, True)
-        else:
-            _fill_values(self.base, self.diag_pos, diagonal, self._extra_upos, self._extra_ptr,
-                         self._extra_order, extra, self._extra_upos_cell, data, full,
-                         self._extra_plain)
-        self._filled = True
-        self.matrix.data = data
-        return self.matrix
-
-
-@njit(parallel=True, cache=True)
-def _fill_values(base, diag_pos, diagonal, upos, ptr, order, extra, upos_cell, out, full,
-                 plain):
-    """``out = B + diag(diagonal) + extras`` (``full``: every value; else only the diagonal
-    and the extra positions, ``out`` holding ``B`` elsewhere). Each value is summed as
-    ``(B + d) + e₁ + e₂ …`` in the extras' own order (``plain``: extra u is the only one at
-    ``upos[u]``)."""
-    if full:
-        for k in prange(base.shape[0]):
-            out[k] = base[k]
-    for i in prange(diag_pos.shape[0]):
-        p = np.uint64(diag_pos[i])
-        out[p] = base[p] + diagonal[i]
-    for u in prange(upos.shape[0]):
-        p = np.uint64(upos[u])
-        c = upos_cell[u]
-        acc = base[p] + diagonal[c] if c >= 0 else base[p]
-        if plain:
-            acc += extra[u]
-        else:
-            for k in range(np.uint64(ptr[u]), np.uint64(ptr[u + 1])):
-                acc += extra[np.uint64(order[k])]
-        out[p] = acc
-
-
-@njit(parallel=True, cache=True)
-def _exchange_values(data, row, col, t3, s, scale, out):
-    """``scale · R_ij · ½(T_i³ + T_j³) · s_i s_j`` for every stored ``R_ij``."""
-    for k in prange(data.shape[0]):
-        i = np.uint64(row[k])
-        j = np.uint64(col[k])
-        out[k] = scale * data[k] * 0.5 * (t3[i] + t3[j]) * s[i] * s[j]
-
-
-def _cell_residual(g, temp, hist, a, dt, theta, bs, corr_cell, source, explicit):
-    """Per cell: the net flow ``F = −K T + Σ_b Q_b + corr + source`` [W], the residual
-    ``C (a T − T*)/Δt − θ F − explicit`` [W] and the boundary part of the Jacobian's diagonal
-    ``θ Σ_b G_b`` [W K-1], in one pass over the cells on the process's threads (each cell
-    gathers its faces; conduction from temperature differences as in
-    :func:`.model.conduction_flows`)."""
-    n = g.n_cells
-    ptr, nb, gc = g.cell_faces
-    bptr, bface = g.cell_bfaces
-    none = np.zeros(0)
-    corr = none if np.isscalar(corr_cell) else np.ascontiguousarray(corr_cell, dtype=np.float64)
-    if np.isscalar(corr_cell) and corr_cell != 0.0:
-        corr = np.full(n, float(corr_cell))
-    flow, resid, jdiag_b = np.empty(n), np.empty(n), np.empty(n)
-    _cell_residual_kernel(ptr, nb, gc, bptr, bface, np.ascontiguousarray(temp), hist,
-                          g.heat_capacity, float(a), float(dt), float(theta), bs.flow,
-                          bs.conductance, corr, np.ascontiguousarray(source, dtype=np.float64),
-                          none if explicit is None else explicit, flow, resid, jdiag_b)
-    return flow, resid, jdiag_b
-
-
-@njit(parallel=True, cache=True)
-def _cell_residual_kernel(ptr, nb, gc, bptr, bface, temp, hist, cap, a, dt, theta, bflow,
-                          bcond, corr, source, explicit, flow, resid, jdiag_b):
-    with_corr = corr.shape[0] > 0
-    with_explicit = explicit.shape[0] > 0
-    for c in prange(temp.shape[0]):
-        tc = temp[c]
-        f = 0.0
-        for k in range(np.uint64(ptr[c]), np.uint64(ptr[c + 1])):
-            f += gc[k] * (temp[np.uint64(nb[k])] - tc)
-        fb = 0.0
-        gb = 0.0
-        for k in range(np.uint64(bptr[c]), np.uint64(bptr[c + 1])):
-            b = np.uint64(bface[k])
-            fb += bflow[b]
-            gb += bcond[b]
-        fl = f + fb
-        if with_corr:
-            fl += corr[c]
-        fl += source[c]
-        flow[c] = fl
-        r = cap[c] / dt * (a * tc - hist[c]) - theta * fl
-        if with_explicit:
-            r -= explicit[c]
-        resid[c] = r
-        jdiag_b[c] = theta * gb
-
-
-def _max_ratio(num, den):
-    """``max |num / den|`` without the temporaries (NaN if any ratio is)."""
-    blocks = min(_REDUCE_BLOCKS, max(1, num.shape[0]))
-    part = np.empty(blocks)
-    _max_ratio_kernel(num, den, part)
-    return float(np.max(part))     # (a NaN block wins, as in numpy's max)
-
-
-#: Blocks of the one-pass maxima (a max does not depend on their order).
-_REDUCE_BLOCKS = 64
-
-
-@njit(parallel=True, cache=True)
-def _max_ratio_kernel(num, den, part):
-    n = num.shape[0]
-    nb = part.shape[0]
-    for b in prange(nb):
-        m = 0.0
-        for i in range(b * n // nb, (b + 1) * n // nb):
-            v = abs(num[i] / den[i])
-            if v != v:
-                m = v
-                break
-            if v > m:
-                m = v
-        part[b] = m
-
-
-@njit(parallel=True, cache=True)
-def _moved_kernel(temp_face, delta, slope, bcell, out):
-    """``out = T_s + s ΔT_cell`` face by face (no gathered temporary)."""
-    for i in prange(temp_face.shape[0]):
-        out[i] = temp_face[i] + slope[i] * delta[np.uint64(bcell[i])]
 
 
 class _ExtrapolatedCorrection:
@@ -338,10 +114,6 @@ class _ExtrapolatedCorrection:
         return g.correction_flows(temp_pred, tf)
 
 
-class SimulationError(RuntimeError):
-    """The solve failed (NaN, no convergence): not a user input error."""
-
-
 @dataclass
 class _Timing:
     forcing: float = 0.0
@@ -358,23 +130,26 @@ class _Timing:
 
 
 @dataclass
-class _State:
-    time: float
-    step: int
-    temp: np.ndarray
-    temp_prev: np.ndarray | None
-    temp_face: np.ndarray
-    flow_face: np.ndarray          # boundary flows at ``time`` [W]
-    source: np.ndarray             # volumetric heat per cell at ``time`` [W]
-    cell_flow: np.ndarray          # net F(T, t) at ``time`` [W]
-    face_slope: np.ndarray | None = None   # ∂T_s/∂T_cell of the last balance [-]
-    dt_prev: float = 0.0           # length of the last step taken [s] (0: none yet)
-    origin: tuple = (0.0, 0)       # (time, step) where the current step length began
-    recorded_times: list = field(default_factory=list)
-    recorded_cell: list = field(default_factory=list)
-    recorded_face: list = field(default_factory=list)
-    recorded_flow: list = field(default_factory=list)
-    energy: dict = field(default_factory=lambda: {k: [] for k in EnergyLog.FIELDS})
+class _Step:
+    """What stays fixed over the Newton passes of one step."""
+
+    t_new: float                   # the step's end [s]
+    dt: float
+    a: float                       # the scheme's coefficient of T at the new time
+    theta: float                   # its weight of F at the new time
+    hist: np.ndarray               # T* (the scheme's history term) [K]
+    explicit: np.ndarray | None    # (1 − θ) F at the old time (Crank–Nicolson) [W]
+    forcing: object
+    source: np.ndarray
+    temp: np.ndarray               # predicted cells [K]
+    face_lag: np.ndarray           # surface temperatures to start the balances from [K]
+    diag_c: np.ndarray             # a C/Δt [W K-1]
+    pattern: JacobianPattern
+    key: tuple                     # (Δt, a, θ) of this step's Jacobian
+    prec_a: float                  # a of the Jacobian the preconditioner is built from
+    prec_key: tuple
+    fixed_corr: tuple | None       # the non-orthogonal correction held over the step
+    accel: Anderson | None
 
 
 class Simulation:
@@ -461,7 +236,7 @@ class Simulation:
         self._state = self._initial_state()
 
     # ------------------------------------------------------------------ state --------------
-    def _initial_state(self) -> _State:
+    def _initial_state(self) -> SolverState:
         m = self.model
         t0 = self.start_time
         temp = m.initial_temperature.copy()
@@ -469,7 +244,7 @@ class Simulation:
         guess = temp[self.graph.bface_cell]
         source = m.source(t0)
         cell_flow, bstate = self._flows(temp, forcing, guess)
-        st = _State(t0, 0, temp, None, bstate.temp_face, bstate.flow, source, cell_flow + source,
+        st = SolverState(t0, 0, temp, None, bstate.temp_face, bstate.flow, source, cell_flow + source,
                     self._face_slope(bstate), origin=(t0, 0))
         self._maybe_record(st, force=True)
         return st
@@ -503,7 +278,7 @@ class Simulation:
             return abs(k - round(k)) * self._output_interval <= tol
         return True
 
-    def _maybe_record(self, st: _State, force: bool = False) -> None:
+    def _maybe_record(self, st: SolverState, force: bool = False) -> None:
         if not (force and self._output_times is None) and not self._is_output_time(st.time):
             return
         self._record(st)
@@ -595,7 +370,7 @@ class Simulation:
         t3 = bs.temp_face[bf] ** 3
         # values at the pattern's extra entries (cell of face i, cell of face j)
         out = np.empty_like(data)
-        _exchange_values(data, row, col, t3, s, 4.0 * SIGMA, out)
+        exchange_values(data, row, col, t3, s, 4.0 * SIGMA, out)
         return out
 
     def _exchange_coo(self):
@@ -616,12 +391,12 @@ class Simulation:
     def _exchange_cells(self):
         return self._exchange_coo()[3:]
 
-    def _jacobian_pattern(self, theta: float) -> "_JacobianPattern":
+    def _jacobian_pattern(self, theta: float) -> "JacobianPattern":
         """θ K with room for the diagonal, built once per θ (the sparsity never changes)."""
         pats = self.__dict__.setdefault("_patterns", {})
         if theta not in pats:
             extra = self._exchange_cells() if self.model.exchange is not None else (None, None)
-            pats[theta] = _JacobianPattern(theta * self.graph.conduction_matrix, *extra)
+            pats[theta] = JacobianPattern(theta * self.graph.conduction_matrix, *extra)
         return pats[theta]
 
     def _coefficients(self, first_step: bool, omega: float = 1.0):
@@ -672,14 +447,21 @@ class Simulation:
         if slope is None:
             return temp_face.copy()
         out = np.empty_like(temp_face)
-        _moved_kernel(temp_face, np.ascontiguousarray(cell_change), slope,
+        moved_faces_kernel(temp_face, np.ascontiguousarray(cell_change), slope,
                       self.graph.bface_cell, out)
         return out
 
     # ------------------------------------------------------------------ step ---------------
     def step(self) -> None:
-        """Advance one time step."""
+        """Advance one time step: the step's fixed terms and predicted state, Newton passes
+        until the residual and the energy balance converge, the energy booked."""
         st = self._state
+        s = self._begin_step(st)
+        temp, bs, flow = self._newton(st, s)
+        self._finish_step(st, s, temp, bs, flow)
+
+    def _begin_step(self, st: SolverState) -> _Step:
+        """The terms fixed over a step's Newton passes, and its predicted cells and faces."""
         g = self.graph
         dt = self._dt_now
         t_origin, step_origin = st.origin
@@ -706,18 +488,13 @@ class Simulation:
         # ∂T_s/∂T_cell (the last balance's), so the face-to-face fixed point of the
         # boundary starts a first-order error closer (3.6 → 2.9 sweeps a pass, frigate day).
         face_lag = self._moved_faces(st.temp_face, temp - st.temp, st.face_slope)
-        diag_c = a * cap / dt
         pattern = self._jacobian_pattern(theta)
         self._pattern = pattern
-        key = (dt, a, theta)
         # BDF2 starts with one backward Euler step. Its Jacobian differs from all later ones
         # only by C/(2Δt) on the diagonal, so the later steps' preconditioner serves it too
         # (spectrum of the preconditioned system within [2/3, 1]: ~13 PCG iterations to
         # 1e-13 with an exact factor) and the factorisation is done once, not twice.
         prec_a = 1.5 if (self.scheme == "bdf2" and first and self.backend != "column") else a
-        prec_key = (dt, prec_a, theta)
-        scale = None
-        converged = False
         # The non-orthogonal correction is left out of the Jacobian: held fixed from the
         # extrapolated field (default), or iterated with Anderson acceleration. The
         # face-to-face exchange is in the Jacobian (see _exchange_jacobian).
@@ -730,20 +507,30 @@ class Simulation:
                 fixed_corr = self._extrapolated_corr(forcing, st, temp)
                 self.timing.boundary += time.perf_counter() - t1
         accel = Anderson(5) if g.correction is not None and fixed_corr is None else None
-        jac_step = exch_step = None
-        column = self.backend == "column"
+        return _Step(t_new=t_new, dt=dt, a=a, theta=theta, hist=hist, explicit=explicit,
+                     forcing=forcing, source=source, temp=temp, face_lag=face_lag,
+                     diag_c=a * cap / dt, pattern=pattern, key=(dt, a, theta), prec_a=prec_a,
+                     prec_key=(dt, prec_a, theta), fixed_corr=fixed_corr, accel=accel)
+
+    def _newton(self, st: SolverState, s: _Step):
+        """Newton passes from the predicted state until converged: ``(T, boundary state,
+        net flow into each cell)``."""
+        g = self.graph
+        temp, face_lag = s.temp, s.face_lag
+        converged = False
+        jac_step = exch_step = prec = None
         for it in range(self.max_iterations):
             t1 = time.perf_counter()
-            if fixed_corr is None:
-                corr_cell, bs = boundary_state(self.model, forcing, temp, face_lag,
+            if s.fixed_corr is None:
+                corr_cell, bs = boundary_state(self.model, s.forcing, temp, face_lag,
                                                sweeps=BOUNDARY_SWEEPS)
             else:
-                corr_cell = fixed_corr[0]
-                bs = surface_balance(g, forcing, temp, face_lag, fixed_corr[1])
+                corr_cell = s.fixed_corr[0]
+                bs = surface_balance(g, s.forcing, temp, face_lag, s.fixed_corr[1])
             self.timing.boundary += time.perf_counter() - t1
             t2 = time.perf_counter()
-            flow, resid, jdiag_b = _cell_residual(g, temp, hist, a, dt, theta, bs, corr_cell,
-                                                  source, explicit)
+            flow, resid, jdiag_b = cell_residual(g, temp, s.hist, s.a, s.dt, s.theta, bs,
+                                                 corr_cell, s.source, s.explicit)
             # The matrix itself is built only when a correction is solved for (the last pass
             # of a step only checks convergence and needs the diagonal alone), and only on
             # the first pass: the later passes of the step solve with it again (chord
@@ -755,87 +542,105 @@ class Simulation:
             jac = jac_step
             exch = exch_step
             if exch is None and self.model.exchange is not None:
-                exch = -theta * self._exchange_jacobian(bs)
-            jdiag = pattern.diagonal(diag_c + jdiag_b, exch)
+                exch = -s.theta * self._exchange_jacobian(bs)
+            jdiag = s.pattern.diagonal(s.diag_c + jdiag_b, exch)
             face_lag = bs.temp_face
             self.timing.assembly += time.perf_counter() - t2
-            est = _max_ratio(resid, jdiag)
+            est = max_ratio(resid, jdiag)
             if not np.isfinite(est):
-                raise SimulationError(f"non-finite temperature at t = {t_new:.6g} s "
+                raise SimulationError(f"non-finite temperature at t = {s.t_new:.6g} s "
                                       f"(step {st.step + 1}); reduce time_step or check the "
                                       "boundary conditions")
-            # At least one Newton solve per step: from the extrapolated guess the residual may
-            # already be below the tolerance, but only a solve takes it to round-off, which
-            # is what makes the energy balance close to ~1e-12 rather than to tolerance·C/Δt.
-            if est <= self.tolerance and it > 0 and bs.converged:
-                # ... and the step's energy residual Δt |Σ R_i| is at round-off relative to
-                # the heat moved (interior fluxes cancel, so Σ R_i is exactly the imbalance).
-                # Only lagged couplings (face-to-face radiation, non-orthogonal correction)
-                # converge linearly and may need an extra iteration for it. Once the
-                # correction estimate is 1e-4 × tolerance there is nothing left but
-                # round-off (stiff columns with tiny Δt sit near 1e-12).
-                gross = np.sum(np.abs(bs.flow)) + np.sum(np.abs(source)) + 1e-300
-                if (abs(np.sum(resid)) <= self.energy_tolerance * gross
-                        or est <= 1e-4 * self.tolerance):
-                    converged = True
-                    break
-            t3 = time.perf_counter()
-            if scale is None:
-                # The preconditioner is built from the first Jacobian of a (dt, scheme) pair
-                # and reused while the Jacobian only drifts (boundary diagonal); the O(n)
-                # column preconditioner from the first Jacobian of every step, for the step's
-                # later passes too (frigate day, 48 steps: the same 967 PCG iterations as
-                # with one per pass, 151 → 48 factorisations, 6.14 → 5.83 s).
-                if self.backend != "column" and self._precond_key == prec_key:
-                    prec = self._precond
-                elif prec_a != a:
-                    # (``pattern.jacobian`` refills one shared matrix: ``jac`` is built after.)
-                    base = pattern.jacobian(prec_a * cap / dt + jdiag_b, exch).copy()
-                    prec = self._preconditioner(prec_key, base)
-                    jac = None    # the shared matrix now holds the preconditioner's values
-                else:
-                    if jac is None:
-                        jac = pattern.jacobian(diag_c + jdiag_b, exch, fresh=not column)
-                    prec = self._preconditioner(prec_key, jac)
-            if jac is None:
-                jac = pattern.jacobian(diag_c + jdiag_b, exch, fresh=not column)
+            if self._converged(est, it, bs, resid, s.source):
+                converged = True
+                break
+            delta, jac, prec = self._correction(s, resid, jdiag_b, exch, jac, prec, est)
             jac_step, exch_step = jac, exch
-            # Inexact Newton: the correction is needed only to ~1e-3 of the tolerance (the next
-            # pass re-evaluates the true residual), so with a preconditioner from an earlier
-            # Jacobian (radiation, drifting boundary diagonal) PCG stops after fewer
-            # iterations; an exact factor of the current Jacobian reaches 1e-13 in one anyway.
-            # Far from convergence the Newton step itself is only accurate to its own
-            # quadratic (and lagged-coupling) error, ~1e-4 of the step on a ship day
-            # (measured: successive corrections 0.25 K, 1e-4 K, 3e-8 K): solving it to
-            # 1e-9 relative bought nothing. ``NEWTON_LINEAR_RTOL`` is that floor. (Not for
-            # BDF2's backward-Euler start preconditioned by the BDF2 factor: there the tight
-            # solve is what keeps a linear problem at one correction.)
-            floor = NEWTON_LINEAR_RTOL if prec_a == a else 0.0
-            lin_rtol = min(1e-3, max(1e-13, 0.1 * self.tolerance / est, floor))
-            delta, nit, rel = pcg(jac.tocsr(), -resid, prec.apply, rtol=lin_rtol, max_iterations=60)
-            if rel > max(1e-10, lin_rtol):
-                # The Jacobian has drifted too far from the preconditioner: rebuild once.
-                self._precond_key = None
-                prec = self._preconditioner(key, jac)
-                delta, nit2, rel = pcg(jac.tocsr(), -resid, prec.apply, rtol=1e-13,
-                                       max_iterations=200)
-                nit += nit2
-            elif nit > 20:
-                self._precond_key = None   # converged, but slowly: rebuild for the next step
-            self.timing.linear_iterations += nit
-            self.timing.solve += time.perf_counter() - t3
-            if accel is None:
+            if s.accel is None:
                 temp = temp + delta
                 face_lag = self._moved_faces(face_lag, delta, self._face_slope(bs))
             else:
-                temp = accel.update(temp, delta)
-            scale = 1
+                temp = s.accel.update(temp, delta)
         self.timing.newton_iterations += it + 1
         if not converged:
             raise SimulationError(f"Newton did not converge in {self.max_iterations} iterations "
-                                  f"at t = {t_new:.6g} s (correction estimate {est:.3g} K); "
+                                  f"at t = {s.t_new:.6g} s (correction estimate {est:.3g} K); "
                                   "reduce time_step")
-        # Energy bookkeeping.
+        return temp, bs, flow
+
+    def _converged(self, est: float, it: int, bs, resid, source) -> bool:
+        """Is the step converged after pass ``it`` (correction estimate ``est`` [K])?"""
+        # At least one Newton solve per step: from the extrapolated guess the residual may
+        # already be below the tolerance, but only a solve takes it to round-off, which
+        # is what makes the energy balance close to ~1e-12 rather than to tolerance·C/Δt.
+        if not (est <= self.tolerance and it > 0 and bs.converged):
+            return False
+        # ... and the step's energy residual Δt |Σ R_i| is at round-off relative to
+        # the heat moved (interior fluxes cancel, so Σ R_i is exactly the imbalance).
+        # Only lagged couplings (face-to-face radiation, non-orthogonal correction)
+        # converge linearly and may need an extra iteration for it. Once the
+        # correction estimate is 1e-4 × tolerance there is nothing left but
+        # round-off (stiff columns with tiny Δt sit near 1e-12).
+        gross = np.sum(np.abs(bs.flow)) + np.sum(np.abs(source)) + 1e-300
+        return bool(abs(np.sum(resid)) <= self.energy_tolerance * gross
+                    or est <= 1e-4 * self.tolerance)
+
+    def _correction(self, s: _Step, resid, jdiag_b, exch, jac, prec, est: float):
+        """The Newton correction by PCG: ``(ΔT, the Jacobian solved with, its
+        preconditioner)`` (``jac``/``prec`` None: not built yet in this step)."""
+        pattern = s.pattern
+        column = self.backend == "column"
+        t3 = time.perf_counter()
+        if prec is None:
+            # The preconditioner is built from the first Jacobian of a (dt, scheme) pair
+            # and reused while the Jacobian only drifts (boundary diagonal); the O(n)
+            # column preconditioner from the first Jacobian of every step, for the step's
+            # later passes too (frigate day, 48 steps: the same 967 PCG iterations as
+            # with one per pass, 151 → 48 factorisations, 6.14 → 5.83 s).
+            if self.backend != "column" and self._precond_key == s.prec_key:
+                prec = self._precond
+            elif s.prec_a != s.a:
+                # (``pattern.jacobian`` refills one shared matrix: ``jac`` is built after.)
+                base = pattern.jacobian(s.prec_a * self.graph.heat_capacity / s.dt + jdiag_b,
+                                        exch).copy()
+                prec = self._preconditioner(s.prec_key, base)
+                jac = None    # the shared matrix now holds the preconditioner's values
+            else:
+                if jac is None:
+                    jac = pattern.jacobian(s.diag_c + jdiag_b, exch, fresh=not column)
+                prec = self._preconditioner(s.prec_key, jac)
+        if jac is None:
+            jac = pattern.jacobian(s.diag_c + jdiag_b, exch, fresh=not column)
+        # Inexact Newton: the correction is needed only to ~1e-3 of the tolerance (the next
+        # pass re-evaluates the true residual), so with a preconditioner from an earlier
+        # Jacobian (radiation, drifting boundary diagonal) PCG stops after fewer
+        # iterations; an exact factor of the current Jacobian reaches 1e-13 in one anyway.
+        # Far from convergence the Newton step itself is only accurate to its own
+        # quadratic (and lagged-coupling) error, ~1e-4 of the step on a ship day
+        # (measured: successive corrections 0.25 K, 1e-4 K, 3e-8 K): solving it to
+        # 1e-9 relative bought nothing. ``NEWTON_LINEAR_RTOL`` is that floor. (Not for
+        # BDF2's backward-Euler start preconditioned by the BDF2 factor: there the tight
+        # solve is what keeps a linear problem at one correction.)
+        floor = NEWTON_LINEAR_RTOL if s.prec_a == s.a else 0.0
+        lin_rtol = min(1e-3, max(1e-13, 0.1 * self.tolerance / est, floor))
+        delta, nit, rel = pcg(jac.tocsr(), -resid, prec.apply, rtol=lin_rtol, max_iterations=60)
+        if rel > max(1e-10, lin_rtol):
+            # The Jacobian has drifted too far from the preconditioner: rebuild once.
+            self._precond_key = None
+            prec = self._preconditioner(s.key, jac)
+            delta, nit2, rel = pcg(jac.tocsr(), -resid, prec.apply, rtol=1e-13,
+                                   max_iterations=200)
+            nit += nit2
+        elif nit > 20:
+            self._precond_key = None   # converged, but slowly: rebuild for the next step
+        self.timing.linear_iterations += nit
+        self.timing.solve += time.perf_counter() - t3
+        return delta, jac, prec
+
+    def _finish_step(self, st: SolverState, s: _Step, temp, bs, flow) -> None:
+        """Book the step's energy and make its end the current state."""
+        cap = self.graph.heat_capacity
+        a, theta, dt, hist, source = s.a, s.theta, s.dt, s.hist, s.source
         stored = float(np.sum(cap * (a * temp - hist)))
         b_new = float(np.sum(bs.flow))
         b_old = float(np.sum(st.flow_face))
@@ -843,7 +648,7 @@ class Simulation:
         src = dt * (theta * float(np.sum(source)) + (1.0 - theta) * float(np.sum(st.source)))
         gross = dt * (theta * float(np.sum(np.abs(bs.flow))) + (1.0 - theta) * float(np.sum(np.abs(st.flow_face))))
         e = st.energy
-        e["time"].append(t_new)
+        e["time"].append(s.t_new)
         e["stored"].append(stored)
         e["stored_plain"].append(float(np.sum(cap * (temp - st.temp))))
         e["boundary"].append(boundary)
@@ -858,7 +663,7 @@ class Simulation:
         st.flow_face = bs.flow
         st.source = source
         st.cell_flow = flow
-        st.time = t_new
+        st.time = s.t_new
         st.step += 1
         self._maybe_record(st)
 
@@ -870,7 +675,7 @@ class Simulation:
         from tqdm.auto import tqdm
 
         with tqdm(total=n, desc=desc, unit="step", disable=not show, leave=False) as bar, \
-                _single_threaded_blas():
+                single_threaded_blas():
             for _ in range(n):
                 self.step()
                 bar.update(1)
@@ -902,7 +707,7 @@ class Simulation:
         self._record(self._state)
 
     @staticmethod
-    def _record(st: _State) -> None:
+    def _record(st: SolverState) -> None:
         if st.recorded_times and abs(st.recorded_times[-1] - st.time) < 1e-9:
             return
         st.recorded_times.append(st.time)
@@ -911,136 +716,28 @@ class Simulation:
         st.recorded_flow.append(st.flow_face.copy())
 
     # ------------------------------------------------------------ checkpoints ---------------
+    def _signature(self) -> np.ndarray:
+        return np.array([self.dt, self.start_time, SCHEMES.index(self.scheme),
+                         self.graph.n_cells, self.graph.n_bfaces], dtype=float)
+
     def save_checkpoint(self, path, extra: dict | None = None) -> Path:
         """Write the full state (and what was recorded) to ``path`` (.npz), atomically.
 
         ``extra``: arrays of a caller's own bookkeeping (e.g. a spin-up's day counter),
         stored under ``extra_<name>`` and returned by :meth:`load_checkpoint`.
         """
-        st = self._state
-        path = Path(path)
-        arrays = dict(
-            time=st.time, step=st.step, temp=st.temp,
-            temp_prev=st.temp_prev if st.temp_prev is not None else np.zeros(0),
-            has_prev=st.temp_prev is not None, temp_face=st.temp_face, flow_face=st.flow_face,
-            source=st.source,
-            face_slope=st.face_slope if st.face_slope is not None else np.zeros(0),
-            cell_flow=st.cell_flow, dt_now=self._dt_now, dt_prev=st.dt_prev,
-            origin=np.array(st.origin, dtype=float), rec_times=np.array(st.recorded_times),
-            rec_cell=np.array(st.recorded_cell), rec_face=np.array(st.recorded_face),
-            rec_flow=np.array(st.recorded_flow),
-            # the preconditioner's column groups, so that a resumed run solves with the
-            # very same ones (found from the first Jacobian of the run)
-            **({f"groups_{k}": v for k, v in self._aggregates.arrays().items()}
-               if self._aggregates is not None else {}),
-            signature=np.array([self.dt, self.start_time, SCHEMES.index(self.scheme),
-                                self.graph.n_cells, self.graph.n_bfaces], dtype=float),
-            **{f"energy_{k}": np.array(v) for k, v in st.energy.items()},
-            **{f"extra_{k}": np.asarray(v) for k, v in (extra or {}).items()})
-        with atomic_path(path) as tmp:      # an error names the checkpoint, not tmp
-            np.savez(tmp, **arrays)
-        return path
+        # the preconditioner's column groups go along, so that a resumed run solves with the
+        # very same ones (found from the first Jacobian of the run)
+        return write_checkpoint(path, self._state, self._dt_now, self._signature(),
+                                self._aggregates, extra)
 
     def load_checkpoint(self, path) -> dict:
         """Continue from a checkpoint written by :meth:`save_checkpoint` of the same setup;
         returns its ``extra`` arrays."""
-        with np.load(path) as d:
-            sig = d["signature"]
-            want = np.array([self.dt, self.start_time, SCHEMES.index(self.scheme),
-                             self.graph.n_cells, self.graph.n_bfaces], dtype=float)
-            if not np.allclose(sig, want):
-                raise InputError("checkpoint", str(path),
-                                 "was written by a different setup (time step, start, scheme or "
-                                 "mesh size differ)", "Start afresh without --resume")
-            st = _State(float(d["time"]), int(d["step"]), d["temp"].copy(),
-                        d["temp_prev"].copy() if bool(d["has_prev"]) else None,
-                        d["temp_face"].copy(), d["flow_face"].copy(), d["source"].copy(),
-                        d["cell_flow"].copy())
-            # (older checkpoints: the first step then starts its balances unmoved)
-            if "face_slope" in d.files and d["face_slope"].size:
-                st.face_slope = d["face_slope"].copy()
-            if "dt_now" in d.files:     # (older checkpoints: uniform steps of time_step)
-                st.dt_prev = float(d["dt_prev"])
-                st.origin = (float(d["origin"][0]), int(d["origin"][1]))
-                dt_now = float(d["dt_now"])
-            else:
-                st.dt_prev = self.dt if st.temp_prev is not None else 0.0
-                st.origin = (self.start_time, 0)
-                dt_now = self.dt
-            st.recorded_times = list(d["rec_times"])
-            st.recorded_cell = list(d["rec_cell"])
-            st.recorded_face = list(d["rec_face"])
-            st.recorded_flow = list(d["rec_flow"])
-            st.energy = {k: list(d[f"energy_{k}"]) for k in EnergyLog.FIELDS}
-            extra = {k[6:]: d[k].copy() for k in d.files if k.startswith("extra_")}
-            if "groups_ptr" in d.files:
-                self._aggregates = Aggregates.from_arrays(
-                    {k: d[f"groups_{k}"] for k in Aggregates.FIELDS})
+        st, dt_now, groups, extra = read_checkpoint(path, self._signature(), self.dt,
+                                                    self.start_time)
+        if groups is not None:
+            self._aggregates = groups
         self._state = st
         self._dt_now = dt_now
         return extra
-
-
-def steady_state(model: ThermalModel, time: float = 0.0, tolerance: float = 1e-9,
-                 max_iterations: int = 100, linear_solver: str = "auto",
-                 max_change: float = 100.0) -> Results:
-    """Steady temperatures under the boundary conditions at ``time`` (Newton, damped so that
-    no cell moves by more than ``max_change`` K per iteration).
-
-    Needs a heat sink (a fixed, convective or radiative boundary): with adiabatic or
-    flux-only boundaries no steady state exists.
-    """
-    g = model.graph
-    if not model.has_sink:
-        raise InputError("conditions", "no fixed, convective or radiative boundary",
-                         "a steady state needs at least one boundary that exchanges heat with "
-                         "a reference temperature", "Add a FixedTemperature, Convection, "
-                         "Radiation or SurfaceBalance condition")
-    forcing = model.forcing(time)
-    source = model.source(time)
-    temp = model.initial_temperature.copy()
-    face = temp[g.bface_cell]
-    backend = choose_backend(linear_solver, g.n_cells, g.kind)
-    if backend == "column":
-        # Without C/Δt lateral conduction is not small against the diagonal: factorise.
-        backend = "direct"
-    prec = None
-    accel = Anderson(5) if (g.correction is not None or model.exchange is not None) else None
-    with _single_threaded_blas():
-        return _steady_loop(model, g, forcing, source, temp, face, backend, prec, accel,
-                            time, tolerance, max_iterations, max_change)
-
-
-def _steady_loop(model, g, forcing, source, temp, face, backend, prec, accel, time,
-                 tolerance, max_iterations, max_change):
-    for it in range(max_iterations):
-        corr_cell, bs = boundary_state(model, forcing, temp, face)
-        face = bs.temp_face
-        flow = (conduction_flows(g, temp) + np.bincount(g.bface_cell, bs.flow, g.n_cells)
-                + corr_cell + source)
-        jac = (g.conduction_matrix + sp.diags(np.bincount(g.bface_cell, bs.conductance, g.n_cells))).tocsr()
-        est = np.max(np.abs(flow) / jac.diagonal())
-        if est <= tolerance:
-            break
-        if prec is None:
-            prec = make_preconditioner(jac, backend)
-        delta, _, rel = pcg(jac, flow, prec.apply, rtol=1e-13, max_iterations=100)
-        if rel > 1e-10:
-            prec = make_preconditioner(jac, backend)
-            delta, _, rel = pcg(jac, flow, prec.apply, rtol=1e-13, max_iterations=300)
-        big = np.max(np.abs(delta))
-        if big > max_change:
-            delta *= max_change / big
-        temp = temp + delta if accel is None else accel.update(temp, delta)
-    else:
-        raise SimulationError(f"steady state did not converge in {max_iterations} iterations "
-                              f"(correction estimate {est:.3g} K)")
-    log = EnergyLog.from_lists({"time": [time], "stored": [0.0], "stored_plain": [0.0],
-                                "boundary": [float(np.sum(bs.flow))],
-                                "source": [float(np.sum(source))],
-                                "gross": [float(np.sum(np.abs(bs.flow)))],
-                                "imbalance": [-float(np.sum(bs.flow)) - float(np.sum(source))]})
-    return Results(graph=g, times=np.array([time]), cell_temperature=temp[None, :],
-                   face_temperature=face[None, :], face_flow=bs.flow[None, :], energy=log,
-                   scheme="steady", time_step=0.0, timing={"newton_iterations": it + 1},
-                   backend=prec.backend if prec is not None else backend)

@@ -332,7 +332,7 @@ def test_jacobian_pattern_refill_equals_the_sparse_sum(duplicates):
     """``B + diag(d) + extras`` of the solver's Jacobian pattern, fresh or refilled in place
     (only the diagonal and the exchange positions rewritten), equals scipy's sum of the
     three; extras on the diagonal and several extras at one position included."""
-    from shipthermal.simulation import _JacobianPattern
+    from shipthermal.linear import JacobianPattern
 
     rng = np.random.default_rng(11)
     n = 400
@@ -346,7 +346,7 @@ def test_jacobian_pattern_refill_equals_the_sparse_sum(duplicates):
     else:
         keep = np.unique(er * n + ec, return_index=True)[1]   # sorted by position
         er, ec = er[keep], ec[keep]
-    pat = _JacobianPattern(b, er, ec)
+    pat = JacobianPattern(b, er, ec)
     for k in range(3):
         d = rng.normal(size=n)
         e = rng.normal(size=len(er))
@@ -379,14 +379,14 @@ def test_gathered_conduction_flows_equal_minus_k_t_and_cancel():
 
 def test_one_pass_reductions_equal_numpy_and_keep_nan():
     from shipthermal.model import _change_and_max
-    from shipthermal.simulation import _max_ratio
+    from shipthermal._step_kernels import max_ratio
 
     rng = np.random.default_rng(21)
     a, b = rng.normal(size=5000), rng.uniform(0.5, 2.0, 5000)
-    assert _max_ratio(a, b) == np.max(np.abs(a) / b)
+    assert max_ratio(a, b) == np.max(np.abs(a) / b)
     new, old = 300.0 + rng.normal(size=5000), 300.0 + rng.normal(size=5000)
     assert _change_and_max(new, old) == (np.max(np.abs(new - old)), np.max(new))
     a[1234] = np.nan
     new[17] = np.nan
-    assert np.isnan(_max_ratio(a, b)) and np.isnan(_change_and_max(new, old)[0])
+    assert np.isnan(max_ratio(a, b)) and np.isnan(_change_and_max(new, old)[0])
     assert _change_and_max(np.zeros(0), np.zeros(0)) == (0.0, 0.0)
