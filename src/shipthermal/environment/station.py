@@ -39,7 +39,7 @@ from shipthermal.parameters import (AIR_SEA_DIFFERENCE_K, AIR_SEA_WARN_K, HUMIDI
                                     STATION_SUFFIXES, WIND_SPEED_WARN)
 from shipthermal.units import ZERO_CELSIUS
 
-from .convection import SEA_ROUGHNESS_LENGTH, wind_speed_at_height
+from .convection.wind import SEA_ROUGHNESS_LENGTH, wind_speed_at_height
 from .sky import relative_humidity_from_dew_point
 from .weather import _LIMITS, Weather, interpolate_wind_direction, read_csv_frame
 

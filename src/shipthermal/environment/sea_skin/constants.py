@@ -52,7 +52,8 @@ m s-1, i.e. calm air without gustiness)."""
 
 WARM_LAYER_DEPTH = 3.0
 """Depth d of the warm layer's base, where the bulk SST is taken [m] (SOURCED: [ZB05]'s d;
-the depth of the bulk SST an ASSUMPTION, for the COARE warm layer too: see the module)."""
+the depth of the bulk SST an ASSUMPTION, for the COARE warm layer too: see
+:mod:`shipthermal.environment.sea_skin`)."""
 WARM_LAYER_NU = 0.3
 """Exponent ν of the warm-layer temperature profile ``T(z) = T_{-δ} − ((z+δ)/(δ−d))^ν ΔT``
 [-] (SOURCED: [ZB05]; also ECMWF's implementation, IFS VOSKIN ``ZAN = 0.3``)."""
