@@ -52,6 +52,12 @@ linear warm-layer profile is not seen: ``ΔT_warm = ΔT min(1, 3 m / D)`` of the
 warming ΔT. A buoy thermistor at 1 m already carries part of the warm layer (by the [ZB05]
 profile ``1 − (z/d)^ν``, 28 % of ``ΔT_warm`` at 1 m).
 
+Modules: :mod:`.constants` (water, air, COARE and the warm layers' numbers),
+:mod:`.thermodynamics` (saturation humidity, expansion, gravity), :mod:`.stability`
+(Monin–Obukhov functions), :mod:`.cool_layer` (the cool skin), :mod:`.bulk` (the COARE 3.6
+fluxes), :mod:`.zeng_beljaars` and :mod:`.coare_warm` (the two warm layers),
+:mod:`.temperature` (the coupling over a time series, :func:`sea_skin_temperature`).
+
 Constants carry one of the labels of the code base: SOURCED (copied from the cited source),
 DERIVED (computed from sourced numbers by a stated method), ASSUMPTION (our choice).
 
