@@ -31,6 +31,7 @@ from typing import Mapping, Optional
 
 import numpy as np
 import pandas as pd
+import pvlib
 
 from shipthermal.errors import InputError, require
 from shipthermal.parameters import (AIR_SEA_DIFFERENCE_K, AIR_SEA_WARN_K, HUMIDITY_FRACTION_MAX,
@@ -309,8 +310,6 @@ def _ndbc_frame(path):
 
 
 def _typical_year_frame(path, fmt, year):
-    import pvlib
-
     try:
         if fmt == "epw":
             data, meta = pvlib.iotools.read_epw(path, coerce_year=year)
