@@ -15,7 +15,8 @@ import pytest
 
 from shipthermal.environment import convection
 from shipthermal.environment.station import (MAX_GAP_HOURS, check_weather, read_ndbc,
-                                             read_station, to_weather, weather_sense)
+                                             read_station, reduce_wind_to_10m, to_weather,
+                                             weather_sense)
 from shipthermal.errors import InputError
 from shipthermal.app.scenario import load_scenario
 
@@ -109,6 +110,18 @@ def test_log_law_round_trip():
         np.testing.assert_allclose(convection.wind_speed_at_height(u10, z), u, rtol=1e-13)
     assert convection.wind_speed_at_height(7.0, 10.0, reference_height=10.0) == pytest.approx(
         7.0, rel=1e-15)
+
+
+def test_wind_reduced_to_10m_only_from_another_height():
+    """An anemometer at 10 m leaves the record's wind as read, without a note; from 4 m the
+    log law's factor is applied and named in the note."""
+    u = np.array([0.0, 4.0, 11.0])
+    same, note = reduce_wind_to_10m(u, 10.0)
+    assert same is u and note is None
+    low, note = reduce_wind_to_10m(u, 4.0)
+    factor = np.log(10 / 2e-4) / np.log(4 / 2e-4)
+    np.testing.assert_allclose(low, factor * u, rtol=1e-14)
+    assert "reduced from 4 m to 10 m" in note and f"x {factor:.4f}" in note
 
 
 def test_an_anemometer_height_below_the_profile_is_refused_at_the_input(tmp_path):

@@ -14,8 +14,7 @@ and says what it did:
 * **Missing-value codes** are turned into NaN by the readers (NDBC 99 / 999 / 9999 by
   column, EPW's codes through pvlib's documented values).
 * **Wind height**: the speed measured at ``wind_height`` is reduced to 10 m by the
-  neutral logarithmic profile over the sea
-  (:func:`~shipthermal.environment.convection.wind_speed_at_height`).
+  neutral logarithmic profile over the sea (:func:`reduce_wind_to_10m`).
 * Quantities a file does not carry (NDBC: cloud cover; EPW/TMY: sea temperature) come
   from constants given by the caller (``fallback``), and the report says so.
 
@@ -32,6 +31,7 @@ from typing import Mapping, Optional
 
 import numpy as np
 import pandas as pd
+import pvlib
 
 from shipthermal.errors import InputError, require
 from shipthermal.parameters import (AIR_SEA_DIFFERENCE_K, AIR_SEA_WARN_K, HUMIDITY_FRACTION_MAX,
@@ -39,14 +39,14 @@ from shipthermal.parameters import (AIR_SEA_DIFFERENCE_K, AIR_SEA_WARN_K, HUMIDI
                                     STATION_SUFFIXES, WIND_SPEED_WARN)
 from shipthermal.units import ZERO_CELSIUS
 
-from .convection import SEA_ROUGHNESS_LENGTH, wind_speed_at_height
+from .convection.wind import SEA_ROUGHNESS_LENGTH, wind_speed_at_height
 from .sky import relative_humidity_from_dew_point
 from .weather import _LIMITS, Weather, interpolate_wind_direction, read_csv_frame
 
 __all__ = ["STATION_FORMATS", "FIELDS", "REQUIRED_FIELDS", "MAX_GAP_HOURS", "EDGE_HOLD_S",
            "NDBC_MISSING", "StationRecord", "WeatherReport", "read_station", "read_ndbc",
            "to_weather", "check_weather", "weather_sense", "great_circle_km",
-           "guess_format"]
+           "guess_format", "reduce_wind_to_10m"]
 
 FIELDS = ("temp_air", "relative_humidity", "wind_speed", "wind_direction", "cloud_cover",
           "temp_sea", "ghi", "longwave_down")
@@ -310,8 +310,6 @@ def _ndbc_frame(path):
 
 
 def _typical_year_frame(path, fmt, year):
-    import pvlib
-
     try:
         if fmt == "epw":
             data, meta = pvlib.iotools.read_epw(path, coerce_year=year)
@@ -445,151 +443,25 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
         Every problem found (empty when ``weather`` is returned).
     """
     fallback = {k: v for k, v in (fallback or {}).items() if v is not None}
-    problems: list = []
-    frame = record.frame
     src = record.source
-    tz = frame.index.tz
     start = pd.Timestamp(start)
     end = pd.Timestamp(end)
     grid = pd.date_range(start, end, freq=pd.Timedelta(seconds=step))
-    if len(frame) == 0:
+    if len(record.frame) == 0:
         return None, WeatherReport(), [InputError("weather.source", src, "holds no rows")]
-    if site is not None and record.site is not None:
-        # a file of another place: its other problems would only be noise
-        km = great_circle_km(site[0], site[1], record.site[0], record.site[1])
-        if km > max_site_distance_km:
-            return None, WeatherReport(notes=record.notes), [InputError(
-                "weather.source", src, f"is the record of {record.site[2] or 'a station'} at "
-                f"{record.site[0]:.2f} N, {record.site[1]:.2f} E (its header), {km:,.0f} km from "
-                f"the site [location] {site[0]:.2f} N, {site[1]:.2f} E; at most "
-                f"{max_site_distance_km:g} km (weather.max_site_distance) is accepted",
-                "Give the weather file of the site, set [location] to the station's, or raise "
-                "weather.max_site_distance for a deliberate stand-in")]
-    first, last = frame.index[0], frame.index[-1]
-    if first > start + pd.Timedelta(seconds=EDGE_HOLD_S) or \
-            last < end - pd.Timedelta(seconds=EDGE_HOLD_S):
-        problems.append(InputError(
-            "weather.source", src, f"covers {first:%Y-%m-%d %H:%M} … {last:%Y-%m-%d %H:%M %Z}"
-            f", not the span needed {start:%Y-%m-%d %H:%M} … {end:%Y-%m-%d %H:%M %Z}",
-            "Pick time.date (and weather.days) inside the record, or a longer file"))
-        return None, WeatherReport(notes=record.notes), problems
-    gx = _epoch_seconds(grid)
-    tx = _epoch_seconds(frame.index)
-    max_gap = max_gap_hours * 3600.0
-    spacing = float(np.median(np.diff(tx))) if len(tx) > 1 else step
-    values, interpolated, held, constants = {}, [], [], {}
-    for field in FIELDS:
-        col = frame[field].to_numpy(dtype=float) if field in frame else None
-        ok = np.isfinite(col) if col is not None else None
-        # valid observations that matter for the span
-        near = (tx >= gx[0] - max_gap) & (tx <= gx[-1] + max_gap)
-        if col is None or not ok[near].any():
-            if field in fallback:
-                values[field] = np.full(len(grid), float(fallback[field]))
-                constants[field] = float(fallback[field])
-            elif field in REQUIRED_FIELDS:
-                what = "has no column for" if col is None else "has no valid value of"
-                if field in _FALLBACK_KEY:
-                    fix = f"Set {_FALLBACK_KEY[field]} (a constant, {_FALLBACK_UNIT[field]})"
-                elif col is None and record.format == "csv":
-                    fix = f"Add a {field!r} column" + (" (or 'temp_dew')" if field ==
-                                                        "relative_humidity" else "") + \
-                        " (docs/WEATHER.md)"
-                elif col is None:
-                    fix = "This file does not carry it: give a CSV record (docs/WEATHER.md)"
-                else:
-                    fix = "Pick a span the file covers for this quantity, or another file"
-                problems.append(InputError(f"weather.source[{field}]", src,
-                                           f"{what} {field} between {start:%Y-%m-%d %H:%M} "
-                                           f"and {end:%Y-%m-%d %H:%M %Z}", fix))
-            continue
-        t_ok, v_ok = tx[ok], col[ok]
-        if field == "wind_direction":
-            v_grid = interpolate_wind_direction(gx, t_ok, v_ok)
-        else:
-            v_grid = np.interp(gx, t_ok, v_ok)
-        # the valid observations around each grid time
-        j = np.searchsorted(t_ok, gx, side="left")
-        exact = (j < len(t_ok)) & (t_ok[np.minimum(j, len(t_ok) - 1)] == gx)
-        left = np.where(exact, gx, t_ok[np.maximum(j - 1, 0)])
-        right = np.where(j < len(t_ok), t_ok[np.minimum(j, len(t_ok) - 1)], np.inf)
-        before = j == 0
-        after = j >= len(t_ok)
-        left = np.where(before & ~exact, -np.inf, left)
-        gap = np.where(exact, 0.0, right - left)
-        # ends: hold the first / last value for up to EDGE_HOLD_S
-        beyond = np.where(before & ~exact, t_ok[0] - gx, np.where(after, gx - t_ok[-1], 0.0))
-        if np.any(beyond > EDGE_HOLD_S):
-            # the quantity starts after the span's start or stops before its end
-            k = int(np.flatnonzero(beyond > EDGE_HOLD_S)[0])
-            late = bool(before[k])
-            ref = pd.Timestamp(t_ok[0] if late else t_ok[-1], unit="s", tz="UTC").tz_convert(tz)
-            edge = grid[0] if late else grid[-1]
-            span = abs((edge - ref).total_seconds()) / 3600.0
-            span_text = f"{span / 24:.1f} days" if span >= 48 else f"{span:.1f} h"
-            problems.append(InputError(
-                f"weather.source[{field}]", src,
-                f"has no valid {field} {'before' if late else 'after'} "
-                f"{ref:%Y-%m-%d %H:%M %Z} (its {'first' if late else 'last'} valid "
-                f"observation): the span {'starts' if late else 'runs'} {span_text} "
-                f"{'earlier, at' if late else 'longer, to'} {edge:%Y-%m-%d %H:%M}; a value is "
-                f"held at most {EDGE_HOLD_S / 3600:g} h",
-                ("Start the span later (time.date)" if late else
-                 "End the span before it (time.date, weather.days)")
-                + ", or give a file that has it"))
-            continue
-        for k in np.flatnonzero(beyond > 0):
-            ref = t_ok[0] if before[k] else t_ok[-1]
-            held.append((field, grid[k],
-                         pd.Timestamp(ref, unit="s", tz="UTC").tz_convert(tz),
-                         round(float(beyond[k]) / 3600.0, 2)))
-        inner = np.isfinite(gap)
-        long = inner & (gap > max_gap + 1e-6)
-        if long.any():
-            for a, b in _spans(long):
-                ta = pd.Timestamp(left[a], unit="s", tz="UTC").tz_convert(tz)
-                tb = pd.Timestamp(right[b], unit="s", tz="UTC").tz_convert(tz)
-                problems.append(InputError(
-                    f"weather.source[{field}]", src,
-                    f"has no valid {field} from {ta:%Y-%m-%d %H:%M} to {tb:%Y-%m-%d %H:%M %Z} "
-                    f"({(tb - ta).total_seconds() / 3600:g} h), longer than weather."
-                    f"max_gap_hours = {max_gap_hours:g} h",
-                    "Pick another span, raise weather.max_gap_hours, or fill the gap"
-                    + (f"; or set weather.use_measured_"
-                       f"{'irradiance' if field == 'ghi' else 'longwave'} = false"
-                       if field in ("ghi", "longwave_down") else "")))
-            continue
-        bridged = inner & ~exact & (gap > 1.5 * spacing)
-        seen = set()
-        for k in np.flatnonzero(bridged):
-            key = (left[k], right[k])
-            if key in seen:
-                continue
-            seen.add(key)
-            ta = pd.Timestamp(left[k], unit="s", tz="UTC").tz_convert(tz)
-            tb = pd.Timestamp(right[k], unit="s", tz="UTC").tz_convert(tz)
-            interpolated.append((field, ta, tb, round((tb - ta).total_seconds() / 3600.0, 2)))
-        values[field] = v_grid
+    refused = _site_refusal(record, site, max_site_distance_km)
+    if refused is None:
+        refused = _coverage_refusal(record, start, end)
+    if refused is not None:
+        return None, WeatherReport(notes=record.notes), [refused]
+    values, interpolated, held, constants, problems = _fields_on_grid(
+        record, grid, start, end, max_gap_hours, step, fallback)
     notes = list(record.notes)
-    if "wind_speed" in values and abs(wind_height - 10.0) > 1e-9:
-        values["wind_speed"] = wind_speed_at_height(values["wind_speed"], 10.0,
-                                                    reference_height=wind_height)
-        factor = float(wind_speed_at_height(1.0, 10.0, reference_height=wind_height))
-        notes.append(f"wind_speed: reduced from {wind_height:g} m to 10 m (log law, z0 = "
-                     f"{SEA_ROUGHNESS_LENGTH:g} m: x {factor:.4f})")
-    # physical ranges, every field at once
-    for field, arr in values.items():
-        lo, hi, unit = _LIMITS[field]
-        bad = np.flatnonzero((arr < lo) | (arr > hi))
-        if bad.size:
-            k = int(bad[0])
-            hint = ("the file's temperature unit (weather.temp_unit)" if field.startswith("temp")
-                    else "the cloud unit (weather.cloud_unit)" if field == "cloud_cover"
-                    else "the file's units (docs/WEATHER.md)")
-            problems.append(InputError(f"weather.source[{field}]", float(arr[k]),
-                                       f"must lie in [{lo:g}, {hi:g}] {unit} ({bad.size} "
-                                       f"value(s) outside, first at {grid[k]:%Y-%m-%d %H:%M %Z})",
-                                       f"Check {hint}"))
+    if "wind_speed" in values:
+        values["wind_speed"], note = reduce_wind_to_10m(values["wind_speed"], wind_height)
+        if note is not None:
+            notes.append(note)
+    problems += _range_problems(values, grid)
     if not problems:
         sense_problems, sense_notes = weather_sense(
             values, grid, src, maybe_fahrenheit=record.temp_unit == "C", from_file={
@@ -607,6 +479,218 @@ def check_weather(record: StationRecord, start, end, *, step: float = 3600.0,
                       ghi=values.get("ghi"), longwave_down=values.get("longwave_down"),
                       periodic=periodic, source=src, solar_interval=record.solar_interval)
     return weather, report, []
+
+
+def reduce_wind_to_10m(wind_speed, wind_height: float):
+    """The wind speed [m s-1] measured at ``wind_height`` [m] reduced to 10 m by the neutral
+    logarithmic profile over the sea
+    (:func:`~shipthermal.environment.convection.wind_speed_at_height`), and the report's note
+    of the reduction and its factor: ``(speed, note)``; ``(wind_speed, None)`` itself when the
+    anemometer is at 10 m."""
+    if abs(wind_height - 10.0) <= 1e-9:
+        return wind_speed, None
+    reduced = wind_speed_at_height(wind_speed, 10.0, reference_height=wind_height)
+    factor = float(wind_speed_at_height(1.0, 10.0, reference_height=wind_height))
+    return reduced, (f"wind_speed: reduced from {wind_height:g} m to 10 m (log law, z0 = "
+                     f"{SEA_ROUGHNESS_LENGTH:g} m: x {factor:.4f})")
+
+
+def _site_refusal(record: StationRecord, site, max_site_distance_km):
+    """The error refusing a typical-year file whose header names a station farther than
+    ``max_site_distance_km`` from ``site``, or None."""
+    src = record.source
+    if site is not None and record.site is not None:
+        # a file of another place: its other problems would only be noise
+        km = great_circle_km(site[0], site[1], record.site[0], record.site[1])
+        if km > max_site_distance_km:
+            return InputError(
+                "weather.source", src, f"is the record of {record.site[2] or 'a station'} at "
+                f"{record.site[0]:.2f} N, {record.site[1]:.2f} E (its header), {km:,.0f} km from "
+                f"the site [location] {site[0]:.2f} N, {site[1]:.2f} E; at most "
+                f"{max_site_distance_km:g} km (weather.max_site_distance) is accepted",
+                "Give the weather file of the site, set [location] to the station's, or raise "
+                "weather.max_site_distance for a deliberate stand-in")
+    return None
+
+
+def _coverage_refusal(record: StationRecord, start, end):
+    """The error refusing a record that does not cover ``[start, end]`` (to within
+    :data:`EDGE_HOLD_S`), or None."""
+    first, last, src = record.frame.index[0], record.frame.index[-1], record.source
+    if first > start + pd.Timedelta(seconds=EDGE_HOLD_S) or \
+            last < end - pd.Timedelta(seconds=EDGE_HOLD_S):
+        return InputError(
+            "weather.source", src, f"covers {first:%Y-%m-%d %H:%M} … {last:%Y-%m-%d %H:%M %Z}"
+            f", not the span needed {start:%Y-%m-%d %H:%M} … {end:%Y-%m-%d %H:%M %Z}",
+            "Pick time.date (and weather.days) inside the record, or a longer file")
+    return None
+
+
+@dataclasses.dataclass(frozen=True)
+class _Axis:
+    """The regular axis a record is put on, and what a field's messages need of the record."""
+
+    grid: pd.DatetimeIndex      #: the output times
+    gx: np.ndarray              #: their epoch seconds
+    tz: object                  #: the record's time zone
+    src: str                    #: the record's source (for messages)
+    max_gap: float              #: longest bridged gap [s]
+    max_gap_hours: float        #: the same [h] (for messages)
+    spacing: float              #: the record's typical spacing [s]
+
+
+def _fields_on_grid(record: StationRecord, grid, start, end, max_gap_hours, step, fallback):
+    """Every field of :data:`FIELDS` on ``grid``: interpolated from the file, or a constant
+    of ``fallback`` where the file has no valid value near the span.
+
+    Returns the values by field, the bridged gaps, the held ends, the constants used and the
+    problems, as :func:`check_weather` reports them."""
+    frame = record.frame
+    tx = _epoch_seconds(frame.index)
+    axis = _Axis(grid=grid, gx=_epoch_seconds(grid), tz=frame.index.tz, src=record.source,
+                 max_gap=max_gap_hours * 3600.0, max_gap_hours=max_gap_hours,
+                 spacing=float(np.median(np.diff(tx))) if len(tx) > 1 else step)
+    gx, max_gap = axis.gx, axis.max_gap
+    values, interpolated, held, constants, problems = {}, [], [], {}, []
+    for field in FIELDS:
+        col = frame[field].to_numpy(dtype=float) if field in frame else None
+        ok = np.isfinite(col) if col is not None else None
+        # valid observations that matter for the span
+        near = (tx >= gx[0] - max_gap) & (tx <= gx[-1] + max_gap)
+        if col is None or not ok[near].any():
+            if field in fallback:
+                values[field] = np.full(len(grid), float(fallback[field]))
+                constants[field] = float(fallback[field])
+            elif field in REQUIRED_FIELDS:
+                problems.append(_absent_field(field, col is None, record, start, end))
+            continue
+        v_grid, field_problems, field_held, bridged = _field_on_axis(field, tx[ok], col[ok], axis)
+        problems += field_problems
+        held += field_held
+        interpolated += bridged
+        if v_grid is not None:
+            values[field] = v_grid
+    return values, interpolated, held, constants, problems
+
+
+def _absent_field(field, no_column: bool, record: StationRecord, start, end) -> InputError:
+    """The problem of a required field the file lacks over the span (no column, or no valid
+    value), with the fix that applies."""
+    what = "has no column for" if no_column else "has no valid value of"
+    if field in _FALLBACK_KEY:
+        fix = f"Set {_FALLBACK_KEY[field]} (a constant, {_FALLBACK_UNIT[field]})"
+    elif no_column and record.format == "csv":
+        fix = f"Add a {field!r} column" + (" (or 'temp_dew')" if field ==
+                                            "relative_humidity" else "") + \
+            " (docs/WEATHER.md)"
+    elif no_column:
+        fix = "This file does not carry it: give a CSV record (docs/WEATHER.md)"
+    else:
+        fix = "Pick a span the file covers for this quantity, or another file"
+    return InputError(f"weather.source[{field}]", record.source,
+                      f"{what} {field} between {start:%Y-%m-%d %H:%M} "
+                      f"and {end:%Y-%m-%d %H:%M %Z}", fix)
+
+
+def _field_on_axis(field, t_ok, v_ok, axis: _Axis):
+    """One field's valid observations (times ``t_ok`` [epoch s], values ``v_ok``) on the axis.
+
+    Returns the values (None when the field cannot be bridged), its problems (a span beyond
+    the record's ends longer than :data:`EDGE_HOLD_S`, gaps longer than ``max_gap``), its
+    held ends and its bridged gaps."""
+    gx, grid, tz, max_gap = axis.gx, axis.grid, axis.tz, axis.max_gap
+    if field == "wind_direction":
+        v_grid = interpolate_wind_direction(gx, t_ok, v_ok)
+    else:
+        v_grid = np.interp(gx, t_ok, v_ok)
+    # the valid observations around each grid time
+    j = np.searchsorted(t_ok, gx, side="left")
+    exact = (j < len(t_ok)) & (t_ok[np.minimum(j, len(t_ok) - 1)] == gx)
+    left = np.where(exact, gx, t_ok[np.maximum(j - 1, 0)])
+    right = np.where(j < len(t_ok), t_ok[np.minimum(j, len(t_ok) - 1)], np.inf)
+    before = j == 0
+    after = j >= len(t_ok)
+    left = np.where(before & ~exact, -np.inf, left)
+    gap = np.where(exact, 0.0, right - left)
+    # ends: hold the first / last value for up to EDGE_HOLD_S
+    beyond = np.where(before & ~exact, t_ok[0] - gx, np.where(after, gx - t_ok[-1], 0.0))
+    if np.any(beyond > EDGE_HOLD_S):
+        # the quantity starts after the span's start or stops before its end
+        k = int(np.flatnonzero(beyond > EDGE_HOLD_S)[0])
+        late = bool(before[k])
+        ref = pd.Timestamp(t_ok[0] if late else t_ok[-1], unit="s", tz="UTC").tz_convert(tz)
+        edge = grid[0] if late else grid[-1]
+        span = abs((edge - ref).total_seconds()) / 3600.0
+        span_text = f"{span / 24:.1f} days" if span >= 48 else f"{span:.1f} h"
+        return None, [InputError(
+            f"weather.source[{field}]", axis.src,
+            f"has no valid {field} {'before' if late else 'after'} "
+            f"{ref:%Y-%m-%d %H:%M %Z} (its {'first' if late else 'last'} valid "
+            f"observation): the span {'starts' if late else 'runs'} {span_text} "
+            f"{'earlier, at' if late else 'longer, to'} {edge:%Y-%m-%d %H:%M}; a value is "
+            f"held at most {EDGE_HOLD_S / 3600:g} h",
+            ("Start the span later (time.date)" if late else
+             "End the span before it (time.date, weather.days)")
+            + ", or give a file that has it")], [], []
+    held = []
+    for k in np.flatnonzero(beyond > 0):
+        ref = t_ok[0] if before[k] else t_ok[-1]
+        held.append((field, grid[k],
+                     pd.Timestamp(ref, unit="s", tz="UTC").tz_convert(tz),
+                     round(float(beyond[k]) / 3600.0, 2)))
+    inner = np.isfinite(gap)
+    long = inner & (gap > max_gap + 1e-6)
+    if long.any():
+        return None, _long_gaps(field, long, left, right, axis), held, []
+    bridged = inner & ~exact & (gap > 1.5 * axis.spacing)
+    interpolated = []
+    seen = set()
+    for k in np.flatnonzero(bridged):
+        key = (left[k], right[k])
+        if key in seen:
+            continue
+        seen.add(key)
+        ta = pd.Timestamp(left[k], unit="s", tz="UTC").tz_convert(tz)
+        tb = pd.Timestamp(right[k], unit="s", tz="UTC").tz_convert(tz)
+        interpolated.append((field, ta, tb, round((tb - ta).total_seconds() / 3600.0, 2)))
+    return v_grid, [], held, interpolated
+
+
+def _long_gaps(field, long, left, right, axis: _Axis) -> list:
+    """The problems of a field's gaps longer than ``max_gap`` (one per run of grid times)."""
+    problems = []
+    for a, b in _spans(long):
+        ta = pd.Timestamp(left[a], unit="s", tz="UTC").tz_convert(axis.tz)
+        tb = pd.Timestamp(right[b], unit="s", tz="UTC").tz_convert(axis.tz)
+        problems.append(InputError(
+            f"weather.source[{field}]", axis.src,
+            f"has no valid {field} from {ta:%Y-%m-%d %H:%M} to {tb:%Y-%m-%d %H:%M %Z} "
+            f"({(tb - ta).total_seconds() / 3600:g} h), longer than weather."
+            f"max_gap_hours = {axis.max_gap_hours:g} h",
+            "Pick another span, raise weather.max_gap_hours, or fill the gap"
+            + (f"; or set weather.use_measured_"
+               f"{'irradiance' if field == 'ghi' else 'longwave'} = false"
+               if field in ("ghi", "longwave_down") else "")))
+    return problems
+
+
+def _range_problems(values, grid) -> list:
+    """The values outside their physical ranges (:data:`~.weather._LIMITS`), one problem per
+    field."""
+    problems = []
+    for field, arr in values.items():
+        lo, hi, unit = _LIMITS[field]
+        bad = np.flatnonzero((arr < lo) | (arr > hi))
+        if bad.size:
+            k = int(bad[0])
+            hint = ("the file's temperature unit (weather.temp_unit)" if field.startswith("temp")
+                    else "the cloud unit (weather.cloud_unit)" if field == "cloud_cover"
+                    else "the file's units (docs/WEATHER.md)")
+            problems.append(InputError(f"weather.source[{field}]", float(arr[k]),
+                                       f"must lie in [{lo:g}, {hi:g}] {unit} ({bad.size} "
+                                       f"value(s) outside, first at {grid[k]:%Y-%m-%d %H:%M %Z})",
+                                       f"Check {hint}"))
+    return problems
 
 
 def great_circle_km(lat1, lon1, lat2, lon2) -> float:
