@@ -2,9 +2,9 @@
 window by window, its outputs streamed to disk.
 
 The steps: :func:`record_days` (the record's span), :func:`work_folder` (where the parts
-and checkpoints go), the spin-up (:func:`spin_up_first_day`, or
-:func:`resumed_spin_up` from a checkpoint), then per window :func:`window_forcing`,
-:func:`window_conditions`, :func:`window_simulation` and :func:`run_window` (its days, the part of the outputs and
+and checkpoints go), the spin-up (:func:`spin_up_first_day`, or :func:`resumed_spin_up`
+from a checkpoint), then per window :func:`window_forcing`, :func:`window_conditions`,
+:func:`window_simulation` and :func:`run_window` (its days, the part of the outputs and
 the checkpoint at its end), and :func:`assemble_record`.
 """
 
