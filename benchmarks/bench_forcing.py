@@ -79,7 +79,7 @@ def main():
         args.edge, args.step = 2.0, 1800.0
 
     from shipthermal.environment import Environment, climate_day
-    from shipthermal.forcing import build_ship_forcing
+    from shipthermal.forcing import ForcingSettings, build_ship_forcing
     from shipthermal.geometry import build_ship_mesh, frigate
     from shipthermal.raytrace.sunlit import lit_rays
     from shipthermal.raytrace.viewfactors import view_factor_rays
@@ -105,8 +105,10 @@ def main():
                        times=np.arange(0.0, 86400.0, 3600.0), progress=False)
 
     t0 = time.perf_counter()
-    forcing = build_ship_forcing(ship, env, graph, times=times, samples_per_face=args.samples,
-                                 rays_per_face=args.rays, progress=False)
+    forcing = build_ship_forcing(ship, env, graph,
+                                 ForcingSettings(samples_per_face=args.samples,
+                                                 rays_per_face=args.rays),
+                                 times=times, progress=False)
     t_build = time.perf_counter() - t0
     tr = forcing.traced
     s = forcing.seconds

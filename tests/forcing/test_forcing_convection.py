@@ -9,7 +9,8 @@ import pytest
 from shipthermal.environment import Environment, climate_day
 from shipthermal.environment import convection as conv
 from shipthermal.errors import InputError
-from shipthermal.forcing import build_ship_forcing, quasi_steady_surface_temperature
+from shipthermal.forcing import (ForcingSettings, build_ship_forcing,
+                                 quasi_steady_surface_temperature)
 from shipthermal.geometry import build_ship_mesh, patrol_boat
 from shipthermal.parameters import LONGWAVE_EMISSIVITY, SOLAR_ABSORPTIVITY
 from shipthermal.units import DAY, SIGMA
@@ -22,7 +23,8 @@ def boat():
     env = Environment.from_climate_day(climate_day("summer"), ship_heading=45.0)
     ship = patrol_boat(edge_length=2.0)
     graph, _ = build_ship_mesh(ship)
-    f = build_ship_forcing(ship, env, graph, times=TIMES, dtype=np.float64, progress=False)
+    f = build_ship_forcing(ship, env, graph, ForcingSettings(dtype=np.float64), times=TIMES,
+                           progress=False)
     return ship, env, graph, f
 
 
@@ -112,16 +114,18 @@ def test_default_model_is_the_turbulent_churchill_flat_plate_bit_for_bit(boat):
     # choosing it by name or passing the model object changes nothing
     name = conv.DEFAULT_CONVECTION_MODEL
     for model in (name, conv.CONVECTION_MODELS[name]):
-        g = build_ship_forcing(ship, env, graph, times=TIMES, dtype=np.float64,
-                               traced=f.traced, convection=model)
+        g = build_ship_forcing(ship, env, graph,
+                               ForcingSettings(dtype=np.float64, convection=model),
+                               times=TIMES, traced=f.traced)
         np.testing.assert_array_equal(_air_table(g), _air_table(f))
 
 
 def test_iso6946_model_is_four_plus_four_v_at_the_apparent_wind(boat):
     # ISO 6946:2017 Annex C eq. C.2: h_ce = 4 + 4 v with v the wind at the surface
     ship, env, graph, f = boat
-    g = build_ship_forcing(ship, env, graph, times=TIMES, dtype=np.float64, traced=f.traced,
-                           convection="iso6946")
+    g = build_ship_forcing(ship, env, graph,
+                           ForcingSettings(dtype=np.float64, convection="iso6946"),
+                           times=TIMES, traced=f.traced)
     assert g.convection_model == "iso6946"
     speed, _ = _apparent_wind(g, env, env.at(g.times))
     np.testing.assert_allclose(_air_table(g), 4.0 + 4.0 * speed, rtol=1e-14)
@@ -134,17 +138,18 @@ def test_iso6946_model_is_four_plus_four_v_at_the_apparent_wind(boat):
 def test_unknown_model_lists_the_known_ones(boat):
     ship, env, graph, f = boat
     with pytest.raises(InputError) as err:
-        build_ship_forcing(ship, env, graph, times=TIMES, traced=f.traced, convection="jurges")
+        build_ship_forcing(ship, env, graph, ForcingSettings(convection="jurges"), times=TIMES,
+                           traced=f.traced)
     assert err.value.field == "convection.model" and err.value.value == "jurges"
     for name in conv.CONVECTION_MODELS:
         assert name in str(err.value)
     with pytest.raises(InputError) as err:
-        build_ship_forcing(ship, env, graph, times=TIMES, traced=f.traced,
-                           convection={"dek": "doe2"})
+        build_ship_forcing(ship, env, graph, ForcingSettings(convection={"dek": "doe2"}),
+                           times=TIMES, traced=f.traced)
     assert err.value.field == "convection.model['dek']"
     with pytest.raises(InputError) as err:
-        build_ship_forcing(ship, env, graph, times=TIMES, traced=f.traced,
-                           convection={"deck": "doe3"})
+        build_ship_forcing(ship, env, graph, ForcingSettings(convection={"deck": "doe3"}),
+                           times=TIMES, traced=f.traced)
     assert err.value.field == "convection.model['deck']" and "doe2" in err.value.allowed
 
 
@@ -201,15 +206,15 @@ def test_tables_do_not_depend_on_threads_or_row_blocks(boat, monkeypatch):
     rows on two threads give the same tables, bit for bit, as one block."""
     import numba
 
-    import shipthermal.forcing as forcing_module
+    import shipthermal.forcing.build as forcing_build
 
     ship, env, graph, f = boat
-    monkeypatch.setattr(forcing_module, "_ROW_CHUNK_ELEMENTS", 5 * len(f.outer_bfaces))
+    monkeypatch.setattr(forcing_build, "_ROW_CHUNK_ELEMENTS", 5 * len(f.outer_bfaces))
     threads = numba.get_num_threads()
     numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
     try:
-        g = build_ship_forcing(ship, env, graph, times=TIMES, dtype=np.float64,
-                               traced=f.traced, progress=False)
+        g = build_ship_forcing(ship, env, graph, ForcingSettings(dtype=np.float64),
+                               times=TIMES, traced=f.traced, progress=False)
     finally:
         numba.set_num_threads(threads)
     assert set(g._sw) == set(f._sw) and set(g._h) == set(f._h) and set(g._est) == set(f._est)
@@ -226,9 +231,11 @@ def test_models_per_part_with_their_roughness(boat):
     # hull: each part's coefficient at the estimate is its correlation's, with the part's
     # roughness multiplier and each face's windward / leeward side of the apparent wind
     ship, env, graph, f = boat
-    g = build_ship_forcing(ship, env, graph, times=TIMES, dtype=np.float64, traced=f.traced,
-                           convection={"deck": "doe2", "superstructure": "tarp"},
-                           roughness={"deck": "rough"})
+    g = build_ship_forcing(ship, env, graph,
+                           ForcingSettings(dtype=np.float64,
+                                           convection={"deck": "doe2", "superstructure": "tarp"},
+                                           roughness={"deck": "rough"}),
+                           times=TIMES, traced=f.traced)
     models = g.convection_models
     assert models["deck"] == "doe2" and models["hull_dry"] == conv.DEFAULT_CONVECTION_MODEL
     assert all(m == "tarp" for p, m in models.items() if p.startswith("superstructure"))

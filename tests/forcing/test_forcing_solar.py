@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from shipthermal.environment import Environment, climate_day
-from shipthermal.forcing import build_ship_forcing
+from shipthermal.forcing import ForcingSettings, build_ship_forcing
 from shipthermal.geometry import ShipGeometry, build_ship_mesh, patrol_boat
 from shipthermal.geometry.layups import compartment_temperatures, default_layups, outer_media
 from shipthermal.raytrace import ReceiverPlane, shadow_area_on_plane
@@ -37,12 +37,11 @@ def scene_ship(meshes, parts):
                         beam=float(span[1]), draught=1.0, freeboard=1.0, name="scene")
 
 
-def forcing_of(ship, env, **kw):
+def forcing_of(ship, env, times=TIMES, **settings):
     graph, _ = build_ship_mesh(ship)
-    kw.setdefault("times", TIMES)
-    kw.setdefault("dtype", np.float64)
-    kw.setdefault("progress", False)
-    return build_ship_forcing(ship, env, graph, **kw), graph
+    settings.setdefault("dtype", np.float64)
+    return build_ship_forcing(ship, env, graph, ForcingSettings(**settings), times=times,
+                              progress=False), graph
 
 
 def test_open_horizontal_face_gets_alpha_dni_cos_plus_dhi(summer):

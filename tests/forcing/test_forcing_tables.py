@@ -15,6 +15,7 @@ from shipthermal.environment import convection as conv
 from shipthermal.environment.weather import Weather
 from shipthermal.errors import InputError
 from shipthermal.forcing import (
+    ForcingSettings,
     PeriodicTable,
     build_ship_forcing,
     part_values,
@@ -41,7 +42,8 @@ def env(day):
 def boat(env):
     ship = patrol_boat(edge_length=2.0)
     graph, _ = build_ship_mesh(ship)
-    f = build_ship_forcing(ship, env, graph, times=TIMES, dtype=np.float64, progress=False)
+    f = build_ship_forcing(ship, env, graph, ForcingSettings(dtype=np.float64), times=TIMES,
+                           progress=False)
     return ship, graph, f
 
 
@@ -203,7 +205,8 @@ def test_convection_coefficients(boat, env, day):
     h_deck = f.convection_coefficient("deck:outer", t)
     assert np.all(h_deck > 0.5) and np.all(h_deck < 60.0)
     windy = Environment.from_climate_day(day.perturbed(wind=4.0), ship_heading=45.0)
-    g = build_ship_forcing(ship, windy, graph, times=TIMES, traced=f.traced, dtype=np.float64)
+    g = build_ship_forcing(ship, windy, graph, ForcingSettings(dtype=np.float64), times=TIMES,
+                           traced=f.traced)
     assert g.n_rays == f.n_rays  # the lit fractions came from the cache: nothing re-traced
     assert np.array_equal(g.absorbed_shortwave(t), f.absorbed_shortwave(t))
     assert np.all(g.convection_coefficient("deck:outer", t) > h_deck)
@@ -275,7 +278,9 @@ def test_part_values_and_defaults():
 def test_bad_inputs_name_the_field(boat, env, kwargs, field):
     ship, graph, f = boat
     with pytest.raises(InputError) as err:
-        build_ship_forcing(ship, env, graph, **kwargs)
+        options = dict(kwargs)
+        times = options.pop("times", None)
+        build_ship_forcing(ship, env, graph, ForcingSettings(**options), times=times)
     assert err.value.field == field
 
 
@@ -292,9 +297,10 @@ def test_weather_record_gets_a_table_over_the_record(boat, day):
     env = Environment(day.latitude, day.longitude, real, altitude=day.altitude)
     periodic = Environment.from_climate_day(day)
     times = np.arange(0.0, 23 * 3600.0 + 1.0, 1800.0)
-    rec = build_ship_forcing(ship, env, graph, times=times, traced=f.traced, dtype=np.float64)
-    per = build_ship_forcing(ship, periodic, graph, times=np.arange(0.0, DAY, 1800.0),
-                             traced=f.traced, dtype=np.float64)
+    rec = build_ship_forcing(ship, env, graph, ForcingSettings(dtype=np.float64), times=times,
+                             traced=f.traced)
+    per = build_ship_forcing(ship, periodic, graph, ForcingSettings(dtype=np.float64),
+                             times=np.arange(0.0, DAY, 1800.0), traced=f.traced)
     assert isinstance(rec.table, RecordTable) and rec.table.period == 23 * 3600.0
     np.testing.assert_allclose(rec.temp_air, per.temp_air[:len(times)], rtol=1e-12)
     for t in (0.0, 3600.0 * 12.25, 3600.0 * 22.5):
