@@ -8,7 +8,8 @@ from dataclasses import dataclass
 from typing import Mapping
 
 from ..errors import check_positive, require
-from ..parameters import DEFAULT_CONVECTION_MODEL, NIGHT_STEP
+from ..forcing.build import ForcingSettings
+from ..parameters import NIGHT_STEP
 from ..units import DAY
 
 
@@ -60,11 +61,12 @@ class DiurnalSettings:
     output_interval: float = 1800.0
     spinup_tolerance: float = 0.01
     spinup_max_days: int = 10
-    samples_per_face: int = 16
-    rays_per_face: int = 256
-    seed: int = 0
-    backend: str = "auto"
-    convection: str | Mapping = DEFAULT_CONVECTION_MODEL
+    # (the ray tracing and convection defaults are the forcing build's own)
+    samples_per_face: int = ForcingSettings.samples_per_face
+    rays_per_face: int = ForcingSettings.rays_per_face
+    seed: int = ForcingSettings.seed
+    backend: str = ForcingSettings.backend
+    convection: str | Mapping = ForcingSettings.convection
     convection_roughness: str | Mapping | None = None
     initial_temperature: float | None = None
     lead_in: float = SPINUP_LEAD_IN
