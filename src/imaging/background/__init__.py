@@ -16,6 +16,6 @@ Entry point::
 
 from .background import PortBackground, build_background_from_files, build_port_background
 from .classify import CLASS_NAMES
-from .landsat import SceneGrid
+from .landsat.grid import SceneGrid
 
 __all__ = ["PortBackground", "build_background_from_files", "build_port_background", "CLASS_NAMES", "SceneGrid"]

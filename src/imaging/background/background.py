@@ -48,8 +48,9 @@ from shipthermal.errors import InputError, check_range, require
 from ..parameters import DEM_NODATA, N_SPLITS
 from .classify import CLASS_NAMES, ClassificationResult, classify_scene, read_roi, water_index_check
 from .kriging import krige_hourly
-from .landsat import (LST_ACCURACY_ST_B10_K, MASK_BITS, NIR_BAND, QA_MASK_FLAGS, RED_BAND, REFLECTIVE_BANDS, LandsatScene,
-                      SceneGrid, read_landsat_scene)
+from .landsat.bands import MASK_BITS, QA_MASK_FLAGS
+from .landsat.grid import NIR_BAND, RED_BAND, REFLECTIVE_BANDS, SceneGrid
+from .landsat.scene import LST_ACCURACY_ST_B10_K, LandsatScene, read_landsat_scene
 from .lst import (EMISSIVITY_PARAMETERS, AtmosphereB10, atmospheric_functions, emissivity_ndvi_threshold,
                   lst_single_channel, ndvi)
 from .met import met_for_scene, read_met_grid

@@ -59,7 +59,7 @@ from shipthermal.errors import InputError
 from shipthermal.parameters import DESIGN_DAY_DATES
 
 from ..parameters import SYNTHETIC_PIXEL_M
-from .landsat import REFLECTIVE_BANDS, THERMAL_BAND, SceneGrid, north_up_transform
+from .landsat.grid import REFLECTIVE_BANDS, THERMAL_BAND, SceneGrid, north_up_transform
 from .lst import at_sensor_radiance, atmospheric_functions, emissivity_ndvi_threshold, ndvi
 from .terrain import slope_aspect, southness
 

@@ -12,7 +12,7 @@ from scipy.ndimage import gaussian_filter
 from shipthermal.errors import InputError, require
 
 from ..classify import CLASS_NAMES
-from ..landsat import SceneGrid
+from ..landsat.grid import SceneGrid
 from ..synthetic import synthetic_surface
 from ..terrain import slope_aspect
 

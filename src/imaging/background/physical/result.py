@@ -15,7 +15,7 @@ from shipthermal.units import HOUR
 
 from ...parameters import RESIDUAL_MODES
 from ..classify import CLASS_NAMES
-from ..landsat import SceneGrid
+from ..landsat.grid import SceneGrid
 from .ground import GroundCover
 
 
