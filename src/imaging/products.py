@@ -90,6 +90,7 @@ def write_series_netcdf(path, sr, grid, attrs: dict | None = None, *, date: str 
     it. ``date``/``time_zone`` (IANA) default to
     ``attrs["date"]``/``attrs["timezone"]``.
     """
+    # imported on use: xarray and the instruments take about a second to load
     import xarray as xr
 
     from .instruments import band_product, product_brightness_temperature, product_radiance
@@ -165,6 +166,7 @@ def write_typical_geotiff(path, sr, grid, background: str = "", *, date: str | N
     run's clock (local midnight of ``date`` in the IANA zone); without them the times are
     given as hours after local midnight only.
     """
+    # imported on use: the background package takes about four seconds to load
     from .background.outputs import time_tags, write_geotiff
 
     if not sr.frames:
@@ -196,6 +198,7 @@ def _display_box(coverage, size, shape):
 def _rect(ax, box, h, res_km, **kw):
     """Draw the half-open pixel box ``(row0, row1, col0, col1)`` of a crop ``h`` rows high
     on axes whose extent is in km with the origin at the crop's lower-left corner."""
+    # imported on use: matplotlib takes about a second to load
     from matplotlib.patches import Rectangle
 
     r0, r1, c0, c1 = box
@@ -366,6 +369,7 @@ def plot_scr_curves(path, series: dict, band: str, labels: dict | None = None,
                     figures: FigureOptions | None = None) -> str:
     """Local SCR (eq. 22, log scale, SCR = 1 marked) and signed contrast over the day per
     season (like Figs. 15/17); solid black SCR, dashed vermillion contrast."""
+    # imported on use: matplotlib takes about a second to load
     import matplotlib
 
     matplotlib.use("Agg")
@@ -446,6 +450,7 @@ def write_products(out_dir, series, crossovers, comparison, scenarios, histories
                    shared_panel_scale: bool = True, figures: FigureOptions | None = None) -> dict:
     """Write every product of :func:`imaging.experiment.run_experiment`; returns the paths.
     ``figures``: resolution and vector copies of the figures."""
+    # imported on use: the scene takes about 0.7 s to load
     from .scene import as_scene_background
 
     files = {}

@@ -42,7 +42,10 @@ from datetime import datetime
 
 import numpy as np
 import pandas as pd
-from scipy.ndimage import binary_erosion
+import pvlib
+from rasterio.warp import transform as warp_transform
+from scipy.ndimage import binary_dilation, binary_erosion, uniform_filter
+from tqdm import tqdm
 
 from shipthermal.errors import InputError, require
 
@@ -247,8 +250,6 @@ def unmix_border_pixels(class_map, lst, t0_ov, terr, b0_map, reflectance=None, r
     neighbourhood end-members (least squares over the bands, clipped to [0, 1]). ``e = LST -
     [f L_ov + (1 - f) W_ov]`` keeps the overpass LST exact.
     """
-    from scipy.ndimage import binary_dilation, uniform_filter
-
     water = class_map == WATER
     land = np.isin(class_map, LAND_CLASSES)
     ring = np.ones((3, 3), bool)
@@ -294,9 +295,6 @@ def unmix_border_pixels(class_map, lst, t0_ov, terr, b0_map, reflectance=None, r
 
 
 def _sun_sin_elevation(grid: SceneGrid, when_utc) -> np.ndarray:
-    import pvlib
-    from rasterio.warp import transform as warp_transform
-
     xc = grid.transform.c + grid.shape[1] * grid.transform.a / 2
     yc = grid.transform.f + grid.shape[0] * grid.transform.e / 2
     (lon,), (lat,) = warp_transform(grid.crs, "EPSG:4326", [xc], [yc])
@@ -306,8 +304,6 @@ def _sun_sin_elevation(grid: SceneGrid, when_utc) -> np.ndarray:
 
 
 def _tqdm(desc: str):
-    from tqdm import tqdm
-
     return lambda it: tqdm(it, desc=desc, unit="h")
 
 

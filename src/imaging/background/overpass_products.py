@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.ndimage import distance_transform_edt
 
 from shipthermal.errors import require
 
@@ -104,8 +105,6 @@ def fill_masked_pixels(class_map, masked, layers):
     -------
     class_map, layers : filled copies (unchanged where no valid pixel exists at all).
     """
-    from scipy.ndimage import distance_transform_edt
-
     valid = ~masked & (class_map > 0)
     out_cls = class_map.copy()
     out = {k: np.array(v, copy=True) for k, v in layers.items()}

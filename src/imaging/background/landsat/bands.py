@@ -4,10 +4,12 @@ CRS) and the quality band's flags per product generation."""
 from __future__ import annotations
 
 import os
+import warnings
 
 import numpy as np
 import rasterio
 from rasterio.transform import Affine
+from rasterio.windows import Window
 
 from shipthermal.errors import InputError, require
 
@@ -54,8 +56,6 @@ def _open_grid(src, path: str, field_name: str, georef: MtlGeoreference | None) 
 
 
 def _rio_open(path: str, field_name: str):
-    import warnings
-
     require(os.path.isfile(path), field_name, path, "must be an existing GeoTIFF file",
             "Give the band's path (the MTL's FILE_NAME_* or the background band_files key)")
     try:
@@ -90,8 +90,6 @@ def read_band(path: str | os.PathLike, field_name: str = "band", bounds=None,
     nodata : float or None
         The file's nodata value (Landsat uses 0 for fill).
     """
-    from rasterio.windows import Window
-
     path = os.fspath(path)
     src = _rio_open(path, field_name)
     try:
