@@ -30,9 +30,10 @@ from shipthermal.errors import InputError, check_range, require
 from shipthermal.parameters import check_wind_speed
 from shipthermal.units import DAY, HOUR
 
+from .band_conditions import BandConditions, conditions_from_atmosphere
 from .metrics import crossover_times, local_scr
 from .parameters import DEFAULT_CLOUD_TYPE
-from .render import BandConditions, SceneRenderer, SensorOptions, conditions_from_atmosphere
+from .render import SceneRenderer, SensorOptions
 from .scene import ShipPlacement, as_scene_background
 from .spectral_bands import user_bands
 

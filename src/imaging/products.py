@@ -90,6 +90,7 @@ def write_series_netcdf(path, sr, grid, attrs: dict | None = None, *, date: str 
     it. ``date``/``time_zone`` (IANA) default to
     ``attrs["date"]``/``attrs["timezone"]``.
     """
+    # imported on use: xarray and the instruments take about a second to load
     import xarray as xr
 
     from .instruments import band_product, product_brightness_temperature, product_radiance
@@ -165,6 +166,7 @@ def write_typical_geotiff(path, sr, grid, background: str = "", *, date: str | N
     run's clock (local midnight of ``date`` in the IANA zone); without them the times are
     given as hours after local midnight only.
     """
+    # imported on use: the background package takes about four seconds to load
     from .background.outputs import time_tags, write_geotiff
 
     if not sr.frames:
@@ -196,6 +198,7 @@ def _display_box(coverage, size, shape):
 def _rect(ax, box, h, res_km, **kw):
     """Draw the half-open pixel box ``(row0, row1, col0, col1)`` of a crop ``h`` rows high
     on axes whose extent is in km with the origin at the crop's lower-left corner."""
+    # imported on use: matplotlib takes about a second to load
     from matplotlib.patches import Rectangle
 
     r0, r1, c0, c1 = box
@@ -221,16 +224,11 @@ def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 
     from it (else 30 m). Every map has a scale bar. ``figures``: resolution and vector
     copies (:class:`shipthermal.figures.FigureOptions`).
     """
+    # imported on use: matplotlib takes about a second to load
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.colors import ListedColormap
-    from matplotlib.patches import Patch
-
-    from .background.classify import CLASS_COLOURS, CLASS_NAMES
-    from .metrics import background_window
-    from .radiometry import band_radiance, brightness_temperature
 
     backgrounds = backgrounds or {}
     seasons = [s for s in ("summer", "winter") if (s, band) in series] + sorted(
@@ -242,87 +240,8 @@ def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 
     fig, axes = plt.subplots(len(seasons), ncol, figsize=(2.5 * ncol + 1.2, 2.75 * len(seasons)),
                              squeeze=False, constrained_layout=True)
     for i, season in enumerate(seasons):
-        sr = series[(season, band)]
-        bg = backgrounds.get(season)
-        res = float(bg.resolution_m) if bg is not None else 30.0
-        res_km = res / 1000.0
-        hours = [h for h in typical.get(season, ()) if float(h) * HOUR in sr.frames]
-        if not hours:
-            for ax in axes[i]:
-                ax.axis("off")
-            continue
-        first = sr.frames[float(hours[0]) * HOUR]
-        mask = first.coverage > 0
-        r0, r1, c0, c1 = _display_box(mask, display_px, first.radiance.shape)
-        h, w = r1 - r0, c1 - c0
-        ext = [0, w * res_km, 0, h * res_km]
-        rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
-        target = (rows[0] - r0, rows[-1] + 1 - r0, cols[0] - c0, cols[-1] + 1 - c0)
-        wr0, wr1, wc0, wc1 = background_window(mask)
-        window = (wr0 - r0, wr1 - r0, wc0 - c0, wc1 - c0)
-        imgs = [sr.frames[float(hr) * HOUR].radiance[r0:r1, c0:c1] for hr in hours]
-        row_lim = np.percentile(np.stack(imgs), [1, 99.5])
-        if with_classes:
-            ax = axes[i, 0]
-            if bg is not None:
-                cm = np.asarray(bg.class_map)[r0:r1, c0:c1]
-                codes = sorted(CLASS_NAMES)
-                ax.imshow(cm, cmap=ListedColormap([CLASS_COLOURS[c] for c in codes]),
-                          vmin=codes[0] - 0.5, vmax=codes[-1] + 0.5, extent=ext,
-                          interpolation="nearest")
-                _rect(ax, target, h, res_km, ec="k", lw=1.0)
-                _ship_marker(ax, target, h, res_km)
-                add_scale_bar(ax, w * res_km, colour="black")
-                present = [c for c in codes if (cm == c).any()]
-                ax.legend(handles=[Patch(color=CLASS_COLOURS[c], label=CLASS_NAMES[c])
-                                   for c in present] + [Patch(fill=False, ec="k", label="ship")],
-                          fontsize=6, loc="upper left", framealpha=0.85)
-                ax.set_title(f"{season}: background classes", fontsize=8)
-                ax.set_xlabel("km east", fontsize=7)
-                ax.set_ylabel("km north", fontsize=7)
-                ax.tick_params(labelsize=6)
-            else:
-                ax.axis("off")
-        im = None
-        for j in range(ntime):
-            ax = axes[i, lead + j]
-            if j >= len(hours):
-                ax.axis("off")
-                continue
-            img = imgs[j]
-            vmin, vmax = row_lim if shared_scale else np.percentile(img, [1, 99.5])
-            im = ax.imshow(img, cmap="inferno", vmin=vmin, vmax=vmax, extent=ext,
-                           interpolation="nearest")
-            _rect(ax, target, h, res_km, ec="cyan", lw=0.9)
-            _rect(ax, window, h, res_km, ec="white", lw=0.8, ls="--")
-            add_scale_bar(ax, w * res_km)
-            k = int(np.argmin(np.abs(sr.times_s - float(hours[j]) * HOUR)))
-            con = sr.metrics["contrast"].iloc[k]
-            scr = sr.metrics["scr"].iloc[k]
-            ax.set_title(f"{season} {_hhmm(hours[j])}\nC={con:+.3g}, SCR={scr:.2g}", fontsize=8)
-            ax.tick_params(labelsize=6)
-            ax.set_xlabel("km east", fontsize=7)
-            if j == 0 and not with_classes:
-                ax.set_ylabel("km north", fontsize=7)
-            if not shared_scale:
-                cb = fig.colorbar(im, ax=ax, shrink=0.8)
-                cb.ax.tick_params(labelsize=6)
-                cb.set_label(R_UNIT, fontsize=6)
-        if shared_scale and im is not None:
-            cb = fig.colorbar(im, ax=list(axes[i, lead:]), shrink=0.9, pad=0.02)
-            cb.set_label(f"radiance {band_label(band)} [{R_UNIT}]", fontsize=7)
-            cb.ax.tick_params(labelsize=6)
-            if row_lim[0] > 0:
-                def to_t(L):
-                    return brightness_temperature(np.maximum(L, 1e-6), band)
-
-                def to_l(T):
-                    with np.errstate(over="ignore"):
-                        return band_radiance(np.maximum(T, 100.0), band)
-
-                tb = cb.ax.secondary_yaxis("left", functions=(to_t, to_l))
-                tb.set_ylabel("apparent temperature [K]", fontsize=7)
-                tb.tick_params(labelsize=6)
+        _panel_row(fig, axes[i], series[(season, band)], backgrounds.get(season), season, band,
+                   typical.get(season, ()), display_px, ntime, with_classes, shared_scale)
     synthetic = any("synthetic port" in background_label(b) for b in
                     (labelled or backgrounds).values())
     fig.suptitle(("Ship in a synthetic port (not a real place)" if synthetic else "Ship in port")
@@ -336,10 +255,121 @@ def plot_panels(path, series: dict, band: str, typical: dict, display_px: int = 
     return out
 
 
+def _panel_row(fig, row_axes, sr, bg, season: str, band: str, typical_hours, display_px: int,
+               ntime: int, with_classes: bool, shared_scale: bool) -> None:
+    """One season's row of :func:`plot_panels`: the background classes (when shown), the
+    radiance at each typical time on the same crop, the row's colour bar."""
+    # imported on use: the metrics take about 0.7 s to load
+    from .metrics import background_window
+
+    lead = 1 if with_classes else 0
+    res = float(bg.resolution_m) if bg is not None else 30.0
+    res_km = res / 1000.0
+    hours = [h for h in typical_hours if float(h) * HOUR in sr.frames]
+    if not hours:
+        for ax in row_axes:
+            ax.axis("off")
+        return
+    first = sr.frames[float(hours[0]) * HOUR]
+    mask = first.coverage > 0
+    r0, r1, c0, c1 = _display_box(mask, display_px, first.radiance.shape)
+    h, w = r1 - r0, c1 - c0
+    ext = [0, w * res_km, 0, h * res_km]
+    rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
+    target = (rows[0] - r0, rows[-1] + 1 - r0, cols[0] - c0, cols[-1] + 1 - c0)
+    wr0, wr1, wc0, wc1 = background_window(mask)
+    window = (wr0 - r0, wr1 - r0, wc0 - c0, wc1 - c0)
+    imgs = [sr.frames[float(hr) * HOUR].radiance[r0:r1, c0:c1] for hr in hours]
+    row_lim = np.percentile(np.stack(imgs), [1, 99.5])
+    if with_classes:
+        ax = row_axes[0]
+        if bg is not None:
+            _classes_panel(ax, np.asarray(bg.class_map)[r0:r1, c0:c1], target, h, w, res_km,
+                           ext, season)
+        else:
+            ax.axis("off")
+    im = None
+    for j in range(ntime):
+        ax = row_axes[lead + j]
+        if j >= len(hours):
+            ax.axis("off")
+            continue
+        img = imgs[j]
+        vmin, vmax = row_lim if shared_scale else np.percentile(img, [1, 99.5])
+        im = ax.imshow(img, cmap="inferno", vmin=vmin, vmax=vmax, extent=ext,
+                       interpolation="nearest")
+        _rect(ax, target, h, res_km, ec="cyan", lw=0.9)
+        _rect(ax, window, h, res_km, ec="white", lw=0.8, ls="--")
+        add_scale_bar(ax, w * res_km)
+        k = int(np.argmin(np.abs(sr.times_s - float(hours[j]) * HOUR)))
+        con = sr.metrics["contrast"].iloc[k]
+        scr = sr.metrics["scr"].iloc[k]
+        ax.set_title(f"{season} {_hhmm(hours[j])}\nC={con:+.3g}, SCR={scr:.2g}", fontsize=8)
+        ax.tick_params(labelsize=6)
+        ax.set_xlabel("km east", fontsize=7)
+        if j == 0 and not with_classes:
+            ax.set_ylabel("km north", fontsize=7)
+        if not shared_scale:
+            cb = fig.colorbar(im, ax=ax, shrink=0.8)
+            cb.ax.tick_params(labelsize=6)
+            cb.set_label(R_UNIT, fontsize=6)
+    if shared_scale and im is not None:
+        _row_colour_bar(fig, list(row_axes[lead:]), im, band, row_lim)
+
+
+def _classes_panel(ax, cm, target, h: int, w: int, res_km: float, ext, season: str) -> None:
+    """The crop's background classes with a legend, the ship's outline and marker."""
+    # imported on use: matplotlib takes about a second to load, the background package
+    # about four
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+
+    from .background.classify import CLASS_COLOURS, CLASS_NAMES
+
+    codes = sorted(CLASS_NAMES)
+    ax.imshow(cm, cmap=ListedColormap([CLASS_COLOURS[c] for c in codes]),
+              vmin=codes[0] - 0.5, vmax=codes[-1] + 0.5, extent=ext,
+              interpolation="nearest")
+    _rect(ax, target, h, res_km, ec="k", lw=1.0)
+    _ship_marker(ax, target, h, res_km)
+    add_scale_bar(ax, w * res_km, colour="black")
+    present = [c for c in codes if (cm == c).any()]
+    ax.legend(handles=[Patch(color=CLASS_COLOURS[c], label=CLASS_NAMES[c])
+                       for c in present] + [Patch(fill=False, ec="k", label="ship")],
+              fontsize=6, loc="upper left", framealpha=0.85)
+    ax.set_title(f"{season}: background classes", fontsize=8)
+    ax.set_xlabel("km east", fontsize=7)
+    ax.set_ylabel("km north", fontsize=7)
+    ax.tick_params(labelsize=6)
+
+
+def _row_colour_bar(fig, axes: list, im, band: str, row_lim) -> None:
+    """One colour bar for a row's radiance panels, with the apparent temperature at the
+    aperture as a second scale where the row's radiances are positive."""
+    # imported on use: the radiometry takes about 0.4 s to load
+    from .radiometry import band_radiance, brightness_temperature
+
+    cb = fig.colorbar(im, ax=axes, shrink=0.9, pad=0.02)
+    cb.set_label(f"radiance {band_label(band)} [{R_UNIT}]", fontsize=7)
+    cb.ax.tick_params(labelsize=6)
+    if row_lim[0] > 0:
+        def to_t(L):
+            return brightness_temperature(np.maximum(L, 1e-6), band)
+
+        def to_l(T):
+            with np.errstate(over="ignore"):
+                return band_radiance(np.maximum(T, 100.0), band)
+
+        tb = cb.ax.secondary_yaxis("left", functions=(to_t, to_l))
+        tb.set_ylabel("apparent temperature [K]", fontsize=7)
+        tb.tick_params(labelsize=6)
+
+
 def plot_scr_curves(path, series: dict, band: str, labels: dict | None = None,
                     figures: FigureOptions | None = None) -> str:
     """Local SCR (eq. 22, log scale, SCR = 1 marked) and signed contrast over the day per
     season (like Figs. 15/17); solid black SCR, dashed vermillion contrast."""
+    # imported on use: matplotlib takes about a second to load
     import matplotlib
 
     matplotlib.use("Agg")
@@ -420,6 +450,7 @@ def write_products(out_dir, series, crossovers, comparison, scenarios, histories
                    shared_panel_scale: bool = True, figures: FigureOptions | None = None) -> dict:
     """Write every product of :func:`imaging.experiment.run_experiment`; returns the paths.
     ``figures``: resolution and vector copies of the figures."""
+    # imported on use: the scene takes about 0.7 s to load
     from .scene import as_scene_background
 
     files = {}

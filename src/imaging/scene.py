@@ -179,7 +179,7 @@ class GriddedBackground:
         check_range("background.temperature", temp, 100.0, 400.0, "K")
         check_positive("background.resolution_m", self.resolution_m, "m")
         if self.grid is None:
-            from .background.landsat import SceneGrid, north_up_transform
+            from .background.landsat.grid import SceneGrid, north_up_transform
 
             ny, nx = cm.shape
             object.__setattr__(self, "grid", SceneGrid(

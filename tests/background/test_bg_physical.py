@@ -7,7 +7,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import imaging.background.physical as P
+import imaging.background.physical.columns as P_columns
+import imaging.background.physical.result as P_result
+from imaging.background.landsat import SceneGrid
 from imaging.background.physical import (GroundCover, Observation, build_physical_background,
                                          ground_from_synthetic)
 from shipthermal.app.scenario import default_scenario, load_scenario
@@ -90,8 +92,8 @@ def test_frame_kernel_equals_reference(soton):
     col = bg.column_temperature[100].astype(float)
     a = np.zeros(bg.class_map.size, np.float32)
     b = np.zeros(bg.class_map.size, np.float32)
-    P._land_frame(col, bg.corners, bg.weights, bg.residual, 0.7, bg.land, a)
-    P._land_frame_reference(col, bg.corners, bg.weights, bg.residual, 0.7, bg.land, b)
+    P_result._land_frame(col, bg.corners, bg.weights, bg.residual, 0.7, bg.land, a)
+    P_result._land_frame_reference(col, bg.corners, bg.weights, bg.residual, 0.7, bg.land, b)
     np.testing.assert_allclose(a[bg.land], b[bg.land], rtol=0, atol=2e-5)   # float32 sums
 
 
@@ -144,7 +146,7 @@ def test_orientation_groups_against_every_pixel_its_own_column(soton, monkeypatc
     n = 20
     slope = rng.uniform(0.0, 40.0, (n, n)).astype(np.float32)
     aspect = rng.uniform(0.0, 360.0, (n, n)).astype(np.float32)
-    grid = P.SceneGrid(ground.grid.transform, ground.grid.crs, (n, n))
+    grid = SceneGrid(ground.grid.transform, ground.grid.crs, (n, n))
     g = GroundCover(grid, np.full((n, n), 3, np.uint8), np.zeros((n, n), np.float32), slope,
                     aspect, np.full((n, n), 0.12, np.float32), "test", "user", "test slopes")
     grouped = build_physical_background(g, env)
@@ -154,7 +156,7 @@ def test_orientation_groups_against_every_pixel_its_own_column(soton, monkeypatc
         return (np.arange(s.size).reshape(s.shape), s.ravel().copy(),
                 np.asarray(aspect_deg, float).ravel().copy())
 
-    monkeypatch.setattr(P, "orientation_bins", own)
+    monkeypatch.setattr(P_columns, "orientation_bins", own)
     exact = build_physical_background(g, env)
     diff = np.array([grouped.temperature_at(h) - exact.temperature_at(h)
                      for h in np.arange(0.0, 24.0, 1.0)])

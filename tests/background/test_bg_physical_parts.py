@@ -7,8 +7,9 @@ import pandas as pd
 import pytest
 
 from imaging.background.physical import (ALBEDO_SAMPLES, MAX_SCENE_DAYS, Observation,
-                                         _fit_position, _scene_seconds, broadband_albedo,
-                                         ground_from_synthetic, orientation_bins)
+                                         broadband_albedo, ground_from_synthetic,
+                                         orientation_bins)
+from imaging.background.physical.anchoring import _fit_position, _scene_seconds
 from imaging.background.synthetic import synthetic_surface, write_synthetic_port
 from shipthermal.errors import InputError
 

@@ -14,6 +14,7 @@ import pytest
 from scipy.optimize import brentq
 
 from imaging.background import surface_energy as se
+from imaging.background.surface_energy import kernels, solver
 from imaging.background.classify import CLASS_NAMES
 from imaging.background.surface_classes import (LABELS, SURFACE_CLASSES, Layer, SurfaceClass,
                                                 apply_overrides)
@@ -319,10 +320,10 @@ def test_energy_conserved_to_round_off_over_days(scheme):
 def test_numba_kernel_equals_reference(scheme, parallel, monkeypatch):
     names = NAMES * 22                           # two blocks per class
     # small batches run the serial build; lower the threshold to run the parallel one too
-    monkeypatch.setattr(se, "_PARALLEL_MIN_BLOCKS", 1 if parallel else 10 ** 9)
+    monkeypatch.setattr(solver, "_PARALLEL_MIN_BLOCKS", 1 if parallel else 10 ** 9)
     cols = se.build_columns(names, 290.0)
-    stepper = se._Stepper(cols, se.convection_linear(1.0, 1.0), 1.0, 1.0, se._step_numba)
-    assert stepper.kernel is (se._step_numba if parallel else se._step_numba_serial)
+    stepper = solver._Stepper(cols, se.convection_linear(1.0, 1.0), 1.0, 1.0, kernels._step_numba)
+    assert stepper.kernel is (kernels._step_numba if parallel else kernels._step_numba_serial)
     forcing = diurnal_forcing(names, days=2, n_per_day=48)
     kw = dict(scheme=scheme, substeps=2, convection=se.convection_correlation(), max_days=3)
     a = se.solve_surface_energy(forcing, cols, backend="numba", **kw)

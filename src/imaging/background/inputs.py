@@ -32,7 +32,7 @@ def _check_bands(mtl, problems: list):
     from rasterio.errors import RasterioIOError
     from rasterio.windows import Window
 
-    from .landsat import _open_grid, _rio_open
+    from .landsat.bands import _open_grid, _rio_open
 
     files = dict(mtl.band_files)
     if mtl.qa_file is not None:
@@ -112,7 +112,7 @@ def check_background_inputs(mtl, roi=None, dem=None, met=None, band_files=None, 
         What the readers decided (MTL georeferencing, band files found by suffix, ...).
     """
     from .classify import CLASS_CODES, CLASS_NAMES, read_roi
-    from .landsat import read_mtl
+    from .landsat.mtl import read_mtl
     from .met import met_for_scene, read_met_grid
 
     problems: list[InputError] = []

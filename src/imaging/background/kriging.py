@@ -38,7 +38,7 @@ from rasterio.warp import transform as warp_transform
 from shipthermal.errors import InputError, require
 
 from ..parameters import VARIOGRAM_MODELS
-from .landsat import SceneGrid
+from .landsat.grid import SceneGrid
 
 __all__ = ["VariogramFit", "met_points_on_grid", "krige_points", "krige_hourly", "linear_weights",
            "fit_variogram", "krige_dual", "variogram_values"]

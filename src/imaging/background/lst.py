@@ -64,7 +64,7 @@ import numpy as np
 
 from shipthermal.errors import InputError, check_range
 
-from .landsat import brightness_temperature_to_radiance, radiance_to_brightness_temperature
+from .landsat.radiometry import brightness_temperature_to_radiance, radiance_to_brightness_temperature
 
 __all__ = [
     "JIMENEZ_MUNOZ_2014_B10",

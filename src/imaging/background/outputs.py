@@ -134,7 +134,7 @@ def _classification_tables(c, p, out: dict) -> None:
 
 
 def _overpass_rasters(ov, g, p, out: dict) -> None:
-    from .landsat import MASK_BITS
+    from .landsat.bands import MASK_BITS
 
     out["qa_mask"] = write_geotiff(p("qa_mask.tif"), ov.mask.astype(np.uint8), g, units="1",
                                    descriptions=["replaced pixels: " + ", ".join(f"{v}={k}" for k, v in MASK_BITS.items())])

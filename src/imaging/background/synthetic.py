@@ -48,6 +48,7 @@ from datetime import datetime, timedelta, timezone
 
 import numpy as np
 import pandas as pd
+import pvlib
 import rasterio
 import xarray as xr
 from rasterio.crs import CRS
@@ -59,7 +60,7 @@ from shipthermal.errors import InputError
 from shipthermal.parameters import DESIGN_DAY_DATES
 
 from ..parameters import SYNTHETIC_PIXEL_M
-from .landsat import REFLECTIVE_BANDS, THERMAL_BAND, SceneGrid, north_up_transform
+from .landsat.grid import REFLECTIVE_BANDS, THERMAL_BAND, SceneGrid, north_up_transform
 from .lst import at_sensor_radiance, atmospheric_functions, emissivity_ndvi_threshold, ndvi
 from .terrain import slope_aspect, southness
 
@@ -377,18 +378,38 @@ def write_synthetic_port(directory: str | os.PathLike, season: str = "summer", s
     os.makedirs(directory, exist_ok=True)
     rng = np.random.default_rng([seed, 0 if season == "summer" else 1])
     n = int(size_px)
-    res = SYNTHETIC_PIXEL_M
     grid = synthetic_grid(n, lat, lon)
-    crs, transform = grid.crs, grid.transform
-    x0, y0 = transform.c, transform.f
     layout = _Layout()
-    rows, cols = np.mgrid[0:n, 0:n]
-    u, v = (cols + 0.5) / n, (rows + 0.5) / n
     classes, elevation, refl, basin = _surface(rng, n, season)
     red, nir = refl[REFLECTIVE_BANDS.index(4)], refl[REFLECTIVE_BANDS.index(5)]
     ndvi_true = ndvi(red, nir)
     emissivity = emissivity_ndvi_threshold(ndvi_true, red)
+    ov = _overpass_lst(rng, spec, classes, elevation, basin)
+    mtl_txt, mtl_json = _write_landsat(directory, spec, grid, refl, ov["lst"], emissivity,
+                                       ov["overpass"], lat, lon)
+    dem_path = _write_dem(directory, grid, layout)
+    met_path, hours = _write_met(directory, spec, grid, layout, rng, lat, lon, season, seed)
+    roi_path = _write_rois(directory, grid, classes, rng)
+    truth = {"class_map": classes, "lst": ov["lst"], "emissivity": emissivity, "elevation": elevation,
+             "slope_deg": ov["slope"], "southness": ov["south"], "temp_met_overpass": ov["t_met_ov"],
+             "beta": np.array(spec.beta), "water_vapour": spec.water_vapour, "basin": basin,
+             "reflectance": refl, "sst": _temp_sst(spec, hours)}
+    return SyntheticPort(directory, season, mtl_txt, mtl_json, dem_path, met_path, roi_path, grid, truth)
 
+
+def _product_stamp(spec: SeasonSpec) -> tuple[str, str]:
+    """The scene's date stamp and Landsat product id."""
+    stamp = spec.date_local.replace("-", "")
+    return stamp, f"LC08_L1TP_119033_{stamp}_{stamp}_02_T1"
+
+
+def _overpass_lst(rng, spec: SeasonSpec, classes, elevation, basin) -> dict:
+    """The true LST at the overpass (met field + eq. 15 terrain + class offsets + noise on
+    land, the SST with the basin's pattern on water), with the overpass instant, slope and
+    southness."""
+    n = classes.shape[0]
+    res = SYNTHETIC_PIXEL_M
+    rows, cols = np.mgrid[0:n, 0:n]
     slope, aspect = slope_aspect(elevation, res)
     south = southness(aspect)
     x_km = (cols + 0.5 - n / 2) * res / 1000.0
@@ -404,16 +425,19 @@ def write_synthetic_port(directory: str | os.PathLike, season: str = "summer", s
     water = classes == 1
     lst[water] = (_temp_sst(spec, hour_ov_local) + spec.basin_offset * basin
                   + 0.12 * _unit_noise(rng, (n, n), 4))[water]
+    return {"lst": lst, "overpass": overpass, "slope": slope, "south": south, "t_met_ov": t_met_ov}
 
-    # --- Landsat L1 files --------------------------------------------------------------------
-    import pvlib
 
+def _write_landsat(directory: str, spec: SeasonSpec, grid: SceneGrid, refl, lst, emissivity,
+                   overpass: datetime, lat: float, lon: float) -> tuple[str, str]:
+    """Landsat-8 Level-1 files: bands 2-7 and 10 (DN from the reflectances and the LST
+    through the band-10 atmosphere) and the MTL as text and JSON."""
+    n = lst.shape[0]
     sun = pvlib.solarposition.get_solarposition(pd.DatetimeIndex([overpass]), lat, lon)
     sun_el, sun_az = float(sun["elevation"].iloc[0]), float(sun["azimuth"].iloc[0])
-    stamp = spec.date_local.replace("-", "")
-    product = f"LC08_L1TP_119033_{stamp}_{stamp}_02_T1"
+    _, product = _product_stamp(spec)
     names = {"product": product, **{b: f"{product}_B{b}.TIF" for b in (*REFLECTIVE_BANDS, THERMAL_BAND)}}
-    profile = dict(crs=crs, transform=transform, nodata=0, compress="deflate")
+    profile = dict(crs=grid.crs, transform=grid.transform, nodata=0, compress="deflate")
     for k, b in enumerate(REFLECTIVE_BANDS):
         dn = np.round((refl[k] * np.sin(np.radians(sun_el)) - REFL_ADD) / REFL_MULT)
         _atomic_geotiff(os.path.join(directory, names[b]), np.clip(dn, 1, 65535).astype(np.uint16), **profile)
@@ -427,8 +451,14 @@ def write_synthetic_port(directory: str | os.PathLike, season: str = "summer", s
     mtl_json = os.path.join(directory, f"{product}_MTL.json")
     _atomic_text(mtl_txt, _mtl_text(groups))
     _atomic_text(mtl_json, json.dumps({"LANDSAT_METADATA_FILE": groups}, indent=2))
+    return mtl_txt, mtl_json
 
-    # --- DEM: EPSG:4326, 1 arc-second, float32 ------------------------------------------------
+
+def _write_dem(directory: str, grid: SceneGrid, layout: _Layout) -> str:
+    """The DEM: EPSG:4326, 1 arc-second, float32, 600 m beyond the scene on every side."""
+    n = grid.shape[0]
+    res = SYNTHETIC_PIXEL_M
+    crs, x0, y0 = grid.crs, grid.transform.c, grid.transform.f
     xs = [x0 - 600, x0 + n * res + 600, x0 - 600, x0 + n * res + 600]
     ys = [y0 + 600, y0 + 600, y0 - n * res - 600, y0 - n * res - 600]
     lons, lats = warp_transform(crs, "EPSG:4326", xs, ys)
@@ -447,8 +477,16 @@ def write_synthetic_port(directory: str | os.PathLike, season: str = "summer", s
     dem = layout.elevation(du, dv).reshape(dem_h, dem_w).astype(np.float32)
     dem_path = os.path.join(directory, "dem_glo30_1arcsec.tif")
     _atomic_geotiff(dem_path, dem, crs=CRS.from_epsg(4326), transform=dem_t, nodata=-9999.0, compress="deflate")
+    return dem_path
 
-    # --- hourly met NetCDF ------------------------------------------------------------------
+
+def _write_met(directory: str, spec: SeasonSpec, grid: SceneGrid, layout: _Layout, rng,
+               lat: float, lon: float, season: str, seed: int) -> tuple[str, np.ndarray]:
+    """The hourly CLDAS-like met NetCDF (land temperature on a 0.0625 deg grid, SST, water
+    vapour) of the scene's local day; its path and the hours."""
+    n = grid.shape[0]
+    res = SYNTHETIC_PIXEL_M
+    crs, x0, y0 = grid.crs, grid.transform.c, grid.transform.f
     step = 0.0625
     lat_c = np.arange(np.round(lat / step) - 5, np.round(lat / step) + 6) * step
     lon_c = np.arange(np.round(lon / step) - 5, np.round(lon / step) + 6) * step
@@ -475,11 +513,17 @@ def write_synthetic_port(directory: str | os.PathLike, season: str = "summer", s
                 "lon": ("lon", lon_c, {"units": "degrees_east"})},
         attrs={"title": f"Synthetic CLDAS-like hourly grid, {season}", "Conventions": "CF-1.8",
                "source": "shipthermal synthetic port", "seed": int(seed)})
+    stamp, _ = _product_stamp(spec)
     met_path = os.path.join(directory, f"cldas_like_{stamp}.nc")
     ds.to_netcdf(met_path + ".part", engine="h5netcdf", format="NETCDF4")
     os.replace(met_path + ".part", met_path)
+    return met_path, hours
 
-    # --- ROIs ------------------------------------------------------------------------------------
+
+def _write_rois(directory: str, grid: SceneGrid, classes, rng) -> str:
+    """Training ROIs: 13 x 13 boxes inside each class's interior (4 water, 6 vegetation,
+    6 land, 24 building), as a label GeoTIFF on the scene grid."""
+    n = classes.shape[0]
     roi = np.zeros((n, n), dtype=np.uint8)
     for c, boxes in ((1, 4), (2, 6), (3, 6), (4, 24)):
         inner = binary_erosion(classes == c, iterations=1)
@@ -491,10 +535,5 @@ def write_synthetic_port(directory: str | os.PathLike, season: str = "summer", s
             sl = (slice(max(r - 6, 0), r + 7), slice(max(q - 6, 0), q + 7))
             roi[sl][(classes[sl] == c) & inner[sl]] = c
     roi_path = os.path.join(directory, "roi_labels.tif")
-    _atomic_geotiff(roi_path, roi, crs=crs, transform=transform, nodata=None, compress="deflate")
-
-    truth = {"class_map": classes, "lst": lst, "emissivity": emissivity, "elevation": elevation,
-             "slope_deg": slope, "southness": south, "temp_met_overpass": t_met_ov,
-             "beta": np.array(spec.beta), "water_vapour": spec.water_vapour, "basin": basin,
-             "reflectance": refl, "sst": _temp_sst(spec, hours)}
-    return SyntheticPort(directory, season, mtl_txt, mtl_json, dem_path, met_path, roi_path, grid, truth)
+    _atomic_geotiff(roi_path, roi, crs=grid.crs, transform=grid.transform, nodata=None, compress="deflate")
+    return roi_path

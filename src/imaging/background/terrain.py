@@ -16,7 +16,7 @@ from rasterio.warp import Resampling, reproject
 
 from shipthermal.errors import InputError, require
 
-from .landsat import SceneGrid
+from .landsat.grid import SceneGrid
 
 __all__ = [
     "DemOnGrid",
