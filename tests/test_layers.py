@@ -231,3 +231,58 @@ def test_a_cycle_is_reported(tmp_path):
              "shipthermal/d.py": "from . import a\n"}
     assert cycles(import_graph(_tree(tmp_path, files))) == [
         ["shipthermal.a", "shipthermal.b", "shipthermal.c"]]
+
+
+# ---- rooms with one job: sizes ------------------------------------------------------------
+#: A module's lines at most, and a function's (its ``def`` to its last line, docstring included)
+MODULE_LINES, FUNCTION_LINES = 800, 120
+#: Functions allowed to be longer, by name: the command line's argument parser (one
+#: declaration per option, read top to bottom). numba kernels (decorated ``@njit``) are
+#: excepted too: splitting one costs a call boundary in the compiled loop.
+LONG_FUNCTIONS = ("shipthermal.app.cli.build_parser",)
+
+
+def _is_numba_kernel(node) -> bool:
+    for d in node.decorator_list:
+        f = d.func if isinstance(d, ast.Call) else d
+        name = f.attr if isinstance(f, ast.Attribute) else getattr(f, "id", "")
+        if name in ("njit", "jit"):
+            return True
+    return False
+
+
+def size_violations(root: Path = SRC) -> list[str]:
+    out = []
+    for pkg in PACKAGES:
+        for path in sorted((root / pkg).rglob("*.py")):
+            mod = module_name(path, root)[0]
+            text = path.read_text(encoding="utf-8")
+            if text.count("\n") > MODULE_LINES:
+                out.append(f"{mod}: {text.count(chr(10))} lines (at most {MODULE_LINES})")
+            for node in ast.walk(ast.parse(text, str(path))):
+                if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                    continue
+                n = node.end_lineno - node.lineno + 1
+                if (n > FUNCTION_LINES and f"{mod}.{node.name}" not in LONG_FUNCTIONS
+                        and not _is_numba_kernel(node)):
+                    out.append(f"{mod}.{node.name} (line {node.lineno}): {n} lines "
+                               f"(at most {FUNCTION_LINES})")
+    return out
+
+
+def test_rooms_and_functions_stay_small():
+    """No module over 800 lines, no function over 120 (the named exceptions aside): a room
+    that grows past this is doing more than one job."""
+    bad = size_violations()
+    assert not bad, "\n".join(bad)
+
+
+def test_a_long_module_or_function_is_reported(tmp_path):
+    long_fn = "def f():\n" + "    x = 1\n" * FUNCTION_LINES
+    kernel = "from numba import njit\n\n\n@njit(cache=True)\ndef k():\n" + "    x = 1\n" * 200
+    files = {"shipthermal/__init__.py": "", "imaging/__init__.py": "",
+             "shipthermal/a.py": long_fn, "shipthermal/b.py": "x = 1\n" * (MODULE_LINES + 1),
+             "shipthermal/c.py": kernel}
+    bad = size_violations(_tree(tmp_path, files))
+    assert len(bad) == 2, bad
+    assert bad[0].startswith("shipthermal.a.f (line 1)") and "shipthermal.b:" in bad[1]
