@@ -21,10 +21,11 @@ date and weather record:
 **Columns, not pixels.** A 1000 x 1000 scene has a million pixels but few distinct columns:
 pixels are grouped by class and orientation (slope bins of :data:`SLOPE_EDGES_DEG` x
 :data:`ASPECT_SECTORS` aspect sectors, the bin's mean slope and circular-mean aspect), and
-each group is solved at :data:`ALBEDO_SAMPLES` short-wave albedos spanning its class's range; a pixel's temperature
-is the linear interpolation between the two columns whose albedos bracket its own. The
-surface temperature is close to linear in the albedo (the absorbed short-wave is), and the
-interpolation and orientation-binning errors are measured in the tests.
+each group is solved at :data:`ALBEDO_SAMPLES` short-wave albedos spanning its class's
+range; a pixel's temperature is the linear interpolation between the two columns whose
+albedos bracket its own. The surface temperature is close to linear in the albedo (the
+absorbed short-wave is), and the interpolation and orientation-binning errors are measured
+in the tests.
 
 **Anchoring on a scene** (Landsat, :func:`ground_from_overpass`): each land pixel's albedo
 is *fitted* within its class's range so that the model reproduces the scene's LST at the
