@@ -237,10 +237,11 @@ def test_soup_of_overlapping_solids_is_united_fast(tmp_path, monkeypatch):
     # the same solids; float32 STL, hence 1e-5), in seconds where a tetrahedral remesh
     # takes minutes.
     import shipthermal.geometry.ship as gs
+    import shipthermal.geometry.ship.build as gb
 
     solids = {}
-    real = gs._union
-    monkeypatch.setattr(gs, "_union", lambda m: (solids.setdefault("m", m), real(m))[1])
+    real = gb.unite
+    monkeypatch.setattr(gb, "unite", lambda m: (solids.setdefault("m", m), real(m))[1])
     s = gs.frigate(2.5)
     off, vs, fs = 0, [], []
     for v, f in solids["m"]:

@@ -20,8 +20,9 @@ from .parts import MAIN_PARTS, main_part, split_at_waterline
 from .pictures import render_parts_png, write_parts_vtu
 from .remesh import build_ship_mesh, remesh_ship
 from .surface_ops import surface_quality
-from .ship import (BUILTIN_SHIPS, DEFAULT_EDGE_LENGTH, Block, ShipGeometry, ShipParameters,
-                   build_ship, cargo_ship, frigate, patrol_boat)
+from .ship import (BUILTIN_SHIPS, DEFAULT_EDGE_LENGTH, Block, ShipParameters, build_ship,
+                   cargo_ship, frigate, patrol_boat)
+from .ship_geometry import ShipGeometry
 
 __all__ = ["ShipGeometry", "ShipParameters", "Block", "build_ship", "frigate", "patrol_boat",
            "cargo_ship", "BUILTIN_SHIPS", "DEFAULT_EDGE_LENGTH", "MAIN_PARTS", "main_part",

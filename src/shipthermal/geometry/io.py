@@ -40,7 +40,7 @@ from .meshfiles import ascii_stl_problem, sniff_mesh_file
 from .outside import classify_pieces, part_sense, sliver_share
 from .parts import (MAIN_PARTS, boundary_edges, face_areas, main_part, signed_volume,
                     split_at_waterline)
-from .ship import ShipGeometry
+from .ship_geometry import ShipGeometry
 from .surface_ops import fix_winding
 
 __all__ = ["UNITS", "SHIP_LENGTH_RANGE", "TRIMESH_EXTENSIONS", "PYVISTA_EXTENSIONS",
