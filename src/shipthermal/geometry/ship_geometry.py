@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import InputError, require
 from ..materials import Layup
-from .layups import compartment_temperatures, default_layups, outer_media
+from .layups import compartment_temperatures, default_layups
 from .parts import (HULL_PARTS, MAIN_PARTS, boundary_edges, face_areas, main_part, part_areas,
                     part_key, signed_volume)
 
