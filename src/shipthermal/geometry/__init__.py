@@ -3,9 +3,9 @@
 Data flow: a :class:`ShipGeometry` (closed triangulated surface, outward normals, a part per
 triangle, a layup and a compartment air temperature per part) comes from a built-in
 generator (:func:`frigate` — the default —, :func:`patrol_boat`, :func:`cargo_ship`) or from
-a user mesh (:func:`read_ship`, options in :class:`ReadShipSettings`); :func:`build_ship_mesh` remeshes it to a target edge length
-and builds the finite-volume cell graph (multilayer shells, or tetrahedra for an all-solid
-verification model)::
+a user mesh (:func:`read_ship`, its options in :class:`ReadShipSettings`);
+:func:`build_ship_mesh` remeshes it to a target edge length and builds the finite-volume cell
+graph (multilayer shells, or tetrahedra for an all-solid verification model)::
 
     from shipthermal.geometry import frigate, build_ship_mesh
     ship = frigate()                       # 132 m, ~60 000 triangles at 0.5 m
