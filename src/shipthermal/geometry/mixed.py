@@ -61,6 +61,7 @@ def merge_cell_graphs(graphs, cell_parts, couplings, metadata=None):
     CellGraph
         ``kind='mixed'``; patches, materials and parts merged by name.
     """
+    # deferred: start-up cost of the FV mesh package
     from ..mesh import CellGraph
     from ..mesh.graph import NonOrthogonalCorrection
 
