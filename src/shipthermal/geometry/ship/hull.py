@@ -90,8 +90,8 @@ def _zipper(upper, lower, y_upper, y_lower) -> list[tuple[int, int, int]]:
     """Triangulate the strip between two chains of vertex indices running port → starboard.
 
     Both chains are monotone in y; the zipper advances along whichever chain is behind in
-    normalised position. The winding matches :func:`.grids.grid_faces` with ``upper`` as row i and
-    ``lower`` as row i+1 (outward, -x, on the transom).
+    normalised position. The winding matches :func:`.grids.grid_faces` with ``upper`` as
+    row i and ``lower`` as row i+1 (outward, -x, on the transom).
     """
     p, q = len(upper) - 1, len(lower) - 1
 
