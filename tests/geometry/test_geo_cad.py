@@ -13,7 +13,7 @@ import trimesh
 from shipthermal.errors import InputError
 from shipthermal.geometry import cargo_ship, frigate
 from shipthermal.geometry.cad import assign_parts, diagnose_surface, part_ranges
-from shipthermal.geometry.io import read_ship
+from shipthermal.geometry.io import ReadShipSettings, read_ship
 from shipthermal.geometry.parts import face_areas, main_part
 
 
@@ -92,7 +92,8 @@ def test_rule_based_parts_agree_with_the_built_in_parts(build, edge, tmp_path):
     s = build(edge)
     v, f = _soup(s)
     trimesh.Trimesh(v, f, process=False).export(tmp_path / "ship.stl")
-    u, rep = read_ship(tmp_path / "ship.stl", units="m", part_map="auto", draught=s.draught)
+    u, rep = read_ship(tmp_path / "ship.stl", units="m", part_map="auto",
+                       settings=ReadShipSettings(draught=s.draught))
     assert u.n_faces == s.n_faces                   # same triangles in the same order
     truth = np.array([main_part(s.part_names[k]) for k in s.face_part])
     got = np.array([main_part(u.part_names[k]) for k in u.face_part])
@@ -103,7 +104,7 @@ def test_rule_based_parts_agree_with_the_built_in_parts(build, edge, tmp_path):
     assert auto["faces_as_in_file"]
     (tmp_path / "auto.json").write_text(json.dumps(auto))
     w, _ = read_ship(tmp_path / "ship.stl", units="m", part_map=tmp_path / "auto.json",
-                     draught=s.draught)
+                     settings=ReadShipSettings(draught=s.draught))
     np.testing.assert_array_equal([w.part_names[k] for k in w.face_part],
                                   [u.part_names[k] for k in u.face_part])
 
@@ -125,7 +126,8 @@ def test_triangle_soup_of_thousands_of_pieces_reads_as_the_ship(ship, tmp_path):
     v, f = _soup(ship)
     assert len(v) == 3 * ship.n_faces                 # 3064 separate pieces
     trimesh.Trimesh(v, f, process=False).export(tmp_path / "soup.stl")
-    u, rep = read_ship(tmp_path / "soup.stl", units="m", part_map="auto", draught=ship.draught)
+    u, rep = read_ship(tmp_path / "soup.stl", units="m", part_map="auto",
+                       settings=ReadShipSettings(draught=ship.draught))
     assert rep["problems_found"] == [] and rep["repairs"] == []
     _assert_same_ship(u, ship)
 
@@ -140,7 +142,8 @@ def test_every_problem_in_one_message(ship, tmp_path):
     v = ship.vertices * 1000.0
     trimesh.Trimesh(v, np.vstack([f, dup, zero]), process=False).export(tmp_path / "m.stl")
     with pytest.raises(InputError) as exc:
-        read_ship(tmp_path / "m.stl", units="m", part_map="auto", draught=ship.draught * 1e3)
+        read_ship(tmp_path / "m.stl", units="m", part_map="auto",
+                  settings=ReadShipSettings(draught=ship.draught * 1e3))
     msg = str(exc.value)
     for frag in ("has 4 problems", 'ship.files.units = "mm"', "ship.files.check_scale = false",
                  # 50 copies + the three identical zero-area triangles twice over
@@ -149,8 +152,9 @@ def test_every_problem_in_one_message(ship, tmp_path):
         assert frag in msg, frag
     assert "\n" not in msg
     # the keys it names fix it: the same ship comes back, every repair reported
-    u, rep = read_ship(tmp_path / "m.stl", units="mm", part_map="auto", draught=ship.draught,
-                       clean=True, fix_normals=True)
+    u, rep = read_ship(tmp_path / "m.stl", units="mm", part_map="auto",
+                       settings=ReadShipSettings(draught=ship.draught, clean=True,
+                                                 fix_normals=True))
     _assert_same_ship(u, ship)
     assert rep["removed_duplicate"] == 50 and rep["removed_degenerate"] == 3
     assert rep["flipped_faces"] == len(patch)
@@ -171,8 +175,10 @@ def test_needles_at_t_junctions_are_flipped_without_changing_the_surface(tmp_pat
     f = np.vstack([f[1:], [[a, m, c], [m, b, c], [a, b, m]]])
     trimesh.Trimesh(v, f, process=False).export(tmp_path / "needle.stl")
     with pytest.raises(InputError, match=r"has 1 problem: \(1\) 1 zero-area triangles .*clean = true"):
-        read_ship(tmp_path / "needle.stl", units="m", part_map="auto", draught=4.0)
-    u, rep = read_ship(tmp_path / "needle.stl", units="m", part_map="auto", draught=4.0, clean=True)
+        read_ship(tmp_path / "needle.stl", units="m", part_map="auto",
+                  settings=ReadShipSettings(draught=4.0))
+    u, rep = read_ship(tmp_path / "needle.stl", units="m", part_map="auto",
+                       settings=ReadShipSettings(draught=4.0, clean=True))
     assert rep["needles_flipped"] == 1 and rep["removed_degenerate"] == 0
     assert u.is_watertight
     assert u.total_area == pytest.approx(4640.0, rel=1e-12)
@@ -199,9 +205,11 @@ def test_union_repair_of_overlapping_pieces_matches_hand_figures(tmp_path):
     house.apply_translation([-20.0, 0.0, 8.0])
     trimesh.util.concatenate([hull, house]).export(tmp_path / "two.stl")
     with pytest.raises(InputError, match="max_repair_change"):
-        read_ship(tmp_path / "two.stl", units="m", part_map="auto", draught=4.0, repair="union")
-    u, rep = read_ship(tmp_path / "two.stl", units="m", part_map="auto", draught=4.0,
-                       repair="union", max_repair_change=0.1)
+        read_ship(tmp_path / "two.stl", units="m", part_map="auto",
+                  settings=ReadShipSettings(draught=4.0, repair="union"))
+    u, rep = read_ship(tmp_path / "two.stl", units="m", part_map="auto",
+                       settings=ReadShipSettings(draught=4.0, repair="union",
+                                                 max_repair_change=0.1))
     assert u.total_area == pytest.approx(4976.0, rel=1e-9)
     assert u.signed_volume == pytest.approx(12960.0, rel=1e-9)
     assert rep["repair"]["pieces"] == 2
@@ -237,10 +245,11 @@ def test_soup_of_overlapping_solids_is_united_fast(tmp_path, monkeypatch):
     # the same solids; float32 STL, hence 1e-5), in seconds where a tetrahedral remesh
     # takes minutes.
     import shipthermal.geometry.ship as gs
+    import shipthermal.geometry.ship.build as gb
 
     solids = {}
-    real = gs._union
-    monkeypatch.setattr(gs, "_union", lambda m: (solids.setdefault("m", m), real(m))[1])
+    real = gb.unite
+    monkeypatch.setattr(gb, "unite", lambda m: (solids.setdefault("m", m), real(m))[1])
     s = gs.frigate(2.5)
     off, vs, fs = 0, [], []
     for v, f in solids["m"]:
@@ -251,10 +260,11 @@ def test_soup_of_overlapping_solids_is_united_fast(tmp_path, monkeypatch):
     trimesh.Trimesh(v[f].reshape(-1, 3), np.arange(3 * len(f)).reshape(-1, 3),
                     process=False).export(tmp_path / "assembly.stl")
     with pytest.raises(InputError, match="separate pieces that overlap.*repair = \"union\""):
-        read_ship(tmp_path / "assembly.stl", units="m", part_map="auto", draught=s.draught,
-                  clean=True)
+        read_ship(tmp_path / "assembly.stl", units="m", part_map="auto",
+                  settings=ReadShipSettings(draught=s.draught, clean=True))
     u, rep = read_ship(tmp_path / "assembly.stl", units="m", part_map="auto",
-                       draught=s.draught, repair="union", max_repair_change=0.5)
+                       settings=ReadShipSettings(draught=s.draught, repair="union",
+                                                 max_repair_change=0.5))
     assert rep["repair"]["pieces"] >= len(solids["m"])
     assert u.is_watertight
     assert u.total_area == pytest.approx(s.total_area, rel=1e-5)
@@ -287,7 +297,7 @@ def test_mesh_command_writes_the_part_picture_and_an_editable_json(tmp_path, cap
     auto = json.loads((out / "auto_parts.json").read_text())
     assert set(auto["parts"]) == {"hull", "deck", "superstructure"}
     u, _ = read_ship(tmp_path / "barge.stl", units="m", part_map=out / "auto_parts.json",
-                     draught=4.0)
+                     settings=ReadShipSettings(draught=4.0))
     areas = u.part_areas()
     # by hand: deck 1200 - 160 = 1040 m2; deckhouse walls 2 (20 + 8) 6 + roof 160 = 496 m2
     assert areas["deck"] == pytest.approx(1040.0, rel=1e-9)

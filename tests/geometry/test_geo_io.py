@@ -8,7 +8,8 @@ import trimesh
 
 from shipthermal.errors import InputError
 from shipthermal.geometry import frigate
-from shipthermal.geometry.io import check_surface, read_part_map, read_ship, write_ship
+from shipthermal.geometry.io import (ReadShipSettings, check_surface, read_part_map, read_ship,
+                                    write_ship)
 
 
 @pytest.fixture(scope="module")
@@ -60,7 +61,8 @@ def test_roundtrip_one_stl_per_part(written):
 def test_hull_part_is_split_at_given_draught(tmp_path):
     path, n = _box(tmp_path)
     # Keel at z = -4 in the file: draught 3 puts the waterline at z = -1.
-    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]}, draught=3.0)
+    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]},
+                       settings=ReadShipSettings(draught=3.0))
     areas = u.part_areas()
     # Box 100 x 12, wetted to 3 m: bottom 1200 + sides 2*(100+12)*3 = 1872 m2 exactly.
     assert areas["hull_wetted"] == pytest.approx(1200 + 2 * 112 * 3.0, rel=1e-12)
@@ -85,10 +87,12 @@ def test_open_box_repaired_with_tetwild_reports_change(tmp_path):
     path, n = _box(tmp_path, drop=2)
     with pytest.raises(InputError, match=r"tetwild repair changed the area by \+\d+\.\d\d %") \
             as info:
-        read_ship(path, units="m", part_map={"hull": [[0, n]]}, repair="tetwild")
+        read_ship(path, units="m", part_map={"hull": [[0, n]]},
+                  settings=ReadShipSettings(repair="tetwild"))
     accept = float(re.search(r"max_repair_change = ([\d.]+) or more", str(info.value)).group(1))
-    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]}, repair="tetwild",
-                       max_repair_change=max(accept, 5.0))
+    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]},
+                       settings=ReadShipSettings(repair="tetwild",
+                                                 max_repair_change=max(accept, 5.0)))
     r = rep["repair"]
     assert rep["open_edges"] == 0 and u.signed_volume > 0
     # the missing 100 x 12 m lid is closed: more area than the open 3440 m2, and the solid
@@ -104,7 +108,8 @@ def test_inverted_normals_error_and_reported_fix(tmp_path):
     path, n = _box(tmp_path, flip=True)
     with pytest.raises(InputError, match="normals point into the ship"):
         read_ship(path, units="m", part_map={"hull": [[0, n]]})
-    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]}, fix_normals=True)
+    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]},
+                       settings=ReadShipSettings(fix_normals=True))
     assert rep["flipped_faces"] == n
     assert u.signed_volume == pytest.approx(12000.0, rel=1e-12)
 
@@ -114,7 +119,8 @@ def test_zero_area_face_error_and_clean(tmp_path):
     path, n = _box(tmp_path, extra=lambda f: np.array([[f[0, 0], f[0, 1], f[0, 1]]]))
     with pytest.raises(InputError, match="zero-area"):
         read_ship(path, units="m", part_map={"hull": [[0, n]]})
-    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]}, clean=True)
+    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]},
+                       settings=ReadShipSettings(clean=True))
     assert rep["removed_degenerate"] == 1 and u.n_faces >= 12
 
 
@@ -122,7 +128,8 @@ def test_duplicate_face_error_and_clean(tmp_path):
     path, n = _box(tmp_path, extra=lambda f: f[:1])
     with pytest.raises(InputError, match="duplicate"):
         read_ship(path, units="m", part_map={"hull": [[0, n]]})
-    _, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]}, clean=True)
+    _, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]},
+                       settings=ReadShipSettings(clean=True))
     assert rep["removed_duplicate"] == 1
 
 
@@ -201,7 +208,8 @@ def test_one_flipped_face_is_inconsistent_winding(tmp_path):
     trimesh.Trimesh(np.array(m.vertices), f, process=False).export(path)
     with pytest.raises(InputError, match=r"inconsistent winding\) \(fix: ship.files.fix_normals = true"):
         read_ship(path, units="m", part_map={"hull": [[0, 12]]})
-    u, rep = read_ship(path, units="m", part_map={"hull": [[0, 12]]}, fix_normals=True)
+    u, rep = read_ship(path, units="m", part_map={"hull": [[0, 12]]},
+                       settings=ReadShipSettings(fix_normals=True))
     assert rep["flipped_faces"] == 1
     assert u.signed_volume == pytest.approx(12000.0, rel=1e-12)
 
@@ -212,7 +220,8 @@ def test_waterline_must_cut_the_ship(tmp_path):
     trimesh.Trimesh(np.array(m.vertices) + [0, 0, 5.0], np.array(m.faces), process=False).export(path)
     with pytest.raises(InputError, match="draught"):
         read_ship(path, units="m", part_map={"hull": [[0, 12]]})
-    u, _ = read_ship(path, units="m", part_map={"hull": [[0, 12]]}, draught=4.0)
+    u, _ = read_ship(path, units="m", part_map={"hull": [[0, 12]]},
+                     settings=ReadShipSettings(draught=4.0))
     assert u.draught == pytest.approx(4.0) and u.part_areas()["hull_wetted"] == pytest.approx(1200 + 2 * 112 * 4.0)
 
 
@@ -227,11 +236,11 @@ def test_overlapping_solids_rejected_then_united_by_repair(tmp_path):
     with pytest.raises(InputError, match="2 separate pieces that overlap"):
         read_ship(path, units="m", part_map={"hull": [[0, 24]]})
     # the union is exact: 9600 - 30 x 10 x 5 = 8100 m3
-    u, rep = read_ship(path, units="m", part_map={"hull": [[0, 24]]}, repair="union",
-                       max_repair_change=0.5)
+    u, rep = read_ship(path, units="m", part_map={"hull": [[0, 24]]},
+                       settings=ReadShipSettings(repair="union", max_repair_change=0.5))
     assert u.signed_volume == pytest.approx(8100.0, rel=1e-12)
-    u, rep = read_ship(path, units="m", part_map={"hull": [[0, 24]]}, repair="tetwild",
-                       max_repair_change=0.5)
+    u, rep = read_ship(path, units="m", part_map={"hull": [[0, 24]]},
+                       settings=ReadShipSettings(repair="tetwild", max_repair_change=0.5))
     r = rep["repair"]
     # Before: two boxes counted twice, 2 x 4800 m3; the union is 9600 - 30x10x5 = 8100 m3.
     # fTetWild follows the input surfaces within its envelope here (no open lid to guess),
@@ -283,7 +292,8 @@ def test_collinear_needle_error_and_reported_flip(tmp_path):
     # Three distinct vertices, zero area: its own error (not "open edges" or "winding").
     with pytest.raises(InputError, match=r"2 zero-area triangles.*clean = true"):
         read_ship(path, units="m", part_map={"hull": [[0, n]]})
-    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]}, clean=True)
+    u, rep = read_ship(path, units="m", part_map={"hull": [[0, n]]},
+                       settings=ReadShipSettings(clean=True))
     # The flip keeps the surface closed and every area: hand values of the 100 x 12 x 10 box.
     assert rep["degenerate_faces"] == 2 and rep["needles_flipped"] == 2 and rep["removed_degenerate"] == 0
     assert rep["open_edges"] == 0 and rep["flipped_faces"] == 0
@@ -297,7 +307,8 @@ def test_one_km_ship_gets_a_question(tmp_path):
     path, n = _box(tmp_path, scale=10.0)               # a 1 km "ship" declared in metres
     with pytest.raises(InputError, match=r"ship length of 1000 m, outside the plausible 5.500 m \(fix: rescale the file"):
         read_ship(path, units="m", part_map={"hull": [[0, n]]})
-    u, _ = read_ship(path, units="m", part_map={"hull": [[0, n]]}, check_scale=False, draught=40.0)
+    u, _ = read_ship(path, units="m", part_map={"hull": [[0, n]]},
+                     settings=ReadShipSettings(check_scale=False, draught=40.0))
     assert u.length == pytest.approx(1000.0)
 
 

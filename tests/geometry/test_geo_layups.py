@@ -94,7 +94,7 @@ def test_box_barge_masses_by_hand(tmp_path):
     import numpy as np
     import trimesh
 
-    from shipthermal.geometry.io import read_ship
+    from shipthermal.geometry.io import ReadShipSettings, read_ship
 
     m = trimesh.creation.box((100.0, 12.0, 10.0))
     v = np.array(m.vertices) + [0.0, 0.0, 1.0]
@@ -103,7 +103,7 @@ def test_box_barge_masses_by_hand(tmp_path):
     names = np.where(top, "deck", "hull")
     path = tmp_path / "barge.ply"
     trimesh.Trimesh(v, f, process=False).export(path)
-    ship, _ = read_ship(path, units="m", part_map=names, draught=4.0)
+    ship, _ = read_ship(path, units="m", part_map=names, settings=ReadShipSettings(draught=4.0))
     masses = ship.part_masses()
     assert masses["hull_wetted"] == pytest.approx(231_104.96, rel=1e-12)
     assert masses["hull_dry"] == pytest.approx(148_189.44, rel=1e-12)

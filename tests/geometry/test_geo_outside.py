@@ -23,7 +23,7 @@ import trimesh
 from messy_ship import DRAUGHT, messy_cargo_ship, write_messy_cargo_ship
 
 from shipthermal.errors import InputError
-from shipthermal.geometry import cargo_ship, frigate, patrol_boat, read_ship
+from shipthermal.geometry import ReadShipSettings, cargo_ship, frigate, patrol_boat, read_ship
 from shipthermal.geometry.cad import assign_parts
 from shipthermal.geometry.outside import (classify_pieces, hemisphere_fan, part_sense,
                                           sliver_share)
@@ -65,11 +65,12 @@ def test_messy_export_without_repair(tmp_path):
     trimesh.Trimesh(v, f, process=False).export(path)
     with pytest.raises(InputError, match=r"1 separate piece\(s\) \(48 triangles.*inside-out.*"
                                          r"ship.files.fix_normals = true"):
-        read_ship(path, units="m", part_map="auto", draught=DRAUGHT, clean=True)
+        read_ship(path, units="m", part_map="auto", settings=ReadShipSettings(draught=DRAUGHT,
+                                                                              clean=True))
     v, f, info, ref = messy_cargo_ship(crack=False)
     trimesh.Trimesh(v, f, process=False).export(path)
-    ship, rep = read_ship(path, units="m", part_map="auto", draught=DRAUGHT, clean=True,
-                          fix_normals=True)
+    ship, rep = read_ship(path, units="m", part_map="auto",
+                          settings=ReadShipSettings(draught=DRAUGHT, clean=True, fix_normals=True))
     out = rep["outside"]
     assert out["interior_pieces"] == 1 and out["interior_faces_removed"] == info["inner_box_faces"]
     assert out["interior_area_removed_m2"] == pytest.approx(info["inner_box_area"], rel=1e-9)
@@ -87,8 +88,8 @@ def test_messy_export_repaired_once_and_identically(tmp_path, monkeypatch):
     monkeypatch.setenv("SHIPTHERMAL_CACHE", str(tmp_path / "cache"))   # empty: a first repair
     path = tmp_path / "messy.stl"
     write_messy_cargo_ship(path, inside_out=False)
-    kw = dict(units="m", part_map="auto", draught=DRAUGHT, clean=True, fix_normals=True,
-              repair="tetwild")
+    kw = dict(units="m", part_map="auto", settings=ReadShipSettings(
+        draught=DRAUGHT, clean=True, fix_normals=True, repair="tetwild"))
     ship, rep = read_ship(path, **kw)
     assert rep["repair"]["reused"] is False and rep["repair"]["cache"]
     out = rep["outside"]
@@ -200,7 +201,8 @@ def test_read_ship_refuses_a_deck_facing_down(tmp_path):
     (tmp_path / "p.json").write_text(json.dumps({"hull": [[0, 10]], "deck": [[10, 12]]}))
     with pytest.raises(InputError, match=r"ship.files.part_map .*0 % of the deck's area faces "
                                          r"the sky .*100 % faces down"):
-        read_ship(tmp_path / "b.stl", units="m", part_map=tmp_path / "p.json", draught=4.0)
+        read_ship(tmp_path / "b.stl", units="m", part_map=tmp_path / "p.json",
+                  settings=ReadShipSettings(draught=4.0))
 
 
 def test_edge_length_that_would_exhaust_memory(tmp_path):

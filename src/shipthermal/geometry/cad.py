@@ -20,9 +20,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from manifold3d import Manifold, Mesh64, OpType
 
 from ..errors import InputError
 from .parts import boundary_edges, face_areas, main_part, signed_volume
+from .surface_ops import fix_winding
 
 __all__ = ["SCENE_EXTENSIONS", "DECK_NORMAL_DEG", "DECK_TOLERANCE_FRAC", "MAX_REPAIR_CHANGE",
            "load_named_parts", "assign_parts", "part_ranges", "Problem", "diagnose_surface",
@@ -91,7 +93,7 @@ def load_named_parts(path, scale: float = 1.0):
     the file holds no triangles, or when names are present but some name no known part
     (listing every such name).
     """
-    import trimesh
+    import trimesh      # deferred: start-up cost (trimesh takes ~1.5 s to import)
 
     path = Path(path)
     try:
@@ -238,6 +240,7 @@ FIXED_BY = {"degenerate": "clean", "duplicate": "clean", "winding": "fix_normals
 
 
 def _components(f: np.ndarray, n_vertices: int) -> np.ndarray:
+    # deferred: start-up cost (scipy.sparse.csgraph takes ~1 s to import)
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
@@ -249,6 +252,7 @@ def _components(f: np.ndarray, n_vertices: int) -> np.ndarray:
 def _solid_pieces(f: np.ndarray) -> np.ndarray:
     """Piece of each triangle, joining triangles only across edges that exactly two
     triangles share (solids that touch along an edge or a face stay separate pieces)."""
+    # deferred: start-up cost (scipy.sparse.csgraph takes ~1 s to import)
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
@@ -382,10 +386,6 @@ def union_repair(vertices, faces, face_part):
     Returns vertices, faces, face_part, report (area/volume before and after, their
     relative change, ``pieces``, ``seconds``).
     """
-    from manifold3d import Manifold, Mesh64, OpType
-
-    from .surface_ops import fix_winding
-
     t0 = time.perf_counter()
     v = np.asarray(vertices, float)
     f = np.asarray(faces, np.int64)

@@ -25,6 +25,7 @@ import numpy as np
 
 from ..errors import InputError, check_positive
 from .parts import face_areas, main_part, signed_volume, split_at_waterline
+from .surface_ops import surface_quality
 
 __all__ = ["FEATURE_ANGLE_DEG", "QUALITY_FLOOR", "WATERLINE_SNAP", "SHRINK", "have_remesher",
            "isotropic_remesh", "meets_floor"]
@@ -68,7 +69,7 @@ def meets_floor(quality: dict, floor=QUALITY_FLOOR) -> bool:
 
 
 def _remesh_once(v, f, h, feature_deg):
-    import pymeshlab as ml
+    import pymeshlab as ml      # optional extra 'cad' (see have_remesher)
 
     ms = ml.MeshSet()
     ms.add_mesh(ml.Mesh(np.asarray(v, float), np.asarray(f, np.int32)))
@@ -90,9 +91,7 @@ def isotropic_remesh(vertices, faces, face_part, part_names, edge_length: float,
         (:func:`~.remesh.surface_quality`), area and volume before and after and their
         relative change, ``seconds``.
     """
-    import trimesh
-
-    from .surface_ops import surface_quality
+    import trimesh      # deferred: start-up cost (trimesh takes ~1.5 s to import)
 
     check_positive("edge_length", edge_length, "m")
     if not have_remesher():

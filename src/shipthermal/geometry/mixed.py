@@ -61,6 +61,7 @@ def merge_cell_graphs(graphs, cell_parts, couplings, metadata=None):
     CellGraph
         ``kind='mixed'``; patches, materials and parts merged by name.
     """
+    # deferred: start-up cost of the FV mesh package
     from ..mesh import CellGraph
     from ..mesh.graph import NonOrthogonalCorrection
 
@@ -183,6 +184,7 @@ def mixed_ship_graph(ship, solid_parts, fvmesh):
     Returns ``(graph, info)``; ``info`` holds ``n_tets``, ``n_shell_cells``,
     ``n_rim_edges``, ``closure`` (``'fan'`` or ``'winding number'``).
     """
+    # deferred: start-up cost (scipy.spatial takes ~1 s to import)
     from scipy.spatial import cKDTree
 
     names = ship.part_names
@@ -197,6 +199,29 @@ def mixed_ship_graph(ship, solid_parts, fvmesh):
 
     # ---- solid: close the rim and tetrahedralise --------------------------------------------
     sf = f[is_solid]
+    cv, cf, n_cap, pts, tets, closure = _solid_tets(v, sf, ship.edge_length, fvmesh)
+    face_label = np.concatenate([ship.face_part[is_solid], np.full(n_cap, -1)])
+    tree = cKDTree(cv[cf].mean(axis=1))
+    real = np.flatnonzero(face_label >= 0)
+    mats, tet_part, cell_mat = _tet_parts(ship, solid_parts, pts, tets, cv, cf, face_label, real,
+                                          tree)
+    tet = fvmesh.build_tet_graph(pts, tets, material=mats, cell_material=cell_mat,
+                                 patches=_patch_rule(names, cv, cf, face_label, real, tree),
+                                 part_name=solid_parts[0])
+
+    couplings, n_rim = _rim_couplings(v, f, is_solid, shell, shell_faces, tet)
+    shell_parts = np.asarray(names)[shell.cell_part]
+    meta = dict(n_shell_cells=shell.n_cells, n_tets=tet.n_cells,
+                cell_face=np.concatenate([shell.metadata["cell_face"], np.full(tet.n_cells, -1)]),
+                shell_face_index=shell_faces, n_rim_edges=n_rim, closure=closure)
+    graph = merge_cell_graphs([shell, tet], [shell_parts, tet_part], couplings, meta)
+    return graph, dict(n_tets=tet.n_cells, n_shell_cells=shell.n_cells,
+                       n_rim_edges=n_rim, closure=closure)
+
+
+def _solid_tets(v, sf, edge_length: float, fvmesh):
+    """The solid parts' surface ``sf`` closed by a cap over its rim and tetrahedralised:
+    ``(closed vertices, closed faces, number of cap faces, points, tets, closure)``."""
     cap_v, cap_f = _cap_rim(v, sf)
     closed_v = np.vstack([v, cap_v])
     closed_f = np.vstack([sf, cap_f])
@@ -204,18 +229,26 @@ def mixed_ship_graph(ship, solid_parts, fvmesh):
     cv, cf = closed_v[used], inv.reshape(-1, 3)
     closure = "fan"
     try:
-        pts, tets = fvmesh.tetrahedralize_surface(cv, cf, edge_length=ship.edge_length, field="solid parts")
+        pts, tets = fvmesh.tetrahedralize_surface(cv, cf, edge_length=edge_length, field="solid parts")
     except InputError:
         # A fan crossing itself (non-star-shaped rim): let fTetWild close it by winding number.
-        from ..mesh.tets import tetwild as _tetwild
+        from ..mesh.tets import tetwild as _tetwild     # deferred: start-up cost (pytetwild)
 
         closure = "winding number"
         pts, tets = _tetwild(cv.astype(np.float64), cf.astype(np.int32),
-                                             edge_length_abs=float(ship.edge_length), vtk_ordering=True)
+                             edge_length_abs=float(edge_length), vtk_ordering=True)
         pts, tets = np.asarray(pts, float), np.asarray(tets, np.int64)
-    face_label = np.concatenate([ship.face_part[is_solid], np.full(len(cap_f), -1)])
-    tree = cKDTree(cv[cf].mean(axis=1))
+    return cv, cf, len(cap_f), pts, tets, closure
 
+
+def _tet_parts(ship, solid_parts, pts, tets, cv, cf, face_label, real, tree):
+    """Each solid part's material (its layup's thickest layer) and each tet's part (that of
+    the nearest surface triangle, a real one for tets nearest to a cap):
+    ``(materials, tet part names, tet material indices)``."""
+    # deferred: start-up cost (scipy.spatial takes ~1 s to import)
+    from scipy.spatial import cKDTree
+
+    names = ship.part_names
     mats, part_mat = [], {}
     for p in solid_parts:
         lay = ship.layups[p]
@@ -227,13 +260,20 @@ def mixed_ship_graph(ship, solid_parts, fvmesh):
     _, near = tree.query(pts[tets].mean(axis=1))
     tet_label = face_label[near]
     # A tet nearest to a cap takes the part of the nearest real solid face.
-    real = np.flatnonzero(face_label >= 0)
     if (tet_label < 0).any():
         rtree = cKDTree(cv[cf[real]].mean(axis=1))
         _, rn = rtree.query(pts[tets[tet_label < 0]].mean(axis=1))
         tet_label[tet_label < 0] = face_label[real[rn]]
     tet_part = np.array([names[k] for k in tet_label])
     cell_mat = np.array([part_mat[p] for p in tet_part])
+    return mats, tet_part, cell_mat
+
+
+def _patch_rule(names, cv, cf, face_label, real, tree):
+    """Patch rule of the tets' boundary triangles: ``"{part}:outer"`` of the nearest
+    surface triangle; on the cap ``"{part}:inner"`` of the nearest real solid triangle."""
+    # deferred: start-up cost (scipy.spatial takes ~1 s to import)
+    from scipy.spatial import cKDTree
 
     def rule(centroid, normal):
         _, i = tree.query(centroid)
@@ -248,10 +288,16 @@ def mixed_ship_graph(ship, solid_parts, fvmesh):
             out[cap] = [f"{names[k]}:inner" for k in face_label[real[rn]]]
         return out.astype(str)
 
-    tet = fvmesh.build_tet_graph(pts, tets, material=mats, cell_material=cell_mat, patches=rule,
-                                 part_name=solid_parts[0])
+    return rule
 
-    # ---- rim couplings ----------------------------------------------------------------------
+
+def _rim_couplings(v, f, is_solid, shell, shell_faces, tet):
+    """Coupling faces along the rim, where solid and shell triangles share an edge: every
+    layer cell of the shell triangle to the tet next to the edge (module docstring).
+    Returns ``((own, nei, area, conductance), number of rim edges)``."""
+    # deferred: start-up cost (scipy.spatial takes ~1 s to import)
+    from scipy.spatial import cKDTree
+
     half = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
     face_of = np.tile(np.arange(len(f)), 3)
     key = np.sort(half, axis=1)
@@ -294,10 +340,4 @@ def mixed_ship_graph(ship, solid_parts, fvmesh):
         area.append(a)
         g.append(a / (d_h[r] / k_s + d_t[r] / k_t[r]))
     couplings = (np.concatenate(own), np.concatenate(nei), np.concatenate(area), np.concatenate(g))
-    shell_parts = np.asarray(names)[shell.cell_part]
-    meta = dict(n_shell_cells=shell.n_cells, n_tets=tet.n_cells,
-                cell_face=np.concatenate([shell.metadata["cell_face"], np.full(tet.n_cells, -1)]),
-                shell_face_index=shell_faces, n_rim_edges=int(len(f_shell)), closure=closure)
-    graph = merge_cell_graphs([shell, tet], [shell_parts, tet_part], couplings, meta)
-    return graph, dict(n_tets=tet.n_cells, n_shell_cells=shell.n_cells,
-                       n_rim_edges=int(len(f_shell)), closure=closure)
+    return couplings, int(len(f_shell))

@@ -141,7 +141,7 @@ def outside_visibility(vertices, faces, backend: str = "auto", n_rays: int = OUT
         only where the front found none (elsewhere ``back`` is 0); undecided triangles
         are traced again with ``n_retry`` rays on each side.
     """
-    from ..raytrace import make_tracer
+    from ..raytrace import make_tracer     # deferred: start-up cost (~1.2 s to import)
 
     v = np.asarray(vertices, float)
     f = np.asarray(faces, np.int64)
@@ -207,6 +207,7 @@ class PieceReport:
 
 
 def _pieces(faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    # deferred: start-up cost (scipy.sparse.csgraph takes ~1 s to import)
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 

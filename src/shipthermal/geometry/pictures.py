@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..figures import OKABE_ITO
+from .parts import main_part
 
 __all__ = ["PART_COLOURS", "render_parts_png", "render_values_png", "write_parts_vtu",
            "ship_polydata"]
@@ -33,8 +34,6 @@ _SUB_COLOURS = [OKABE_ITO["orange"], OKABE_ITO["blue"], OKABE_ITO["yellow"]]
 
 
 def _colour_table(part_names):
-    from .parts import main_part
-
     out, k = {}, 0
     for name in part_names:
         if name in PART_COLOURS:
@@ -47,7 +46,7 @@ def _colour_table(part_names):
 
 def ship_polydata(ship):
     """The ship surface as :class:`pyvista.PolyData` with ``part`` and ``area`` cell arrays."""
-    import pyvista as pv
+    import pyvista as pv        # deferred: start-up cost (~1 s to import)
 
     cells = np.hstack([np.full((ship.n_faces, 1), 3), ship.faces]).ravel()
     poly = pv.PolyData(np.asarray(ship.vertices), cells)
@@ -63,7 +62,7 @@ def _tmp(path: Path) -> Path:
 
 def write_parts_vtu(ship, directory) -> list[Path]:
     """Write ``<part>.vtu`` for each part and ``all_parts.vtu``; returns the paths."""
-    import pyvista as pv
+    import pyvista as pv        # deferred: start-up cost (~1 s to import)
 
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
@@ -121,7 +120,7 @@ def render_parts_png(ship, path, size=(1600, 900), backend: str = "auto",
 def _pyvista_plotter(size):
     """An off-screen pyvista plotter (EGL, white background)."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
-    import pyvista as pv
+    import pyvista as pv        # deferred: start-up cost (~1 s to import)
 
     pv.OFF_SCREEN = True
     pl = pv.Plotter(off_screen=True, window_size=list(size))
@@ -170,7 +169,7 @@ def _render_pyvista(ship, path: Path, size, view, colours=None):
 
 
 def _render_matplotlib(ship, path: Path, size, view, colours=None):
-    import matplotlib
+    import matplotlib           # deferred: start-up cost (pyplot takes ~1 s to import)
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -223,7 +222,7 @@ def render_values_png(ship, values, path, title: str = "", clim=None, size=(1400
         except Exception:
             if backend == "pyvista":
                 raise
-    import matplotlib
+    import matplotlib           # deferred: start-up cost (pyplot takes ~1 s to import)
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -26,8 +26,10 @@ from typing import Sequence
 import numpy as np
 
 from ..errors import InputError, check_positive, require
+from . import isoremesh
 from .limits import check_surface_size
 from .parts import face_areas, signed_volume, split_at_waterline
+from .ship.build import build_ship
 from .surface_ops import collapse_short_edges, flip_coplanar_edges, surface_quality
 
 __all__ = ["refine_surface", "tetwild_surface", "remesh_ship", "build_ship_mesh"]
@@ -39,7 +41,7 @@ def refine_surface(vertices, faces, face_part, edge_length: float):
     Returns ``(vertices, faces, face_part, parent)``; ``parent`` is the input triangle of
     each output triangle.
     """
-    from trimesh.remesh import subdivide_to_size
+    from trimesh.remesh import subdivide_to_size    # deferred: start-up cost (~1.5 s)
 
     check_positive("edge_length", edge_length, "m")
     v = np.asarray(vertices, float)
@@ -67,6 +69,7 @@ def tetwild_surface(vertices, faces, face_part, edge_length: float | None = None
         ``report`` holds ``area_before/after`` [m2], ``volume_before/after`` [m3] (signed,
         before as given), their relative changes, ``n_tets`` and ``seconds``.
     """
+    # deferred: start-up cost (pytetwild and trimesh take ~1.5 s each to import)
     from ..mesh.tets import tetwild as _tetwild
     import trimesh
 
@@ -120,8 +123,6 @@ def remesh_ship(ship, edge_length: float, improve: bool = True, return_report: b
     """
     check_positive("ship.edge_length", edge_length, "m")
     if ship.parameters is not None:
-        from .ship import build_ship
-
         new = build_ship(ship.parameters, edge_length)
         require(new.part_names == ship.part_names, "ship.part_names", ship.part_names,
                 "changed on regeneration")
@@ -130,11 +131,9 @@ def remesh_ship(ship, edge_length: float, improve: bool = True, return_report: b
                       outer_medium=dict(ship.outer_medium))
         return (new, {}) if return_report else new
     check_surface_size(float(face_areas(ship.vertices, ship.faces).sum()), edge_length)
-    from .isoremesh import have_remesher, isotropic_remesh
-
-    if have_remesher():
-        v, f, lab, rep = isotropic_remesh(ship.vertices, ship.faces, ship.face_part,
-                                          ship.part_names, edge_length)
+    if isoremesh.have_remesher():
+        v, f, lab, rep = isoremesh.isotropic_remesh(ship.vertices, ship.faces, ship.face_part,
+                                                    ship.part_names, edge_length)
         new = replace(ship, vertices=v, faces=f, face_part=lab, edge_length=rep["edge_length"])
         return (new, rep) if return_report else new
     v, f, lab, _ = refine_surface(ship.vertices, ship.faces, ship.face_part, edge_length)
@@ -174,7 +173,7 @@ def build_ship_mesh(ship, edge_length: float | None = None, solid_parts: Sequenc
         timings [s]; ``note`` when a user surface is much finer than the target (it is
         refined to the target, never coarsened).
     """
-    from .. import mesh as fvmesh
+    from .. import mesh as fvmesh      # deferred: start-up cost of the FV mesh package
 
     t0 = time.perf_counter()
     remesh_report = {}
@@ -216,7 +215,7 @@ def build_ship_mesh(ship, edge_length: float | None = None, solid_parts: Sequenc
         graph = _solid_ship_graph(ship, fvmesh)
         report["kind"] = "tetrahedral"
     else:
-        from .mixed import mixed_ship_graph
+        from .mixed import mixed_ship_graph     # deferred: start-up cost (scipy.sparse)
 
         graph, info = mixed_ship_graph(ship, solid, fvmesh)
         report["kind"] = "mixed"
@@ -231,7 +230,7 @@ def build_ship_mesh(ship, edge_length: float | None = None, solid_parts: Sequenc
 def _solid_ship_graph(ship, fvmesh):
     """Whole closed ship as tetrahedra; each tet takes the structural material of the part
     of its nearest surface triangle, boundary faces are patched ``{part}:outer``."""
-    from scipy.spatial import cKDTree
+    from scipy.spatial import cKDTree      # deferred: start-up cost (~1 s to import)
 
     # Writable copies: the wrapped fTetWild rejects read-only numpy arrays.
     pts, tets = fvmesh.tetrahedralize_surface(np.array(ship.vertices), np.array(ship.faces),

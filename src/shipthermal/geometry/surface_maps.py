@@ -62,7 +62,7 @@ def _sensor_view(view_zenith_deg: float, view_azimuth_deg: float):
 
 
 def _draw(ax, verts, faces, values, azim, elev, norm, cmap):
-    from matplotlib.collections import PolyCollection
+    from matplotlib.collections import PolyCollection   # deferred: start-up cost
 
     u, v, depth = project(verts, azim, elev)
     order = np.argsort(depth[faces].mean(axis=1))          # far faces first
@@ -122,7 +122,7 @@ def render_surface_map(vertices, faces, values, path, *, heading_deg: float,
     figures : shipthermal.figures.FigureOptions or None
         Resolution and vector copies (:func:`shipthermal.figures.save_figure`).
     """
-    import matplotlib
+    import matplotlib           # deferred: start-up cost (pyplot takes ~1 s to import)
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

@@ -13,6 +13,7 @@
 from __future__ import annotations
 
 import math
+from collections import deque
 
 import numpy as np
 
@@ -256,8 +257,6 @@ def fix_winding(f: np.ndarray):
     caller then fixes the global sign from the signed volume. Returns the new faces and a
     mask of flipped triangles.
     """
-    from collections import deque
-
     m = len(f)
     e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
     face_of = np.tile(np.arange(m), 3)

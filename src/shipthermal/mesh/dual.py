@@ -112,18 +112,52 @@ def build_dual_tet_graph(points, tets, material: str | Material | Sequence = "mi
             "Drop unused vertices (e.g. np.unique(tets, return_inverse=True))")
 
     k_tet = np.array([m.conductivity for m in mats])[cell_material]
-
-    # ---- control volumes and their heat capacity ---------------------------------------
-    quarter = np.repeat(volume / 4.0, 4)
     owner = tets.ravel()
+    cv_volume, vertex_material, materials = _control_volumes(owner, volume, cell_material, mats, n)
+    p = points[tets]                                  # (M, 4, 3)
+    face_cells, conductance, face_area = _edge_conductances(p, tets, k_tet, volume, n)
+
+    btri = _boundary_triangles(tets, n)
+    b_cell, b_area, b_normal, b_centroid, centroid_t, normal_t = _boundary_pieces(points, btri)
+    k_vertex = np.bincount(owner, np.repeat(k_tet * volume / 4.0, 4), n) / cv_volume
+    length = np.cbrt(cv_volume)
+    b_conductance = surface_conductance_factor * k_vertex[b_cell] * b_area / length[b_cell]
+    patch_names, t_patch = _triangle_patches(patches, centroid_t, normal_t)
+
+    dihedral = _dihedral_range(p)
+    return CellGraph(
+        cell_centroid=points.copy(), cell_volume=cv_volume, cell_material=vertex_material,
+        materials=materials, cell_part=np.zeros(n, np.int32), part_names=(part_name,),
+        face_cells=face_cells, face_area=face_area, face_conductance=conductance,
+        bface_cell=b_cell, bface_area=b_area, bface_normal=b_normal, bface_centroid=b_centroid,
+        bface_conductance=b_conductance, bface_patch=np.repeat(t_patch, 3),
+        patch_names=patch_names, points=points,
+        cell_connectivity=np.stack([np.ones(n, np.int64), np.arange(n)], axis=1).ravel(),
+        cell_types=np.full(n, VTK_VERTEX, np.uint8), bface_vertices=np.repeat(btri, 3, axis=0),
+        correction=None, kind="dual-tetrahedral",
+        metadata={"tets": tets, "tet_material": cell_material, "boundary_triangles": btri,
+                  "n_negative_edges": int(np.sum(conductance < 0)),
+                  "min_dihedral_deg": dihedral[0], "max_dihedral_deg": dihedral[1],
+                  "surface_conductance_factor": float(surface_conductance_factor)},
+    )
+
+
+def _control_volumes(owner, volume, cell_material, mats, n: int):
+    """Control volumes (a quarter of each tet to each of its vertices) and their material:
+    ``(cv_volume (n,), vertex_material (n,), materials)``."""
+    quarter = np.repeat(volume / 4.0, 4)
     cv_volume = np.bincount(owner, quarter, n)
     frac = np.zeros((n, len(mats)))
     np.add.at(frac, (owner, np.repeat(cell_material, 4)), quarter)
     frac /= cv_volume[:, None]
     vertex_material, materials = _blend(frac, mats)
+    return cv_volume, vertex_material, materials
 
+
+def _edge_conductances(p, tets, k_tet, volume, n: int):
+    """The P1 stiffness summed per mesh edge, and the area of the edge's median-dual
+    facets: ``(face_cells (e, 2) lo → hi, conductance (e,), face_area (e,))``."""
     # ---- P1 stiffness per tet edge -------------------------------------------------------
-    p = points[tets]                                  # (M, 4, 3)
     jac = (p[:, 1:] - p[:, :1]).transpose(0, 2, 1)   # columns p1-p0, p2-p0, p3-p0
     inv = np.linalg.inv(jac)                          # rows: ∇φ1, ∇φ2, ∇φ3
     grads = np.concatenate([-inv.sum(axis=1, keepdims=True), inv], axis=1)   # (M, 4, 3)
@@ -152,8 +186,11 @@ def build_dual_tet_graph(points, tets, material: str | Material | Sequence = "mi
     svec = np.stack([np.bincount(inv_e, (facet[..., c].ravel() * flip), len(uniq))
                      for c in range(3)], axis=1)
     face_area = np.linalg.norm(svec, axis=1)
+    return face_cells, conductance, face_area
 
-    # ---- boundary triangles and their vertex pieces --------------------------------------
+
+def _boundary_triangles(tets, n: int):
+    """The tet faces that belong to one tet only, wound outward (t, 3)."""
     tri = tets[:, _FACES].reshape(-1, 3)
     tkey = np.sort(tri, axis=1)
     if n < 2_000_000:     # one int64 key per triangle (n³ < 2⁶³): sorts ~10× faster than rows
@@ -161,13 +198,18 @@ def build_dual_tet_graph(points, tets, material: str | Material | Sequence = "mi
         _, first, counts = np.unique(tkey, return_index=True, return_counts=True)
     else:
         _, first, counts = np.unique(tkey, axis=0, return_index=True, return_counts=True)
-    btri = tri[first[counts == 1]]
+    return tri[first[counts == 1]]
+
+
+def _boundary_pieces(points, btri):
+    """The three vertex pieces of each boundary triangle (piece ``3t + k`` at vertex
+    ``btri[t, k]``): owner, area, normal and centroid of each piece, and the centroid and
+    normal of each triangle."""
     q0, q1, q2 = points[btri[:, 0]], points[btri[:, 1]], points[btri[:, 2]]
     svec_t = 0.5 * np.cross(q1 - q0, q2 - q0)
     area_t = np.linalg.norm(svec_t, axis=1)
     normal_t = svec_t / area_t[:, None]
     centroid_t = (q0 + q1 + q2) / 3.0
-    nt = len(btri)
     b_cell = btri.ravel()                               # piece 3t + k at vertex btri[t, k]
     b_area = np.repeat(area_t / 3.0, 3)
     b_normal = np.repeat(normal_t, 3, axis=0)
@@ -175,11 +217,12 @@ def build_dual_tet_graph(points, tets, material: str | Material | Sequence = "mi
     # 11/18 of its vertex and 7/36 of each other vertex.
     qs = points[btri]                                  # (t, 3, 3)
     b_centroid = ((11.0 / 18.0) * qs + (7.0 / 36.0) * (qs.sum(axis=1, keepdims=True) - qs)).reshape(-1, 3)
+    return b_cell, b_area, b_normal, b_centroid, centroid_t, normal_t
 
-    k_vertex = np.bincount(owner, np.repeat(k_tet * volume / 4.0, 4), n) / cv_volume
-    length = np.cbrt(cv_volume)
-    b_conductance = surface_conductance_factor * k_vertex[b_cell] * b_area / length[b_cell]
 
+def _triangle_patches(patches, centroid_t, normal_t):
+    """Patch names, and the patch of each boundary triangle, from a name or a rule."""
+    nt = len(centroid_t)
     if isinstance(patches, str):
         patch_names = (patches,)
         t_patch = np.zeros(nt, dtype=np.int32)
@@ -190,23 +233,7 @@ def build_dual_tet_graph(points, tets, material: str | Material | Sequence = "mi
         names, t_patch = np.unique(labels, return_inverse=True)
         patch_names = tuple(str(x) for x in names)
         t_patch = t_patch.astype(np.int32)
-
-    dihedral = _dihedral_range(p)
-    return CellGraph(
-        cell_centroid=points.copy(), cell_volume=cv_volume, cell_material=vertex_material,
-        materials=materials, cell_part=np.zeros(n, np.int32), part_names=(part_name,),
-        face_cells=face_cells, face_area=face_area, face_conductance=conductance,
-        bface_cell=b_cell, bface_area=b_area, bface_normal=b_normal, bface_centroid=b_centroid,
-        bface_conductance=b_conductance, bface_patch=np.repeat(t_patch, 3),
-        patch_names=patch_names, points=points,
-        cell_connectivity=np.stack([np.ones(n, np.int64), np.arange(n)], axis=1).ravel(),
-        cell_types=np.full(n, VTK_VERTEX, np.uint8), bface_vertices=np.repeat(btri, 3, axis=0),
-        correction=None, kind="dual-tetrahedral",
-        metadata={"tets": tets, "tet_material": cell_material, "boundary_triangles": btri,
-                  "n_negative_edges": int(np.sum(conductance < 0)),
-                  "min_dihedral_deg": dihedral[0], "max_dihedral_deg": dihedral[1],
-                  "surface_conductance_factor": float(surface_conductance_factor)},
-    )
+    return patch_names, t_patch
 
 
 def _blend(frac: np.ndarray, mats: tuple[Material, ...]):

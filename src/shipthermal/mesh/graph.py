@@ -40,6 +40,7 @@ from functools import cached_property
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import InputError
 from ..materials import Material
 
 __all__ = ["CellGraph", "NonOrthogonalCorrection", "CORRECTION_TREATMENTS", "VTK_TETRA",
@@ -223,7 +224,6 @@ class CellGraph:
     def patch_faces(self, name: str) -> np.ndarray:
         """Indices of the boundary faces of one patch."""
         if name not in self.patch_names:
-            from ..errors import InputError
             raise InputError("patch", name, f"unknown patch; known: {', '.join(self.patch_names)}")
         return np.flatnonzero(self.bface_patch == self.patch_names.index(name))
 
@@ -249,7 +249,7 @@ class CellGraph:
         vertices: the grid is the tetrahedral mesh itself, whose *points* are the cells
         (cell values go to ``point_data``).
         """
-        import pyvista as pv
+        import pyvista as pv        # deferred: start-up cost (~1 s to import)
 
         if self.kind == "dual-tetrahedral":
             tets = self.metadata["tets"]
@@ -259,7 +259,7 @@ class CellGraph:
 
     def boundary_surface(self):
         """Boundary faces as a :class:`pyvista.PolyData` with a ``patch`` cell array."""
-        import pyvista as pv
+        import pyvista as pv        # deferred: start-up cost (~1 s to import)
 
         faces = np.hstack([np.full((self.n_bfaces, 1), 3), self.bface_vertices]).ravel()
         surf = pv.PolyData(self.points, faces)

@@ -58,29 +58,8 @@ def build_shell_graph(vertices, faces, face_part, part_names: Sequence[str],
         cell), ``cell_layer`` (layer index), ``cell_depth`` (depth of the cell centre below
         the outer surface [m]).
     """
-    vertices = np.asarray(vertices, dtype=float)
-    faces = np.asarray(faces, dtype=np.int64)
-    face_part = np.asarray(face_part, dtype=np.int64)
-    part_names = tuple(str(p) for p in part_names)
-    check_finite("vertices", vertices)
-    require(vertices.ndim == 2 and vertices.shape[1] == 3, "vertices", vertices.shape, "must be (N, 3)")
-    require(faces.ndim == 2 and faces.shape[1] == 3 and len(faces) > 0, "faces", faces.shape,
-            "must be (M, 3) with M > 0")
-    require(faces.min() >= 0 and faces.max() < len(vertices), "faces",
-            (int(faces.min()), int(faces.max())), f"vertex indices must lie in [0, {len(vertices) - 1}]")
-    require(face_part.shape == (len(faces),), "face_part", face_part.shape,
-            f"must give one part index per face ({len(faces)})")
-    require(face_part.min() >= 0 and face_part.max() < len(part_names), "face_part",
-            (int(face_part.min()), int(face_part.max())),
-            f"part indices must lie in [0, {len(part_names) - 1}]")
-    used = np.unique(face_part)
-    for p in used:
-        name = part_names[p]
-        if name not in layups:
-            raise InputError(f"layups[{name!r}]", None, "missing: every part with faces needs a layup",
-                             f"Give a Layup for part {name!r} (parts: {', '.join(part_names)})")
-        require(isinstance(layups[name], Layup), f"layups[{name!r}]", layups[name], "must be a Layup")
-
+    vertices, faces, face_part, part_names, used = _checked_inputs(
+        vertices, faces, face_part, part_names, layups)
     p0, p1, p2 = vertices[faces[:, 0]], vertices[faces[:, 1]], vertices[faces[:, 2]]
     s = 0.5 * np.cross(p1 - p0, p2 - p0)
     area = np.linalg.norm(s, axis=1)
@@ -91,51 +70,10 @@ def build_shell_graph(vertices, faces, face_part, part_names: Sequence[str],
     normal = s / area[:, None]
     centroid = (p0 + p1 + p2) / 3.0
 
-    # ---- materials and per-layup sub-cell tables ------------------------------------------
-    layup_names = [part_names[p] for p in used]
-    materials: list = []
-    mat_index: dict[str, int] = {}
-    tables = {}  # part index -> dict of arrays per sub-cell
-    for p in used:
-        lay = layups[part_names[p]]
-        mats, dz, ztop = [], [], []
-        z = 0.0
-        for layer, mat in zip(lay.layers, lay.materials):
-            if mat.name not in mat_index:
-                mat_index[mat.name] = len(materials)
-                materials.append(mat)
-            h = layer.thickness / layer.cells
-            for c in range(layer.cells):
-                mats.append(mat_index[mat.name])
-                dz.append(h)
-                ztop.append(z)
-                z += h
-        tables[int(p)] = dict(mat=np.array(mats), dz=np.array(dz), ztop=np.array(ztop),
-                              k=np.array([materials[m].conductivity for m in mats]))
-    del layup_names
-
-    ncol = np.zeros(len(part_names), dtype=np.int64)
-    for p, t in tables.items():
-        ncol[p] = len(t["dz"])
-    face_ncell = ncol[face_part]
-    offset = np.concatenate([[0], np.cumsum(face_ncell)])
+    materials, tables = _layup_tables(used, part_names, layups)
+    offset, cell_face, cell_layer, cell_part, cell_mat, cell_dz, cell_ztop, cell_k = \
+        _cell_columns(face_part, len(part_names), tables)
     n = int(offset[-1])
-
-    cell_face = np.repeat(np.arange(len(faces)), face_ncell)
-    cell_layer = np.arange(n) - offset[cell_face]
-    cell_part = face_part[cell_face]
-    # Per-cell layup quantities, gathered part by part (few parts, vectorised inside).
-    cell_mat = np.empty(n, np.int64)
-    cell_dz = np.empty(n)
-    cell_ztop = np.empty(n)
-    cell_k = np.empty(n)
-    for p, t in tables.items():
-        sel = cell_part == p
-        lay_idx = cell_layer[sel]
-        cell_mat[sel] = t["mat"][lay_idx]
-        cell_dz[sel] = t["dz"][lay_idx]
-        cell_ztop[sel] = t["ztop"][lay_idx]
-        cell_k[sel] = t["k"][lay_idx]
     cell_area = area[cell_face]
     depth = cell_ztop + 0.5 * cell_dz
     cell_centroid = centroid[cell_face] - normal[cell_face] * depth[:, None]
@@ -161,26 +99,9 @@ def build_shell_graph(vertices, faces, face_part, part_names: Sequence[str],
     face_cells = np.concatenate([np.stack([lo, up], 1), np.stack([lat_own, lat_nei], 1)])
     face_area = np.concatenate([tt_area, lat_area])
     face_g = np.concatenate([g_tt, lat_g])
-
-    patch_names = []
-    for p in used:
-        patch_names += [f"{part_names[p]}:outer", f"{part_names[p]}:inner"]
-    patch_of = {name: i for i, name in enumerate(patch_names)}
-    part_outer = np.full(len(part_names), -1)
-    part_inner = np.full(len(part_names), -1)
-    for p in used:
-        part_outer[p] = patch_of[f"{part_names[p]}:outer"]
-        part_inner[p] = patch_of[f"{part_names[p]}:inner"]
-
-    # ---- output geometry: one wedge per cell with its own six points ------------------------
-    tri_pts = np.stack([p0, p1, p2], 1)                     # (M, 3, 3)
-    top = tri_pts[cell_face] - normal[cell_face][:, None, :] * cell_ztop[:, None, None]
-    bot = tri_pts[cell_face] - normal[cell_face][:, None, :] * (cell_ztop + cell_dz)[:, None, None]
-    # VTK wedge: first triangle then the opposite one, both with the same orientation.
-    pts = np.concatenate([bot, top], axis=1).reshape(-1, 3)
-    conn = np.hstack([np.full((n, 1), 6), np.arange(6 * n).reshape(n, 6)]).ravel()
-    outer_tri = 6 * first[:, None] + 3 + np.arange(3)[None, :]
-    inner_tri = (6 * last[:, None] + np.arange(3)[None, :])[:, ::-1]
+    patch_names, part_outer, part_inner = _patches(used, part_names)
+    pts, conn, outer_tri, inner_tri = _wedges(np.stack([p0, p1, p2], 1), normal, cell_face,
+                                              cell_ztop, cell_dz, first, last)
 
     bface_cell = np.concatenate([first, last])
     return CellGraph(
@@ -198,6 +119,117 @@ def build_shell_graph(vertices, faces, face_part, part_names: Sequence[str],
         metadata=dict(cell_face=cell_face, cell_layer=cell_layer, cell_depth=depth,
                       n_surface_faces=len(faces)),
     )
+
+
+def _checked_inputs(vertices, faces, face_part, part_names, layups):
+    """The inputs as arrays, checked; returns them and the part indices that have faces."""
+    vertices = np.asarray(vertices, dtype=float)
+    faces = np.asarray(faces, dtype=np.int64)
+    face_part = np.asarray(face_part, dtype=np.int64)
+    part_names = tuple(str(p) for p in part_names)
+    check_finite("vertices", vertices)
+    require(vertices.ndim == 2 and vertices.shape[1] == 3, "vertices", vertices.shape, "must be (N, 3)")
+    require(faces.ndim == 2 and faces.shape[1] == 3 and len(faces) > 0, "faces", faces.shape,
+            "must be (M, 3) with M > 0")
+    require(faces.min() >= 0 and faces.max() < len(vertices), "faces",
+            (int(faces.min()), int(faces.max())), f"vertex indices must lie in [0, {len(vertices) - 1}]")
+    require(face_part.shape == (len(faces),), "face_part", face_part.shape,
+            f"must give one part index per face ({len(faces)})")
+    require(face_part.min() >= 0 and face_part.max() < len(part_names), "face_part",
+            (int(face_part.min()), int(face_part.max())),
+            f"part indices must lie in [0, {len(part_names) - 1}]")
+    used = np.unique(face_part)
+    for p in used:
+        name = part_names[p]
+        if name not in layups:
+            raise InputError(f"layups[{name!r}]", None, "missing: every part with faces needs a layup",
+                             f"Give a Layup for part {name!r} (parts: {', '.join(part_names)})")
+        require(isinstance(layups[name], Layup), f"layups[{name!r}]", layups[name], "must be a Layup")
+    return vertices, faces, face_part, part_names, used
+
+
+def _layup_tables(used, part_names, layups):
+    """The materials (each once, in order of first use) and, per part index, the layup's
+    sub-cells: material index ``mat``, thickness ``dz``, depth of the top ``ztop``,
+    conductivity ``k``."""
+    materials: list = []
+    mat_index: dict[str, int] = {}
+    tables = {}  # part index -> dict of arrays per sub-cell
+    for p in used:
+        lay = layups[part_names[p]]
+        mats, dz, ztop = [], [], []
+        z = 0.0
+        for layer, mat in zip(lay.layers, lay.materials):
+            if mat.name not in mat_index:
+                mat_index[mat.name] = len(materials)
+                materials.append(mat)
+            h = layer.thickness / layer.cells
+            for c in range(layer.cells):
+                mats.append(mat_index[mat.name])
+                dz.append(h)
+                ztop.append(z)
+                z += h
+        tables[int(p)] = dict(mat=np.array(mats), dz=np.array(dz), ztop=np.array(ztop),
+                              k=np.array([materials[m].conductivity for m in mats]))
+    return materials, tables
+
+
+def _cell_columns(face_part, n_parts: int, tables):
+    """A column of cells under each triangle, numbered column by column: ``offset`` (the
+    first cell of each column, and the total), and per cell its triangle, layer, part,
+    material, thickness, depth of its top and conductivity."""
+    ncol = np.zeros(n_parts, dtype=np.int64)
+    for p, t in tables.items():
+        ncol[p] = len(t["dz"])
+    face_ncell = ncol[face_part]
+    offset = np.concatenate([[0], np.cumsum(face_ncell)])
+    n = int(offset[-1])
+
+    cell_face = np.repeat(np.arange(len(face_part)), face_ncell)
+    cell_layer = np.arange(n) - offset[cell_face]
+    cell_part = face_part[cell_face]
+    # Per-cell layup quantities, gathered part by part (few parts, vectorised inside).
+    cell_mat = np.empty(n, np.int64)
+    cell_dz = np.empty(n)
+    cell_ztop = np.empty(n)
+    cell_k = np.empty(n)
+    for p, t in tables.items():
+        sel = cell_part == p
+        lay_idx = cell_layer[sel]
+        cell_mat[sel] = t["mat"][lay_idx]
+        cell_dz[sel] = t["dz"][lay_idx]
+        cell_ztop[sel] = t["ztop"][lay_idx]
+        cell_k[sel] = t["k"][lay_idx]
+    return offset, cell_face, cell_layer, cell_part, cell_mat, cell_dz, cell_ztop, cell_k
+
+
+def _patches(used, part_names):
+    """Boundary patches ``"{part}:outer"`` and ``"{part}:inner"`` of the parts with faces,
+    and each part's outer and inner patch index (-1 for parts without faces)."""
+    patch_names = []
+    for p in used:
+        patch_names += [f"{part_names[p]}:outer", f"{part_names[p]}:inner"]
+    patch_of = {name: i for i, name in enumerate(patch_names)}
+    part_outer = np.full(len(part_names), -1)
+    part_inner = np.full(len(part_names), -1)
+    for p in used:
+        part_outer[p] = patch_of[f"{part_names[p]}:outer"]
+        part_inner[p] = patch_of[f"{part_names[p]}:inner"]
+    return patch_names, part_outer, part_inner
+
+
+def _wedges(tri_pts, normal, cell_face, cell_ztop, cell_dz, first, last):
+    """Output geometry: one VTK wedge per cell with its own six points; returns the points,
+    the connectivity, and the point triples of the outer and inner boundary faces."""
+    n = len(cell_face)
+    top = tri_pts[cell_face] - normal[cell_face][:, None, :] * cell_ztop[:, None, None]
+    bot = tri_pts[cell_face] - normal[cell_face][:, None, :] * (cell_ztop + cell_dz)[:, None, None]
+    # VTK wedge: first triangle then the opposite one, both with the same orientation.
+    pts = np.concatenate([bot, top], axis=1).reshape(-1, 3)
+    conn = np.hstack([np.full((n, 1), 6), np.arange(6 * n).reshape(n, 6)]).ravel()
+    outer_tri = 6 * first[:, None] + 3 + np.arange(3)[None, :]
+    inner_tri = (6 * last[:, None] + np.arange(3)[None, :])[:, ::-1]
+    return pts, conn, outer_tri, inner_tri
 
 
 def _lateral_faces(vertices, faces, face_part, centroid, offset, tables):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from typing import Callable, Sequence
 
 import numpy as np
@@ -21,7 +22,7 @@ def check_closed_surface(vertices, faces, field: str = "surface") -> None:
     pytetwild silently closes open surfaces by winding number (and returns nothing for a
     flat sheet), so this check runs before it.
     """
-    import trimesh
+    import trimesh      # deferred: start-up cost (trimesh takes ~1.5 s to import)
 
     vertices = np.asarray(vertices, dtype=float)
     faces = np.asarray(faces)
@@ -53,7 +54,7 @@ def find_self_intersections(vertices, faces, max_report: int = 10) -> np.ndarray
     triangles not sharing a vertex with the edge are reported. Coplanar overlaps are not
     detected.
     """
-    import trimesh
+    import trimesh      # deferred: start-up cost (trimesh takes ~1.5 s to import)
 
     mesh = trimesh.Trimesh(vertices, faces, process=False, validate=False)
     edges = mesh.edges_unique
@@ -126,9 +127,7 @@ def tetwild(vertices, faces, **kwargs):
     """``pytetwild.tetrahedralize`` without its side effect: fTetWild leaves a debug file
     ``__tracked_surface.stl`` in the working directory, removed here unless it was there
     before (a user's run directory must not collect it)."""
-    import os
-
-    import pytetwild
+    import pytetwild    # deferred: start-up cost (~1.3 s to import)
 
     debris = "__tracked_surface.stl"
     had_debris = os.path.exists(debris)

@@ -635,7 +635,7 @@ class ShipSettings:
         """Read, check and repair the user ship of [ship.files] (no remeshing): every
         problem of the mesh is raised in one :class:`InputError` naming the keys that fix
         it. Returns ``(ShipGeometry, report)``."""
-        from shipthermal.geometry import read_ship
+        from shipthermal.geometry import ReadShipSettings, read_ship
 
         from shipthermal.geometry.limits import check_surface_size
         from shipthermal.geometry.outside import SLIVER_ANGLE_DEG, SLIVER_WARN_SHARE
@@ -643,13 +643,13 @@ class ShipSettings:
 
         f = self.files
         source = dict(f.parts) if f.parts else f.mesh
-        ship, report = read_ship(
-            source, units=f.units, part_map=f.part_map, draught=f.draught,
-            waterline_z=f.waterline_z, layups=self._layup_overrides(),
+        settings = ReadShipSettings(
+            draught=f.draught, waterline_z=f.waterline_z, layups=self._layup_overrides(),
             compartment_temperature=self._compartment_overrides(), clean=f.clean,
             fix_normals=f.fix_normals, repair=None if f.repair == "none" else f.repair,
             check_scale=f.check_scale, max_repair_change=f.max_repair_change,
             repair_edge_length=f.repair_edge_length)
+        ship, report = read_ship(source, units=f.units, part_map=f.part_map, settings=settings)
         if self.edge_length is not None:
             check_surface_size(float(face_areas(ship.vertices, ship.faces).sum()),
                                self.edge_length)
