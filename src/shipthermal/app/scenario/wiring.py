@@ -13,10 +13,11 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ...errors import InputError
-from .sections import (_RECORD_HINT, BackgroundSettings, CalendarSettings, ConvectionSettings,
-                       ImagingSettings, Location, MaterialSpec, OutputSettings, ShipSettings,
-                       SolverSettings, Time, WeatherSettings, _is_leap)
+from .imaging_sections import BackgroundSettings, CalendarSettings, ImagingSettings
+from .sections import MaterialSpec, ShipSettings
+from .site_sections import _RECORD_HINT, Location, Time, WeatherSettings, _is_leap
 from .spec import _BAD, ScenarioError, _Context, _opt, _section, _thaw, clock_seconds
+from .thermal_sections import ConvectionSettings, OutputSettings, SolverSettings
 from ...parameters import season_of_date
 from .values import (CLIMATE_MONTHS, CLIMATE_RADIUS_DEG, DALIAN, DAY, MAX_RECORD_DAYS, SEASONS,
                      SENSOR_BANDS)
