@@ -60,7 +60,7 @@ def sol_air_anchor(settings: dict | None = None, season: str = "summer") -> pd.D
     from ..environment import to_ship_frame
     from ..environment.climatology import climate_day
     from ..geometry import main_part
-    from .calibration import CALIBRATION_SETTINGS
+    from .calibration.model import CALIBRATION_SETTINGS
     from .scenario import default_scenario
     from .thermal import run_scenario_thermal
 

@@ -22,8 +22,10 @@ import time
 from pathlib import Path
 
 from ..errors import InputError, require
-from .rundir import (MANIFEST, _foreign_error, _foreign_names, _now, _remove,
-                     atomic_write_text, check_inputs, new_manifest, read_signature)
+from .rundir.inputs import check_inputs
+from .rundir.manifest import _now, atomic_write_text, new_manifest
+from .rundir.ownership import (MANIFEST, _foreign_error, _foreign_names, _remove,
+                               read_signature)
 
 __all__ = ["run_background"]
 

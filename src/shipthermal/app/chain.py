@@ -58,7 +58,8 @@ from ..units import DAY, HOUR
 from . import pipeline
 from .mooring import check_mooring_on
 from .report import is_report_file, write_report
-from .rundir import RunDir, scenario_inputs
+from .rundir.folder import RunDir
+from .rundir.inputs import scenario_inputs
 from .scenario import Scenario, default_scenario, load_scenario, loads_scenario
 from .scenario.values import SEASONS
 from .thermal import run_scenario_thermal, ship_thermal_history

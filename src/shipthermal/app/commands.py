@@ -19,7 +19,7 @@ from ..geometry.cad import CHECK_COLOURS
 from ..results import atomic_path
 from ..units import strip_units
 from .background_cmd import run_background
-from .calibration import run_calibrate_command
+from .calibration.command import run_calibrate_command
 from .console import EXIT_FAILURE, EXIT_OK, Console
 from .ensemble import (DISTRIBUTIONS, draw_members, ensemble_sweep_text, format_distribution,
                        load_ensemble_sweep, parse_distribution, write_ensemble)
@@ -28,11 +28,14 @@ from .pipeline import (QUICK_EDGE_LENGTH, QUICK_SCR_INTERVAL, build_background,
                        check_imaging_bands, demo_scenarios, frame_times, history_file,
                        image_cases, load_history, output_inputs, prepare, thermal_case)
 from .report import is_report_file, write_report
-from .rundir import (MANIFEST, MARKER, RunDir, atomic_write_text, changes_from_copy,
-                     is_complete, read_signature, scenario_inputs)
+from .rundir.folder import RunDir
+from .rundir.inputs import changes_from_copy, scenario_inputs
+from .rundir.manifest import atomic_write_text
+from .rundir.ownership import MANIFEST, MARKER, is_complete, read_signature
 from .scenario import (SEASONS, check_files, default_scenario, load_scenario,
                        schema_markdown)
-from .sweep import load_sweep, run_sweep, sweep_inputs
+from .sweep import run_sweep
+from .sweep_file import load_sweep, sweep_inputs
 
 
 # ---------------------------------------------------------------------------------------

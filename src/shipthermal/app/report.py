@@ -28,7 +28,8 @@ from ..errors import InputError
 from ..figures import band_label
 from ..units import latitude_text, longitude_text, strip_units, zone_text
 from .html_table import html_table
-from .rundir import MANIFEST, MARKER, atomic_write_text
+from .rundir.manifest import atomic_write_text
+from .rundir.ownership import MANIFEST, MARKER
 
 __all__ = ["write_report", "build_report", "is_report_file", "GENERATOR"]
 

@@ -75,7 +75,7 @@ class ValidationReport:
             lines += ["", "Thermal-crossover moments [local time] vs the paper (§5)", "",
                       self.crossovers.to_string(index=False)]
         if self.calibration:
-            from .calibration import validation_text
+            from .calibration.paper_case import validation_text
 
             lines += ["", validation_text(self.calibration)]
         s = self.settings
@@ -93,7 +93,7 @@ class ValidationReport:
                 df.to_csv(tmp, index=False, float_format="%.4f")
             paths[name] = out / f"{name}.csv"
         if self.calibration:
-            from .calibration import write_validation_tables
+            from .calibration.paper_case import write_validation_tables
 
             paths.update(write_validation_tables(self.calibration, out))
         with atomic_path(out / "validation.txt") as tmp:
@@ -210,7 +210,7 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
     calibration = {}
     if calibrate:
         from .anchor import sol_air_anchor
-        from .calibration import paper_calibration
+        from .calibration.paper_case import paper_calibration
 
         say("calibration of the paper's case (noon fitted, 07:00 / 08:00 held out)")
         calibration = paper_calibration(log=say, crossovers=crossovers)

@@ -76,8 +76,6 @@ class ConvectionSettings:
         return {**{p: self.model for p in ("hull", "deck", "superstructure")}, **self.parts}
 
 
-
-
 @dataclass(frozen=True)
 class OutputSettings:
     """[outputs]: where and what to write."""
