@@ -369,6 +369,7 @@ def cmd_crossover(args, con: Console) -> int:
 
 
 def cmd_validate(args, con: Console) -> int:
+    # imported here: an installation without the validation still runs every other command
     try:
         from .validation import validate
     except ImportError as exc:

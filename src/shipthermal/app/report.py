@@ -19,17 +19,21 @@ import base64
 import html
 import io
 import json
+import tempfile
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from ..diurnal import plot_part_means
 from ..errors import InputError
 from ..figures import band_label
 from ..units import latitude_text, longitude_text, strip_units, zone_text
+from . import report_day
 from .html_table import html_table
 from .rundir.manifest import atomic_write_text
 from .rundir.ownership import MANIFEST, MARKER
+from .scenario import load_scenario
 
 __all__ = ["write_report", "build_report", "is_report_file", "GENERATOR"]
 
@@ -99,6 +103,7 @@ def _kv(pairs) -> str:
 def _fig_png(fig) -> bytes:
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=100, bbox_inches="tight")
+    # lazy: matplotlib takes most of a second to import (measured)
     import matplotlib.pyplot as plt
 
     plt.close(fig)
@@ -108,6 +113,7 @@ def _fig_png(fig) -> bytes:
 def _energy_png(energy: pd.DataFrame, title: str) -> bytes:
     """Cumulative stored energy vs heat in through the boundary, and the per-step
     imbalance relative to the gross boundary heat."""
+    # lazy: matplotlib takes most of a second to import (measured)
     import matplotlib
 
     matplotlib.use("Agg")
@@ -133,10 +139,6 @@ def _energy_png(energy: pd.DataFrame, title: str) -> bytes:
 
 
 def _part_means_png(pm: pd.DataFrame, title: str) -> bytes:
-    import tempfile
-
-    from ..diurnal import plot_part_means
-
     with tempfile.TemporaryDirectory() as tmp:
         p = plot_part_means(pm, Path(tmp) / "pm.png", title=title)
         return p.read_bytes()
@@ -158,8 +160,6 @@ def _cases(run: Path, manifest: dict) -> dict:
 
 
 def _scenario_section(case: str, path: Path) -> str:
-    from .scenario import load_scenario
-
     try:
         sc = load_scenario(path)
     except InputError as exc:
@@ -231,7 +231,7 @@ def _thermal_section(case: str, d: Path, season: str | None) -> str:
             parts.append(_img(_energy_png(energy, f"{case}: energy bookkeeping over the whole "
                                           "run (spin-up included)"), "energy balance"))
     if pm is not None and "deck" in pm.columns and season in ("summer", "winter"):
-        try:
+        try:            # imported here: a report without the paper's values still renders
             from .paper import REFERENCE_DECK
         except ImportError:
             REFERENCE_DECK = {}
@@ -468,8 +468,6 @@ def build_report(run_dir, finishing: bool = False) -> str:
     if timings:
         run_html += "<h3>Wall time per stage [s]</h3>" + html_table(pd.DataFrame(
             [{"stage": k, "seconds": v} for k, v in timings.items()]), "{:.1f}")
-    from . import report_day
-
     answer = report_day.first_screen(run)
     section("day", "The day, hour by hour", report_day.day_section(run))
     section("run", "Run", run_html)
