@@ -19,7 +19,6 @@ from ..geometry.cad import CHECK_COLOURS
 from ..results import atomic_path
 from ..units import strip_units
 from .background_cmd import run_background
-from .calibration.command import run_calibrate_command
 from .console import EXIT_FAILURE, EXIT_OK, Console
 from .ensemble import (DISTRIBUTIONS, draw_members, ensemble_sweep_text, format_distribution,
                        load_ensemble_sweep, parse_distribution, write_ensemble)
@@ -393,6 +392,10 @@ def cmd_validate(args, con: Console) -> int:
 
 
 def cmd_calibrate(args, con: Console) -> int:
+    # lazy: the calibration loads the chain, the report and their figures (a tenth of a
+    # second of every command's start-up, measured)
+    from .calibration.command import run_calibrate_command
+
     return run_calibrate_command(args, con)
 
 
