@@ -144,7 +144,7 @@ def no_slow_work(monkeypatch):
                       (pipeline, "build_background"), (geometry, "build_ship_mesh"),
                       (sweep, "run_sweep"), (commands, "prepare"), (commands, "thermal_case"),
                       (commands, "build_background"), (commands, "build_ship_mesh"),
-                      (commands, "run_sweep"), (calibration, "calibrate"),
+                      (calibration, "calibrate"),
                       (calibration, "paper_calibration"), (validation, "validate"),
                       (landsat, "read_landsat_scene"), (bgb, "build_overpass")]:
         monkeypatch.setattr(mod, name, forbidden)

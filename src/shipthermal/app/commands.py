@@ -20,8 +20,6 @@ from ..results import atomic_path
 from ..units import strip_units
 from .background_cmd import run_background
 from .console import EXIT_FAILURE, EXIT_OK, Console
-from .ensemble import (DISTRIBUTIONS, draw_members, ensemble_sweep_text, format_distribution,
-                       load_ensemble_sweep, parse_distribution, write_ensemble)
 from .mooring import check_mooring_on
 from .pipeline import (QUICK_EDGE_LENGTH, QUICK_SCR_INTERVAL, build_background,
                        check_imaging_bands, demo_scenarios, frame_times, history_file,
@@ -33,8 +31,6 @@ from .rundir.manifest import atomic_write_text
 from .rundir.ownership import MANIFEST, MARKER, is_complete, read_signature
 from .scenario import (SEASONS, check_files, default_scenario, load_scenario,
                        schema_markdown)
-from .sweep import run_sweep
-from .sweep_file import load_sweep, sweep_inputs
 
 
 # ---------------------------------------------------------------------------------------
@@ -120,6 +116,9 @@ def _imaging(run, cases: dict, con: Console, step_s: float | None = None,
 def _print_crossovers(run_path: Path, con: Console, as_csv: bool = False) -> int:
     ens = run_path / "ensemble" / "crossovers.csv"
     if ens.is_file():                           # a weather ensemble: the distribution
+        # lazy: the sweep and ensemble modules, kept out of every command's start-up
+        from .ensemble import format_distribution
+
         df = strip_units(pd.read_csv(ens, dtype={"median": str, "p05": str, "p95": str}))
         con.out(df.to_csv(index=False).rstrip() if as_csv else
                 "crossover moments over the weather ensemble (median, 5-95 % range):\n"
@@ -449,6 +448,10 @@ def _check_background_files(opts: dict, args) -> None:
 
 
 def cmd_sweep(args, con: Console) -> int:
+    # lazy: the sweep modules, kept out of every command's start-up (measured)
+    from .sweep import run_sweep
+    from .sweep_file import load_sweep, sweep_inputs
+
     spec = load_sweep(args.sweep)
     out = Path(args.out or f"runs/sweep-{spec.name}")
     con.info(f"sweep {spec.name}: {len(spec.cases)} cases over {', '.join(spec.axis_names)}")
@@ -475,6 +478,12 @@ def cmd_sweep(args, con: Console) -> int:
 
 
 def cmd_ensemble(args, con: Console) -> int:
+    # lazy: the sweep and ensemble modules, kept out of every command's start-up (measured)
+    from .ensemble import (DISTRIBUTIONS, draw_members, ensemble_sweep_text, format_distribution,
+                           load_ensemble_sweep, parse_distribution, write_ensemble)
+    from .sweep import run_sweep
+    from .sweep_file import sweep_inputs
+
     dists = dict(DISTRIBUTIONS)
     for text in args.dist:
         d = parse_distribution(text)

@@ -29,7 +29,6 @@ from ..diurnal import plot_part_means
 from ..errors import InputError
 from ..figures import band_label
 from ..units import latitude_text, longitude_text, strip_units, zone_text
-from . import report_day
 from .html_table import html_table
 from .rundir.manifest import atomic_write_text
 from .rundir.ownership import MANIFEST, MARKER
@@ -468,6 +467,9 @@ def build_report(run_dir, finishing: bool = False) -> str:
     if timings:
         run_html += "<h3>Wall time per stage [s]</h3>" + html_table(pd.DataFrame(
             [{"stage": k, "seconds": v} for k, v in timings.items()]), "{:.1f}")
+    # lazy: the day's pictures, 10 ms of every command's start-up (measured)
+    from . import report_day
+
     answer = report_day.first_screen(run)
     section("day", "The day, hour by hour", report_day.day_section(run))
     section("run", "Run", run_html)
