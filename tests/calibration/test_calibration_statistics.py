@@ -1,33 +1,24 @@
-"""The statistics of `calibrate` on a model whose answer is known in closed form: a linear
-response of each measurement to the unknowns stands in for the thermal model, so the
-estimate, its covariance, the leave-one-out errors and the flags can be checked against
-ordinary weighted least squares computed independently with numpy (fast: no thermal run)."""
+"""The statistics of `calibrate` (`fit_unknowns`) on a model whose answer is known in closed
+form: a linear response of each measurement to the unknowns stands in for the thermal model,
+so the estimate, its covariance, the leave-one-out errors and the flags can be checked
+against ordinary weighted least squares computed independently with numpy (fast: no
+thermal run)."""
 
 import numpy as np
 import pandas as pd
 import pytest
 
-import shipthermal.app.calibration as cal
-from shipthermal.app.scenario import default_scenario
+from shipthermal.app.calibration import Problem, fit_unknowns, parse_unknown
 
 KEYS = ("ship.solar_absorptivity.deck", "weather.wind_speed_offset")
 DEFAULTS = np.array([0.85, 0.0])
 
 
 class _Linear:
-    """y = c + A x for the rows of one case (x = the unknowns in KEYS order)."""
+    """y = c + A x for every row (x = the unknowns in KEYS order)."""
 
     A = None
     c = None
-
-    def __init__(self, name, scenario, rows, progress=False):
-        self.scenario, self.rows, self.runs, self.days = scenario, rows, 0, []
-
-    def predict(self, changes):
-        self.runs += 1
-        x = np.array([changes.get(k, d) for k, d in zip(KEYS, DEFAULTS)])
-        idx = self.rows.index.to_numpy()
-        return self.c[idx] + self.A[idx] @ x
 
 
 def _table(n, sigma, split=None):
@@ -36,9 +27,22 @@ def _table(n, sigma, split=None):
                          "split": split or ["fit"] * n, "line": np.arange(n) + 2})
 
 
+def _fit(rows, unknowns, holdout="split"):
+    """`fit_unknowns` on the linear model, started as `calibrate` starts (the defaults,
+    clipped into the bounds)."""
+    unknowns = [parse_unknown(u) for u in unknowns]
+    lo = np.array([u.lower for u in unknowns])
+    hi = np.array([u.upper for u in unknowns])
+    starts = [min(max(d, u.lower), u.upper) for d, u in zip(DEFAULTS, unknowns)]
+    problem = Problem(lambda x: _Linear.c + _Linear.A @ x, rows["temperature_K"].to_numpy(),
+                      rows["sigma_K"].to_numpy(), lo, hi)
+    return fit_unknowns(problem, rows, unknowns, starts, list(DEFAULTS),
+                        (rows["split"] == "fit").to_numpy(), holdout=holdout,
+                        sigma_known=bool(rows.attrs.get("sigma_given", False)))
+
+
 @pytest.fixture
-def linear(monkeypatch):
-    monkeypatch.setattr(cal, "_Case", _Linear)
+def linear():
     rng = np.random.default_rng(3)
     n = 7
     _Linear.A = np.column_stack([rng.uniform(20, 40, n), rng.uniform(-4, -1, n)])
@@ -54,8 +58,7 @@ def test_estimate_covariance_and_loo_match_weighted_least_squares(linear):
     rows = _table(n, sigma)
     rows["temperature_K"] = y
     rows.attrs["sigma_given"] = True
-    res = cal.calibrate(rows, [f"{KEYS[0]}=0.2:0.95", f"{KEYS[1]}=-3:3"],
-                        {"summer": default_scenario("summer")}, settings={}, holdout="loo")
+    res = _fit(rows, [f"{KEYS[0]}=0.2:0.95", f"{KEYS[1]}=-3:3"], holdout="loo")
     # independent: weighted least squares with numpy
     W = 1.0 / sigma
     X, b = _Linear.A * W[:, None], (y - _Linear.c) * W
@@ -84,8 +87,7 @@ def test_unscaled_sigma_uses_residual_variance(linear):
     y = _Linear.c + _Linear.A @ np.array([0.6, 1.0]) + rng.normal(0, 2.0, n)
     rows = _table(n, 1.0)
     rows["temperature_K"] = y
-    res = cal.calibrate(rows, [f"{KEYS[0]}=0.2:0.95", f"{KEYS[1]}=-3:3"],
-                        {"summer": default_scenario("summer")}, settings={})
+    res = _fit(rows, [f"{KEYS[0]}=0.2:0.95", f"{KEYS[1]}=-3:3"])
     X, b = _Linear.A, y - _Linear.c
     x_ls = np.linalg.lstsq(X, b, rcond=None)[0]
     s2 = np.sum((X @ x_ls - b) ** 2) / (n - 2)
@@ -101,8 +103,7 @@ def test_flags_bound_and_unidentifiable(linear):
     rows = _table(n, 1.0)
     rows["temperature_K"] = _Linear.c + 10.0 * 5.0
     rows.attrs["sigma_given"] = True
-    res = cal.calibrate(rows, [f"{KEYS[0]}=0.2:0.95", f"{KEYS[1]}=-3:3"],
-                        {"summer": default_scenario("summer")}, settings={})
+    res = _fit(rows, [f"{KEYS[0]}=0.2:0.95", f"{KEYS[1]}=-3:3"])
     text = " ".join(res.flags)
     assert "on its upper bound" in text
     assert "not identifiable" in text or "correlated" in text

@@ -130,7 +130,8 @@ def no_slow_work(monkeypatch):
     import imaging.background.background as bgb
     import imaging.background.landsat as landsat
 
-    import shipthermal.app.calibration as calibration
+    import shipthermal.app.calibration.command as calibration
+    import shipthermal.app.commands as commands
     import shipthermal.app.pipeline as pipeline
     import shipthermal.app.sweep as sweep
     import shipthermal.app.validation as validation
@@ -141,7 +142,9 @@ def no_slow_work(monkeypatch):
 
     for mod, name in [(pipeline, "prepare"), (pipeline, "thermal_case"),
                       (pipeline, "build_background"), (geometry, "build_ship_mesh"),
-                      (sweep, "run_sweep"), (calibration, "calibrate"),
+                      (sweep, "run_sweep"), (commands, "prepare"), (commands, "thermal_case"),
+                      (commands, "build_background"), (commands, "build_ship_mesh"),
+                      (calibration, "calibrate"),
                       (calibration, "paper_calibration"), (validation, "validate"),
                       (landsat, "read_landsat_scene"), (bgb, "build_overpass")]:
         monkeypatch.setattr(mod, name, forbidden)

@@ -7,8 +7,10 @@
 * :mod:`.thermal` — a scenario's thermal stage (:func:`shipthermal.diurnal.run_diurnal`)
   and its hand-over to the imaging stage;
 * :mod:`.pipeline` — the stages of a run (mesh, thermal, background, imaging);
-* :mod:`.cli` — the ``shipthermal`` command line; :mod:`.sweep`, :mod:`.ensemble` —
-  parameter sweeps and weather ensembles on dask.distributed;
+* :mod:`.cli` — the ``shipthermal`` command line (parser, entry point), :mod:`.commands`
+  — its subcommands, :mod:`.console` — where its messages go, its exit codes;
+  :mod:`.sweep`, :mod:`.sweep_file`, :mod:`.ensemble` — parameter sweeps (the sweep file,
+  the runs) and weather ensembles on dask.distributed;
 * :mod:`.rundir` — run folders (lock, manifest, resume); :mod:`.report`,
   :mod:`.report_day` — the HTML report;
 * :mod:`.validation`, :mod:`.calibration`, :mod:`.anchor`, :mod:`.paper` — the paper's

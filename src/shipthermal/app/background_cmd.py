@@ -22,8 +22,10 @@ import time
 from pathlib import Path
 
 from ..errors import InputError, require
-from .rundir import (MANIFEST, _foreign_error, _foreign_names, _now, _remove,
-                     atomic_write_text, check_inputs, new_manifest, read_signature)
+from .rundir.inputs import check_inputs
+from .rundir.manifest import _now, atomic_write_text, new_manifest
+from .rundir.ownership import (MANIFEST, _foreign_error, _foreign_names, _remove,
+                               read_signature)
 
 __all__ = ["run_background"]
 
@@ -143,6 +145,7 @@ def run_background(out, mtl, roi, *, dem=None, met=None, band_files=None, bounds
     require((dem is None) == (met is None), "--dem/--met", f"dem={dem}, met={met}",
             "go together: both give the hourly background, neither the overpass products only")
     bounds = _parse_bounds(bounds)
+    # lazy: imaging.background loads scikit-learn, pykrige and scipy.stats (seconds, measured)
     from imaging.background import build_background_from_files
     from imaging.background.background import build_overpass
     from imaging.background.landsat import read_landsat_scene

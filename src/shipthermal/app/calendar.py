@@ -39,7 +39,7 @@ from imaging.overpass import (listed_overpasses, satellite, satellite_overpasses
 from ..errors import InputError
 from .pipeline import (build_background, check_imaging_bands, imaging_scenario, load_history,
                        record_span_s, thermal_case)
-from .rundir import atomic_write_text
+from .rundir.manifest import atomic_write_text
 
 __all__ = ["calendar_inputs", "calendar_overpasses", "calendar_span_s", "run_calendar",
            "write_calendar", "year_overpasses", "year_scenarios"]

@@ -58,7 +58,8 @@ from ..units import DAY, HOUR
 from . import pipeline
 from .mooring import check_mooring_on
 from .report import is_report_file, write_report
-from .rundir import RunDir, scenario_inputs
+from .rundir.folder import RunDir
+from .rundir.inputs import scenario_inputs
 from .scenario import Scenario, default_scenario, load_scenario, loads_scenario
 from .scenario.values import SEASONS
 from .thermal import run_scenario_thermal, ship_thermal_history
@@ -396,6 +397,7 @@ class SimulationResult:
             [m]: x forward, y to port, z up from the waterline); ``attrs``: ``units``,
             ``time`` (ISO, local).
         """
+        # lazy: xarray takes most of a second to import (measured)
         import xarray as xr
 
         s = self.seconds(when)
@@ -415,6 +417,7 @@ class SimulationResult:
     def surface_mesh(self, when):
         """The ship's outer surface at a time as a :class:`pyvista.PolyData` with the cell
         array ``temperature_K`` (for ParaView: ``.save("ship.vtp")``)."""
+        # lazy: pyvista takes seconds to import (measured)
         import pyvista as pv
 
         h = self.history
@@ -452,6 +455,7 @@ class SimulationResult:
 
     def _render_series(self, progress: bool | None = None) -> dict:
         if self._series is None:
+            # lazy: the renderer loads the ray tracer and the atmosphere (seconds, measured)
             from imaging.experiment import render_series, series_times
 
             sc = self.scenario
@@ -559,6 +563,7 @@ class SimulationResult:
             ``spatial_ref`` (the CRS as WKT, CF ``grid_mapping``); ``attrs``: ``units``,
             ``band``, ``crs_wkt``, sun position, scenario.
         """
+        # lazy: xarray and the renderer take seconds to import (measured)
         import xarray as xr
         from imaging.experiment import render_series
 
@@ -586,6 +591,7 @@ class SimulationResult:
             fr = sr.frames[float(s)]
             a = np.asarray(getattr(fr, attr), dtype=np.float32)
             if quantity == "brightness_temperature":
+                # lazy: imaging.radiometry loads scipy.special (0.4 s, measured)
                 from imaging.radiometry import brightness_temperature
                 from imaging.spectral_bands import user_bands
 
@@ -665,6 +671,7 @@ class SimulationResult:
         return out
 
     def _write_imaging(self, run, case: str, series: dict) -> None:
+        # lazy: the background's products and the renderer take seconds to import (measured)
         from imaging.background.outputs import write_outputs
         from imaging.experiment import experiment_products
 

@@ -36,6 +36,10 @@ import pandas as pd
 
 from ..errors import InputError
 from ..figures import OKABE_ITO, band_label
+from ..results import atomic_path, save_png
+from .rundir.manifest import atomic_write_text
+from .scenario import ScenarioError, loads_scenario
+from .sweep_file import load_sweep
 
 __all__ = ["DISTRIBUTIONS", "PERCENTILES", "Distribution", "draw_members",
            "ensemble_sweep_text", "format_distribution", "load_ensemble_sweep",
@@ -62,6 +66,7 @@ class Distribution:
 
     def ppf(self, u: np.ndarray) -> np.ndarray:
         """Quantile function at ``u`` in (0, 1) (scipy.stats)."""
+        # lazy: scipy.stats takes over a second to import (measured)
         from scipy import stats
 
         if self.kind == "uniform":
@@ -136,6 +141,7 @@ def draw_members(dists, members: int, seed: int = 0) -> pd.DataFrame:
     """``members`` draws of every distribution: a Latin hypercube (scipy.stats.qmc, fixed
     ``seed``) mapped through each quantile function; values rounded to 4 decimals (they
     are written into scenario files). One row per member, one column per scenario key."""
+    # lazy: scipy.stats takes over a second to import (measured)
     from scipy.stats import qmc
 
     if not isinstance(members, int) or members < 2:
@@ -180,9 +186,6 @@ def ensemble_sweep_text(base: str, draws: pd.DataFrame, seasons=None, fixed=None
 def load_ensemble_sweep(text: str):
     """Validate the ensemble's sweep (every case's scenario) without writing anything
     beside the inputs: the text goes through a temporary file."""
-    from .scenario import ScenarioError
-    from .sweep import load_sweep
-
     with tempfile.TemporaryDirectory(prefix="shipthermal-ensemble-") as tmp:
         path = Path(tmp) / "ensemble.toml"
         path.write_text(text, encoding="utf-8")
@@ -205,8 +208,6 @@ def _hhmm(h: float) -> str:
 def member_crossovers(spec, cases_dir, members: int) -> tuple:
     """Long tables from the case files: crossovers (season, member, band, direction,
     order, time_h) and SCR curves (season, member, band, time_h, scr)."""
-    from .scenario import loads_scenario
-
     rows, curves = [], []
     for case in spec.cases:
         f = Path(cases_dir) / f"{case.id}.json"
@@ -267,12 +268,11 @@ def plot_ensemble(cross: pd.DataFrame, dist: pd.DataFrame, band: pd.DataFrame, p
                   title: str = "") -> Path:
     """PNG: per band (rows) the member crossover times per season with median and 5–95 %
     range (left) and the SCR median with its 5–95 % band per season (right)."""
+    # lazy: matplotlib takes most of a second to import (measured)
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from ..results import save_png
 
     bands = sorted(set(cross["band"]) | set(band["band"] if len(band) else []))
     seasons = sorted(set(cross["season"]) | set(band["season"] if len(band) else []))
@@ -331,9 +331,6 @@ def plot_ensemble(cross: pd.DataFrame, dist: pd.DataFrame, band: pd.DataFrame, p
 def write_ensemble(spec, out_dir, draws: pd.DataFrame, dists, seed: int,
                    seasons, quick: bool) -> dict:
     """After the sweep: the ensemble files in ``out_dir/ensemble`` (see the module)."""
-    from ..results import atomic_path
-    from .rundir import atomic_write_text
-
     out = Path(out_dir)
     ens = out / "ensemble"
     ens.mkdir(parents=True, exist_ok=True)
@@ -343,8 +340,6 @@ def write_ensemble(spec, out_dir, draws: pd.DataFrame, dists, seed: int,
     for case in spec.cases:
         f = out / "cases" / f"{case.id}.json"
         if f.is_file() and json.loads(f.read_text(encoding="utf-8")).get("status") == "ok":
-            from .scenario import loads_scenario
-
             s = loads_scenario(case.toml).time.season
             ok[s] = ok.get(s, 0) + 1
     dist, band = summarise(cross, curves, ok)

@@ -18,12 +18,16 @@ import functools
 
 import numpy as np
 
+from imaging.parameters import SYNTHETIC_PIXEL_M
+
 from ..errors import InputError
+from ..geometry import ship as gship
 
 __all__ = ["check_mooring", "check_mooring_on", "builtin_class_map", "scenario_ship_outline"]
 
 
 def _placement(scenario, shape, resolution_m):
+    # lazy: imaging's scene loads the renderer's geometry (0.3-0.5 s, measured)
     from imaging.scene import ShipPlacement
 
     ny, nx = shape
@@ -58,6 +62,7 @@ def check_mooring(scenario, ship, class_map, resolution_m: float) -> list:
         ``ship.mooring_position`` when the footprint reaches more than half a pixel into
         anything but water, or leaves the scene.
     """
+    # lazy: imaging's scene loads the renderer's geometry (0.3-0.5 s, measured)
     from imaging.mooring import clear_shift, footprint_overlap, hull_outline
 
     outline = hull_outline(ship.vertices, ship.faces, ship.face_part, ship.part_names)
@@ -90,6 +95,7 @@ def check_mooring(scenario, ship, class_map, resolution_m: float) -> list:
 def check_mooring_on(scenario, ship, background) -> list:
     """:func:`check_mooring` on the class map of a built background (a PortBackground or
     an imaging.scene.GriddedBackground: what the imaging stage renders)."""
+    # lazy: imaging's scene loads the renderer's geometry (0.3-0.5 s, measured)
     from imaging.scene import as_scene_background
 
     bg = as_scene_background(background)
@@ -98,6 +104,7 @@ def check_mooring_on(scenario, ship, background) -> list:
 
 @functools.lru_cache(maxsize=4)
 def _synthetic_classes(seed: int, size_px: int, lat: float, lon: float) -> np.ndarray:
+    # lazy: imaging.background loads scikit-learn, pykrige and scipy.stats (seconds, measured)
     from imaging.background.synthetic import synthetic_surface
 
     return np.asarray(synthetic_surface(seed, size_px, lat, lon)["class_map"])
@@ -106,8 +113,6 @@ def _synthetic_classes(seed: int, size_px: int, lat: float, lon: float) -> np.nd
 def builtin_class_map(scenario):
     """``(class_map, resolution_m)`` of the built-in synthetic port of a scenario, or None
     for a background from files (its classes come from the Landsat classification)."""
-    from imaging.parameters import SYNTHETIC_PIXEL_M
-
     bgs = scenario.background
     if bgs.source != "builtin":
         return None
@@ -121,8 +126,6 @@ def scenario_ship_outline(scenario):
     its length: its plan outline does not depend on the mesh), a user ship as read."""
     s = scenario.ship
     if s.files is None:
-        from shipthermal.geometry import ship as gship
-
         params = getattr(gship, f"{s.builtin}_parameters")(**s.parameters.given())
         return gship.build_ship(params, 0.05 * params.length)
     ship, _ = s.read_files()

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import time as _time
 from pathlib import Path
 
@@ -181,8 +182,6 @@ def write_thermal(result, out_dir, scenario, progress: bool = False) -> dict:
 def _link_or_copy(src, dst) -> Path:
     """``dst`` as a hard link to ``src`` (no copy of a year's outputs), else a copy (another
     file system); atomically either way."""
-    import shutil
-
     dst = Path(dst)
     with atomic_path(dst) as tmp:
         tmp.unlink()
@@ -341,9 +340,11 @@ def build_background(scenario, progress: bool = False):
             end_s=kwargs["end_s"], residual=kwargs["residual"],
             classes=apply_overrides(kwargs["classes"]), progress=progress))
     if kind == "builtin":
+        # lazy: imaging.background loads scikit-learn, pykrige and scipy.stats (seconds)
         from imaging.background import build_port_background
 
         return build_port_background(**kwargs)
+    # lazy: imaging.background loads scikit-learn, pykrige and scipy.stats (seconds)
     from imaging.background import build_background_from_files
 
     return _reading_rasters(scenario, lambda: build_background_from_files(
@@ -353,6 +354,7 @@ def build_background(scenario, progress: bool = False):
 def _reading_rasters(scenario, build):
     """``build()``, with GDAL's failures to open a raster the scenario names reported as a
     user error on its key rather than as a crash."""
+    # lazy: rasterio takes half a second to import (measured)
     from rasterio.errors import RasterioIOError
 
     bgs = scenario.background

@@ -19,16 +19,20 @@ import base64
 import html
 import io
 import json
+import tempfile
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from ..diurnal import plot_part_means
 from ..errors import InputError
 from ..figures import band_label
 from ..units import latitude_text, longitude_text, strip_units, zone_text
 from .html_table import html_table
-from .rundir import MANIFEST, MARKER, atomic_write_text
+from .rundir.manifest import atomic_write_text
+from .rundir.ownership import MANIFEST, MARKER
+from .scenario import load_scenario
 
 __all__ = ["write_report", "build_report", "is_report_file", "GENERATOR"]
 
@@ -98,6 +102,7 @@ def _kv(pairs) -> str:
 def _fig_png(fig) -> bytes:
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=100, bbox_inches="tight")
+    # lazy: matplotlib takes most of a second to import (measured)
     import matplotlib.pyplot as plt
 
     plt.close(fig)
@@ -107,6 +112,7 @@ def _fig_png(fig) -> bytes:
 def _energy_png(energy: pd.DataFrame, title: str) -> bytes:
     """Cumulative stored energy vs heat in through the boundary, and the per-step
     imbalance relative to the gross boundary heat."""
+    # lazy: matplotlib takes most of a second to import (measured)
     import matplotlib
 
     matplotlib.use("Agg")
@@ -132,10 +138,6 @@ def _energy_png(energy: pd.DataFrame, title: str) -> bytes:
 
 
 def _part_means_png(pm: pd.DataFrame, title: str) -> bytes:
-    import tempfile
-
-    from ..diurnal import plot_part_means
-
     with tempfile.TemporaryDirectory() as tmp:
         p = plot_part_means(pm, Path(tmp) / "pm.png", title=title)
         return p.read_bytes()
@@ -157,8 +159,6 @@ def _cases(run: Path, manifest: dict) -> dict:
 
 
 def _scenario_section(case: str, path: Path) -> str:
-    from .scenario import load_scenario
-
     try:
         sc = load_scenario(path)
     except InputError as exc:
@@ -230,7 +230,7 @@ def _thermal_section(case: str, d: Path, season: str | None) -> str:
             parts.append(_img(_energy_png(energy, f"{case}: energy bookkeeping over the whole "
                                           "run (spin-up included)"), "energy balance"))
     if pm is not None and "deck" in pm.columns and season in ("summer", "winter"):
-        try:
+        try:            # imported here: a report without the paper's values still renders
             from .paper import REFERENCE_DECK
         except ImportError:
             REFERENCE_DECK = {}
@@ -467,6 +467,7 @@ def build_report(run_dir, finishing: bool = False) -> str:
     if timings:
         run_html += "<h3>Wall time per stage [s]</h3>" + html_table(pd.DataFrame(
             [{"stage": k, "seconds": v} for k, v in timings.items()]), "{:.1f}")
+    # lazy: the day's pictures, 10 ms of every command's start-up (measured)
     from . import report_day
 
     answer = report_day.first_screen(run)

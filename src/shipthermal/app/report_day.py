@@ -41,6 +41,7 @@ import pandas as pd
 from imaging.parameters import SENSOR_BANDS
 
 from ..figures import BAND_STYLES, OKABE_ITO, band_label, unit_label
+from ..geometry.surface_maps import OBLIQUE_VIEW_DEG, project
 from ..units import latitude_text, longitude_text, strip_units, zone_text
 from .pipeline import history_file, load_history
 
@@ -408,6 +409,7 @@ def first_screen(run: Path) -> str:
 
 
 def _colourise(img: np.ndarray, vmin: float, vmax: float, cmap: str = "inferno"):
+    # lazy: matplotlib takes most of a second to import (measured)
     from matplotlib import colormaps
 
     x = np.clip((img - vmin) / (vmax - vmin if vmax > vmin else 1.0), 0.0, 1.0)
@@ -417,6 +419,7 @@ def _colourise(img: np.ndarray, vmin: float, vmax: float, cmap: str = "inferno")
 def _png_rgb(rgb: np.ndarray, zoom: int = 1, boxes=()) -> bytes:
     """PNG of an RGB array enlarged by ``zoom`` (nearest) with rectangles drawn on it;
     ``boxes``: ((row0, row1, col0, col1), colour) in source pixels, half-open."""
+    # lazy: Pillow, only for the pictures of an imaged run
     from PIL import Image, ImageDraw
 
     im = Image.fromarray(rgb).resize((rgb.shape[1] * zoom, rgb.shape[0] * zoom),
@@ -434,6 +437,7 @@ def _colourbar_png(vmin: float, vmax: float, label: str, cmap: str = "inferno",
                    second=None) -> bytes:
     """A horizontal colour bar [label]; ``second``: (function, label) of a second scale
     drawn on the top edge (e.g. apparent temperature)."""
+    # lazy: matplotlib takes most of a second to import (measured)
     import matplotlib
 
     matplotlib.use("Agg")
@@ -467,6 +471,7 @@ def _nearest(times_h: np.ndarray, hour: float) -> int:
 def _image_frames(nc: Path, band: str, hours=SLIDER_HOURS):
     """(list of PNG data URIs per slider time ``hours``, colour-bar PNG, caption) of one
     series."""
+    # lazy: xarray and imaging.metrics (scipy.interpolate) take seconds to import (measured)
     import xarray as xr
 
     from imaging.metrics import background_window
@@ -524,6 +529,7 @@ def _image_frames(nc: Path, band: str, hours=SLIDER_HOURS):
 def _surface_frames(case_dir: Path, title: str, hours=SLIDER_HOURS, zone: str = ""):
     """(PNG data URIs per slider time ``hours``, caption) of the ship coloured by its surface
     temperature, one colour scale over the day (a weather record's first day)."""
+    # lazy: matplotlib takes most of a second to import (measured)
     import matplotlib
 
     matplotlib.use("Agg")
@@ -537,8 +543,6 @@ def _surface_frames(case_dir: Path, title: str, hours=SLIDER_HOURS, zone: str = 
     # only the rows shown (a record's are read from its file)
     temp = {k: np.asarray(hist.face_temperature[k], dtype=float) for k in set(ks)}
     vmin, vmax = np.nanpercentile(np.stack([temp[k] for k in ks]), [0.5, 99.5])
-    from ..geometry.surface_maps import OBLIQUE_VIEW_DEG, project
-
     u, w, depth = project(v, *OBLIQUE_VIEW_DEG)
     order = np.argsort(depth[f].mean(axis=1))           # far faces first (painter's order)
     polys = np.stack([u[f], w[f]], axis=-1)[order]

@@ -26,7 +26,8 @@ Keys may also be written as nested tables (``ship.heading = [...]`` without quot
 changes are applied to the *raw* base scenario before validation, so season-dependent
 defaults follow (``time.season = "winter"`` on the built-in base also moves the date, the
 map and image times and the compartment temperatures to the winter defaults). Every case
-is validated before anything runs: a bad value is a user error listing all problems.
+is validated before anything runs: a bad value is a user error listing all problems
+(:mod:`.sweep_file` reads the file).
 
 Each case runs pinned to one thread (numba, BLAS, OpenMP: :data:`CASE_THREADS`), as one
 dask task (its thermal stage, then its imaging stage; the worker builds each port
@@ -46,17 +47,12 @@ and CPU seconds, retries and worker.
 
 from __future__ import annotations
 
-import copy
-import hashlib
-import itertools
 import json
-import math
 import os
 import socket
 import time as _time
 import traceback
-import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -67,223 +63,14 @@ from ..figures import OKABE_ITO, band_label
 from ..results import atomic_path, save_png
 from ..units import HOUR
 from . import pipeline
-from .pipeline import check_imaging_bands, frame_times, imaging_scenario
-from .rundir import atomic_write_text, named_files
-from .scenario import SEASONS, ScenarioError, load_scenario, loads_scenario
-from .scenario.reading import read_toml
+from .pipeline import frame_times, imaging_scenario
+from .rundir.manifest import atomic_write_text
+from .scenario import loads_scenario
+from .sweep_file import SweepCase, SweepSpec, load_sweep, sweep_inputs
 from .thermal import run_scenario_thermal, ship_thermal_history
 
 __all__ = ["SweepSpec", "SweepCase", "load_sweep", "run_case", "run_sweep", "SweepResult",
            "plot_table", "default_workers", "CASE_THREADS", "sweep_inputs"]
-
-STAGES = ("thermal", "imaging")
-_TOP_KEYS = ("name", "description", "base", "stages", "set", "axes")
-
-
-@dataclass(frozen=True)
-class SweepCase:
-    """One case: its id, position in the product, changes and scenario (TOML text)."""
-
-    id: str
-    index: int
-    changes: dict
-    labels: dict
-    toml: str
-    stages: tuple
-
-    def spec(self) -> dict:
-        """What a worker needs (plain data: pickles and serialises everywhere)."""
-        return {"id": self.id, "index": self.index, "changes": self.changes,
-                "labels": self.labels, "toml": self.toml, "stages": list(self.stages)}
-
-
-@dataclass(frozen=True)
-class SweepSpec:
-    """A loaded and validated sweep file."""
-
-    name: str
-    source: str
-    text: str
-    base: str
-    stages: tuple
-    fixed: dict
-    axes: dict
-    cases: tuple = field(repr=False)
-
-    @property
-    def axis_names(self) -> list:
-        return list(self.axes)
-
-
-def _flatten(node, prefix: str, out: dict, leaf_lists: bool) -> None:
-    """Nested tables → dotted keys. With ``leaf_lists`` (axes), a list ends a key."""
-    for k, v in node.items():
-        key = f"{prefix}.{k}" if prefix else str(k)
-        if isinstance(v, dict):
-            _flatten(v, key, out, leaf_lists)
-        else:
-            out[key] = v
-
-
-def _set_dotted(raw: dict, key: str, value, where: str) -> None:
-    node = raw
-    parts = key.split(".")
-    for p in parts[:-1]:
-        nxt = node.setdefault(p, {})
-        if not isinstance(nxt, dict):
-            raise InputError(where, key, f"cannot set below {p!r}: it is a value, not a table")
-        node = nxt
-    node[parts[-1]] = value
-
-
-def _show(v) -> str:
-    if isinstance(v, float):
-        return f"{v:g}"
-    if isinstance(v, (list, tuple)):
-        return "+".join(_show(x) for x in v)
-    return str(v)
-
-
-def _digest(text: str) -> str:
-    return hashlib.sha1(text.encode("utf-8")).hexdigest()[:12]
-
-
-def _first_error(reader, path, field):
-    """A reader's :class:`ScenarioError` of one problem as a plain one-line InputError."""
-    try:
-        return reader(path, field)
-    except ScenarioError as exc:
-        e = exc.errors[0]
-        raise InputError(e.field, e.value, e.allowed, e.fix) from None
-
-
-def load_sweep(path) -> SweepSpec:
-    """Read and validate a sweep file (every case's scenario is validated here).
-
-    Raises
-    ------
-    InputError
-        A malformed file, an unknown top-level key, an empty axis, a base that cannot be
-        read; or a :class:`~shipthermal.app.scenario.ScenarioError` naming the case and every
-        problem of its scenario.
-    """
-    path = Path(path)
-    text, raw = _first_error(read_toml, path, "sweep")
-    for k in raw:
-        if k not in _TOP_KEYS:
-            raise InputError(f"sweep.{k}", raw[k], f"unknown key; allowed: {', '.join(_TOP_KEYS)}")
-    name = raw.get("name", path.stem)
-    if (not isinstance(name, str) or not name or any(c in name for c in "/\\")
-            or name.startswith(".")):
-        raise InputError("sweep.name", name, "must be a non-empty name without slashes")
-    stages = raw.get("stages", list(STAGES))
-    if (not isinstance(stages, list) or not stages or any(s not in STAGES for s in stages)
-            or "thermal" not in stages):
-        raise InputError("sweep.stages", stages, "must be ['thermal'] or ['thermal', 'imaging']")
-    base = raw.get("base", "summer")
-    if not isinstance(base, str) or not base:
-        raise InputError("sweep.base", base, "must be 'summer', 'winter' or a scenario file path")
-    base_dir = path.parent.resolve()
-    if base in SEASONS:
-        base_raw = {"time": {"season": base}}
-    else:
-        bp = Path(os.path.expanduser(base))
-        bp = bp if bp.is_absolute() else base_dir / bp
-        if not bp.is_file():
-            raise InputError("sweep.base", base, "must be 'summer', 'winter' or an existing "
-                             "scenario file", f"Not found: {bp} (relative to the sweep file)")
-        _, base_raw = _first_error(read_toml, bp, "sweep.base")
-        base_dir = bp.parent.resolve()
-    fixed: dict = {}
-    if "set" in raw:
-        if not isinstance(raw["set"], dict):
-            raise InputError("sweep.set", raw["set"], "must be a table of dotted scenario keys")
-        _flatten(raw["set"], "", fixed, False)
-    axes_raw = raw.get("axes")
-    if not isinstance(axes_raw, dict) or not axes_raw:
-        raise InputError("sweep.axes", axes_raw, "must be a non-empty table: one list of "
-                         "values per dotted scenario key", 'e.g. "ship.heading" = [0, 90]')
-    axes: dict = {}
-    flat: dict = {}
-    _flatten(axes_raw, "", flat, True)
-    for key, values in flat.items():
-        if not isinstance(values, list) or not values:
-            raise InputError(f"sweep.axes.{key}", values, "must be a non-empty list of values")
-        if all(isinstance(v, dict) for v in values):
-            groups = []
-            for v in values:
-                g: dict = {}
-                _flatten(v, "", g, False)
-                if not g:
-                    raise InputError(f"sweep.axes.{key}", v, "each entry must change at least "
-                                     "one key")
-                groups.append(g)
-            axes[key] = groups
-        elif any(isinstance(v, dict) for v in values):
-            raise InputError(f"sweep.axes.{key}", values, "must hold plain values or only "
-                             "tables (a grouped axis), not both")
-        else:
-            axes[key] = [{key: v} for v in values]
-        seen: dict = {}
-        for i, g in enumerate(axes[key]):
-            sig = json.dumps(g, sort_keys=True)
-            if sig in seen:
-                raise InputError(f"sweep.axes.{key}", values, f"must not repeat a value: "
-                                 f"entries {seen[sig]} and {i} are the same case",
-                                 "Remove the repeated value")
-            seen[sig] = i
-    owner: dict = {}
-    for axis, groups in axes.items():            # a key is an axis or fixed, once
-        for k in dict.fromkeys(k for g in groups for k in g):
-            if k in fixed:
-                raise InputError(f"sweep.axes.{axis}", k, "is also fixed in [set]: a key is "
-                                 "either fixed for every case or an axis, not both",
-                                 f"Remove \"{k}\" from [set] or from [axes]")
-            if k in owner:
-                raise InputError(f"sweep.axes.{axis}", k, f"is also changed by the axis "
-                                 f"{owner[k]!r}: each key may belong to one axis",
-                                 "Merge the two axes into one grouped axis")
-            owner[k] = axis
-    n = math.prod(len(v) for v in axes.values())
-    if n > 10000:
-        raise InputError("sweep.axes", f"{n} cases", "must give at most 10000 cases")
-    cases, problems = [], []
-    for index, combo in enumerate(itertools.product(*axes.values())):
-        case_raw = copy.deepcopy(base_raw)      # TOML dates and times stay as they are
-        changes: dict = {}
-        for k, v in fixed.items():
-            _set_dotted(case_raw, k, v, "sweep.set")
-        labels = {}
-        for axis, group in zip(axes, combo):
-            for k, v in group.items():
-                _set_dotted(case_raw, k, v, f"sweep.axes.{axis}")
-                changes[k] = v
-            only = next(iter(group.values()))
-            if len(group) == 1:     # the value itself (numbers stay numbers in the table)
-                labels[axis] = only if isinstance(only, (int, float, str, bool)) else _show(only)
-            else:
-                labels[axis] = ", ".join(f"{k}={_show(v)}" for k, v in group.items())
-        try:
-            sc = load_scenario(case_raw, base_dir=base_dir)
-        except ScenarioError as exc:
-            where = ", ".join(f"{a}={labels[a]}" for a in labels)
-            problems.extend(InputError(f"case {index} ({where}): {e.field}", e.value, e.allowed,
-                                       e.fix) for e in exc.errors)
-            continue
-        if "imaging" in stages:
-            try:
-                check_imaging_bands(sc)
-            except InputError as e:
-                where = ", ".join(f"{a}={labels[a]}" for a in labels)
-                problems.append(InputError(f"case {index} ({where}): {e.field}", e.value,
-                                           e.allowed, e.fix))
-                continue
-        toml = sc.to_toml().split("\n", 1)[1]   # without the 'written by' comment
-        cid = f"{index:04d}-{_digest(toml + '|'.join(stages))}"
-        cases.append(SweepCase(cid, index, changes, labels, toml, tuple(stages)))
-    if problems:
-        raise ScenarioError(problems, f"sweep {path}")
-    return SweepSpec(name, str(path), text, base, tuple(stages), fixed, axes, tuple(cases))
 
 
 # ---------------------------------------------------------------------------------------
@@ -293,22 +80,6 @@ _BACKGROUNDS: dict = {}
 """Per-process cache of port backgrounds (a worker builds each port once; it depends only
 on the season, date, location and [background], and costs seconds)."""
 
-
-def sweep_inputs(spec: SweepSpec) -> list:
-    """The files a sweep reads: the sweep file, its base scenario and every file its cases'
-    scenarios name (the sweep folder may hold none of them)."""
-    out = []
-    src = Path(spec.source)
-    if src.is_file():
-        out.append(str(src))
-    if spec.base not in SEASONS:
-        bp = Path(os.path.expanduser(spec.base))
-        bp = bp if bp.is_absolute() else src.parent / bp
-        if bp.is_file():
-            out.append(str(bp))
-    for case in spec.cases:
-        named_files(tomllib.loads(case.toml), out)
-    return sorted(set(out))
 
 
 def _background_key(sc) -> str:
@@ -350,6 +121,8 @@ class _pinned:
         self.threads = int(threads)
 
     def __enter__(self):
+        # lazy: numba takes over a second to import (measured); a sweep imports it on
+        # its first case
         import numba
         from threadpoolctl import threadpool_limits
 
@@ -359,7 +132,7 @@ class _pinned:
         return self
 
     def __exit__(self, *exc):
-        import numba
+        import numba                            # lazy: as in __enter__
 
         self._pools.restore_original_limits()
         numba.set_num_threads(self._numba)
@@ -512,6 +285,7 @@ def _table(spec: SweepSpec, results: dict) -> pd.DataFrame:
 def plot_table(table: pd.DataFrame, axis_names, path) -> Path:
     """PNG: deck mean at 12:00, spin-up days, and per band the SCR range and crossover
     times, one point per case."""
+    # lazy: matplotlib takes most of a second to import (measured)
     import matplotlib
 
     matplotlib.use("Agg")
@@ -609,6 +383,7 @@ def local_cluster(n_workers: int, threads: int = CASE_THREADS):
     it in the kernel, 2.3 million page faults instead of a hundred: measured on the
     patrol boat at 3 m edges).
     """
+    # lazy: dask.distributed takes about a second to import (measured)
     import dask
     from dask.distributed import LocalCluster
 
@@ -704,6 +479,7 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
             and default_workers(len(todo)) == 1:
         say("one usable core (or one case): the cases run one by one in this process")
         serial = True
+    # lazy: tqdm.auto takes a tenth of a second to import (measured)
     from tqdm.auto import tqdm
 
     bar = tqdm(total=len(todo), unit="case", desc="sweep", disable=not progress)
@@ -717,64 +493,11 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
                 _write_case(cases_dir, r)
                 bar.update(1)
         elif todo:
-            from dask.distributed import Client, as_completed
-
-            cluster = None
-            if scheduler:
-                try:
-                    client = Client(scheduler, timeout="15s")
-                except (OSError, TimeoutError, ValueError) as exc:
-                    raise InputError("--scheduler", scheduler, "must be the address of a "
-                                     f"running dask scheduler ({type(exc).__name__}: {exc})",
-                                     "e.g. tcp://host:8786 (start one with `dask scheduler`)"
-                                     ) from None
-            else:
-                cluster = local_cluster(int(n_workers or default_workers(len(todo))), threads)
-                client = Client(cluster)
-            try:
-                workers = len(client.scheduler_info().get("workers", {}))
-                say(f"dask: {workers} workers at {client.scheduler.address}")
-                retry_log = _RetryLog({c.id: c for c in todo}, say)
-                client.subscribe_topic("all", retry_log)
-                # One task per case, submitted in order (dask runs the highest priority
-                # first, so cases finish one after the other and the last ones run side by
-                # side). A worker builds a port background the first time one of its cases
-                # needs it and keeps it for its later cases (``_BACKGROUNDS``): each worker
-                # pays one build (~1 s warm) instead of receiving 43 MB from a worker whose
-                # compute thread holds the GIL, and a case's history never leaves the worker
-                # that computed it.
-                futures = {client.submit(run_case, c.spec(), threads,
-                                         priority=len(todo) - i, key=f"case-{c.id}",
-                                         pure=False): c
-                           for i, c in enumerate(todo)}
-                for fut in as_completed(futures):
-                    c = futures[fut]
-                    try:
-                        r = fut.result()
-                    except Exception as exc:   # dask gave up (the case killed its workers)
-                        r = {"id": c.id, "index": c.index, "changes": c.changes,
-                             "labels": c.labels, "status": "failed",
-                             "error": f"{type(exc).__name__}: {exc}",
-                             "traceback": traceback.format_exc(), "values": {}}
-                    r["retries"] = retry_log.retries.get(c.id, 0)
-                    fut.release()
-                    results[c.id] = r
-                    _write_case(cases_dir, r)
-                    bar.update(1)
-            finally:
-                client.unsubscribe_topic("all")
-                client.close()
-                if cluster is not None:
-                    cluster.close()
+            workers = _run_on_dask(todo, results, cases_dir, bar, scheduler=scheduler,
+                                   n_workers=n_workers, threads=threads, say=say)
     finally:
         bar.close()
-    table = _table(spec, results)
-
-    files = {}
-    with atomic_path(out / "table.csv") as tmp:
-        table.to_csv(tmp, index=False, float_format="%.6f")
-    files["csv"] = out / "table.csv"
-    files["png"] = plot_table(table, spec.axis_names, out / "table.png")
+    table, files = _write_table(spec, results, out)
     failed = int((table["status"] != "ok").sum())
     seconds = _time.perf_counter() - t0
     if run is not None:
@@ -786,3 +509,73 @@ def run_sweep(spec: SweepSpec, out_dir, *, scheduler: str | None = None,
                                                                     else "LocalCluster")})
         run.record("sweep", seconds)
     return SweepResult(table, len(todo), skipped, failed, seconds, files, workers)
+
+
+def _run_on_dask(todo: list, results: dict, cases_dir: Path, bar, *, scheduler, n_workers,
+                 threads: int, say) -> int:
+    """Run the ``todo`` cases on a dask cluster (the scheduler at ``scheduler``, else a
+    LocalCluster of ``n_workers``), one task per case; each result is written into
+    ``cases_dir`` and ``results`` as it arrives. Returns the number of workers."""
+    # lazy: dask.distributed takes about a second to import (measured)
+    from dask.distributed import Client, as_completed
+
+    cluster = None
+    if scheduler:
+        try:
+            client = Client(scheduler, timeout="15s")
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise InputError("--scheduler", scheduler, "must be the address of a "
+                             f"running dask scheduler ({type(exc).__name__}: {exc})",
+                             "e.g. tcp://host:8786 (start one with `dask scheduler`)"
+                             ) from None
+    else:
+        cluster = local_cluster(int(n_workers or default_workers(len(todo))), threads)
+        client = Client(cluster)
+    try:
+        workers = len(client.scheduler_info().get("workers", {}))
+        say(f"dask: {workers} workers at {client.scheduler.address}")
+        retry_log = _RetryLog({c.id: c for c in todo}, say)
+        client.subscribe_topic("all", retry_log)
+        # One task per case, submitted in order (dask runs the highest priority
+        # first, so cases finish one after the other and the last ones run side by
+        # side). A worker builds a port background the first time one of its cases
+        # needs it and keeps it for its later cases (``_BACKGROUNDS``): each worker
+        # pays one build (~1 s warm) instead of receiving 43 MB from a worker whose
+        # compute thread holds the GIL, and a case's history never leaves the worker
+        # that computed it.
+        futures = {client.submit(run_case, c.spec(), threads,
+                                 priority=len(todo) - i, key=f"case-{c.id}",
+                                 pure=False): c
+                   for i, c in enumerate(todo)}
+        for fut in as_completed(futures):
+            c = futures[fut]
+            try:
+                r = fut.result()
+            except Exception as exc:   # dask gave up (the case killed its workers)
+                r = {"id": c.id, "index": c.index, "changes": c.changes,
+                     "labels": c.labels, "status": "failed",
+                     "error": f"{type(exc).__name__}: {exc}",
+                     "traceback": traceback.format_exc(), "values": {}}
+            r["retries"] = retry_log.retries.get(c.id, 0)
+            fut.release()
+            results[c.id] = r
+            _write_case(cases_dir, r)
+            bar.update(1)
+    finally:
+        client.unsubscribe_topic("all")
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    return workers
+
+
+def _write_table(spec: SweepSpec, results: dict, out: Path) -> tuple:
+    """``(table, files)``: the sweep's table of every case, written as ``table.csv`` and
+    pictured in ``table.png``."""
+    table = _table(spec, results)
+    files = {}
+    with atomic_path(out / "table.csv") as tmp:
+        table.to_csv(tmp, index=False, float_format="%.6f")
+    files["csv"] = out / "table.csv"
+    files["png"] = plot_table(table, spec.axis_names, out / "table.png")
+    return table, files

@@ -4,6 +4,8 @@ surface temperatures handed on to the imaging stage."""
 
 from __future__ import annotations
 
+from imaging.thermal_history import ShipThermalHistory
+
 from ..diurnal import DiurnalResult, DiurnalSettings, run_diurnal
 from ..units import DAY, HOUR
 
@@ -69,8 +71,6 @@ def ship_thermal_history(result: DiurnalResult):
     (or the whole weather record), with the air temperature and the sea's skin temperature
     (what the hull sees and reflects, and what the image's water radiates from). A record's
     face temperatures are read lazily from its outputs file."""
-    from imaging.thermal_history import ShipThermalHistory
-
     s = result.ship
     times = result.record.times if result.record is not None else result.results.times
     return ShipThermalHistory(s.vertices, s.faces, s.face_part, s.part_names,

@@ -33,9 +33,14 @@ from pathlib import Path
 import pandas as pd
 
 from ..results import atomic_path
+from .anchor import sol_air_anchor
+from .calibration.paper_case import (paper_calibration, validation_text,
+                                     write_validation_tables)
 from .chain import Simulation
 from .paper import REFERENCE_DECK, clock_text, crossover_rows
 from .pipeline import QUICK_EDGE_LENGTH
+from .scenario import default_scenario
+from .thermal import run_scenario_thermal
 
 __all__ = ["SENSITIVITY", "ValidationReport", "validate"]
 
@@ -75,8 +80,6 @@ class ValidationReport:
             lines += ["", "Thermal-crossover moments [local time] vs the paper (§5)", "",
                       self.crossovers.to_string(index=False)]
         if self.calibration:
-            from .calibration import validation_text
-
             lines += ["", validation_text(self.calibration)]
         s = self.settings
         lines += ["", f"mesh edge {s.get('edge_length')} m, {s.get('surface_faces')} surface faces; "
@@ -93,8 +96,6 @@ class ValidationReport:
                 df.to_csv(tmp, index=False, float_format="%.4f")
             paths[name] = out / f"{name}.csv"
         if self.calibration:
-            from .calibration import write_validation_tables
-
             paths.update(write_validation_tables(self.calibration, out))
         with atomic_path(out / "validation.txt") as tmp:
             tmp.write_text(self.text() + "\n")
@@ -139,9 +140,6 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
         coarse calibration setting, a few minutes), and compare a sunlit dark deck with
         the ASHRAE sol-air temperature (:func:`shipthermal.app.anchor.sol_air_anchor`).
     """
-    from .scenario import default_scenario
-    from .thermal import run_scenario_thermal
-
     say = log or (lambda m: None)
     t_start = _time.perf_counter()
     edge = edge_length or (QUICK_EDGE_LENGTH if quick else None)
@@ -209,9 +207,6 @@ def validate(out_dir=None, progress: bool = True, quick: bool = False, sensitivi
                 "seconds": _time.perf_counter() - t_start}
     calibration = {}
     if calibrate:
-        from .anchor import sol_air_anchor
-        from .calibration import paper_calibration
-
         say("calibration of the paper's case (noon fitted, 07:00 / 08:00 held out)")
         calibration = paper_calibration(log=say, crossovers=crossovers)
         say("sol-air anchor (clear-sky summer day, dark deck and wall)")

@@ -26,7 +26,10 @@ Modules
 -------
 * :mod:`.values` — allowed values and defaults of the keys;
 * :mod:`.spec` — the schema framework: field specifications, converters, error collection;
-* :mod:`.sections` — one frozen dataclass per TOML table, with its cross-field checks;
+* the sections, one frozen dataclass per TOML table with its cross-field checks:
+  :mod:`.site_sections` ([location], [time], [weather]), :mod:`.sections` (the [ship]
+  tables), :mod:`.thermal_sections` ([solver], [convection], [outputs]),
+  :mod:`.imaging_sections` ([background], [imaging], [calendar]);
 * :mod:`.wiring` — :class:`Scenario`: the sections and the builders that hand each stage
   its inputs;
 * :mod:`.reading` / :mod:`.writing` — TOML in and out;
@@ -57,11 +60,12 @@ prints it).
 from .check import check_files
 from .reading import default_scenario, example_path, load_scenario, loads_scenario
 from .schema_doc import schema_keys, schema_markdown
-from .sections import (AtmosphereSettings, BackgroundSettings, ConvectionSettings,
-                       ImagingSettings, LayerSpec, Location, OutputSettings, SensorSettings,
-                       ShipFiles, ShipParticulars, ShipSettings, SolverSettings, Time,
-                       WeatherSettings)
+from .imaging_sections import (AtmosphereSettings, BackgroundSettings, ImagingSettings,
+                               SensorSettings)
+from .sections import LayerSpec, ShipFiles, ShipParticulars, ShipSettings
+from .site_sections import Location, Time, WeatherSettings
 from .spec import ScenarioError, clock_seconds, parse_band
+from .thermal_sections import ConvectionSettings, OutputSettings, SolverSettings
 from .values import SEASONS
 from .wiring import Scenario
 

@@ -16,12 +16,14 @@ from __future__ import annotations
 import sys
 
 from ...errors import InputError
+from ..mooring import builtin_class_map, check_mooring, scenario_ship_outline
 from .reading import load_scenario
 from .spec import ScenarioError
 
 
 def _background_problems(bgs) -> tuple[list, list]:
     """Problems and notes of ``[background] source = 'files'``."""
+    # lazy: imaging.background loads scikit-learn, pykrige and scipy.stats (seconds)
     from imaging.background.checks import check_dem_file, check_met_file
     from imaging.background.inputs import check_background_inputs
 
@@ -38,6 +40,7 @@ def _background_problems(bgs) -> tuple[list, list]:
     problems = [str(p) for p in problems + met_problems + dem_problems]
     notes = list(notes)
     if bgs.met is None and not any(p.startswith("background.mtl") for p in problems):
+        # lazy: imaging.background loads scikit-learn, pykrige and scipy.stats (seconds)
         from imaging.background.landsat import read_mtl
 
         try:
@@ -59,8 +62,6 @@ def _background_problems(bgs) -> tuple[list, list]:
 
 def _ship_and_berth(sc) -> tuple[list, list]:
     """Problems and notes of the ship and of its footprint at the mooring."""
-    from ..mooring import builtin_class_map, check_mooring, scenario_ship_outline
-
     problems, notes = [], []
     ship = None
     try:

@@ -3,7 +3,9 @@
 
 from __future__ import annotations
 
+import os
 import tomllib
+from importlib import resources
 from pathlib import Path
 from typing import Mapping
 
@@ -65,8 +67,6 @@ def read_toml(path, field: str = "scenario") -> tuple[str, dict]:
     """Text and table of a scenario or sweep file, every reading problem as a
     :class:`ScenarioError` naming ``field`` and the file: missing, larger than
     :data:`MAX_TOML_BYTES`, not text, not TOML, too deeply nested or with too long lists."""
-    import os
-
     path = Path(path)
     name = str(path)
     if not path.is_file():
@@ -143,8 +143,6 @@ def default_scenario(season: str = "summer") -> Scenario:
 
 def example_path(season: str = "summer") -> Path:
     """Path of the commented example scenario shipped with the package."""
-    from importlib import resources
-
     if season not in SEASONS:
         raise InputError("season", season, f"must be one of {', '.join(SEASONS)}")
     return Path(str(resources.files("shipthermal") / "data" / "scenarios" / f"{season}.toml"))

@@ -11,6 +11,7 @@ import difflib
 import math
 import os
 import re
+import zoneinfo
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from types import MappingProxyType
@@ -18,6 +19,7 @@ from typing import Any, Callable, Mapping, Optional
 
 from ...errors import InputError
 from ...geometry.parts import MAIN_PARTS, main_part
+from ...materials import MATERIALS
 from ...parameters import parse_band
 from .values import MESH_EXTENSIONS, SENSOR_BANDS
 
@@ -217,8 +219,6 @@ def _date(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
 
 
 def _time_zone(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
-    import zoneinfo
-
     allowed = "must be an IANA time-zone name"
     fix = "e.g. 'Asia/Shanghai', or 'Etc/GMT-8' for a fixed UTC+8 (note the POSIX sign)"
     if not isinstance(raw, str) or not raw.strip():
@@ -445,8 +445,6 @@ _MATERIAL_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,63}$")
 
 def _materials(raw: Any, path: str, spec: _Spec, ctx: _Context) -> Any:
     """``{name: {conductivity, density, specific_heat, source}}``: the user's materials."""
-    from ...materials import MATERIALS
-
     example = ("e.g. [materials.my_steel] with conductivity, density, specific_heat and "
                "source")
     if not isinstance(raw, dict):

@@ -7,16 +7,21 @@ from __future__ import annotations
 
 import dataclasses
 import datetime as _dt
+import difflib
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
+import numpy as np
+
 from ...errors import InputError
-from .sections import (_RECORD_HINT, BackgroundSettings, CalendarSettings, ConvectionSettings,
-                       ImagingSettings, Location, MaterialSpec, OutputSettings, ShipSettings,
-                       SolverSettings, Time, WeatherSettings, _is_leap)
+from ...materials import MATERIALS
+from .imaging_sections import BackgroundSettings, CalendarSettings, ImagingSettings
+from .sections import MaterialSpec, ShipSettings
+from .site_sections import _RECORD_HINT, Location, Time, WeatherSettings, _is_leap
 from .spec import _BAD, ScenarioError, _Context, _opt, _section, _thaw, clock_seconds
+from .thermal_sections import ConvectionSettings, OutputSettings, SolverSettings
 from ...parameters import season_of_date
 from .values import (CLIMATE_MONTHS, CLIMATE_RADIUS_DEG, DALIAN, DAY, MAX_RECORD_DAYS, SEASONS,
                      SENSOR_BANDS)
@@ -133,6 +138,7 @@ class Scenario:
     @property
     def start(self):
         """Local midnight of ``time.date`` (tz-aware pandas Timestamp): the solver clock's 0."""
+        # lazy: loading a scenario imports no stage library (test_load_is_lazy)
         import pandas as pd
 
         return pd.Timestamp(self.time.date).tz_localize(self.location.time_zone)
@@ -149,6 +155,7 @@ class Scenario:
         (:func:`imaging.atmosphere.model_for_site`, at the site's latitude and the month of
         ``time.date``). The model is then scaled to each hour's weather.
         """
+        # lazy: loading a scenario imports no stage library (test_load_is_lazy)
         from imaging.atmosphere import model_for_site, model_name
 
         m = self.imaging.atmosphere.model
@@ -156,8 +163,7 @@ class Scenario:
             return model_name(m)
         if self.weather.source == "builtin":
             return model_name(self.time.season)
-        import numpy as np
-
+        # lazy: loading a scenario imports no stage library (test_load_is_lazy)
         from ..run_environment import day_weather
 
         temp = float(np.mean(day_weather(self.environment())["temp_air"]))
@@ -168,6 +174,7 @@ class Scenario:
     def atmosphere_season(self) -> str:
         """Label of the images' atmosphere: 'summer' / 'winter' for the paper's mid-latitude
         summer / winter, else the model's name (:attr:`atmosphere_model`)."""
+        # lazy: loading a scenario imports no stage library (test_load_is_lazy)
         from imaging.atmosphere import model_label
 
         return model_label(self.atmosphere_model)
@@ -178,6 +185,7 @@ class Scenario:
         if not (isinstance(band, str) and (band == "user" or band in SENSOR_BANDS)) \
                 or band in ("3-5", "8-14"):
             return band
+        # lazy: loading a scenario imports no stage library (test_load_is_lazy)
         from imaging.spectral_bands import named_band, nominal_range
 
         resp = self.instrument().bands[0].response if band == "user" else named_band(band)
@@ -228,8 +236,6 @@ class Scenario:
         numpy.ndarray
             (M,) float, [-] or [K] for the compartment temperature.
         """
-        import numpy as np
-
         lookups = {"solar_absorptivity": self.ship.solar_absorptivity_of,
                    "longwave_emissivity": self.ship.longwave_emissivity_of,
                    "compartment_temperature": self.ship.compartment_temperature_of,
@@ -252,7 +258,7 @@ class Scenario:
         Files are read here, not at load. The built-in day's SST is its daily mean when
         ``weather.sea_skin`` models the warm layer, else its prescribed cycle.
         """
-        import numpy as np
+        # lazy: loading a scenario imports no stage library (test_load_is_lazy)
         from shipthermal.environment import Weather, climate_day
 
         w, loc = self.weather, self.location
@@ -281,6 +287,7 @@ class Scenario:
         ``weather.days`` whole days from ``time.date`` (default: every whole day the
         record covers, read from ``record``, a
         :class:`~shipthermal.environment.station.StationRecord`)."""
+        # lazy: loading a scenario imports no stage library (test_load_is_lazy)
         import pandas as pd
 
         start = self.start
@@ -288,6 +295,7 @@ class Scenario:
             return start, start + pd.Timedelta(hours=23)
         days = self.weather.days
         if record is not None and len(record.frame):
+            # lazy: loading a scenario imports no stage library (test_load_is_lazy)
             from shipthermal.environment.station import EDGE_HOLD_S
 
             first, last = record.frame.index[0], record.frame.index[-1]
@@ -314,6 +322,7 @@ class Scenario:
     def _file_weather(self):
         """The weather file over :meth:`weather_span`: ``(Weather, WeatherReport)``; every
         problem of the file over the span raised together as one :class:`ScenarioError`."""
+        # lazy: loading a scenario imports no stage library (test_load_is_lazy)
         from shipthermal.environment.station import check_weather
 
         w = self.weather
@@ -360,6 +369,7 @@ class Scenario:
         env = self.__dict__.get("_environment")
         if env is not None:
             return env
+        # lazy: loading a scenario imports no stage library (test_load_is_lazy)
         from shipthermal.environment import Environment
 
         w, loc = self.weather, self.location
@@ -375,6 +385,7 @@ class Scenario:
     def sensor(self):
         """The :class:`imaging.sensor.SensorSpec` of ``[imaging.sensor]`` (the preset's
         optics where the keys are not given)."""
+        # lazy: loading a scenario imports no stage library (test_load_is_lazy)
         from imaging.sensor import SensorSpec
 
         s = self.imaging.sensor
@@ -386,8 +397,7 @@ class Scenario:
         """The :class:`imaging.instruments.Instrument` of ``[imaging.sensor]``: the preset
         with this scenario's optics, or the user's (``response_file``, read once per
         scenario object; NETD ``netd_k``)."""
-        import dataclasses as _dc
-
+        # lazy: loading a scenario imports no stage library (test_load_is_lazy)
         from imaging.instruments import instrument, user_instrument
 
         inst = self.__dict__.get("_instrument")
@@ -398,7 +408,7 @@ class Scenario:
             inst = user_instrument("user", {"user": s.response_file}, self.sensor(),
                                    netd_K=s.netd_k or None)
         else:
-            inst = _dc.replace(instrument(s.preset), spec=self.sensor())
+            inst = dataclasses.replace(instrument(s.preset), spec=self.sensor())
         object.__setattr__(self, "_instrument", inst)      # frozen: a cache, not a field
         return inst
 
@@ -443,6 +453,7 @@ def _read_station_cached(path, fmt, tz, temp_unit, cloud_unit, year, irradiance,
                          mtime):
     """Read a weather file once per process (the run, the imaging stage and ``validate``
     ask for it several times); keyed by every option and the file's modification time."""
+    # lazy: loading a scenario imports no stage library (test_load_is_lazy)
     from shipthermal.environment.station import read_station
 
     key = (path, fmt, tz, temp_unit, cloud_unit, year, irradiance, longwave, mtime)
@@ -511,8 +522,6 @@ def _plain(value: Any) -> Any:
 def _check_layups(obj, raw, ctx):
     """Layers name a built-in or a [materials] material; a paint's optics sit on the outer
     layer only, and are not given twice for a part. The ship gets the user's materials."""
-    from ...materials import MATERIALS
-
     if ctx.failed("ship.layups", "materials"):
         return obj
     user = dict(obj.materials)
@@ -547,7 +556,5 @@ def _check_layups(obj, raw, ctx):
 
 
 def _suggest_name(name, known) -> str:
-    import difflib
-
     close = difflib.get_close_matches(str(name), known, n=1, cutoff=0.6)
     return f"Did you mean {close[0]!r}?" if close else ""
