@@ -1,33 +1,8 @@
 """Parameter sweeps on dask.distributed: the Cartesian product of scenario changes.
 
-A sweep file (TOML)::
-
-    name = "heading-wind"                 # optional; names the sweep folder
-    base = "my_scenario.toml"             # a scenario file (relative to the sweep file),
-                                          # or "summer" / "winter" (the built-in defaults)
-    stages = ["thermal", "imaging"]       # or ["thermal"] (default: both)
-
-    [set]                                 # changes applied to every case (dotted keys)
-    "ship.edge_length" = 3.0
-
-    [axes]                                # one list of values per dotted scenario key
-    "time.season" = ["summer", "winter"]
-    "ship.heading" = [0, 90, 180, 270]
-    "weather.wind_speed_offset" = [-1.0, 0.0, 1.0]
-    "imaging.bands" = [["3-5"], ["8-14"]]
-
-    [[axes.site]]                         # a grouped axis: keys that change together
-    "weather.source" = "a.csv"
-    "weather.temp_sea" = 290.0
-    [[axes.site]]
-    "weather.source" = "builtin"
-
-Keys may also be written as nested tables (``ship.heading = [...]`` without quotes). The
-changes are applied to the *raw* base scenario before validation, so season-dependent
-defaults follow (``time.season = "winter"`` on the built-in base also moves the date, the
-map and image times and the compartment temperatures to the winter defaults). Every case
-is validated before anything runs: a bad value is a user error listing all problems
-(:mod:`.sweep_file` reads the file).
+The sweep file (a base scenario, changes for every case, and the axes whose product makes
+the cases) and its checks: :mod:`.sweep_file`. Every case is validated before anything
+runs: a bad value is a user error listing all problems.
 
 Each case runs pinned to one thread (numba, BLAS, OpenMP: :data:`CASE_THREADS`), as one
 dask task (its thermal stage, then its imaging stage; the worker builds each port
@@ -39,7 +14,8 @@ at once (so a remote cluster needs no shared disk for results; input files named
 scenarios must exist on the workers at the same paths). A worker lost in the middle of a
 case is named in the log with the cases dask runs again; the row counts the retries. A
 case's id is a hash of its full scenario and stages, so re-running skips the cases that
-finished (status ``ok``); failed cases keep their error and traceback and are retried. The table (``table.csv``, ``table.png``) has one row per case: the axis values,
+finished (status ``ok``); failed cases keep their error and traceback and are retried.
+The table (``table.csv``, ``table.png``) has one row per case: the axis values,
 status, error, spin-up days and convergence, deck / hull / superstructure means at 12:00,
 and per band the crossover times, their count and the min / max SCR; and per case its wall
 and CPU seconds, retries and worker.
