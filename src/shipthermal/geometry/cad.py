@@ -20,7 +20,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from manifold3d import Manifold, Mesh64, OpType
 
 from ..errors import InputError
 from .parts import boundary_edges, face_areas, main_part, signed_volume
@@ -386,6 +385,9 @@ def union_repair(vertices, faces, face_part):
     Returns vertices, faces, face_part, report (area/volume before and after, their
     relative change, ``pieces``, ``seconds``).
     """
+    # (manifold3d on use: loading a scenario reads this module's limits, not the union)
+    from manifold3d import Manifold, Mesh64, OpType
+
     t0 = time.perf_counter()
     v = np.asarray(vertices, float)
     f = np.asarray(faces, np.int64)

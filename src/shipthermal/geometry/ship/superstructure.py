@@ -10,7 +10,6 @@ import math
 from typing import Sequence
 
 import numpy as np
-from manifold3d import Manifold, Mesh64, OpType
 
 from ...errors import require
 from .grids import grid_faces, merge_vertices
@@ -94,6 +93,9 @@ def block_surface(form: HullForm, b: Block, z_foot: float, h: float):
 
 def unite(meshes: Sequence[tuple[np.ndarray, np.ndarray]]):
     """Boolean union with manifold3d; returns (vertices, faces, source_mesh, source_face)."""
+    # (manifold3d on use: loading a scenario reads the ship builder's limits, not the union)
+    from manifold3d import Manifold, Mesh64, OpType
+
     ids = []
     total = 0
     parts = []
