@@ -30,7 +30,7 @@ PACKAGES = ("shipthermal", "imaging")
 #: What the imaging package may import from the thermal package (with submodules)
 IMAGING_MAY_USE = ("shipthermal.geometry", "shipthermal.environment", "shipthermal.raytrace",
                    "shipthermal.optics", "shipthermal.errors", "shipthermal.units",
-                   "shipthermal.parameters", "shipthermal.figures")
+                   "shipthermal.parameters", "shipthermal.figures", "shipthermal.atomic")
 
 #: Modules of the application layer besides ``shipthermal.app``: the command line's entry
 #: and the top-level package, whose exports are the application's front door

@@ -21,6 +21,7 @@ import os
 import numpy as np
 import pandas as pd
 
+from shipthermal.atomic import atomic_path
 from shipthermal.errors import check_range, require
 from shipthermal.figures import OKABE_ITO
 from shipthermal.units import HOUR, utc_offset_text
@@ -267,8 +268,7 @@ def plot_calendar(path, dense: dict, overpass_df: pd.DataFrame, monthly: pd.Data
     bx.set_ylabel(f"overpasses with SCR < {threshold:g}")
     bx.set_title("by month", fontsize=9)
     bx.tick_params(axis="x", labelrotation=45, labelsize=8)
-    tmp = f"{os.fspath(path)}.part-{os.getpid()}"
-    fig.savefig(tmp, format="png", dpi=120)
-    plt.close(fig)
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png", dpi=120)
+        plt.close(fig)
     return os.fspath(path)

@@ -1,7 +1,7 @@
 """Products of the imaging experiment: NetCDF/GeoTIFF radiance, PNG panels and curves, CSV.
 
 Every file is written under a temporary name in the output directory and moved into place
-with ``os.replace`` once complete, so an interrupted run leaves no half-written file.
+once complete (:mod:`shipthermal.atomic`), so an interrupted run leaves no half-written file.
 Rasters are float32 in physical units (W m-2 sr-1); the NetCDF stacks follow CF (time with
 its zone, a grid mapping), GeoTIFF bands carry their unit and instant, CSV headers their
 units (docs/DATA.md).
@@ -15,6 +15,7 @@ import os
 import numpy as np
 import pandas as pd
 
+from shipthermal.atomic import atomic_path
 from shipthermal.errors import require
 from shipthermal.figures import (OKABE_ITO, FigureOptions, add_scale_bar, band_label,
                                  save_figure, unit_label)
@@ -31,16 +32,11 @@ __all__ = ["write_products", "write_series_netcdf", "write_typical_geotiff", "pl
 R_UNIT = unit_label("W m-2 sr-1")
 
 
-def _tmp(path: str) -> str:
-    return f"{path}.part-{os.getpid()}"
-
-
 def _csv(df: pd.DataFrame, path: str, clock: str | None = None) -> str:
     """Write a table atomically with units in its headers (``name [unit]``; local clock
     columns with the zone ``clock``: :func:`shipthermal.units.with_units`)."""
-    tmp = _tmp(path)
-    with_units(df, clock=clock).to_csv(tmp, index=False, float_format="%.7g")
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        with_units(df, clock=clock).to_csv(tmp, index=False, float_format="%.7g")
     return path
 
 
@@ -149,9 +145,8 @@ def write_series_netcdf(path, sr, grid, attrs: dict | None = None, *, date: str 
                                                        "spectral_radiance",
                                                        "brightness_temperature", "coverage")}
     enc["time"] = t_enc
-    tmp = _tmp(path)
-    ds.to_netcdf(tmp, engine="h5netcdf", encoding=enc)
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        ds.to_netcdf(tmp, engine="h5netcdf", encoding=enc)
     return path
 
 
@@ -506,9 +501,7 @@ def write_products(out_dir, series, crossovers, comparison, scenarios, histories
         "band_comparison": comparison.to_dict(orient="records"),
         "rays": {f"{s}_{b}": sr.rays for (s, b), sr in series.items()},
     }
-    tmp = _tmp(p("summary.json"))
-    with open(tmp, "w", encoding="utf-8") as fh:
+    with atomic_path(p("summary.json")) as tmp, open(tmp, "w", encoding="utf-8") as fh:
         json.dump(summary, fh, indent=2, default=str)
-    os.replace(tmp, p("summary.json"))
     files["summary"] = p("summary.json")
     return files

@@ -13,9 +13,10 @@ dash pattern, so they stay apart in grey print.
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 from pathlib import Path
+
+from .atomic import atomic_path
 
 __all__ = ["OKABE_ITO", "CLASS_COLOURS", "BAND_STYLES", "LINE_STYLES", "PART_LINE_STYLES",
            "MIN_CVD_DELTA_E", "unit_label", "band_label", "FigureOptions", "save_figure",
@@ -117,13 +118,8 @@ def save_figure(fig, path, options: FigureOptions | None = None, dpi: int | None
     options = options or FigureOptions()
     path = Path(path)
     for fmt, target in [("png", path)] + [(f, path.with_suffix(f".{f}")) for f in options.vector]:
-        tmp = target.with_name(f".{target.name}.part-{os.getpid()}")
-        try:
+        with atomic_path(target) as tmp:
             fig.savefig(tmp, format=fmt, dpi=dpi or options.dpi, **savefig)
-            os.replace(tmp, target)
-        finally:
-            if tmp.exists():
-                tmp.unlink()
     return path
 
 

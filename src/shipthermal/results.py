@@ -6,53 +6,19 @@ file that looks complete.
 
 from __future__ import annotations
 
-import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from .atomic import atomic_path
 from .errors import require
 from .mesh.graph import VTK_TETRA, VTK_WEDGE, CellGraph
 
 __all__ = ["EnergyLog", "Results", "atomic_path", "save_png", "write_vtkhdf",
            "write_surface_vtkhdf", "graph_vtkhdf",
            "write_vtu_series", "VTKHDF_UNITS"]
-
-
-class atomic_path:
-    """Context manager giving a temporary path next to ``path``; renamed on success,
-    removed on failure."""
-
-    def __init__(self, path, suffix: str | None = None):
-        self.path = Path(path)
-        self.suffix = suffix if suffix is not None else self.path.suffix
-
-    def __enter__(self) -> Path:
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=self.path.parent, prefix=f".{self.path.stem}.",
-                                   suffix=".tmp" + self.suffix)
-        os.close(fd)
-        self.tmp = Path(tmp)
-        return self.tmp
-
-    def __exit__(self, exc_type, exc, tb):
-        if exc_type is None:
-            # mkstemp creates 0600; give the file the permissions a plain open() would
-            umask = os.umask(0)
-            os.umask(umask)
-            os.chmod(self.tmp, 0o666 & ~umask)
-            os.replace(self.tmp, self.path)
-        else:
-            if self.tmp.exists():
-                self.tmp.unlink()
-            if isinstance(exc, OSError) and exc.errno is not None and (
-                    exc.filename is None or str(exc.filename) == str(self.tmp)):
-                # the user's file, not the temporary name (disk full, quota, ...)
-                raise OSError(exc.errno, exc.strerror or str(exc), str(self.path)) from exc
-        return False
 
 
 def save_png(fig, path, dpi: int = 100) -> Path:

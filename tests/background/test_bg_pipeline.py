@@ -130,7 +130,7 @@ def test_variogram_fitted_and_reported_per_hour(summer):
 def test_outputs_written(summer):
     bg, out = summer
     names = sorted(os.listdir(out))
-    assert not [n for n in names if ".part" in n]
+    assert not [n for n in names if ".part" in n or ".tmp" in n]
     for f in ("lst_K.tif", "background_K.tif", "class_map.tif", "class_map.png", "lst.png",
               "background_hours.png", "jm_separability.csv", "confusion_matrix.csv", "accuracy.csv",
               "class_fractions.csv", "terrain_regression.csv", "summary.json"):

@@ -138,3 +138,33 @@ def test_header_only_weather_csv(tmp_path, capsys):
     code, err = _run(["-q", "run", str(sc), "--out", str(tmp_path / "run")], capsys)
     _check(code, err, ["w.csv", "holds no data rows"])
     assert _tree(tmp_path) == before
+
+
+@pytest.mark.parametrize("fault", ["disk full", "not an OS error"])
+def test_failing_writer_leaves_nothing(tmp_path, fault):
+    """A writer that fails inside ``atomic_path`` leaves neither the target nor its
+    temporary; an OS error on the temporary names the user's file, and the file already
+    there is kept as it was."""
+    from shipthermal.atomic import atomic_path
+
+    target = tmp_path / "table.csv"
+
+    def writer(tmp):
+        tmp.write_text("half a ta")
+        if fault == "disk full":
+            raise OSError(errno.ENOSPC, "No space left on device", str(tmp))
+        raise ValueError("the writer gave up")
+
+    expected = OSError if fault == "disk full" else ValueError
+    with pytest.raises(expected) as info:
+        with atomic_path(target) as tmp:
+            assert tmp.parent == tmp_path and tmp.name.endswith(".tmp.csv")
+            writer(tmp)
+    assert _tree(tmp_path) == []
+    if fault == "disk full":
+        assert info.value.filename == str(target) and info.value.errno == errno.ENOSPC
+    target.write_text("kept\n")
+    with pytest.raises(expected):
+        with atomic_path(target) as tmp:
+            writer(tmp)
+    assert _tree(tmp_path) == ["table.csv"] and target.read_text() == "kept\n"

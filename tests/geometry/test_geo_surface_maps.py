@@ -52,4 +52,4 @@ def test_surface_map_png(tmp_path):
     with Image.open(p) as im:
         im.load()
         assert im.width > 800 and im.height > 300
-    assert not list(tmp_path.glob("*.part-*"))
+    assert [q.name for q in tmp_path.iterdir()] == ["s.png"]      # no temporary left

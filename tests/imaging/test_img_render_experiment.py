@@ -1,6 +1,5 @@
 """Tests for the thermal-history hand-over, the time series and the paper's experiment."""
 
-import glob
 import os
 
 import numpy as np
@@ -153,4 +152,4 @@ def test_run_experiment_writes_every_product_atomically(tmp_path, frigate_coarse
     comp = strip_units(pd.read_csv(tmp_path / "band_comparison.csv"))
     assert len(comp) == 4 and {"scr_in_crossover_mean", "scr_out_crossover_mean"} <= set(comp)
     assert (tmp_path / "summary.json").exists()
-    assert not glob.glob(str(tmp_path / "*.part*"))
+    assert not [q for q in tmp_path.iterdir() if ".part" in q.name or ".tmp" in q.name]

@@ -1,7 +1,8 @@
 """Products of the background: GeoTIFFs (float32 K), class map, PNGs, CSV tables.
 
-Every file is written under a temporary name and moved into place with ``os.replace``, and
-only after the whole chain has succeeded, so a failed run leaves nothing half-written.
+Every file is written under a temporary name and moved into place
+(:mod:`shipthermal.atomic`), and only after the whole chain has succeeded, so a failed run
+leaves nothing half-written.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import numpy as np
 import pandas as pd
 import rasterio
 
+from shipthermal.atomic import atomic_path
 from shipthermal.figures import FigureOptions, add_scale_bar, save_figure
 from shipthermal.units import utc_offset_text, with_units
 
@@ -21,10 +23,6 @@ from .classify import CLASS_CODES, CLASS_COLOURS, CLASS_NAMES, format_jm_table
 
 __all__ = ["write_outputs", "write_overpass_outputs", "write_geotiff", "write_physical_outputs",
            "time_tags"]
-
-
-def _tmp(path: str) -> str:
-    return f"{path}.part-{os.getpid()}"
 
 
 def write_geotiff(path, data, grid, nodata=None, descriptions=None, colormap=None,
@@ -44,10 +42,10 @@ def write_geotiff(path, data, grid, nodata=None, descriptions=None, colormap=Non
         Metadata of the file.
     """
     arr = data if data.ndim == 3 else data[None]
-    tmp = _tmp(path)
-    with rasterio.open(tmp, "w", driver="GTiff", height=arr.shape[1], width=arr.shape[2], count=arr.shape[0],
-                       dtype=arr.dtype, crs=grid.crs, transform=grid.transform, nodata=nodata,
-                       compress="deflate") as dst:
+    with atomic_path(path) as tmp, rasterio.open(
+            tmp, "w", driver="GTiff", height=arr.shape[1], width=arr.shape[2], count=arr.shape[0],
+            dtype=arr.dtype, crs=grid.crs, transform=grid.transform, nodata=nodata,
+            compress="deflate") as dst:
         dst.write(arr)
         if descriptions:
             for k, d in enumerate(descriptions, start=1):
@@ -62,7 +60,6 @@ def write_geotiff(path, data, grid, nodata=None, descriptions=None, colormap=Non
             dst.update_tags(**{key: str(v) for key, v in tags.items()})
         if colormap:
             dst.write_colormap(1, colormap)
-    os.replace(tmp, path)
     return path
 
 
@@ -86,9 +83,8 @@ def _csv(df: pd.DataFrame, path: str, index=True, units: dict | None = None,
     """Write a table atomically with units in its headers (``name [unit]``:
     :func:`shipthermal.units.with_units`; ``units`` adds or overrides column units, ``clock``
     is the zone of local clock columns)."""
-    tmp = _tmp(path)
-    with_units(df, units, clock).to_csv(tmp, index=index, float_format="%.6g")
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        with_units(df, units, clock).to_csv(tmp, index=index, float_format="%.6g")
     return path
 
 
@@ -102,8 +98,7 @@ def _hex_rgb(h: str):
 
 def _classification_tables(c, p, out: dict) -> None:
     out["jm_csv"] = _csv(c.jm, p("jm_separability.csv"), units={k: "-" for k in c.jm.columns})
-    tmp = _tmp(p("jm_separability.txt"))
-    with open(tmp, "w", encoding="utf-8") as fh:
+    with atomic_path(p("jm_separability.txt")) as tmp, open(tmp, "w", encoding="utf-8") as fh:
         fh.write("Sample separability (Jeffries-Matusita, eqs. 3-4), all ROI pixels\n" + format_jm_table(c.jm) + "\n")
         spread = c.spread()
         if spread:
@@ -111,7 +106,6 @@ def _classification_tables(c, p, out: dict) -> None:
             for k in ("overall_accuracy", "kappa_quadratic", "kappa_unweighted"):
                 v = spread[k]
                 fh.write(f"  {k:18s} {v['mean']:.3f} +- {v['std']:.3f}  [{v['min']:.3f}, {v['max']:.3f}]\n")
-    os.replace(tmp, p("jm_separability.txt"))
     out["jm_txt"] = p("jm_separability.txt")
     out["confusion"] = _csv(c.confusion, p("confusion_matrix.csv"),
                             units={k: "pixels" for k in c.confusion.columns})
@@ -179,10 +173,8 @@ def write_overpass_outputs(ov, out_dir) -> dict:
                "class_fractions": dict(zip(ov.classification.fractions["class"],
                                            ov.classification.fractions["fraction"].round(4))),
                **ov.summary_extra()}
-    tmp = _tmp(p("summary.json"))
-    with open(tmp, "w", encoding="utf-8") as fh:
+    with atomic_path(p("summary.json")) as tmp, open(tmp, "w", encoding="utf-8") as fh:
         json.dump(summary, fh, indent=2, default=str)
-    os.replace(tmp, p("summary.json"))
     out["summary"] = p("summary.json")
     return out
 
@@ -317,10 +309,8 @@ def write_outputs(bg, out_dir, figures: FigureOptions | None = None) -> dict:
     out["background_png"] = _savefig(fig, p("background_hours.png"), figures)
     plt.close(fig)
 
-    tmp = _tmp(p("summary.json"))
-    with open(tmp, "w", encoding="utf-8") as fh:
+    with atomic_path(p("summary.json")) as tmp, open(tmp, "w", encoding="utf-8") as fh:
         json.dump(bg.summary(), fh, indent=2, default=str)
-    os.replace(tmp, p("summary.json"))
     out["summary"] = p("summary.json")
     return out
 
@@ -439,9 +429,7 @@ def write_physical_outputs(bg, out_dir, figures: FigureOptions | None = None) ->
     out["background_png"] = _savefig(fig, p("background_hours.png"), figures)
     plt.close(fig)
 
-    tmp = _tmp(p("summary.json"))
-    with open(tmp, "w", encoding="utf-8") as fh:
+    with atomic_path(p("summary.json")) as tmp, open(tmp, "w", encoding="utf-8") as fh:
         json.dump(bg.summary(), fh, indent=2, default=str)
-    os.replace(tmp, p("summary.json"))
     out["summary"] = p("summary.json")
     return out

@@ -55,6 +55,7 @@ from rasterio.crs import CRS
 from rasterio.warp import transform as warp_transform
 from scipy.ndimage import binary_erosion, gaussian_filter
 
+from shipthermal.atomic import atomic_path
 from shipthermal.environment.climatology import climate_day
 from shipthermal.errors import InputError
 from shipthermal.parameters import DESIGN_DAY_DATES
@@ -211,18 +212,15 @@ def _temp_sst(season: SeasonSpec, hour_local):
 
 
 def _atomic_geotiff(path, array, **profile):
-    tmp = path + ".part"
-    with rasterio.open(tmp, "w", driver="GTiff", height=array.shape[-2], width=array.shape[-1],
-                       count=1 if array.ndim == 2 else array.shape[0], dtype=array.dtype, **profile) as dst:
+    with atomic_path(path) as tmp, rasterio.open(
+            tmp, "w", driver="GTiff", height=array.shape[-2], width=array.shape[-1],
+            count=1 if array.ndim == 2 else array.shape[0], dtype=array.dtype, **profile) as dst:
         dst.write(array, 1) if array.ndim == 2 else dst.write(array)
-    os.replace(tmp, path)
 
 
 def _atomic_text(path, text):
-    tmp = path + ".part"
-    with open(tmp, "w", encoding="utf-8") as fh:
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
         fh.write(text)
-    os.replace(tmp, path)
 
 
 def _mtl_groups(season: SeasonSpec, sun_elevation, sun_azimuth, names, shape, grid: SceneGrid):
@@ -515,8 +513,8 @@ def _write_met(directory: str, spec: SeasonSpec, grid: SceneGrid, layout: _Layou
                "source": "shipthermal synthetic port", "seed": int(seed)})
     stamp, _ = _product_stamp(spec)
     met_path = os.path.join(directory, f"cldas_like_{stamp}.nc")
-    ds.to_netcdf(met_path + ".part", engine="h5netcdf", format="NETCDF4")
-    os.replace(met_path + ".part", met_path)
+    with atomic_path(met_path) as tmp:
+        ds.to_netcdf(tmp, engine="h5netcdf", format="NETCDF4")
     return met_path, hours
 
 

@@ -21,9 +21,10 @@ import tempfile
 import time
 from pathlib import Path
 
+from ..atomic import atomic_write_text
 from ..errors import InputError, require
 from .rundir.inputs import check_inputs
-from .rundir.manifest import _now, atomic_write_text, new_manifest
+from .rundir.manifest import _now, new_manifest
 from .rundir.ownership import (MANIFEST, _foreign_error, _foreign_names, _remove,
                                read_signature)
 

@@ -36,10 +36,10 @@ from imaging.calendar import (crossover_dates_table, crossover_table, image_dens
 from imaging.overpass import (listed_overpasses, satellite, satellite_overpasses,
                               tle_overpasses)
 
+from ..atomic import atomic_path, atomic_write_text
 from ..errors import InputError
 from .pipeline import (build_background, check_imaging_bands, imaging_scenario, load_history,
                        record_span_s, thermal_case)
-from .rundir.manifest import atomic_write_text
 
 __all__ = ["calendar_inputs", "calendar_overpasses", "calendar_span_s", "run_calendar",
            "write_calendar", "year_overpasses", "year_scenarios"]
@@ -246,9 +246,8 @@ def write_calendar(out_dir, scenario, results) -> dict:
 
     def csv(name, df):
         path = out / name
-        tmp = path.with_name(f".{name}.tmp")
-        df.to_csv(tmp, index=False, float_format="%.6g")
-        tmp.replace(path)
+        with atomic_path(path) as tmp:
+            df.to_csv(tmp, index=False, float_format="%.6g")
         files[name] = path
 
     table = overpass_df.copy()

@@ -13,10 +13,10 @@ from pathlib import Path
 
 import pandas as pd
 
+from ..atomic import atomic_path, atomic_write_text
 from ..errors import InputError
 from ..geometry import build_ship_mesh, render_parts_png, write_ship
 from ..geometry.cad import CHECK_COLOURS
-from ..results import atomic_path
 from ..units import strip_units
 from .background_cmd import run_background
 from .console import EXIT_FAILURE, EXIT_OK, Console
@@ -27,7 +27,6 @@ from .pipeline import (QUICK_EDGE_LENGTH, QUICK_SCR_INTERVAL, build_background,
 from .report import is_report_file, write_report
 from .rundir.folder import RunDir
 from .rundir.inputs import changes_from_copy, scenario_inputs
-from .rundir.manifest import atomic_write_text
 from .rundir.ownership import MANIFEST, MARKER, is_complete, read_signature
 from .scenario import (SEASONS, check_files, default_scenario, load_scenario,
                        schema_markdown)

@@ -34,10 +34,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..atomic import atomic_path, atomic_write_text
 from ..errors import InputError
 from ..figures import OKABE_ITO, band_label
-from ..results import atomic_path, save_png
-from .rundir.manifest import atomic_write_text
+from ..results import save_png
 from .scenario import ScenarioError, loads_scenario
 from .sweep_file import load_sweep
 

@@ -25,12 +25,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..atomic import atomic_write_text
 from ..diurnal import plot_part_means
 from ..errors import InputError
 from ..figures import band_label
 from ..units import latitude_text, longitude_text, strip_units, zone_text
 from .html_table import html_table
-from .rundir.manifest import atomic_write_text
 from .rundir.ownership import MANIFEST, MARKER
 from .scenario import load_scenario
 

@@ -34,13 +34,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..atomic import atomic_path, atomic_write_text
 from ..errors import InputError
 from ..figures import OKABE_ITO, band_label
-from ..results import atomic_path, save_png
+from ..results import save_png
 from ..units import HOUR
 from . import pipeline
 from .pipeline import frame_times, imaging_scenario
-from .rundir.manifest import atomic_write_text
 from .scenario import loads_scenario
 from .sweep_file import SweepCase, SweepSpec, load_sweep, sweep_inputs
 from .thermal import run_scenario_thermal, ship_thermal_history

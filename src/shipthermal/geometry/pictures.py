@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..atomic import atomic_path
 from ..figures import OKABE_ITO
 from .parts import main_part
 
@@ -56,10 +57,6 @@ def ship_polydata(ship):
     return poly
 
 
-def _tmp(path: Path) -> Path:
-    return path.with_name(f".{path.stem}.tmp{os.getpid()}{path.suffix}")
-
-
 def write_parts_vtu(ship, directory) -> list[Path]:
     """Write ``<part>.vtu`` for each part and ``all_parts.vtu``; returns the paths."""
     import pyvista as pv        # deferred: start-up cost (~1 s to import)
@@ -75,9 +72,8 @@ def write_parts_vtu(ship, directory) -> list[Path]:
     for name, grid in grids:
         grid.field_data["part_names"] = np.array(ship.part_names)
         path = directory / f"{name}.vtu"
-        tmp = _tmp(path)
-        grid.save(tmp)
-        os.replace(tmp, path)
+        with atomic_path(path) as tmp:
+            grid.save(tmp)
         written.append(path)
     return written
 
@@ -137,10 +133,9 @@ def _pyvista_shoot(pl, ship, view: str, zoom: float, path: Path) -> None:
         pl.camera_position = [(0.9 * L, -1.1 * L, 0.55 * L), (0, 0, 0.03 * L), (0, 0, 1)]
     pl.reset_camera()
     pl.camera.zoom(zoom)
-    tmp = _tmp(path)
-    pl.screenshot(str(tmp))
-    pl.close()
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        pl.screenshot(str(tmp))
+        pl.close()
 
 
 def _mpl_frame(ax, ship, view: str) -> None:
@@ -191,10 +186,9 @@ def _render_matplotlib(ship, path: Path, size, view, colours=None):
     _mpl_frame(ax, ship, view)
     handles = [plt.Rectangle((0, 0), 1, 1, color=colours[n]) for n in ship.part_names]
     ax.legend(handles, ship.part_names, loc="upper left", fontsize=8)
-    tmp = _tmp(path)
-    fig.savefig(tmp, bbox_inches="tight")
-    plt.close(fig)
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, bbox_inches="tight")
+        plt.close(fig)
 
 
 def render_values_png(ship, values, path, title: str = "", clim=None, size=(1400, 800),
@@ -238,8 +232,7 @@ def render_values_png(ship, values, path, title: str = "", clim=None, size=(1400
     _mpl_frame(ax, ship, view)
     fig.colorbar(cm.ScalarMappable(norm=norm, cmap=colourmap), ax=ax, label=label, shrink=0.6)
     ax.set_title(title, fontsize=9)
-    tmp = _tmp(path)
-    fig.savefig(tmp, bbox_inches="tight")
-    plt.close(fig)
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, bbox_inches="tight")
+        plt.close(fig)
     return "matplotlib"

@@ -26,6 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..atomic import atomic_path
+
 __all__ = ["CACHE_VERSION", "cache_folder", "repair_key", "load_repaired", "save_repaired"]
 
 CACHE_VERSION = 1
@@ -79,19 +81,12 @@ def save_repaired(key: str, vertices, faces, labels, report: dict) -> tuple[Path
     path = _path(key)
     if path is None:
         return None, "the cache is off (SHIPTHERMAL_CACHE=off)"
-    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with open(tmp, "wb") as fh:
+        with atomic_path(path) as tmp, open(tmp, "wb") as fh:
             np.savez_compressed(fh, vertices=np.asarray(vertices, float),
                                 faces=np.asarray(faces, np.int64),
                                 labels=np.asarray(labels, np.int64),
                                 report=np.array(json.dumps(report, default=float)))
-        os.replace(tmp, path)
         return path, ""
     except OSError as exc:
-        try:
-            tmp.unlink()
-        except OSError:
-            pass
         return None, f"{exc.strerror or exc} ({path.parent})"

@@ -25,7 +25,7 @@ Rules (what makes it safe):
 * a stage's files are written in ``.stage-<stage>.<pid>/`` and the folder is renamed to its
   final name when the stage is done, so a stage folder that exists is complete;
 * single files (manifest, report, scenario copies) go through a temporary name and
-  ``os.replace``;
+  ``os.replace`` (:mod:`shipthermal.atomic`);
 * ``COMPLETE`` is written after everything else and removed first when a run is reopened;
 * a ``.lock`` file holds the pid of the process working in the folder; a second process
   is refused, a stale lock (dead pid) of this tool is taken over;
@@ -48,8 +48,8 @@ What makes it unable to destroy a user's files:
   of its own kind (amendments: ``image`` a ``run`` or ``demo`` folder, ``report`` and
   ``validate --into`` any signed folder);
 * everything a command deletes is an entry of the manifest or a temporary of this tool
-  (``.stage-*``, ``.<entry>.tmp<pid>``, ...); nothing else is ever deleted or written
-  over. A fresh start (or ``--force``) in a run folder that holds anything else is
+  (``.stage-*``, ``.<stem>.<random>.tmp<suffix>``, ...); nothing else is ever deleted or
+  written over. A fresh start (or ``--force``) in a run folder that holds anything else is
   refused (exit 2, naming it): the user moves it away or chooses another folder;
   ``--resume`` and amendments leave such files alone;
 * any other non-empty folder (a user folder, a ``manifest.json`` of someone else's, a
@@ -60,15 +60,16 @@ What makes it unable to destroy a user's files:
 
 Modules: :mod:`.folder` (:class:`RunDir`), :mod:`.ownership` (the names this tool writes,
 its temporaries, a folder's signature), :mod:`.locks` (the ``.lock`` file),
-:mod:`.manifest` (the manifest's signed head, atomic writes of single files),
+:mod:`.manifest` (the manifest's signed head),
 :mod:`.inputs` (the files a scenario reads, changes against a run's scenario copy).
 """
 
+from ...atomic import atomic_write_text
 from .folder import RunDir
 from .inputs import (changes_from_copy, check_inputs, named_files, scenario_changes,
                      scenario_inputs)
 from .locks import stale_lock
-from .manifest import atomic_write_text, git_commit, new_manifest, package_versions
+from .manifest import git_commit, new_manifest, package_versions
 from .ownership import (KINDS, MANIFEST, MARKER, PRODUCTS, TOOL, Signature, is_complete,
                         read_signature)
 

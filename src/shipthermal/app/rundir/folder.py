@@ -11,11 +11,12 @@ import sys
 import time
 from pathlib import Path
 
+from ...atomic import atomic_write_text
 from ...errors import InputError, input_error_from_os
 from ..scenario import load_scenario
 from .inputs import changes_from_copy, check_inputs, scenario_changes
 from .locks import _foreign_lock, _in_use, _lock_state, _read_lock, stale_lock
-from .manifest import _now, atomic_write_text, new_manifest
+from .manifest import _now, new_manifest
 from .ownership import (LOCK, MANIFEST, MARKER, STAGE_PREFIX, TOOL, _foreign_error,
                         _foreign_names, _is_temporary, _list, _own_temporary, _remove,
                         _safe_entry, is_complete, read_signature)

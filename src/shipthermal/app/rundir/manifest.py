@@ -1,5 +1,5 @@
 """The signed head of a run folder's manifest (command, host, package versions, git
-commit) and the atomic writes of single files."""
+commit); single files are written with :func:`shipthermal.atomic.atomic_write_text`."""
 
 from __future__ import annotations
 
@@ -62,17 +62,3 @@ def new_manifest(kind: str, command=None) -> dict:
             "cwd": os.getcwd(), "host": socket.gethostname(),
             "platform": platform.platform(), "versions": package_versions(),
             "git": git_commit()}
-
-
-def atomic_write_text(path, text: str) -> Path:
-    """Write ``text`` to a temporary name next to ``path``, then rename it into place."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
-    try:
-        tmp.write_text(text, encoding="utf-8")
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-    return path

@@ -44,16 +44,19 @@ def _list(keys, most: int = 6) -> str:
 # ---- temporaries ------------------------------------------------------------------------------
 def _is_temporary(name: str) -> bool:
     """Names our writers give half-written files and folders (inside this tool's own
-    entries, where every name is ours)."""
+    entries, where every name is ours), and those earlier versions gave them (a run folder
+    of an earlier version may still hold them)."""
     return (name.startswith(STAGE_PREFIX) or (name.startswith(".") and ".tmp" in name)
             or ".part-" in name)
 
 
+#: Names of temporaries: of this tool's writers, and of earlier versions' writers, which a
+#: run folder of an earlier version may still hold (``.<name>.tmp<pid>``, ``<name>.part-<pid>``)
 _TEMPORARY_FORMS = (
     re.compile(r"\.stage-(?P<base>[^.]+?)(?:__.*)?\.\d+"),          # RunDir.stage
-    re.compile(r"\.(?P<base>.+)\.tmp\d+(?P<ext>\.[^.]+)?"),        # atomic_write_text, pictures
-    re.compile(r"\.(?P<base>.+)\.[a-z0-9_]{8}\.tmp(?P<ext>\.[^.]*)?"),   # results.atomic_path
-    re.compile(r"\.?(?P<base>.+)\.part-\w+"),                      # *.part-<pid>
+    re.compile(r"\.(?P<base>.+)\.tmp\d+(?P<ext>\.[^.]+)?"),        # earlier versions' files
+    re.compile(r"\.(?P<base>.+)\.[a-z0-9_]{8}\.tmp(?P<ext>\.[^.]*)?"),   # atomic.atomic_path
+    re.compile(r"\.?(?P<base>.+)\.part-\w+"),     # background's staging folder; earlier files
 )
 
 

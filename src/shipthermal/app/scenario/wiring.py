@@ -15,6 +15,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from ...atomic import atomic_write_text
 from ...errors import InputError
 from ...materials import MATERIALS
 from .imaging_sections import BackgroundSettings, CalendarSettings, ImagingSettings
@@ -426,12 +427,7 @@ class Scenario:
 
     def write(self, path) -> Path:
         """Write :meth:`to_toml` to ``path`` atomically (temporary name, then rename)."""
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
-        tmp.write_text(self.to_toml(), encoding="utf-8")
-        os.replace(tmp, path)
-        return path
+        return atomic_write_text(path, self.to_toml())
 
     def updated(self, changes: Mapping[str, Any]) -> "Scenario":
         """A re-validated copy with dotted keys changed, e.g. ``{"ship.heading": 90}``

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
 import numpy as np
 
+from ...atomic import atomic_path
 from ..ship_geometry import ShipGeometry
 
 __all__ = ["write_ship"]
@@ -57,14 +57,6 @@ def write_ship(ship: ShipGeometry, directory, stem: str | None = None) -> dict[s
 
 
 def _atomic(path: Path, writer) -> Path:
-    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
-    try:
+    with atomic_path(path) as tmp:
         writer(str(tmp))
-        os.replace(tmp, path)
-    except OSError as exc:
-        if tmp.exists():
-            tmp.unlink()
-        if exc.errno is None or exc.filename not in (None, str(tmp)):
-            raise
-        raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from exc
     return path

@@ -1,0 +1,59 @@
+"""Writing a file atomically: the writer fills a temporary file next to the target, which is
+renamed into place once complete, so an interrupted write never leaves a file that looks
+complete.
+
+The temporary is ``.<stem>.<8 random characters>.tmp<suffix>`` in the target's folder: it
+keeps the target's suffix at the end, so writers that choose the format by the name still
+recognise it. On success it gets the permissions a plain ``open()`` would give and replaces
+the target; on failure it is removed, and an operating-system error of the write names the
+user's file rather than the temporary.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+__all__ = ["atomic_path", "atomic_write_text"]
+
+
+class atomic_path:
+    """Context manager giving a temporary path next to ``path``; renamed on success,
+    removed on failure."""
+
+    def __init__(self, path, suffix: str | None = None):
+        self.path = Path(path)
+        self.suffix = suffix if suffix is not None else self.path.suffix
+
+    def __enter__(self) -> Path:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=self.path.parent, prefix=f".{self.path.stem}.",
+                                   suffix=".tmp" + self.suffix)
+        os.close(fd)
+        self.tmp = Path(tmp)
+        return self.tmp
+
+    def __exit__(self, exc_type, exc, tb):
+        if exc_type is None:
+            # mkstemp creates 0600; give the file the permissions a plain open() would
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(self.tmp, 0o666 & ~umask)
+            os.replace(self.tmp, self.path)
+        else:
+            if self.tmp.exists():
+                self.tmp.unlink()
+            if isinstance(exc, OSError) and exc.errno is not None and (
+                    exc.filename is None or str(exc.filename) == str(self.tmp)):
+                # the user's file, not the temporary name (disk full, quota, ...)
+                raise OSError(exc.errno, exc.strerror or str(exc), str(self.path)) from exc
+        return False
+
+
+def atomic_write_text(path, text: str) -> Path:
+    """Write ``text`` (UTF-8) to ``path`` through :class:`atomic_path`; returns the path."""
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    return path
