@@ -391,3 +391,19 @@ def test_local_cluster_workers_start_pinned_with_adaptive_malloc():
         assert env == {"MALLOC_TRIM_THRESHOLD_": None, "NUMBA_NUM_THREADS": "1",
                        "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
         assert profile is False
+
+
+def test_a_worker_keeps_one_background_per_world_not_per_port(tmp_path, monkeypatch):
+    """A kept port background is reused only by cases of the same location, time, weather
+    and [background]: the background's every pixel runs under the case's weather, so a
+    wind-offset axis gets one background per offset, a heading axis shares one."""
+    from shipthermal.app import pipeline, sweep
+    from shipthermal.app.scenario import load_scenario
+
+    built = []
+    monkeypatch.setattr(pipeline, "build_background", lambda sc: built.append(sc) or len(built))
+    monkeypatch.setattr(sweep, "_BACKGROUNDS", {})
+    base = load_scenario(write_tiny(tmp_path))
+    heading = base.updated({"ship.heading": 90.0})
+    windy = base.updated({"weather.wind_speed_offset": 2.0})
+    assert [sweep._background(s) for s in (base, heading, windy, base)] == [1, 1, 2, 1]

@@ -53,15 +53,18 @@ __all__ = ["SweepSpec", "SweepCase", "load_sweep", "run_case", "run_sweep", "Swe
 # One case (runs on a worker)
 # ---------------------------------------------------------------------------------------
 _BACKGROUNDS: dict = {}
-"""Per-process cache of port backgrounds (a worker builds each port once; it depends only
-on the season, date, location and [background], and costs seconds)."""
+"""Per-process cache of port backgrounds (a worker builds each port once: it costs seconds).
+A background depends on [location], [time], [weather] (the run's one environment drives
+every pixel's energy balance) and [background]: cases that differ in any of them get their
+own."""
 
+#: The scenario sections a port background is built from (:func:`.pipeline.background_inputs`)
+BACKGROUND_SECTIONS = ("location", "time", "weather", "background")
 
 
 def _background_key(sc) -> str:
     d = sc.to_dict()
-    return json.dumps([d["time"]["season"], d["time"]["date"], d["location"], d["background"]],
-                      sort_keys=True, default=str)
+    return json.dumps([d[k] for k in BACKGROUND_SECTIONS], sort_keys=True, default=str)
 
 
 def _background(sc):
