@@ -23,6 +23,10 @@ def _image(folder, name, extra, formats=("csv", "json")):
     return out / "imaging"
 
 
+# slow (~2 min: a whole run with images and the HTML report); the default run keeps the
+# user sensor's path from the scenario key to the images (test_scenario_reach) and its frames
+# against the named band's (tests/imaging/test_img_user_bands.py)
+@pytest.mark.slow
 @pytest.mark.parametrize("sensor", ["L7_Spectral_Response.txt"])
 def test_a_real_sensors_response_file_is_imaged(sensor, tmp_path):
     """Landsat-7 ETM+ band 6 (USGS's response file, as downloaded): frames, crossovers and
