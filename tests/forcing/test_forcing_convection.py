@@ -135,6 +135,35 @@ def test_iso6946_model_is_four_plus_four_v_at_the_apparent_wind(boat):
         assert np.array_equal(g.absorbed_shortwave(t), f.absorbed_shortwave(t))
 
 
+def test_a_users_own_correlation_needs_only_its_terms(boat):
+    # a correlation the package does not know: a ConvectionModel with its terms alone (no
+    # closed-form twin, no registry entry) runs through the forcing; written as ISO 6946's
+    # 4 + 4 v per part on the superstructure, it gives the registered model's tables
+    ship, env, graph, f = boat
+    from shipthermal.conditions import LAW_PARAMETERS, ConvectionLaw
+
+    def terms(temp_film, flow, law=True):
+        shape = np.broadcast_shapes(np.shape(temp_film), np.shape(flow.wind_speed))
+        hf = np.broadcast_to(4.0 + 4.0 * np.abs(np.asarray(flow.wind_speed, float)), shape)
+        natural = np.zeros(shape + (2, len(LAW_PARAMETERS)))
+        return hf, (ConvectionLaw(natural, 1.0, 1.0, 0.0) if law else None)
+
+    mine = conv.ConvectionModel("my_4_plus_4v", terms, source="test", validity="test")
+    ts, ta = np.array([300.0, 280.0]), np.array([290.0, 290.0])
+    flow = conv.ExteriorFlow(normal_z=np.array([0.0, 1.0]), wind_speed=np.array([2.0, 5.0]))
+    np.testing.assert_array_equal(mine.h_direct(ts, ta, flow), [12.0, 24.0])
+    tables = {}
+    for model in ("iso6946", mine):
+        g = build_ship_forcing(ship, env, graph, ForcingSettings(
+            dtype=np.float64, convection={"superstructure": model}), times=TIMES,
+            traced=f.traced)
+        name = getattr(model, "name", model)
+        tables[name] = (_air_table(g), _air_h_table(g))
+        assert name in g.convection_models.values()
+    for a, b in zip(tables["iso6946"], tables["my_4_plus_4v"]):
+        np.testing.assert_array_equal(a, b)
+
+
 def test_unknown_model_lists_the_known_ones(boat):
     ship, env, graph, f = boat
     with pytest.raises(InputError) as err:

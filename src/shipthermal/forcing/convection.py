@@ -283,21 +283,24 @@ def air_convection_models(surface: SurfaceProperties, normals, lengths: FlowLeng
                           convection, roughness=None) -> AirConvection:
     """Stage 3b's static half: model, roughness and facade P/A of each air face.
 
-    ``convection``: a model name (every part) or ``{part: name}`` (parts, main parts or
-    ``'hull'``; the rest :data:`~shipthermal.parameters.DEFAULT_CONVECTION_MODEL`);
+    ``convection``: a model (a name of
+    :data:`~shipthermal.environment.convection.CONVECTION_MODELS` or a user's
+    :class:`~shipthermal.environment.convection.ConvectionModel`) for every part, or
+    ``{part: model}`` (parts, main parts or ``'hull'``; the rest
+    :data:`~shipthermal.parameters.DEFAULT_CONVECTION_MODEL`);
     ``roughness``: a class name or ``{part: class}`` of
     :data:`~shipthermal.environment.convection.ROUGHNESS_MULTIPLIERS` (default
     :data:`~shipthermal.parameters.CONVECTION_ROUGHNESS`)."""
     names = surface.part_names
     by_part = part_choices(names, conv.DEFAULT_CONVECTION_MODEL, convection, "convection.model",
-                           lambda v, f: conv.convection_model(v, f).name)
+                           conv.convection_model)
     rough_part = part_choices(names, None, roughness, "convection.roughness",
                               lambda v, f: (conv.roughness_multiplier(v, f), v)[1],
                               defaults=CONVECTION_ROUGHNESS)
-    used = tuple(dict.fromkeys(by_part[n] for n in names))
-    models = tuple(conv.convection_model(m) for m in used)
+    model_by_part = {n: conv.convection_model(by_part[n]) for n in names}
+    models = tuple(dict.fromkeys(model_by_part[n] for n in names))
     air_part = surface.outer_part[surface.outer_is_air]
-    model_of_part = np.array([used.index(by_part[n]) for n in names])
+    model_of_part = np.array([models.index(model_by_part[n]) for n in names])
     rf_of_part = np.array([conv.ROUGHNESS_MULTIPLIERS[rough_part[n]] for n in names])
     nz = normals[:, 2]
     horizontal = np.abs(nz) >= conv.WINDWARD_HORIZONTAL_COS

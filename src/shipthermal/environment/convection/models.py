@@ -191,6 +191,17 @@ class ConvectionModel:
         Range in which its source supports it.
     film_dependent : bool
         Its terms depend on ``temp_film`` (air properties).
+    direct : callable, optional
+        ``direct(temp_surface, temp_air, flow) -> h``: the same coefficient from closed-form
+        correlation functions (a faster path for the forcing's quasi-steady estimate); without
+        it :meth:`h_direct` is :meth:`h`, the law the solver evaluates.
+
+    Notes
+    -----
+    A new correlation is its name, source and validity in
+    :data:`shipthermal.parameters.CONVECTION_MODEL_SOURCES` (what a scenario may choose,
+    readable without loading the physics) and its ``terms`` in this module's
+    ``_MODEL_TERMS``; nothing else changes.
     """
 
     name: str
@@ -203,6 +214,8 @@ class ConvectionModel:
     def h_direct(self, temp_surface, temp_air, flow: ExteriorFlow):
         """The same coefficient from the correlation functions of this package (numpy, no
         law arrays: the fast path of the forcing's quasi-steady estimate) [W m-2 K-1]."""
+        if self.direct is None:
+            return self.h(temp_surface, temp_air, flow)
         return self.direct(np.asarray(temp_surface, dtype=float),
                            np.asarray(temp_air, dtype=float), flow)
 
