@@ -17,8 +17,8 @@ import time
 import numpy as np
 from scipy.integrate import quad, trapezoid
 
-from imaging.radiometry import (band_radiance, band_radiance_rectangular_exact,
-                                band_radiance_table, planck_radiance)
+from shipthermal.optics.planck import (band_radiance, band_radiance_rectangular_exact,
+                                       band_radiance_table, planck_radiance)
 
 N = 1024
 N_WAVELENGTHS = 2001

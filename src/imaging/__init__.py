@@ -5,7 +5,7 @@ chain). Exported here, imported on first use: :class:`~imaging.experiment.Imagin
 :func:`~imaging.experiment.render_series`, :func:`~imaging.experiment.run_experiment`,
 :class:`~imaging.render.SceneRenderer`, :class:`~imaging.thermal_history.ShipThermalHistory`,
 :func:`~imaging.metrics.local_scr`, :func:`~imaging.metrics.crossover_times`,
-:func:`~imaging.radiometry.band_radiance`, :func:`~imaging.radiometry.brightness_temperature`
+:func:`~shipthermal.optics.planck.band_radiance`, :func:`~shipthermal.optics.planck.brightness_temperature`
 and ``__version__`` (the ``shipthermal`` distribution's).
 """
 
@@ -29,9 +29,9 @@ def __getattr__(name: str):
 
         value = getattr(metrics, name)
     elif name in ("band_radiance", "brightness_temperature"):
-        from . import radiometry
+        from shipthermal.optics import planck
 
-        value = getattr(radiometry, name)
+        value = getattr(planck, name)
     elif name == "__version__":
         from importlib.metadata import PackageNotFoundError, version
 

@@ -24,11 +24,11 @@ import pandas as pd
 from shipthermal.atomic import atomic_path
 from shipthermal.errors import check_range, require
 from shipthermal.figures import OKABE_ITO
+from shipthermal.optics.planck import brightness_temperature
+from shipthermal.optics.responses import user_bands
 from shipthermal.units import HOUR, utc_offset_text
 
 from .experiment import render_series
-from .radiometry import brightness_temperature
-from .spectral_bands import user_bands
 
 __all__ = ["SCR_THRESHOLD", "image_overpasses", "image_dense", "monthly_table",
            "crossover_table", "crossover_dates_table", "plot_calendar", "overpass_seconds"]

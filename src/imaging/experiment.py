@@ -27,6 +27,7 @@ import numpy as np
 import pandas as pd
 
 from shipthermal.errors import InputError, check_range, require
+from shipthermal.optics.responses import user_bands
 from shipthermal.parameters import check_wind_speed
 from shipthermal.units import DAY, HOUR
 
@@ -35,7 +36,6 @@ from .metrics import crossover_times, local_scr
 from .parameters import DEFAULT_CLOUD_TYPE
 from .render import SceneRenderer, SensorOptions
 from .scene import ShipPlacement, as_scene_background
-from .spectral_bands import user_bands
 
 __all__ = ["PAPER_TYPICAL_HOURS", "DEFAULT_TIMES_S", "ImagingScenario", "SeriesResult",
            "render_series", "sun_positions", "run_experiment", "ExperimentResult",
@@ -103,7 +103,7 @@ class ImagingScenario:
         (:data:`imaging.atmosphere.CLOUD_TYPES`).
     user_bands : tuple of SpectralResponse
         A user sensor's bands (e.g. ``[imaging.sensor] preset = "user"``), imaged by their
-        names like the named bands (:func:`imaging.spectral_bands.user_bands`).
+        names like the named bands (:func:`shipthermal.optics.responses.user_bands`).
     """
 
     season: str

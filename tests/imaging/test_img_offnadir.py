@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from imaging import brdf as B
+from shipthermal.optics import brdf as B
 from imaging.atmosphere import atmosphere, planck_weighted_transmittance
 from imaging.radiometry import band_radiance, water_band_mean_index
 from imaging.render import SceneRenderer, conditions_from_atmosphere

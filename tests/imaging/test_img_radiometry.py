@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import quad
 
 from imaging import radiometry as rad
-from imaging.brdf import fresnel_reflectance
+from shipthermal.optics.brdf import fresnel_reflectance
 from shipthermal import optics
 from shipthermal.errors import InputError
 from shipthermal.units import PLANCK_C1, PLANCK_C2, SIGMA
@@ -217,7 +217,7 @@ def test_leaving_radiance_solar_term_and_sun_behind():
 def test_gauss_legendre_rule_is_numpys_computed_once_and_read_only():
     """The shared rule equals numpy's leggauss bit for bit, integrates a degree 2n-1
     polynomial exactly, is the same object on every call and cannot be altered in place."""
-    from imaging.quadrature import gauss_legendre
+    from shipthermal.optics.quadrature import gauss_legendre
 
     x, w = gauss_legendre(8)
     xr, wr = np.polynomial.legendre.leggauss(8)

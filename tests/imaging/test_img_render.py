@@ -7,7 +7,7 @@ import pytest
 from matplotlib.path import Path
 from scipy.spatial import ConvexHull
 
-from imaging.brdf import cox_munk_brdf
+from shipthermal.optics.brdf import cox_munk_brdf
 from imaging.metrics import local_scr
 from imaging.radiometry import band_radiance, sea_emissivity, water_band_mean_index
 from imaging.render import BandConditions, SceneRenderer

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from imaging import brdf as B
+from shipthermal.optics import brdf as B
 from imaging.radiometry import (ROUGH_SEA_QUADRATURE, rough_sea_emissivity,
                                 rough_sea_emissivity_hemispherical, sea_emissivity,
                                 water_band_mean_index)

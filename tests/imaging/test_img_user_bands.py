@@ -1,5 +1,5 @@
 """A user's spectral response: its atmosphere on the day's state (the spectral bins), and
-its name in the imaging run (``spectral_bands.user_bands``).
+its name in the imaging run (``shipthermal.optics.responses.user_bands``).
 
 Peer: live LOWTRAN 7 (Navy maritime aerosol, 23 km) at random days, stored by
 ``scripts/make_atmosphere_tables.py --bins`` in ``data/user_band_lowtran.json`` (the
@@ -15,7 +15,7 @@ import pytest
 
 from imaging.atmosphere import MODEL_NAMES, AtmosphereState, atmosphere, surface_state
 from imaging.atmosphere import spectral_bins as sb
-from imaging.spectral_bands import (named_band, response_from_table, user_band_names,
+from shipthermal.optics.responses import (named_band, response_from_table, user_band_names,
                                     user_bands)
 from shipthermal.errors import InputError
 

@@ -2,7 +2,7 @@
 
 The bands and their parser are :data:`shipthermal.parameters.BANDS` and
 :func:`shipthermal.parameters.parse_band`; Planck's law is
-:func:`imaging.radiometry.planck_radiance`.
+:func:`shipthermal.optics.planck.planck_radiance`.
 """
 
 from __future__ import annotations

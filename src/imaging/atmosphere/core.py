@@ -25,10 +25,12 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from shipthermal.errors import InputError, check_finite, check_range
+from shipthermal.optics.planck import planck_radiance
+from shipthermal.optics.responses import (BAND_NAMES, SpectralResponse, named_band,
+                                          rectangular_response, response_from_table,
+                                          user_band_names)
 
 from ..parameters import DEFAULT_CLOUD_TYPE, MAX_VIEW_ZENITH
-from ..radiometry import SpectralResponse, planck_radiance, rectangular_response
-from ..spectral_bands import BAND_NAMES, named_band, response_from_table, user_band_names
 from . import models as mdl
 from . import spectral_bins as sb
 from . import tables as tb
@@ -312,7 +314,7 @@ def atmosphere(model, band, view_zenith_deg: float, sun_zenith_deg: float,
         ``"midlatitude_winter"``, ``"subarctic_summer"``, ``"subarctic_winter"``,
         ``"us_standard_1976"`` (or ``"summer"``/``"winter"``, the paper's two).
     band : str, tuple or SpectralResponse
-        A named band (:data:`imaging.spectral_bands.BAND_NAMES`: ``"3-5"``, ``"8-14"``,
+        A named band (:data:`shipthermal.optics.responses.BAND_NAMES`: ``"3-5"``, ``"8-14"``,
         ``"landsat8_tirs_b10"``, ...), ``"lo-hi"`` or ``(lo, hi)`` [µm] (rectangular) or a
         sensor response.
     view_zenith_deg : float

@@ -10,8 +10,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..radiometry import SpectralResponse
-from ..spectral_bands import BAND_NAMES, named_band
+from shipthermal.optics.responses import BAND_NAMES, SpectralResponse, named_band
+
 from . import models as mdl
 from . import spectral_bins as sb
 from . import tables as tb

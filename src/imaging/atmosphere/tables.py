@@ -3,7 +3,7 @@
 ``data/atmosphere_tables.npz`` is written by ``scripts/make_atmosphere_tables.py`` from
 live LOWTRAN 7 run from its card decks (:mod:`.lowtran_backend`): the six model
 atmospheres with Navy maritime aerosol at 23 km, band values of every named band
-(:data:`imaging.spectral_bands.BAND_NAMES`).
+(:data:`shipthermal.optics.responses.BAND_NAMES`).
 
 Layout per model ``m`` (arrays ``"{m}__<name>"``; grids in ``"grid__<axis>"``,
 :data:`GRID`):
@@ -50,7 +50,7 @@ from importlib import resources
 import numpy as np
 from scipy.interpolate import PchipInterpolator
 
-from ..quadrature import gauss_legendre
+from shipthermal.optics.quadrature import gauss_legendre
 
 __all__ = ["AtmosphereTable", "load_table", "interpolation_errors", "axis_coordinate",
            "interpolate_axis", "pchip", "TABLE_FILE", "GRID", "THERMAL_QUANTITIES", "FORMAT",

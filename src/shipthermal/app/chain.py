@@ -591,9 +591,9 @@ class SimulationResult:
             fr = sr.frames[float(s)]
             a = np.asarray(getattr(fr, attr), dtype=np.float32)
             if quantity == "brightness_temperature":
-                # lazy: imaging.radiometry loads scipy.special (0.4 s, measured)
-                from imaging.radiometry import brightness_temperature
-                from imaging.spectral_bands import user_bands
+                # lazy: shipthermal.optics.planck loads scipy.special (0.4 s, measured)
+                from shipthermal.optics.planck import brightness_temperature
+                from shipthermal.optics.responses import user_bands
 
                 with user_bands(isc.user_bands):            # a user sensor's band
                     a = brightness_temperature(np.maximum(a, 1e-12), band).astype(np.float32)

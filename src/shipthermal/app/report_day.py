@@ -475,7 +475,7 @@ def _image_frames(nc: Path, band: str, hours=SLIDER_HOURS):
     import xarray as xr
 
     from imaging.metrics import background_window
-    from imaging.radiometry import brightness_temperature
+    from shipthermal.optics.planck import brightness_temperature
 
     with xr.open_dataset(nc, engine="h5netcdf") as ds:
         rad = ds["radiance"].values

@@ -190,7 +190,7 @@ class SensorSettings:
                     "= 'user'", "Set preset = 'user', or remove response_file")
         if obj.preset == "user" and obj.response_file and "response_file" not in bad:
             # lazy: loading a scenario imports no imaging module but imaging.parameters
-            from imaging.spectral_bands import read_response_file
+            from shipthermal.optics.responses import read_response_file
 
             try:
                 read_response_file(obj.response_file, "user")
@@ -289,7 +289,7 @@ class ImagingSettings:
                         "[µm] or the sensor preset's bands by name (default: the preset's "
                         "bands; 'user' for a user sensor)",
                         allowed_text="'3-5', '8-14', 'mwir', 'lwir', 'lo-hi' with 2.9 <= lo "
-                        "< hi <= 14.5 µm, a band of imaging.spectral_bands (e.g. "
+                        "< hi <= 14.5 µm, a band of shipthermal.optics.responses (e.g. "
                         "'landsat8_tirs_b10') or 'user'")
     times: tuple = _opt(None, "clock_list", "Local times of the images (default: the "
                         "paper's typical times of Figs. 14-17)", season=PAPER_IMAGE_TIMES,

@@ -187,7 +187,7 @@ class Scenario:
                 or band in ("3-5", "8-14"):
             return band
         # lazy: loading a scenario imports no stage library (test_load_is_lazy)
-        from imaging.spectral_bands import named_band, nominal_range
+        from shipthermal.optics.responses import named_band, nominal_range
 
         resp = self.instrument().bands[0].response if band == "user" else named_band(band)
         lo, hi = nominal_range(resp)

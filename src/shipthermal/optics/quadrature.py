@@ -1,4 +1,4 @@
-"""Quadrature rules shared by the imaging modules."""
+"""Quadrature rules shared by the optics and the imaging modules."""
 
 from __future__ import annotations
 

@@ -40,9 +40,8 @@ from importlib import resources
 import numpy as np
 
 from shipthermal.errors import InputError, check_positive, check_range, require
-from shipthermal.parameters import BANDS
+from shipthermal.parameters import BANDS, SENSOR_BANDS
 
-from .parameters import SENSOR_BANDS
 from .quadrature import gauss_legendre
 
 __all__ = ["SpectralResponse", "rectangular_response", "BAND_NAMES", "BAND_SOURCES", "named_band",
@@ -220,7 +219,7 @@ def read_response_file(path, name: str | None = None) -> SpectralResponse:
 
 @lru_cache(maxsize=None)  # immutable package data, read once
 def _table_band(name: str) -> SpectralResponse:
-    ref = resources.files("imaging") / "data" / _TABLES[name]
+    ref = resources.files("shipthermal.optics") / "data" / _TABLES[name]
     with resources.as_file(ref) as path:
         with open(path, encoding="utf-8") as f:
             rows = [r for r in csv.reader(line for line in f if not line.startswith("#"))]
@@ -257,7 +256,7 @@ def user_bands(responses):
     try:
         for resp in responses:
             require(isinstance(resp, SpectralResponse), "user band", resp,
-                    "must be a SpectralResponse (imaging.spectral_bands.read_response_file)")
+                    "must be a SpectralResponse (shipthermal.optics.responses.read_response_file)")
             require(resp.name not in BAND_NAMES, "user band", resp.name,
                     f"must not be a named band ({', '.join(BAND_NAMES)})",
                     "Give the user band another name")

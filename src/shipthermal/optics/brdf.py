@@ -19,7 +19,7 @@ import numpy as np
 from scipy.special import erfc
 
 from shipthermal.errors import InputError, check_positive, check_range, require
-from shipthermal.optics import fresnel_reflectance  # the one Fresnel reflectance
+from .water import fresnel_reflectance  # the one Fresnel reflectance
 from shipthermal.parameters import check_wind_speed
 
 from .quadrature import gauss_legendre
@@ -127,7 +127,7 @@ def cox_munk_brdf(theta_i, phi_i, theta_r, phi_r, wind_speed, refractive_index=1
         Wind speed [m s-1] (see :func:`cox_munk_slope_variance`).
     refractive_index : complex
         Complex refractive index of water in the band [-] (e.g.
-        :func:`imaging.radiometry.water_band_mean_index`); default 1.33 (visible).
+        :func:`shipthermal.optics.sea.water_band_mean_index`); default 1.33 (visible).
     wind_azimuth : float or None
         None: isotropic slopes. Otherwise the azimuth of the wind axis in the same frame as
         ``phi`` [deg]: anisotropic up/cross-wind Gaussian.
@@ -209,7 +209,7 @@ def rpv_brdf(theta_i, phi_i, theta_r, phi_r, rho0, k, b, rho_c=None, phase: str 
         Minnaert-like anisotropy exponent [-] (k < 1 bowl-shaped, k > 1 bell-shaped).
     b : float
         Phase parameter [-]: ``b`` of ``exp(b cos xi)`` (``phase="exp"``, the modified RPV of
-        the paper's eq. 8) or the Henyey-Greenstein ``Theta`` (``phase="hg"``, |Theta| < 1,
+        the paper's eq. 8) or the Henyey-Greenstein ``Theta`` (``phase="hg"``, ``|Theta| < 1``,
         original RPV). Negative values favour backscattering in both cases.
     rho_c : float or None
         Hot-spot parameter [-]; default ``rho0`` (original RPV).

@@ -1,18 +1,17 @@
-"""Surface optics both stages use: water's refractive index, Fresnel reflectance, the
-sea's emissivity.
+"""Water's refractive index, Fresnel reflectance and the sea's emissivity, for both stages.
 
 The thermal stage (:mod:`shipthermal.environment`: the sea's long-wave) and the imaging
-(:mod:`imaging.radiometry`, :mod:`imaging.brdf`: the sea's band emissivity and Cox-Munk
-reflectance) import these from here, so the two stages take one refractive index of water,
-one Fresnel law and one rough-sea emissivity.
+(:mod:`shipthermal.optics.sea`, :mod:`shipthermal.optics.brdf`: the sea's band emissivity and
+Cox-Munk reflectance) take one refractive index of water, one Fresnel law and one rough-sea
+emissivity from here.
 
 * Hale & Querry's (1973) complex index of liquid water (:data:`WATER_INDEX_HALE_QUERRY`),
 * the unpolarised Fresnel reflectance of a smooth interface (:func:`fresnel_reflectance`),
 * the flat sea's directional and hemispherical emissivity (Kirchhoff),
 * the wind-roughened sea's hemispherical emissivity (:func:`sea_emissivity_rough`): the
-  imaging's Cox-Munk model tabulated per wind speed
+  Cox-Munk model of :mod:`shipthermal.optics.sea` tabulated per wind speed
   (:data:`ROUGH_SEA_HEMISPHERICAL_EMISSIVITY`; the tests recompute the table from
-  :func:`imaging.radiometry.rough_sea_emissivity_hemispherical`).
+  :func:`shipthermal.optics.sea.rough_sea_emissivity_hemispherical`).
 
 Angles in degrees, wavelengths in micrometres, emissivities and reflectances [-].
 """
@@ -90,7 +89,7 @@ ROUGH_SEA_HEMISPHERICAL_EMISSIVITY = (
     0.95974, 0.96055, 0.9613, 0.962, 0.96266, 0.96328, 0.96386, 0.96442, 0.96495,
     0.96545, 0.96592, 0.96638)
 """Hemispherical emissivity [-] of the wind-roughened sea at :data:`ROUGH_SEA_WIND_NODES`:
-``imaging.radiometry.rough_sea_emissivity_hemispherical("8-14", u)`` (one minus the
+``shipthermal.optics.sea.rough_sea_emissivity_hemispherical("8-14", u)`` (one minus the
 directional albedo of the shadowed Cox-Munk BRDF the imaging reflects sun and sky with,
 Hale & Querry 8-14 µm band-mean index), rounded to 1e-5; the test recomputes it. The 8-14
 µm window carries most of ``σT⁴ − L_down`` (outside it the sky is nearly black at the
