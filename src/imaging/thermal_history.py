@@ -24,7 +24,7 @@ import numpy as np
 from shipthermal.errors import InputError, check_finite, check_range, require
 from shipthermal.geometry.parts import part_key
 from shipthermal.parameters import BAND_EMISSIVITY
-from shipthermal.units import DAY, HOUR
+from shipthermal.units import DAY, HOUR, fold_time
 
 __all__ = ["ShipThermalHistory", "synthetic_history", "emissivity_key", "SYNTHETIC_PART_RESPONSE"]
 
@@ -47,7 +47,7 @@ def _interp_periodic(times, values, t, period):
         return _interp_rows(times, values, t, period)
     if period is not None and not times[0] <= t <= times[-1]:
         t0 = times[0]
-        t = t0 + (t - t0) % period
+        t = fold_time(t, period, t0)
         if times[-1] < t0 + period:
             times = np.append(times, t0 + period)
             values = np.concatenate([values, values[:1]], axis=0)
@@ -62,7 +62,7 @@ def _interp_rows(times, rows, t, period):
     n = len(times)
     if period is not None and not times[0] <= t <= times[-1]:
         t0 = times[0]
-        t = t0 + (t - t0) % period
+        t = fold_time(t, period, t0)
         if t > times[-1]:        # between the last row and the first of the next period
             w = (t - times[-1]) / (t0 + period - times[-1])
             return (1.0 - w) * np.asarray(rows[n - 1], float) + w * np.asarray(rows[0], float)

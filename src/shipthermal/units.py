@@ -36,6 +36,19 @@ DAY = 86400.0
 # uses, so that no file or page leaves "local" to be guessed.
 
 
+def fold_time(seconds, period, origin=0.0):
+    """``origin + (seconds − origin) mod period`` [s]: a time folded into the cycle of a
+    periodic axis that starts at ``origin`` (floats or numpy arrays).
+
+    The one place a time is folded into a period: the weather's cycle
+    (:meth:`shipthermal.environment.weather.Weather.fold`), the forcing's time tables, the
+    ship's recorded thermal history and the background's periodic day. The floating-point
+    ``mod`` is exact (Python's and numpy's agree): ``t`` and ``t + k·period`` fold to the
+    same time whenever the sum itself is exact.
+    """
+    return origin + (seconds - origin) % period
+
+
 def clock_origin(date: str, time_zone: str):
     """Local midnight of ``date`` (``YYYY-MM-DD``) in the IANA zone ``time_zone``, as an
     aware :class:`datetime.datetime`: the instant the run's clock counts from."""

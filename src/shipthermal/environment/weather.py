@@ -57,7 +57,7 @@ import pandas as pd
 
 from shipthermal.errors import InputError, require
 from shipthermal.parameters import CLOUD_COVER_SCALE, TEMP_UNITS
-from shipthermal.units import ZERO_CELSIUS
+from shipthermal.units import ZERO_CELSIUS, fold_time
 
 from .sky import dew_point, relative_humidity_from_dew_point
 
@@ -282,7 +282,7 @@ class Weather:
 
         The one place where a time is folded into the weather's period.
         """
-        return np.mod(seconds, self.period) if self.periodic else seconds
+        return fold_time(np.asarray(seconds), self.period) if self.periodic else seconds
 
     @property
     def temp_dew(self) -> np.ndarray:

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import check_range, require
-from ..units import DAY
+from ..units import DAY, fold_time
 
 MAX_TABLE_GAP = 3600.0
 """Largest allowed step between table times (with the wrap from the last to the first
@@ -63,7 +63,7 @@ class PeriodicTable:
         ``t`` is folded modulo the period (``np.mod`` of floats is exact, so t and
         t + k·period give the same rows and weight).
         """
-        tf = float(np.mod(float(t), self.period))
+        tf = float(fold_time(float(t), self.period))
         tt = self.times
         n = len(tt)
         i = int(np.searchsorted(tt, tf, side="right")) - 1

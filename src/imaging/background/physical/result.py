@@ -11,7 +11,7 @@ import pandas as pd
 from numba import njit, prange
 
 from shipthermal.errors import InputError, require
-from shipthermal.units import HOUR
+from shipthermal.units import HOUR, fold_time
 
 from ...parameters import RESIDUAL_MODES
 from ..classify import CLASS_NAMES
@@ -107,7 +107,7 @@ class PhysicalBackground:
         s = float(seconds)
         require(math.isfinite(s), "time", seconds, "must be finite")
         if self.period_s is not None:
-            s = t[0] + (s - t[0]) % self.period_s
+            s = fold_time(s, self.period_s, t[0])
             if s > t[-1]:                     # between the last sample and the next day's first
                 w = (s - t[-1]) / (t[0] + self.period_s - t[-1])
                 return len(t) - 1, 0, w
