@@ -76,7 +76,9 @@ def image_overpasses(history, scenario, overpasses, start: pd.Timestamp, bands=(
         ``view_azimuth_deg``, ``band``, ``scr`` [-], ``contrast`` [W m-2 sr-1],
         ``ship_apparent_K``, ``background_apparent_K``, ``apparent_contrast_K`` (brightness
         temperatures of the at-aperture radiance), ``std_background`` [W m-2 sr-1],
-        ``sun_zenith_deg``, ``daytime``, ``under_clutter``.
+        ``sun_zenith_deg``, ``daytime``, ``under_clutter``, ``atmosphere_model`` (the
+        model atmosphere the overpass was seen through:
+        :meth:`imaging.experiment.ImagingScenario.atmosphere_model_at`).
     """
     check_range("calendar.threshold", threshold, 0.0, 1.0e3, low_open=True)
     if not overpasses:
@@ -113,7 +115,8 @@ def image_overpasses(history, scenario, overpasses, start: pd.Timestamp, bands=(
                     apparent_contrast_K=ship - back, std_background=float(r["std_background"]),
                     sun_zenith_deg=float(r["sun_zenith_deg"]),
                     daytime=bool(r["sun_zenith_deg"] < 90.0),
-                    under_clutter=bool(r["scr"] < threshold)))
+                    under_clutter=bool(r["scr"] < threshold),
+                    atmosphere_model=scen.atmosphere_model_at(s)))
     return pd.DataFrame(rows).sort_values(["time_utc", "band"]).reset_index(drop=True)
 
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 import time as _time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -98,6 +99,11 @@ class ImagingScenario:
     atmosphere_model : str or None
         LOWTRAN model atmosphere (:data:`imaging.atmosphere.MODEL_NAMES`); None: the one
         ``season`` names (summer / winter: mid-latitude summer / winter).
+    atmosphere_by_day : bool
+        True: with a weather record (``sky_weather`` not periodic) each local day is seen
+        through its own model atmosphere, the site rule's for that day's mean air
+        temperature and month (:meth:`atmosphere_model_at`); ``atmosphere_model`` is then
+        the whole record's. False (default): ``atmosphere_model`` throughout.
     cloud_type : str
         LOWTRAN cloud deck of the cloudy share of the sky
         (:data:`imaging.atmosphere.CLOUD_TYPES`).
@@ -124,6 +130,7 @@ class ImagingScenario:
     sky_weather: object = None
     aerosol: dict | None = None
     atmosphere_model: str | None = None
+    atmosphere_by_day: bool = False
     cloud_type: str = DEFAULT_CLOUD_TYPE
     user_bands: tuple = ()
 
@@ -170,6 +177,40 @@ class ImagingScenario:
         """The aerosol conditions handed to the atmosphere (both backends hold the wind and
         humidity of the Navy maritime aerosol)."""
         return self.aerosol
+
+    def atmosphere_model_at(self, seconds: float) -> str:
+        """The model atmosphere of a frame ``seconds`` after local midnight of ``date``.
+
+        :attr:`atmosphere_model`, or with ``atmosphere_by_day`` and a weather record the
+        model of that local day (:func:`imaging.atmosphere.model_for_record_day`: the
+        site's latitude, the day's month and its mean air temperature, the mean of
+        ``sky_weather`` at the day's 24 half-hours past each hour). A day beyond every
+        model's reach gets the nearest model and a warning.
+        """
+        sky = self.sky_weather
+        if not self.atmosphere_by_day or sky is None or sky.periodic:
+            return self.atmosphere_model
+        day = int(math.floor(float(seconds) / DAY))
+        chosen = self.__dict__.setdefault("_models_by_day", {})   # frozen: a cache only
+        if day not in chosen:
+            chosen[day] = self._model_of_day(day)
+        return chosen[day]
+
+    def _model_of_day(self, day: int) -> str:
+        # deferred: the atmosphere package loads its tables' interpolators (scipy), which a
+        # scenario built for a fixed model never needs
+        from .atmosphere import model_for_record_day
+
+        sky = self.sky_weather
+        hours = 24.0 * day + 0.5 + np.arange(24.0)
+        temp = float(np.mean(np.interp(hours, sky.hours_local, sky.temp_air)))
+        date = pd.Timestamp(self.date) + pd.Timedelta(days=day)
+        model, beyond = model_for_record_day(self.latitude, date.month, temp)
+        if beyond:
+            warnings.warn(f"{date:%Y-%m-%d}: day-mean air temperature {temp:.1f} K lies beyond "
+                          f"every model atmosphere's reach; imaged through {model} with its "
+                          "offset clamped", stacklevel=2)
+        return model
 
     def renderer(self, ship) -> SceneRenderer:
         """A :class:`SceneRenderer` for ``ship`` in this scenario."""
@@ -314,7 +355,6 @@ def _render_series(history, scenario, bands, times_s, keep_times_s, crop_px, pro
     r = renderer or scenario.renderer(history)
     zen, azi = sun_positions(scenario, t)
     aerosol = scenario.atmosphere_aerosol
-    model = scenario.atmosphere_model
     crop = _crop_box(r.coverage > 0, crop_px, r.shape)
     r0, r1, c0, c1 = crop
     keep = {float(k) for k in keep_times_s}
@@ -342,6 +382,7 @@ def _render_series(history, scenario, bands, times_s, keep_times_s, crop_px, pro
                                                    sun_azimuth_deg=azi[k]).sun_direction)
         rays += sun.n_rays
         sky_now = None if scenario.sky_weather is None else scenario.sky_weather.at(tk)
+        model = scenario.atmosphere_model_at(tk)
         for b in bands:
             cond = conditions_from_atmosphere(model, b, scenario.view_zenith_deg,
                                               scenario.view_azimuth_deg, min(zen[k], 180.0),

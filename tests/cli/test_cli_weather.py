@@ -160,6 +160,9 @@ def test_calendar_of_a_record(tmp_path, capsys):
     assert len(op) == 2 * op["time_utc"].nunique()                  # both bands
     listed = op[op["satellite"] == "listed"]
     assert set(listed["time_local"]) == {"22:00"} and not listed["daytime"].any()
+    # each overpass through its own day's model atmosphere: early March at buoy 44009 the
+    # air is 0-8 °C, nearest mid-latitude winter's 272.2 K of the six models' surfaces
+    assert set(op["atmosphere_model"]) == {"midlatitude_winter"}
     m = pd.read_csv(d / "monthly.csv")
     for band, g in op.groupby("band"):
         row = m[m["band"] == band].iloc[0]

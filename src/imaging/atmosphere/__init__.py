@@ -24,13 +24,14 @@ state), ``bands`` (band integration), ``core`` (the API),
 from .bands import BANDS, band_integrate, parse_band
 from .core import (MODELS, SEASONS, AtmosphereResult, atmosphere, cloud_type_number,
                    planck_weighted_transmittance, season_model, sky_radiance)
-from .models import (CLOUD_TYPES, MODEL_NAMES, AtmosphereState, model_for_site, model_label,
-                     model_name, surface_state)
+from .models import (CLOUD_TYPES, MODEL_NAMES, AtmosphereState, model_for_record_day,
+                     model_for_site, model_label, model_name, surface_state)
 from .tables import interpolation_errors, load_table
 
 __all__ = ["BANDS", "SEASONS", "MODELS", "MODEL_NAMES", "CLOUD_TYPES", "AtmosphereResult",
            "AtmosphereState", "atmosphere", "sky_radiance", "band_integrate", "parse_band",
-           "season_model", "model_for_site", "model_name", "model_label", "surface_state",
+           "season_model", "model_for_site", "model_for_record_day", "model_name",
+           "model_label", "surface_state",
            "cloud_type_number", "interpolation_errors", "load_table", "lowtran_available",
            "planck_weighted_transmittance"]
 

@@ -39,6 +39,12 @@ latitudinal/seasonal dependence of surface temperature") applied to the day itse
 also keeps the scaling (``ΔT``) small. Without a temperature the FLAASH table
 (latitude rows every 10°, months Jan/Mar/May/Jul/Sep/Nov, nearest row and month) is used.
 A day more than :data:`MAX_TEMP_OFFSET_K` from every model cannot be placed.
+
+A weather record of weeks to a year is placed day by day
+(:func:`model_for_record_day`): each local day gets the model of its own mean air temperature
+and month, so a winter overpass is seen through a winter atmosphere and a summer one through
+a summer atmosphere; an extreme day beyond every model's reach gets the nearest model (its
+offset clamped by the tables, as for a named model) and is reported, not refused.
 """
 
 from __future__ import annotations
@@ -58,7 +64,7 @@ from .lowtran_cards import Profile
 __all__ = ["AtmosphereState", "CLOUD_TYPES", "MODEL_NUMBERS", "MODEL_NAMES", "PAPER_LABELS",
            "MAX_TEMP_OFFSET_K", "BOUNDARY_LAYER_KM", "model_name", "model_label", "model_number",
            "SurfaceState", "surface_state", "model_profile", "water_vapour_scale",
-           "model_for_site", "earth_radius_km", "aerosol_season", "default_wind_speed",
+           "model_for_site", "model_for_record_day", "earth_radius_km", "aerosol_season", "default_wind_speed",
            "FLAASH_TABLE"]
 
 MODEL_NUMBERS = {name: i + 1 for i, name in enumerate(ATMOSPHERE_MODELS)}
@@ -293,6 +299,21 @@ def model_profile(model, temp_offset_K: float = 0.0, h2o_scale: float = 1.0,
         wl[inside] = (_sat_density(tl[inside])
                       / _vapour_density(1.0, pl[inside], tl[inside]))
     return Profile(levels, pl, tl, wl, number)
+
+
+def model_for_record_day(latitude_deg: float, month: int, temp_air_mean_K: float
+                         ) -> tuple[str, bool]:
+    """:func:`model_for_site` for one local day of a weather record, and whether the day lay
+    more than :data:`MAX_TEMP_OFFSET_K` from every model's surface temperature.
+
+    Such a day gets the nearest model (the tables then clamp its offset, as for a named
+    model) instead of an error: one extreme day must not stop a year's run; the caller
+    reports it.
+    """
+    temps = [surface_state(name).temp_air_K for name in MODEL_NAMES]
+    lo, hi = min(temps) - MAX_TEMP_OFFSET_K, max(temps) + MAX_TEMP_OFFSET_K
+    t = float(temp_air_mean_K)
+    return model_for_site(latitude_deg, month, min(max(t, lo), hi)), not lo <= t <= hi
 
 
 def model_for_site(latitude_deg: float, month: int, temp_air_mean_K: float | None = None

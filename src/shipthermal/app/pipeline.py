@@ -415,6 +415,7 @@ def imaging_scenario(scenario, background, ship):
     env = sc.environment()
     return ImagingScenario(
         season=sc.atmosphere_season, atmosphere_model=sc.atmosphere_model,
+        atmosphere_by_day=sc.atmosphere_by_day,
         cloud_type=img.atmosphere.cloud_type, background=background, date=str(sc.time.date),
         latitude=sc.location.latitude, longitude=sc.location.longitude,
         tz=sc.location.time_zone, wind_speed=sea_glint_wind_speed(env), placement=placement,

@@ -154,7 +154,9 @@ class Scenario:
         (the paper's settings); with a weather file the model whose surface air temperature
         is closest to the day's mean air temperature
         (:func:`imaging.atmosphere.model_for_site`, at the site's latitude and the month of
-        ``time.date``). The model is then scaled to each hour's weather.
+        ``time.date``). The model is then scaled to each hour's weather. A weather record
+        (``weather.day = 'record'``) with ``'auto'`` is placed day by day
+        (:attr:`atmosphere_by_day`); this is then the whole record's model.
         """
         # lazy: loading a scenario imports no stage library (test_load_is_lazy)
         from imaging.atmosphere import model_for_site, model_name
@@ -170,6 +172,16 @@ class Scenario:
         temp = float(np.mean(day_weather(self.environment())["temp_air"]))
         month = _dt.date.fromisoformat(self.time.date).month
         return model_for_site(self.location.latitude, month, temp)
+
+    @property
+    def atmosphere_by_day(self) -> bool:
+        """Whether each local day of the images gets its own model atmosphere: a weather
+        record (``weather.day = 'record'``, from a file) with ``[imaging.atmosphere] model =
+        'auto'``: a year's winter overpasses are seen through a winter atmosphere and its
+        summer ones through a summer atmosphere
+        (:meth:`imaging.experiment.ImagingScenario.atmosphere_model_at`)."""
+        return (self.imaging.atmosphere.model == "auto" and self.weather.source != "builtin"
+                and self.weather.day == "record")
 
     @property
     def atmosphere_season(self) -> str:
