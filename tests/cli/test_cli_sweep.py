@@ -240,10 +240,13 @@ def _csv_rows(path, **axes):
                   ).reset_index(drop=True)
 
 
+@pytest.mark.slow
 def test_external_scheduler_and_worker_processes(sweep_file, serial, tmp_path, capsys):
     """`sweep --scheduler ADDRESS` sends the cases to a running cluster (a `dask scheduler`
     and two `dask worker` processes started here) instead of starting one; the table equals
-    the serial one, and both worker processes ran cases."""
+    the serial one, and both worker processes ran cases. (Slow: 65 s, two fresh worker
+    processes each importing the stack; the default run keeps the two-worker local cluster
+    against serial, `test_sweep_on_two_workers_equals_serial`.)"""
     (sweep_file.parent / "two.toml").write_text(TWO)
     cluster = _Cluster(tmp_path)
     try:

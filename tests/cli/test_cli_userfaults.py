@@ -48,14 +48,24 @@ SECRET = "root:$6$x9Tq.secret-hash$Zm9v:19000:0:99999:7:::"
 # ---------------------------------------------------------------------------------------
 # the assertions
 # ---------------------------------------------------------------------------------------
+_HASHED_BYTES = 64 * 2 ** 20
+"""Files up to this size are compared by their bytes' hash; larger ones (the sparse
+gigabyte meshes) by size, modification time and inode: any write changes the time."""
+
+
 def _snapshot(root: Path) -> dict:
-    """Every file and link under ``root``: its bytes' SHA-256 (a link: its target)."""
+    """Every file and link under ``root``: its bytes' SHA-256 (a link: its target; a file
+    over :data:`_HASHED_BYTES`: its size, modification time and inode)."""
     out = {}
     for p in sorted(root.rglob("*")):
         rel = str(p.relative_to(root))
         if p.is_symlink():
             out[rel] = "link:" + os.readlink(p)
         elif p.is_file():
+            st = p.stat()
+            if st.st_size > _HASHED_BYTES:
+                out[rel] = f"stat:{st.st_size}:{st.st_mtime_ns}:{st.st_ino}"
+                continue
             try:
                 out[rel] = hashlib.sha256(p.read_bytes()).hexdigest()
             except PermissionError:
