@@ -5,7 +5,8 @@ chain). Exported here, imported on first use: :class:`~imaging.experiment.Imagin
 :func:`~imaging.experiment.render_series`, :func:`~imaging.experiment.run_experiment`,
 :class:`~imaging.render.SceneRenderer`, :class:`~imaging.thermal_history.ShipThermalHistory`,
 :func:`~imaging.metrics.local_scr`, :func:`~imaging.metrics.crossover_times`,
-:func:`~shipthermal.optics.planck.band_radiance`, :func:`~shipthermal.optics.planck.brightness_temperature`
+:func:`~shipthermal.optics.planck.band_radiance`,
+:func:`~shipthermal.optics.planck.brightness_temperature`
 and ``__version__`` (the ``shipthermal`` distribution's).
 """
 

@@ -2,16 +2,17 @@
 
 The sensor, the atmosphere and the port background read them from here, and so does the
 scenario, which validates a file against them without importing the heavy modules (scipy,
-rasterio, the atmosphere tables). The module imports nothing but
-:mod:`shipthermal.parameters`.
+rasterio, the atmosphere tables). The module imports only the named sensor bands
+(:data:`SENSOR_BANDS`: the names of :data:`shipthermal.optics.responses.NAMED_BANDS`, where each
+band is defined once; numpy only).
 
-The band list (also the named sensor bands, :data:`SENSOR_BANDS`, re-exported here), the
-surface optics and the other values both stages share live in :mod:`shipthermal.parameters`.
+The paper's band list, the surface optics and the other values both stages share live in
+:mod:`shipthermal.parameters`.
 """
 
 from __future__ import annotations
 
-from shipthermal.parameters import SENSOR_BANDS
+from shipthermal.optics.responses import BAND_NAMES as SENSOR_BANDS
 
 __all__ = ["PAPER_SENSOR_PARAMETERS", "MAX_VIEW_ZENITH", "VARIOGRAM_MODELS", "MET_UNITS",
            "N_SPLITS", "DEM_NODATA", "SYNTHETIC_PIXEL_M", "BACKGROUND_MODELS", "RESIDUAL_MODES",

@@ -12,7 +12,8 @@ azimuth convention, also :func:`imaging.sensor.view_direction`).
 
 Surface optics
 --------------
-* Ship paint: Cook-Torrance (paper eq. 19, :func:`shipthermal.optics.brdf.cook_torrance_brdf_vectors`)
+* Ship paint: Cook-Torrance (paper eq. 19,
+  :func:`shipthermal.optics.brdf.cook_torrance_brdf_vectors`)
   with exact Fresnel for a binder of index :attr:`ShipPaint.refractive_index` and a Lambertian
   part ``kd = 1 - eps - F0`` so that the reflectance is ``1 - eps`` near normal incidence
   (Kirchhoff for an opaque surface).

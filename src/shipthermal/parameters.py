@@ -26,7 +26,7 @@ from .errors import InputError, check_range
 
 __all__ = [
     "BAND_EMISSIVITY", "LONGWAVE_EMISSIVITY", "SOLAR_ABSORPTIVITY", "SEA_EMISSIVITY",
-    "BANDS", "BAND_ALIASES", "ATMOSPHERE_WAVELENGTH_UM", "SENSOR_BANDS", "parse_band",
+    "BANDS", "BAND_ALIASES", "ATMOSPHERE_WAVELENGTH_UM", "parse_band",
     "WIND_SPEED_MAX", "check_wind_speed", "DEFAULT_CONVECTION_MODEL",
     "CONVECTION_MODEL_SOURCES", "CONVECTION_ROUGHNESS", "ROUGHNESS_CLASSES", "CLEAR_SKY_MODEL_NAMES", "CLOUD_MODEL_NAMES", "DECOMPOSITIONS",
     "SEA_SKIN_MODEL_NAMES", "DEFAULT_SEA_SKIN_MODEL",
@@ -83,11 +83,6 @@ BAND_ALIASES = {"mwir": "3-5", "3-5um": "3-5", "lwir": "8-14", "8-14um": "8-14"}
 """Other names of :data:`BANDS` (lower case, no spaces, µm written ``um``)."""
 ATMOSPHERE_WAVELENGTH_UM = (2.9, 14.5)
 """Wavelength range [µm] of the embedded atmosphere tables: every band must lie inside."""
-SENSOR_BANDS = ("3-5", "8-14", "landsat8_tirs_b10", "landsat8_tirs_b11", "landsat9_tirs2_b10",
-                "landsat9_tirs2_b11", "sdgsat1_tis_b1", "sdgsat1_tis_b2", "sdgsat1_tis_b3",
-                "ecostress_b1", "ecostress_b2", "ecostress_b3", "ecostress_b4", "ecostress_b5")
-"""Named sensor bands (their responses: :mod:`shipthermal.optics.responses`): the atmosphere
-tables hold each."""
 
 
 def parse_band(band) -> tuple[str, tuple[float, float]]:

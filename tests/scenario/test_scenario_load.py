@@ -138,8 +138,8 @@ def test_frozen():
 def test_load_is_lazy():
     # Loading must not import the heavy stages (pandas, pvlib, scipy, imaging, meshing): a
     # fresh interpreter imports the module and validates the summer example. Of the imaging
-    # package only its parameter module (which imports nothing) may be loaded. (Its time is
-    # measured in benchmarks/, not asserted here.)
+    # package only its parameter module (which imports only the named bands) may be loaded.
+    # (Its time is measured in benchmarks/, not asserted here.)
     code = textwrap.dedent("""
         import sys
         from shipthermal.app.scenario import load_scenario, example_path

@@ -64,7 +64,8 @@ from .lowtran_cards import Profile
 __all__ = ["AtmosphereState", "CLOUD_TYPES", "MODEL_NUMBERS", "MODEL_NAMES", "PAPER_LABELS",
            "MAX_TEMP_OFFSET_K", "BOUNDARY_LAYER_KM", "model_name", "model_label", "model_number",
            "SurfaceState", "surface_state", "model_profile", "water_vapour_scale",
-           "model_for_site", "model_for_record_day", "earth_radius_km", "aerosol_season", "default_wind_speed",
+           "model_for_site", "model_for_record_day", "earth_radius_km", "aerosol_season",
+           "default_wind_speed",
            "FLAASH_TABLE"]
 
 MODEL_NUMBERS = {name: i + 1 for i, name in enumerate(ATMOSPHERE_MODELS)}

@@ -40,7 +40,7 @@ from importlib import resources
 import numpy as np
 
 from shipthermal.errors import InputError, check_positive, check_range, require
-from shipthermal.parameters import BANDS, SENSOR_BANDS
+from shipthermal.parameters import BANDS
 
 from .quadrature import gauss_legendre
 
@@ -116,35 +116,44 @@ def rectangular_response(low_um: float, high_um: float, name: str | None = None
                             np.array([1.0, 1.0]))
 
 
-_RECT = {
-    "3-5": BANDS["3-5"], "8-14": BANDS["8-14"],
-    "landsat8_tirs_b11": (11.50, 12.51), "landsat9_tirs2_b10": (10.60, 11.19),
-    "landsat9_tirs2_b11": (11.50, 12.51),
-    "sdgsat1_tis_b1": (8.0, 10.5), "sdgsat1_tis_b2": (10.3, 11.3),
-    "sdgsat1_tis_b3": (11.5, 12.5),
+NAMED_BANDS: dict[str, tuple[str, object, str]] = {
+    "3-5": ("rectangle", BANDS["3-5"], "SOURCED: paper §5, rectangular 3-5 um"),
+    "8-14": ("rectangle", BANDS["8-14"], "SOURCED: paper §5, rectangular 8-14 um"),
+    "landsat8_tirs_b10": ("table", "landsat8_tirs_b10_rsr.csv",
+                          "SOURCED: USGS measured relative spectral response (public domain)"),
+    "landsat8_tirs_b11": ("rectangle", (11.50, 12.51),
+                          "ASSUMPTION: rectangular at the published edges 11.50-12.51 um"),
+    "landsat9_tirs2_b10": ("rectangle", (10.60, 11.19),
+                           "ASSUMPTION: rectangular at the published edges 10.60-11.19 um"),
+    "landsat9_tirs2_b11": ("rectangle", (11.50, 12.51),
+                           "ASSUMPTION: rectangular at the published edges 11.50-12.51 um"),
+    "sdgsat1_tis_b1": ("rectangle", (8.0, 10.5),
+                       "ASSUMPTION: rectangular at the published edges 8.0-10.5 um"),
+    "sdgsat1_tis_b2": ("rectangle", (10.3, 11.3),
+                       "ASSUMPTION: rectangular at the published edges 10.3-11.3 um"),
+    "sdgsat1_tis_b3": ("rectangle", (11.5, 12.5),
+                       "ASSUMPTION: rectangular at the published edges 11.5-12.5 um"),
+    **{k: ("gaussian", (c, w), f"ASSUMPTION: Gaussian, centre {c} um, FWHM {w} um, cut at "
+                               "2 FWHM")
+       for k, (c, w) in {"ecostress_b1": (8.29, 0.354), "ecostress_b2": (8.78, 0.310),
+                         "ecostress_b3": (9.20, 0.396), "ecostress_b4": (10.49, 0.410),
+                         "ecostress_b5": (12.09, 0.611)}.items()},
 }
-_GAUSS = {"ecostress_b1": (8.29, 0.354), "ecostress_b2": (8.78, 0.310),
-          "ecostress_b3": (9.20, 0.396), "ecostress_b4": (10.49, 0.410),
-          "ecostress_b5": (12.09, 0.611)}
-_TABLES = {"landsat8_tirs_b10": "landsat8_tirs_b10_rsr.csv"}
+"""Every named band, one entry each: ``name: (shape, parameters, source)`` with shape
+``"rectangle"`` (edges [µm]), ``"gaussian"`` (centre and FWHM [µm]) or ``"table"`` (a
+measured response file in ``data/``). A new named band is one entry here (and its file, if
+measured); the atmosphere tables then need regenerating to hold it
+(``scripts/make_atmosphere_tables.py``)."""
+
+_RECT = {k: v for k, (shape, v, _) in NAMED_BANDS.items() if shape == "rectangle"}
+_GAUSS = {k: v for k, (shape, v, _) in NAMED_BANDS.items() if shape == "gaussian"}
+_TABLES = {k: v for k, (shape, v, _) in NAMED_BANDS.items() if shape == "table"}
 
 #: Every named band, in a fixed order (the order of the atmosphere tables' band axis)
-BAND_NAMES = SENSOR_BANDS
+BAND_NAMES = tuple(NAMED_BANDS)
 
 #: Where each band's response comes from, and what shape is assumed
-BAND_SOURCES = {
-    "3-5": "SOURCED: paper §5, rectangular 3-5 um",
-    "8-14": "SOURCED: paper §5, rectangular 8-14 um",
-    "landsat8_tirs_b10": "SOURCED: USGS measured relative spectral response (public domain)",
-    "landsat8_tirs_b11": "ASSUMPTION: rectangular at the published edges 11.50-12.51 um",
-    "landsat9_tirs2_b10": "ASSUMPTION: rectangular at the published edges 10.60-11.19 um",
-    "landsat9_tirs2_b11": "ASSUMPTION: rectangular at the published edges 11.50-12.51 um",
-    "sdgsat1_tis_b1": "ASSUMPTION: rectangular at the published edges 8.0-10.5 um",
-    "sdgsat1_tis_b2": "ASSUMPTION: rectangular at the published edges 10.3-11.3 um",
-    "sdgsat1_tis_b3": "ASSUMPTION: rectangular at the published edges 11.5-12.5 um",
-    **{k: f"ASSUMPTION: Gaussian, centre {c} um, FWHM {w} um, cut at 2 FWHM"
-       for k, (c, w) in _GAUSS.items()},
-}
+BAND_SOURCES = {k: source for k, (_, _, source) in NAMED_BANDS.items()}
 
 #: Wavelength limits [µm] a response must lie within (the atmosphere tables' range)
 RESPONSE_RANGE_UM = (2.9, 14.5)
