@@ -1,5 +1,6 @@
 """The persistent thread pool of shipthermal._threads."""
 
+import os
 import threading
 
 import pytest
@@ -51,3 +52,21 @@ def test_errors_reach_the_caller():
 
     with pytest.raises(ValueError, match="item 3"):
         thread_map(fail, range(6), 2)
+
+
+def test_idle_openmp_threads_sleep_unless_the_user_says_otherwise():
+    # libgomp spinning beside a busy process made a 2-thread kernel 75x slower
+    # (benchmarks/bench_threads.py); the package sets the wait policy before numba starts
+    # its threads, and leaves a user's own choice alone
+    import subprocess
+    import sys
+
+    code = ("import os, imaging.render, shipthermal.simulation; "
+            "print(os.environ.get('OMP_WAIT_POLICY'))")
+    env = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                         text=True, check=True).stdout.split()
+    assert out == ["PASSIVE"]
+    out = subprocess.run([sys.executable, "-c", code], env={**env, "OMP_WAIT_POLICY": "ACTIVE"},
+                         capture_output=True, text=True, check=True).stdout.split()
+    assert out == ["ACTIVE"]
