@@ -15,11 +15,17 @@ Three layers, lowest first:
 A module never imports from a layer above its own, and no module imports a module that
 imports it back (directly or through others). Every import counts, also those inside
 functions: a lazy import is still a dependency.
+
+Imports stand at the top of a module, so that its header says what it depends on. An import
+of the project's own modules inside a function says why it waits there (a start-up cost it
+keeps out, a test that forbids it at load) in a comment beside or above it.
 """
 
 from __future__ import annotations
 
 import ast
+import io
+import tokenize
 from pathlib import Path
 
 import pytest
@@ -258,6 +264,123 @@ def test_a_cycle_is_reported(tmp_path):
              "shipthermal/d.py": "from . import a\n"}
     assert cycles(import_graph(_tree(tmp_path, files))) == [
         ["shipthermal.a", "shipthermal.b", "shipthermal.c"]]
+
+
+# ---- imports at the top: one inside a function says why -----------------------------------
+def _own_import(node) -> bool:
+    if isinstance(node, ast.ImportFrom):
+        return bool(node.level) or (node.module or "").split(".")[0] in PACKAGES
+    if isinstance(node, ast.Import):
+        return any(a.name.split(".")[0] in PACKAGES for a in node.names)
+    return False
+
+
+def unexplained_deferred_imports(text: str) -> list[str]:
+    """``"line N: source"`` of each import of the project's own modules inside a function
+    without a reason: a ``#`` comment on its line(s), on the line directly above it, or
+    above the first of the consecutive import statements it stands among. A module's PEP 562
+    ``__getattr__`` (the lazy exports of a package) says why once, in a comment before its
+    first statement."""
+    tree = ast.parse(text)
+    lines = text.splitlines()
+    comments = {tok.start[0] for tok in tokenize.generate_tokens(io.StringIO(text).readline)
+                if tok.type == tokenize.COMMENT}
+    said_once = set()
+    for fn in tree.body:
+        if (isinstance(fn, ast.FunctionDef) and fn.name == "__getattr__"
+                and any(fn.lineno < ln < fn.body[0].lineno for ln in comments)):
+            said_once |= {id(n) for n in ast.walk(fn)}
+    deferred = {id(n) for fn in ast.walk(tree)
+                if isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef))
+                for n in ast.walk(fn) if _own_import(n)} - said_once
+    out = []
+    for node in ast.walk(tree):
+        for field in ("body", "orelse", "finalbody"):
+            stmts = getattr(node, field, None)
+            block_head = None
+            for stmt in stmts if isinstance(stmts, list) else ():
+                if not isinstance(stmt, (ast.Import, ast.ImportFrom)):
+                    block_head = None
+                    continue
+                block_head = block_head or stmt
+                if id(stmt) not in deferred:
+                    continue
+                near = set(range(stmt.lineno - 1, stmt.end_lineno + 1))
+                near |= set(range(block_head.lineno - 1, block_head.end_lineno + 1))
+                if not near & comments:
+                    out.append(f"line {stmt.lineno}: {lines[stmt.lineno - 1].strip()}")
+    return sorted(out, key=lambda s: int(s.split(":")[0][5:]))
+
+
+#: Imports inside functions that cost nothing at start-up and are still to move to their
+#: module's top, by module and statement (an entry that no longer matches fails the test)
+NOT_YET_AT_THE_TOP: set = set()
+
+
+def test_deferred_imports_say_why():
+    """Every own-module import inside a function carries its reason (what it keeps out of
+    the start-up, or the test that forbids it at load)."""
+    bad, pending = [], set()
+    for pkg in PACKAGES:
+        for path in sorted((SRC / pkg).rglob("*.py")):
+            mod = module_name(path)[0]
+            for found in unexplained_deferred_imports(path.read_text(encoding="utf-8")):
+                key = (mod, found.split(": ", 1)[1])
+                if key in NOT_YET_AT_THE_TOP:
+                    pending.add(key)
+                else:
+                    bad.append(f"{mod} {found}")
+    assert not bad, "imports inside functions without a reason:\n" + "\n".join(bad)
+    assert pending == NOT_YET_AT_THE_TOP, f"moved already: {NOT_YET_AT_THE_TOP - pending}"
+
+
+def test_an_unexplained_deferred_import_is_reported():
+    text = """\
+import os                              # at the top: not checked
+
+
+def reasons():
+    from .a import b                   # deferred: on the line
+    # deferred: above a block of imports
+    import json
+
+    from shipthermal.c import d
+    from . import e
+    try:    # deferred: on the try above
+        from imaging.f import g
+    except ImportError:
+        g = None
+    return b, json, d, e, g
+
+
+def no_reason():
+    x = 1
+    from imaging.render import SceneRenderer
+    return x, SceneRenderer
+
+
+def not_own():
+    import numpy as np
+    return np
+
+
+def a_string_is_no_comment():
+    s = "# not a comment"
+    from .h import (i,
+                    j)
+    return s, i, j
+
+
+def __getattr__(name):
+    # PEP 562: the exports are imported on first use (said once)
+    if name == "k":
+        from . import k
+
+        return k
+    raise AttributeError(name)
+"""
+    assert unexplained_deferred_imports(text) == [
+        "line 20: from imaging.render import SceneRenderer", "line 31: from .h import (i,"]
 
 
 # ---- rooms with one job: sizes ------------------------------------------------------------

@@ -27,16 +27,23 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from shipthermal.environment import climate_day
+from shipthermal.environment.sun import solar_position
 from shipthermal.errors import InputError, check_range, require
+from shipthermal.geometry import frigate
 from shipthermal.optics.responses import user_bands
 from shipthermal.parameters import check_wind_speed
 from shipthermal.units import DAY, HOUR
 
+from . import products as P
+from .atmosphere import cloud_type_number, model_for_record_day, model_label, model_name
+from .atmosphere.weather_sky import SkyWeather
 from .band_conditions import BandConditions, conditions_from_atmosphere
 from .metrics import crossover_times, local_scr
 from .parameters import DEFAULT_CLOUD_TYPE
 from .render import SceneRenderer, SensorOptions
 from .scene import ShipPlacement, as_scene_background
+from .thermal_history import synthetic_history
 
 __all__ = ["PAPER_TYPICAL_HOURS", "DEFAULT_TIMES_S", "ImagingScenario", "SeriesResult",
            "render_series", "sun_positions", "run_experiment", "ExperimentResult",
@@ -135,8 +142,6 @@ class ImagingScenario:
     user_bands: tuple = ()
 
     def __post_init__(self):
-        from .atmosphere import cloud_type_number, model_label, model_name
-
         label = str(self.season)
         try:
             label = model_label(label)
@@ -157,12 +162,10 @@ class ImagingScenario:
         same :func:`shipthermal.environment.climate_day` the thermal stage uses) and the
         synthetic port background (:func:`imaging.background.build_port_background`); the
         sky follows that day's air temperature, humidity and cloud."""
-        from shipthermal.environment import climate_day
-
-        from .atmosphere.weather_sky import SkyWeather
-
         day = climate_day(season)
         if background is None:
+            # deferred: the background package loads scikit-learn, pykrige and scipy.stats
+            # (1.5 s over the experiment's imports, measured); only the built-in port needs it
             from .background import build_port_background
 
             background = build_port_background(season)
@@ -197,10 +200,6 @@ class ImagingScenario:
         return chosen[day]
 
     def _model_of_day(self, day: int) -> str:
-        # deferred: the atmosphere package loads its tables' interpolators (scipy), which a
-        # scenario built for a fixed model never needs
-        from .atmosphere import model_for_record_day
-
         sky = self.sky_weather
         hours = 24.0 * day + 0.5 + np.arange(24.0)
         temp = float(np.mean(np.interp(hours, sky.hours_local, sky.temp_air)))
@@ -221,8 +220,6 @@ class ImagingScenario:
 
 def sun_positions(scenario: ImagingScenario, times_s) -> tuple[np.ndarray, np.ndarray]:
     """Apparent sun zenith and compass azimuth [deg] at ``times_s`` [s after local midnight]."""
-    from shipthermal.environment.sun import solar_position
-
     t = np.asarray(times_s, dtype=float)
     idx = pd.Timestamp(scenario.date).tz_localize(scenario.tz) + pd.to_timedelta(t, unit="s")
     pos = solar_position(pd.DatetimeIndex(idx), scenario.latitude, scenario.longitude)
@@ -614,8 +611,6 @@ def experiment_products(out_dir, series: dict, scenarios: dict, histories: dict,
     """
     import os
 
-    from . import products as P
-
     seconds = dict(seconds or {})
     out_dir = os.fspath(out_dir)
     os.makedirs(out_dir, exist_ok=True)
@@ -633,10 +628,6 @@ def main(argv=None) -> None:
     port. Until the diurnal thermal run is connected the ship temperatures are the SYNTHETIC
     stand-in of :func:`imaging.thermal_history.synthetic_history` (said in every product)."""
     import argparse
-
-    from shipthermal.geometry import frigate
-
-    from .thermal_history import synthetic_history
 
     ap = argparse.ArgumentParser(prog="python -m imaging.experiment", description=main.__doc__)
     ap.add_argument("--out", required=True, help="output directory")

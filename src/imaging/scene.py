@@ -181,6 +181,8 @@ class GriddedBackground:
         check_range("background.temperature", temp, 100.0, 400.0, "K")
         check_positive("background.resolution_m", self.resolution_m, "m")
         if self.grid is None:
+            # deferred: the background package loads scikit-learn, pykrige and scipy.stats
+            # (2 s, measured); a gridded background without a grid is the only user
             from .background.landsat.grid import SceneGrid, north_up_transform
 
             ny, nx = cm.shape

@@ -260,6 +260,8 @@ def synthetic_history(ship, season: str = "summer", step_s: float = 1800.0,
     shadows, no conduction: an illustrative waveform of the right size, for exercising the
     imaging chain until the real producer (the diurnal thermal run) is connected.
     """
+    # deferred: shipthermal.environment loads pvlib and pandas (0.8 s over the renderer's
+    # imports, measured); only the synthetic stand-in needs them
     import pandas as pd
 
     from shipthermal.environment import climate_day

@@ -43,8 +43,9 @@ def _version() -> str:
 
 
 def __getattr__(name: str):
-    # PEP 562: the exports are imported on first use (the chain pulls in pandas, pvlib,
-    # scipy, xarray; the physics modules that `import shipthermal.x` runs must not)
+    # PEP 562: the exports are imported on first use, so that `import shipthermal` (run
+    # before every `import shipthermal.<module>`) loads no numpy, pandas, scipy or
+    # shipthermal.app (test_front_door); the chain alone takes about 2.5 s (measured)
     if name in ("Simulation", "SimulationResult"):
         from .app import chain
 

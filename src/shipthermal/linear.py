@@ -69,7 +69,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numba import njit, prange
 
-from ._tridiagonal import _ordered_sum
+from ._tridiagonal import ColumnSolve, _ordered_sum, column_bounds, tridiagonal_factor
 from .errors import require
 
 __all__ = ["LINEAR_SOLVERS", "Preconditioner", "make_preconditioner", "pcg", "choose_backend",
@@ -232,8 +232,6 @@ def make_preconditioner(matrix: sp.spmatrix, backend: str,
         return _auto_preconditioner(matrix)
     t0 = time.perf_counter()
     if backend == "column":
-        from ._tridiagonal import ColumnSolve, column_bounds, tridiagonal_factor
-
         m = sp.csr_matrix(matrix)
         apply = ColumnSolve(tridiagonal_factor(m.diagonal(),
                                                np.where(column_break, 0.0, m.diagonal(1)),

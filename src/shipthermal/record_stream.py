@@ -113,8 +113,6 @@ def assemble(parts: RecordParts, n_parts: int, path, *, ship, part_columns, star
     notes), one part in memory at a time; written to a temporary name and renamed."""
     import h5py
 
-    from .results import atomic_path
-
     # sizes first (the headers of the parts only)
     n = s = k = 0
     for i in range(n_parts):

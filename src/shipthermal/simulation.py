@@ -45,6 +45,7 @@ from .steady import steady_state
 from .model import ThermalModel, boundary_state, conduction_flows, surface_balance
 from .checkpoint import SolverState, read_checkpoint, write_checkpoint
 from .results import EnergyLog, Results
+from .units import SIGMA
 
 __all__ = ["SCHEMES", "Simulation", "steady_state", "SimulationError"]
 
@@ -360,8 +361,6 @@ class Simulation:
         losses ``4σ Σ_j R_ij T_i³`` are already in the diagonal. With this term Newton
         converges quadratically instead of linearly in the exchange.
         """
-        from .units import SIGMA
-
         ex = self.model.exchange
         g = self.graph
         row, col, data, _, _ = self._exchange_coo()

@@ -21,6 +21,7 @@ state), ``bands`` (band integration), ``core`` (the API),
 7's model-atmosphere and aerosol tables).
 """
 
+from . import lowtran_backend
 from .bands import BANDS, band_integrate, parse_band
 from .core import (MODELS, SEASONS, AtmosphereResult, atmosphere, cloud_type_number,
                    planck_weighted_transmittance, season_model, sky_radiance)
@@ -38,6 +39,4 @@ __all__ = ["BANDS", "SEASONS", "MODELS", "MODEL_NAMES", "CLOUD_TYPES", "Atmosphe
 
 def lowtran_available() -> bool:
     """True when the optional live LOWTRAN backend can run."""
-    from .lowtran_backend import lowtran_available as _avail
-
-    return _avail()
+    return lowtran_backend.lowtran_available()

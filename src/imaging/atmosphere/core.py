@@ -31,6 +31,7 @@ from shipthermal.optics.responses import (BAND_NAMES, SpectralResponse, named_ba
                                           user_band_names)
 
 from ..parameters import DEFAULT_CLOUD_TYPE, MAX_VIEW_ZENITH
+from . import lowtran_backend as lb
 from . import models as mdl
 from . import spectral_bins as sb
 from . import tables as tb
@@ -198,9 +199,6 @@ def _as_state(state, aerosol) -> mdl.AtmosphereState:
 # ------------------------------------------------------------------- live backend
 def _live_values(name, resp, view_z, sun_z, sky_z, view_az, sky_az, state, cloud_cover,
                  cloud):
-    # the live backend only: nothing of it is loaded for the tables
-    from . import lowtran_backend as lb
-
     up = lb.upward(name, view_z, state)
     lam = up["wavelength_um"]
     w = band_weights(lam, None, resp)
@@ -449,9 +447,6 @@ def planck_weighted_transmittance(model, band, view_zenith_deg: float, temp_K,
         if float(t.min()) >= grid_t[0] and float(t.max()) <= grid_t[-1]:
             return CubicSpline(grid_t, per_t)(t) * ratio
         return ((b * tau) @ w / (b @ w)).reshape(t.shape) * ratio
-    # the live backend only: nothing of it is loaded for the tables
-    from . import lowtran_backend as lb
-
     up = lb.upward(name, view_zenith_deg, st)
     lam = up["wavelength_um"]
     w = band_weights(lam, None, resp)
@@ -491,9 +486,6 @@ def sky_radiance(model, band, zenith_deg, backend: str = "table", state=None,
         return _geom("sky", g, nodes, z)
     if backend != "lowtran":
         raise InputError("backend", backend, "'table' or 'lowtran'")
-    # the live backend only: nothing of it is loaded for the tables
-    from . import lowtran_backend as lb
-
     out = []
     for zi in z.ravel():
         d = lb.sky(name, min(float(zi), 89.9), st)

@@ -30,6 +30,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from shipthermal.optics.quadrature import gauss_legendre
+
 from . import lowtran_cards as lc
 from . import models as mdl
 
@@ -138,8 +140,6 @@ def sky_irradiance(model, state=None, cloud_type: int = 0, n_nodes: int = 16,
 
     Returns ``(wavelength_um [µm], irradiance [W m⁻² µm⁻¹])``.
     """
-    from shipthermal.optics.quadrature import gauss_legendre
-
     x, w = gauss_legendre(n_nodes)
     mu, w = 0.5 * (x + 1.0), 0.5 * w
     total = 0.0

@@ -20,10 +20,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from shipthermal.errors import check_range, require
+from shipthermal.units import SIGMA
 
 from ..parameters import DEFAULT_CLOUD_TYPE
 from . import models as mdl
 from . import tables as tb
+from .core import sky_radiance
 
 __all__ = ["SkyWeather", "cloud_share", "weather_state", "weather_sky_radiance",
            "weather_sky_irradiance"]
@@ -38,8 +40,9 @@ def cloud_share(temp_air, relative_humidity, cloud_cover=0.0, longwave_down=None
     downwelling long-wave [W m⁻²] implies through the thermal stage's sky models."""
     if longwave_down is None:
         return float(np.clip(cloud_cover, 0.0, 1.0))
+    # deferred: shipthermal.environment loads pvlib and pandas (0.5 s over the atmosphere's
+    # imports, measured); only a measured long-wave needs the sky models
     from shipthermal.environment.sky import sky_emissivity
-    from shipthermal.units import SIGMA
 
     eps_clr = float(sky_emissivity(temp_air, relative_humidity, 0.0, clear_model, cloud_model))
     eps_all = float(longwave_down) / (SIGMA * float(temp_air) ** 4)
@@ -67,8 +70,6 @@ def weather_sky_radiance(band, zenith_deg, temp_air: float, relative_humidity: f
     air temperature [K], relative humidity [%], cloud cover [0-1] or measured long-wave
     [W m⁻²], in the model atmosphere ``model`` with the Navy maritime wind ``wind_speed``
     [m s⁻¹] and LOWTRAN cloud deck ``cloud_type``."""
-    from .core import sky_radiance
-
     c = cloud_share(temp_air, relative_humidity, cloud_cover, longwave_down, clear_model,
                     cloud_model)
     return sky_radiance(model, band, zenith_deg, state=weather_state(

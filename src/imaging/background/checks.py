@@ -17,14 +17,14 @@ import numpy as np
 
 from shipthermal.errors import InputError
 
+from .met import read_met_grid
+
 __all__ = ["check_background_files", "check_met_file", "check_dem_file"]
 
 
 def check_met_file(path, variable=None, units: str = "auto", field: str = "background.met",
                    n_hours: int = 24) -> list:
     """Problems of a met grid file ([] when it reads); also a summary line on success."""
-    from .met import read_met_grid
-
     try:
         met = read_met_grid(path, variable, None, units, field=field)
     except InputError as exc:

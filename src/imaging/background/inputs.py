@@ -15,6 +15,11 @@ import numpy as np
 
 from shipthermal.errors import InputError
 
+from .classify import CLASS_CODES, CLASS_NAMES, read_roi
+from .landsat.bands import _open_grid, _rio_open
+from .landsat.mtl import read_mtl
+from .met import met_for_scene, read_met_grid
+
 __all__ = ["check_background_inputs"]
 
 
@@ -31,8 +36,6 @@ def _check_bands(mtl, problems: list):
     from the MTL."""
     from rasterio.errors import RasterioIOError
     from rasterio.windows import Window
-
-    from .landsat.bands import _open_grid, _rio_open
 
     files = dict(mtl.band_files)
     if mtl.qa_file is not None:
@@ -111,10 +114,6 @@ def check_background_inputs(mtl, roi=None, dem=None, met=None, band_files=None, 
     notes : list[str]
         What the readers decided (MTL georeferencing, band files found by suffix, ...).
     """
-    from .classify import CLASS_CODES, CLASS_NAMES, read_roi
-    from .landsat.mtl import read_mtl
-    from .met import met_for_scene, read_met_grid
-
     problems: list[InputError] = []
     notes: list[str] = []
     meta = _collect(problems, "mtl", read_mtl, mtl, band_files)

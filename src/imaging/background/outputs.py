@@ -20,6 +20,7 @@ from shipthermal.figures import FigureOptions, add_scale_bar, save_figure
 from shipthermal.units import utc_offset_text, with_units
 
 from .classify import CLASS_CODES, CLASS_COLOURS, CLASS_NAMES, format_jm_table
+from .landsat.bands import MASK_BITS
 
 __all__ = ["write_outputs", "write_overpass_outputs", "write_geotiff", "write_physical_outputs",
            "time_tags"]
@@ -128,8 +129,6 @@ def _classification_tables(c, p, out: dict) -> None:
 
 
 def _overpass_rasters(ov, g, p, out: dict) -> None:
-    from .landsat.bands import MASK_BITS
-
     out["qa_mask"] = write_geotiff(p("qa_mask.tif"), ov.mask.astype(np.uint8), g, units="1",
                                    descriptions=["replaced pixels: " + ", ".join(f"{v}={k}" for k, v in MASK_BITS.items())])
     out["water_disagreement"] = write_geotiff(p("water_disagreement.tif"), ov.water_disagreement.astype(np.uint8), g,

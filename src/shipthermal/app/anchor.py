@@ -26,7 +26,10 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+import pvlib
 
+from ..environment import to_ship_frame
+from ..environment.climatology import climate_day
 from ..geometry import main_part
 from .calibration.model import CALIBRATION_SETTINGS
 from .scenario import default_scenario
@@ -60,11 +63,6 @@ def sol_air(temp_air, irradiance, alpha=ASHRAE_ALPHA_DARK, h_o=ASHRAE_H_O,
 def sol_air_anchor(settings: dict | None = None, season: str = "summer") -> pd.DataFrame:
     """Model vs ASHRAE sol-air for a sunlit dark horizontal deck (12:00) and an east-facing
     wall (09:00) on the clear-sky design day; one row per surface."""
-    # lazy: pvlib (also through shipthermal.environment) takes seconds to import (measured)
-    import pvlib
-
-    from ..environment import to_ship_frame
-    from ..environment.climatology import climate_day
     c0 = climate_day(season).cloud_cover
     changes = dict(CALIBRATION_SETTINGS if settings is None else settings)
     changes.update({"weather.cloud_cover_offset": -c0,

@@ -146,7 +146,8 @@ def run_background(out, mtl, roi, *, dem=None, met=None, band_files=None, bounds
     require((dem is None) == (met is None), "--dem/--met", f"dem={dem}, met={met}",
             "go together: both give the hourly background, neither the overpass products only")
     bounds = _parse_bounds(bounds)
-    # lazy: imaging.background loads scikit-learn, pykrige and scipy.stats (seconds, measured)
+    # deferred: imaging.background loads scikit-learn, pykrige and scipy.stats (0.8 s of every
+    # command's start-up, measured)
     from imaging.background import build_background_from_files
     from imaging.background.background import build_overpass
     from imaging.background.landsat import read_landsat_scene

@@ -27,7 +27,8 @@ __all__ = ["check_mooring", "check_mooring_on", "builtin_class_map", "scenario_s
 
 
 def _placement(scenario, shape, resolution_m):
-    # lazy: imaging's scene loads the renderer's geometry (0.3-0.5 s, measured)
+    # deferred: loading a scenario imports no imaging module but its parameters
+    # (test_load_is_lazy); imaging.scene adds 0.2 s (measured)
     from imaging.scene import ShipPlacement
 
     ny, nx = shape
@@ -62,7 +63,8 @@ def check_mooring(scenario, ship, class_map, resolution_m: float) -> list:
         ``ship.mooring_position`` when the footprint reaches more than half a pixel into
         anything but water, or leaves the scene.
     """
-    # lazy: imaging's scene loads the renderer's geometry (0.3-0.5 s, measured)
+    # deferred: loading a scenario imports no imaging module but its parameters
+    # (test_load_is_lazy); imaging.scene adds 0.2 s (measured)
     from imaging.mooring import clear_shift, footprint_overlap, hull_outline
 
     outline = hull_outline(ship.vertices, ship.faces, ship.face_part, ship.part_names)
@@ -95,7 +97,8 @@ def check_mooring(scenario, ship, class_map, resolution_m: float) -> list:
 def check_mooring_on(scenario, ship, background) -> list:
     """:func:`check_mooring` on the class map of a built background (a PortBackground or
     an imaging.scene.GriddedBackground: what the imaging stage renders)."""
-    # lazy: imaging's scene loads the renderer's geometry (0.3-0.5 s, measured)
+    # deferred: loading a scenario imports no imaging module but its parameters
+    # (test_load_is_lazy); imaging.scene adds 0.2 s (measured)
     from imaging.scene import as_scene_background
 
     bg = as_scene_background(background)
@@ -104,7 +107,8 @@ def check_mooring_on(scenario, ship, background) -> list:
 
 @functools.lru_cache(maxsize=4)
 def _synthetic_classes(seed: int, size_px: int, lat: float, lon: float) -> np.ndarray:
-    # lazy: imaging.background loads scikit-learn, pykrige and scipy.stats (seconds, measured)
+    # deferred: imaging.background loads scikit-learn, pykrige and scipy.stats (2 s, measured);
+    # loading a scenario imports no imaging module but its parameters (test_load_is_lazy)
     from imaging.background.synthetic import synthetic_surface
 
     return np.asarray(synthetic_surface(seed, size_px, lat, lon)["class_map"])

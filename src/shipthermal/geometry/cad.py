@@ -332,7 +332,7 @@ def diagnose_surface(vertices, faces, units: str = "m", *, check_scale: bool = T
                            f"triangles (first near ({w[0]:.3f}, {w[1]:.3f}, {w[2]:.3f}) m)",
                            repair_fix))
     if check_intersections and len(fu) and not len(open_e) and not len(nonman):
-        try:
+        try:    # deferred: the FV mesh package loads scipy (0.15 s), kept out of loading a scenario
             from ..mesh import find_self_intersections
             fa = fu[face_areas(v, fu) > 1e-14 * scale * scale]
             pairs = find_self_intersections(v, fa, max_report=1)

@@ -24,6 +24,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import InputError
+from ..mesh import CellGraph
+from ..mesh.graph import NonOrthogonalCorrection
+from ..mesh.tets import tetwild as _tetwild
 
 __all__ = ["merge_cell_graphs", "mixed_ship_graph"]
 
@@ -61,10 +64,6 @@ def merge_cell_graphs(graphs, cell_parts, couplings, metadata=None):
     CellGraph
         ``kind='mixed'``; patches, materials and parts merged by name.
     """
-    # deferred: start-up cost of the FV mesh package
-    from ..mesh import CellGraph
-    from ..mesh.graph import NonOrthogonalCorrection
-
     n_off = np.cumsum([0] + [g.n_cells for g in graphs])
     b_off = np.cumsum([0] + [g.n_bfaces for g in graphs])
     p_off = np.cumsum([0] + [len(g.points) for g in graphs])
@@ -232,8 +231,6 @@ def _solid_tets(v, sf, edge_length: float, fvmesh):
         pts, tets = fvmesh.tetrahedralize_surface(cv, cf, edge_length=edge_length, field="solid parts")
     except InputError:
         # A fan crossing itself (non-star-shaped rim): let fTetWild close it by winding number.
-        from ..mesh.tets import tetwild as _tetwild     # deferred: start-up cost (pytetwild)
-
         closure = "winding number"
         pts, tets = _tetwild(cv.astype(np.float64), cf.astype(np.int32),
                              edge_length_abs=float(edge_length), vtk_ordering=True)

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ...environment.climatology import climate_day
 from ...results import atomic_path
 from ...units import ZERO_CELSIUS
 from ..chain import Simulation
@@ -44,9 +45,6 @@ def paper_variants() -> dict:
     * ``absorptivity`` — the coating: one deck solar absorptivity for both seasons (bounds
       :data:`PAINT_ABSORPTIVITY_RANGE`).
     """
-    # lazy: shipthermal.environment loads pvlib (seconds, measured)
-    from ...environment.climatology import climate_day
-
     cloud = []
     for s in ("summer", "winter"):
         c0 = climate_day(s).cloud_cover
@@ -58,9 +56,6 @@ def paper_variants() -> dict:
 def plausibility(result: CalibrationResult) -> list:
     """Say, for each fitted unknown, what it means for Dalian against the climatology's
     sourced numbers."""
-    # lazy: shipthermal.environment loads pvlib (seconds, measured)
-    from ...environment.climatology import climate_day
-
     out = []
     for _, r in result.parameters.iterrows():
         case, _, key = r["unknown"].rpartition(":")

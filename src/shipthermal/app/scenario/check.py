@@ -23,7 +23,8 @@ from .spec import ScenarioError
 
 def _background_problems(bgs) -> tuple[list, list]:
     """Problems and notes of ``[background] source = 'files'``."""
-    # lazy: imaging.background loads scikit-learn, pykrige and scipy.stats (seconds)
+    # deferred: imaging.background loads scikit-learn, pykrige and scipy.stats (2 s, measured);
+    # loading a scenario imports no imaging module but its parameters (test_load_is_lazy)
     from imaging.background.checks import check_dem_file, check_met_file
     from imaging.background.inputs import check_background_inputs
 
@@ -40,7 +41,7 @@ def _background_problems(bgs) -> tuple[list, list]:
     problems = [str(p) for p in problems + met_problems + dem_problems]
     notes = list(notes)
     if bgs.met is None and not any(p.startswith("background.mtl") for p in problems):
-        # lazy: imaging.background loads scikit-learn, pykrige and scipy.stats (seconds)
+        # deferred as above
         from imaging.background.landsat import read_mtl
 
         try:

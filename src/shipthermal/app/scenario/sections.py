@@ -17,11 +17,12 @@ from types import MappingProxyType
 from typing import Mapping, Optional
 
 from ...errors import InputError
-from ...geometry import BUILTIN_SHIPS, remesh_ship
+from ...geometry import BUILTIN_SHIPS, ReadShipSettings, read_ship, remesh_ship
 from ...geometry import ship as gship
 from ...geometry.layups import ISO7547_INDOOR_C
 from ...geometry.limits import builtin_area_bound, check_surface_size
-from ...geometry.parts import MAIN_PARTS, main_part, part_key, part_keys, part_value
+from ...geometry.outside import SLIVER_ANGLE_DEG, SLIVER_WARN_SHARE
+from ...geometry.parts import MAIN_PARTS, face_areas, main_part, part_key, part_keys, part_value
 from ...materials import MATERIAL_RANGES, MATERIALS, Material
 from ...units import ZERO_CELSIUS
 from .imaging_sections import (AtmosphereSettings, BackgroundSettings, CalendarSettings,
@@ -415,12 +416,6 @@ class ShipSettings:
         """Read, check and repair the user ship of [ship.files] (no remeshing): every
         problem of the mesh is raised in one :class:`InputError` naming the keys that fix
         it. Returns ``(ShipGeometry, report)``."""
-        from shipthermal.geometry import ReadShipSettings, read_ship
-
-        from shipthermal.geometry.limits import check_surface_size
-        from shipthermal.geometry.outside import SLIVER_ANGLE_DEG, SLIVER_WARN_SHARE
-        from shipthermal.geometry.parts import face_areas
-
         f = self.files
         source = dict(f.parts) if f.parts else f.mesh
         settings = ReadShipSettings(

@@ -160,7 +160,7 @@ def _check_closed(v, f, require_closed: bool, allow_nonmanifold: bool, report: d
 def _check_intersections(v, f, report: dict) -> None:
     """Refuse a self-intersecting surface (Embree ray casts; ``report`` says whether it was
     checked)."""
-    try:
+    try:    # deferred: the FV mesh package loads scipy (0.15 s), kept out of loading a scenario
         from ...mesh import find_self_intersections
     except ImportError:                      # the FV mesh package is absent
         find_self_intersections = None
