@@ -19,7 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .scene import CLASS_NAMES, ShipPlacement
+from .parameters import CLASS_NAMES
+from .scene import ShipPlacement
 
 __all__ = ["SAMPLE_STEP_M", "hull_outline", "footprint_overlap", "clear_shift"]
 

@@ -12,12 +12,15 @@ The paper's band list, the surface optics and the other values both stages share
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from shipthermal.optics.responses import BAND_NAMES as SENSOR_BANDS
 
 __all__ = ["PAPER_SENSOR_PARAMETERS", "MAX_VIEW_ZENITH", "VARIOGRAM_MODELS", "MET_UNITS",
            "N_SPLITS", "DEM_NODATA", "SYNTHETIC_PIXEL_M", "BACKGROUND_MODELS", "RESIDUAL_MODES",
            "SATELLITE_NAMES", "ATMOSPHERE_MODELS", "CLOUD_TYPES", "DEFAULT_CLOUD_TYPE",
-           "SENSOR_BANDS", "SENSOR_PRESETS", "MAX_TLE_DISTANCE_DAYS"]
+           "SENSOR_BANDS", "SENSOR_PRESETS", "MAX_TLE_DISTANCE_DAYS", "CLASS_NAMES",
+           "EmissivityValue", "BACKGROUND_EMISSIVITY"]
 
 # ---------------------------------------------------------------------------------------
 # Sensor
@@ -105,3 +108,61 @@ ocean cloud atlas: ~1/3 of the ocean area covered on average)."""
 
 SENSOR_PRESETS = ("paper", "landsat8_tirs", "landsat9_tirs2", "sdgsat1_tis", "ecostress")
 """Instrument presets (:mod:`imaging.instruments`); the paper's generic instrument first."""
+
+
+# ---------------------------------------------------------------------------------------
+# Background classes
+# ---------------------------------------------------------------------------------------
+CLASS_NAMES = {1: "water", 2: "vegetation", 3: "land", 4: "building"}
+"""Class codes of the class map (0 = unclassified/fill), in the paper's Table 1 order. A
+background class is its code and name here, its band emissivities in
+:data:`BACKGROUND_EMISSIVITY`, and its physics in
+:data:`imaging.background.surface_classes.SURFACE_CLASSES`."""
+
+
+@dataclass(frozen=True)
+class EmissivityValue:
+    """A band emissivity with its uncertainty and source.
+
+    Attributes
+    ----------
+    value : float
+        Band-mean hemispherical (near-normal) emissivity [-].
+    uncertainty : float
+        Spread of the cited measurements around ``value`` [-].
+    source : str
+        Where the number comes from.
+    """
+
+    value: float
+    uncertainty: float
+    source: str
+
+
+_SD92 = ("Salisbury & D'Aria 1992, Remote Sens. Environ. 42:83-106 (8-14 um, "
+         "directional-hemispherical reflectance -> emissivity by Kirchhoff)")
+_SD94 = ("Salisbury & D'Aria 1994, Remote Sens. Environ. 47:345-361 (3-5 um)")
+_SUTH = "Sutherland 1986, J. Atmos. Oceanic Technol. 3:199-202 (8-14 um radiometer)"
+_HQ = ("Fresnel, flat water, nadir, band-mean complex index of Hale & Querry 1973, "
+       "Appl. Opt. 12:555; see sea_emissivity() for the angular dependence")
+
+BACKGROUND_EMISSIVITY = {
+    "3-5": {
+        "water": EmissivityValue(0.975, 0.005, _HQ),
+        "vegetation": EmissivityValue(0.96, 0.02, "green foliage; " + _SD94),
+        "land": EmissivityValue(0.86, 0.05, "soils / sand / bare concrete yard, dry; " + _SD94),
+        "building": EmissivityValue(0.89, 0.04, "concrete, roofing; " + _SD94),
+    },
+    "8-14": {
+        "water": EmissivityValue(0.988, 0.005, _HQ),
+        "vegetation": EmissivityValue(0.98, 0.01, "green foliage, grass; " + _SD92
+                                      + "; " + _SUTH),
+        "land": EmissivityValue(0.94, 0.03, "soils 0.89-0.96 (quartz sands lowest); " + _SD92
+                                + "; " + _SUTH),
+        "building": EmissivityValue(0.94, 0.02, "concrete, roofing; " + _SD92),
+    },
+}
+"""Background class emissivities per band [-]. Representative band means of the cited
+measurements, rounded to 0.01 with the spread of the materials as ``uncertainty``: they were
+*not* recomputed here from library spectra (no spectral library ships offline). Water is the
+Fresnel value computed by :func:`shipthermal.optics.sea.sea_emissivity` at nadir (:func:`shipthermal.optics.sea.sea_emissivity`; the test checks this)."""

@@ -11,8 +11,6 @@ under their usual names: Planck band radiance and its inverse
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from shipthermal.errors import InputError
@@ -27,9 +25,10 @@ from shipthermal.optics.sea import (ROUGH_SEA_QUADRATURE, rough_sea_emissivity,
                                     water_band_mean_index)
 from shipthermal.parameters import BAND_EMISSIVITY, BANDS
 
+from .parameters import BACKGROUND_EMISSIVITY, EmissivityValue
+
 __all__ = [
-    "SHIP_EMISSIVITY", "BACKGROUND_EMISSIVITY", "EmissivityValue",
-    "ship_emissivity", "background_emissivity", "leaving_radiance",
+    "SHIP_EMISSIVITY", "ship_emissivity", "background_emissivity", "leaving_radiance",
 ]
 # The optics' names stay importable from here under their earlier path; they are defined and
 # documented in shipthermal.optics.
@@ -37,7 +36,8 @@ _REEXPORTS = (BandRadianceTable, as_response, band_radiance, band_radiance_dt,
               band_radiance_rectangular_exact, band_radiance_table, brightness_temperature,
               planck_radiance, planck_radiance_dt, standard_band, SpectralResponse,
               rectangular_response, ROUGH_SEA_QUADRATURE, rough_sea_emissivity,
-              rough_sea_emissivity_hemispherical, sea_emissivity, water_band_mean_index)
+              rough_sea_emissivity_hemispherical, sea_emissivity, water_band_mean_index,
+              BACKGROUND_EMISSIVITY, EmissivityValue)
 
 # ---------------------------------------------------------------------------------------
 # Emissivities
@@ -48,52 +48,6 @@ SHIP_EMISSIVITY = {band: {part: values[band] for part, values in BAND_EMISSIVITY
 §5) arranged band first."""
 
 
-@dataclass(frozen=True)
-class EmissivityValue:
-    """A band emissivity with its uncertainty and source.
-
-    Attributes
-    ----------
-    value : float
-        Band-mean hemispherical (near-normal) emissivity [-].
-    uncertainty : float
-        Spread of the cited measurements around ``value`` [-].
-    source : str
-        Where the number comes from.
-    """
-
-    value: float
-    uncertainty: float
-    source: str
-
-
-_SD92 = ("Salisbury & D'Aria 1992, Remote Sens. Environ. 42:83-106 (8-14 um, "
-         "directional-hemispherical reflectance -> emissivity by Kirchhoff)")
-_SD94 = ("Salisbury & D'Aria 1994, Remote Sens. Environ. 47:345-361 (3-5 um)")
-_SUTH = "Sutherland 1986, J. Atmos. Oceanic Technol. 3:199-202 (8-14 um radiometer)"
-_HQ = ("Fresnel, flat water, nadir, band-mean complex index of Hale & Querry 1973, "
-       "Appl. Opt. 12:555; see sea_emissivity() for the angular dependence")
-
-BACKGROUND_EMISSIVITY = {
-    "3-5": {
-        "water": EmissivityValue(0.975, 0.005, _HQ),
-        "vegetation": EmissivityValue(0.96, 0.02, "green foliage; " + _SD94),
-        "land": EmissivityValue(0.86, 0.05, "soils / sand / bare concrete yard, dry; " + _SD94),
-        "building": EmissivityValue(0.89, 0.04, "concrete, roofing; " + _SD94),
-    },
-    "8-14": {
-        "water": EmissivityValue(0.988, 0.005, _HQ),
-        "vegetation": EmissivityValue(0.98, 0.01, "green foliage, grass; " + _SD92
-                                      + "; " + _SUTH),
-        "land": EmissivityValue(0.94, 0.03, "soils 0.89-0.96 (quartz sands lowest); " + _SD92
-                                + "; " + _SUTH),
-        "building": EmissivityValue(0.94, 0.02, "concrete, roofing; " + _SD92),
-    },
-}
-"""Background class emissivities per band [-]. Representative band means of the cited
-measurements, rounded to 0.01 with the spread of the materials as ``uncertainty``: they were
-*not* recomputed here from library spectra (no spectral library ships offline). Water is the
-Fresnel value computed by :func:`sea_emissivity` at nadir (the test checks this)."""
 
 
 def ship_emissivity(part: str, band: str) -> float:
@@ -113,7 +67,7 @@ def ship_emissivity(part: str, band: str) -> float:
 def background_emissivity(cls: str, band: str) -> float:
     """Emissivity [-] of a background class (water, vegetation, land, building) in ``band``.
 
-    See :data:`BACKGROUND_EMISSIVITY` for sources and uncertainties.
+    See :data:`imaging.parameters.BACKGROUND_EMISSIVITY` for sources and uncertainties.
     """
     if band not in BACKGROUND_EMISSIVITY:
         raise InputError("band", band, f"must be one of {sorted(BACKGROUND_EMISSIVITY)}")

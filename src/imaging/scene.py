@@ -39,6 +39,7 @@ from shipthermal.optics.responses import thermal_band_key
 from shipthermal.optics.sea import sea_emissivity, water_band_mean_index
 from shipthermal.parameters import check_wind_speed
 
+from .parameters import CLASS_NAMES
 from .radiometry import background_emissivity
 
 __all__ = [
@@ -46,9 +47,6 @@ __all__ = [
     "SYNTHETIC_MOORING_UV", "ShipPaint", "RPV_SHAPE", "rpv_rho0", "enu_direction",
     "compass_to_math_azimuth", "BackgroundOptics", "background_optics",
 ]
-
-CLASS_NAMES = {1: "water", 2: "vegetation", 3: "land", 4: "building"}
-"""Background class codes (as :data:`imaging.background.CLASS_NAMES`)."""
 
 
 # ---------------------------------------------------------------------------------------
@@ -391,7 +389,7 @@ def background_optics(band: str, view_zenith_deg: float, view_azimuth_deg: float
     wind_speed : float
         Wind speed for the Cox-Munk slopes [m s-1].
     emissivity_override : dict or None
-        ``{class name: emissivity}`` replacing :data:`imaging.radiometry.BACKGROUND_EMISSIVITY`
+        ``{class name: emissivity}`` replacing :data:`imaging.parameters.BACKGROUND_EMISSIVITY`
         (for water: a constant replacing the rough-sea angular emissivity).
     rpv_shape : dict or None
         Replaces :data:`RPV_SHAPE` entries.

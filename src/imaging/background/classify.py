@@ -21,7 +21,7 @@ from sklearn.metrics import cohen_kappa_score, confusion_matrix
 from shipthermal.errors import InputError, require
 from shipthermal.figures import CLASS_COLOURS as PALETTE
 
-from ..parameters import N_SPLITS
+from ..parameters import CLASS_NAMES, N_SPLITS
 
 __all__ = [
     "CLASS_CODES",
@@ -41,9 +41,9 @@ __all__ = [
     "N_SPLITS",
 ]
 
-CLASS_CODES = (1, 2, 3, 4)
-CLASS_NAMES = {1: "water", 2: "vegetation", 3: "land", 4: "building"}
-"""Class codes of the class map (0 = unclassified/fill), in the paper's Table 1 order."""
+CLASS_CODES = tuple(CLASS_NAMES)
+"""Class codes of the class map (0 = unclassified/fill): those of
+:data:`imaging.parameters.CLASS_NAMES`."""
 CLASS_COLOURS = {code: PALETTE[name] for code, name in CLASS_NAMES.items()}
 """Colour of each class code: :data:`shipthermal.figures.CLASS_COLOURS` (told apart under
 colour-blindness)."""
