@@ -223,7 +223,8 @@ class AtmosphereSettings:
                       "weather); 'summer' / 'winter' = the paper's mid-latitude summer / "
                       "winter. 'auto': with weather.source = 'builtin' the design day's "
                       "(time.season), else the model whose surface air temperature is "
-                      "closest to the day's mean (imaging.atmosphere.model_for_site)",
+                      "closest to the day's mean (imaging.atmosphere.model_for_site); with "
+                      "weather.day = 'record' each local day's own (its mean and month)",
                       choices=("auto",) + SEASONS + ATMOSPHERE_MODELS)
     cloud_type: str = _opt(DEFAULT_CLOUD_TYPE, "choice", "LOWTRAN 7 cloud deck under which "
                            "the weather's cloud cover puts its share of the sky (default: "
