@@ -68,8 +68,8 @@ def test_slab_tets_match_carslaw_jaeger_series():
     # variation (tet counts vary ~2 %); without the non-orthogonal correction the error is
     # 10–20× larger, so the bound still separates a consistent scheme from an inconsistent
     # one. The refinement must reduce the error. The linear solver is an exact factor: the
-    # test is about the discretisation, and 'auto' picks a backend by timing it (AMG on a
-    # loaded machine), with which one CI run's Newton stalled at 1.07e-7 K against the
+    # test is about the discretisation, and 'auto' picks a backend by timing it, so its solve
+    # differs from run to run: in one CI run its Newton stalled at 1.07e-7 K against the
     # 1e-7 K asked, in step 35 of 40 (not reproduced in 16 repeats with auto, 2 with AMG).
     errs = []
     for edge in (0.01, 0.007):
