@@ -165,4 +165,5 @@ BACKGROUND_EMISSIVITY = {
 """Background class emissivities per band [-]. Representative band means of the cited
 measurements, rounded to 0.01 with the spread of the materials as ``uncertainty``: they were
 *not* recomputed here from library spectra (no spectral library ships offline). Water is the
-Fresnel value computed by :func:`shipthermal.optics.sea.sea_emissivity` at nadir (:func:`shipthermal.optics.sea.sea_emissivity`; the test checks this)."""
+Fresnel value computed by :func:`shipthermal.optics.sea.sea_emissivity` at nadir (the
+test checks this)."""

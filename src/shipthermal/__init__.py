@@ -33,6 +33,7 @@ on 2 cores beside one busy process, 5000 launches of a 16,000-element kernel on 
 libgomp reads it once, when numba first starts its threads."""
 _os.environ.setdefault("OMP_WAIT_POLICY", OMP_WAIT_POLICY)
 
+
 def _version() -> str:
     from importlib.metadata import PackageNotFoundError, version
 
