@@ -5,7 +5,7 @@ import threading
 
 import pytest
 
-from shipthermal._threads import thread_map
+from shipthermal._threads import SERIAL_BELOW_CELLS, kernel_threads, thread_map
 
 
 def test_results_keep_the_order_of_the_items():
@@ -70,3 +70,18 @@ def test_idle_openmp_threads_sleep_unless_the_user_says_otherwise():
     out = subprocess.run([sys.executable, "-c", code], env={**env, "OMP_WAIT_POLICY": "ACTIVE"},
                          capture_output=True, text=True, check=True).stdout.split()
     assert out == ["ACTIVE"]
+
+
+def test_small_models_step_on_one_thread_and_the_budget_comes_back():
+    import numba
+
+    budget = numba.get_num_threads()
+    with kernel_threads(SERIAL_BELOW_CELLS - 1):
+        assert numba.get_num_threads() == 1
+    assert numba.get_num_threads() == budget
+    with kernel_threads(SERIAL_BELOW_CELLS):
+        assert numba.get_num_threads() == budget
+    with pytest.raises(RuntimeError), kernel_threads(10):
+        raise RuntimeError("a failed step")
+    assert numba.get_num_threads() == budget
+

@@ -38,6 +38,7 @@ import numpy as np
 from ._aggregates import column_aggregates
 from ._step_kernels import cell_residual, exchange_values, max_ratio, moved_faces_kernel
 from ._tridiagonal import ColumnSolve, column_bounds, column_factor
+from ._threads import kernel_threads
 from .errors import SimulationError, check_finite, check_positive, require
 from .linear import (Anderson, JacobianPattern, Preconditioner, choose_backend,
                      make_preconditioner, pcg, single_threaded_blas)
@@ -674,7 +675,7 @@ class Simulation:
         from tqdm.auto import tqdm
 
         with tqdm(total=n, desc=desc, unit="step", disable=not show, leave=False) as bar, \
-                single_threaded_blas():
+                single_threaded_blas(), kernel_threads(self.graph.n_cells):
             for _ in range(n):
                 self.step()
                 bar.update(1)

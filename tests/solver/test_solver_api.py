@@ -152,3 +152,21 @@ def test_fixed_temperature_plate_steady_is_linear():
     res = steady_state(m)
     flux = (320.0 - 295.0) / lay.thermal_resistance
     np.testing.assert_allclose(res.face_heat_flux()[0, g.patch_faces("w:outer")], flux, rtol=1e-9)
+
+
+def test_the_answer_does_not_depend_on_the_kernels_thread_count(monkeypatch):
+    """Small models step on one thread (``shipthermal._threads.SERIAL_BELOW_CELLS``), large
+    ones on numba's budget: the kernels' sums are ordered, so the same day either way is
+    the same bit for bit."""
+    import numba
+
+    from shipthermal import _threads
+
+    if numba.get_num_threads() < 2:
+        pytest.skip("one numba thread: nothing to compare")
+    runs = []
+    for limit in (0, 10**9):       # every model on the budget / every model on one thread
+        monkeypatch.setattr(_threads, "SERIAL_BELOW_CELLS", limit)
+        runs.append(Simulation(_model(), 600.0, 86400.0, output_interval=3600.0).run())
+    np.testing.assert_array_equal(runs[0].cell_temperature, runs[1].cell_temperature)
+    np.testing.assert_array_equal(runs[0].energy.imbalance, runs[1].energy.imbalance)

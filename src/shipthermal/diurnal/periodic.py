@@ -131,7 +131,9 @@ def _simulation(graph, forcing, temp0, settings: DiurnalSettings, lead: float):
     model = ThermalModel(graph, conditions, initial_temperature=temp0, exchange=exchange)
     return Simulation(model, settings.time_step, int(settings.spinup_max_days) * DAY,
                       start_time=-lead, scheme=settings.scheme,
-                      output_interval=settings.output_interval)
+                      output_interval=settings.output_interval,
+                      tolerance=settings.newton_tolerance,
+                      energy_tolerance=settings.energy_tolerance)
 
 
 @dataclass(eq=False)

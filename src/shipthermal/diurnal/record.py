@@ -311,7 +311,9 @@ def window_simulation(rec: RecordRun, spun: SpunUp, conditions: dict) -> None:
                              initial_temperature=300.0 if spun.temp0 is None else spun.temp0)
         rec.sim = Simulation(model, rec.settings.time_step, rec.span,
                              scheme=rec.settings.scheme,
-                             output_interval=rec.settings.output_interval)
+                             output_interval=rec.settings.output_interval,
+                             tolerance=rec.settings.newton_tolerance,
+                             energy_tolerance=rec.settings.energy_tolerance)
         if spun.resumed:
             rec.sim.load_checkpoint(rec.ckpt)
     else:

@@ -9,7 +9,7 @@ from typing import Mapping
 
 from ..errors import check_positive, require
 from ..forcing.build import ForcingSettings
-from ..parameters import NIGHT_STEP
+from ..parameters import NEWTON_ENERGY_TOLERANCE, NEWTON_TOLERANCE, NIGHT_STEP
 from ..units import DAY
 
 
@@ -54,6 +54,10 @@ class DiurnalSettings:
         Longest time step of the night [s] (see ``NIGHT_STEP``): the night takes the longest
         multiple of ``time_step`` up to it that divides ``output_interval``. ``time_step``
         (or less) keeps the steps uniform.
+    newton_tolerance, energy_tolerance : float
+        Newton's stopping rule in every step: the estimated correction left [K] and the
+        step's energy residual relative to its gross boundary heat (see
+        :data:`~shipthermal.parameters.NEWTON_TOLERANCE`).
     """
 
     time_step: float = 300.0
@@ -71,6 +75,8 @@ class DiurnalSettings:
     initial_temperature: float | None = None
     lead_in: float = SPINUP_LEAD_IN
     night_step: float = NIGHT_STEP
+    newton_tolerance: float = NEWTON_TOLERANCE
+    energy_tolerance: float = NEWTON_ENERGY_TOLERANCE
 
     def __post_init__(self):
         check_positive("time_step", self.time_step, "s")
@@ -81,3 +87,5 @@ class DiurnalSettings:
         require(int(self.spinup_max_days) >= 1, "spinup_max_days", self.spinup_max_days, "must be ≥ 1")
         require(0.0 <= self.lead_in < DAY, "lead_in", self.lead_in, "must lie in [0, 86400) s")
         check_positive("night_step", self.night_step, "s")
+        check_positive("newton_tolerance", self.newton_tolerance, "K")
+        check_positive("energy_tolerance", self.energy_tolerance)
