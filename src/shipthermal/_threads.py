@@ -23,7 +23,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numba
 
-__all__ = ["thread_map", "kernel_threads", "SERIAL_BELOW_CELLS"]
+__all__ = ["thread_map", "kernel_threads", "numba_threads", "SERIAL_BELOW_CELLS"]
 
 #: Below this many cells a time loop's numba kernels run on one thread. A kernel of a few
 #: 10⁴ cells takes tens of µs, about what waking a second thread and joining it costs;
@@ -64,20 +64,27 @@ def _pool(n_threads: int) -> ThreadPoolExecutor:
 
 
 @contextlib.contextmanager
-def kernel_threads(n_cells: int, serial_below: int | None = None):
-    """numba's kernels on one thread while in the block when ``n_cells`` is below
-    ``serial_below`` (default :data:`SERIAL_BELOW_CELLS`); otherwise (and after) the caller's budget, ``numba.get_num_threads()``
-    (which a sweep pins to one per case)."""
+def numba_threads(n: int):
+    """numba's kernels on at most ``n`` threads while in the block; the caller's budget,
+    ``numba.get_num_threads()``, after."""
     before = numba.get_num_threads()
-    limit = SERIAL_BELOW_CELLS if serial_below is None else int(serial_below)
-    if before == 1 or int(n_cells) >= limit:
+    n = max(1, min(int(n), before))
+    if n == before:
         yield
         return
-    numba.set_num_threads(1)
+    numba.set_num_threads(n)
     try:
         yield
     finally:
         numba.set_num_threads(before)
+
+
+def kernel_threads(n_cells: int, serial_below: int | None = None):
+    """numba's kernels on one thread while in the block when ``n_cells`` is below
+    ``serial_below`` (default :data:`SERIAL_BELOW_CELLS`); otherwise (and after) the
+    caller's budget (which a sweep pins to one per case)."""
+    limit = SERIAL_BELOW_CELLS if serial_below is None else int(serial_below)
+    return numba_threads(1 if int(n_cells) < limit else numba.get_num_threads())
 
 
 def thread_map(fn: Callable, items: Iterable, n_threads: int) -> list:

@@ -42,6 +42,10 @@ class InputError(ValueError):
             msg += f". {fix}"
         super().__init__(msg)
 
+    def __reduce__(self):
+        # (from a worker process to the caller whole: fields, not the message alone)
+        return (type(self), (self.field, self.value, self.allowed, self.fix))
+
 
 class SimulationError(RuntimeError):
     """The solve failed (NaN, no convergence): not a user input error."""

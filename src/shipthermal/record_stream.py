@@ -90,11 +90,12 @@ class RecordParts:
             np.savez(tmp, **arrays)
         return path
 
-    def drop_from(self, index: int) -> None:
-        """Remove the parts from ``index`` on (written after the checkpoint a run resumes
-        from: they are written again, to the same values)."""
+    def drop_range(self, first: int, end: int) -> None:
+        """Remove the parts ``first … end − 1``: those a resumed run writes again (to the
+        same values), or a fresh run's own (of its segment, when the record is split over
+        processes writing into one folder)."""
         for p in self.folder.glob("part_*.npz"):
-            if int(p.stem.split("_")[1]) >= index:
+            if int(first) <= int(p.stem.split("_")[1]) < int(end):
                 p.unlink()
 
     def read(self, index: int) -> dict:

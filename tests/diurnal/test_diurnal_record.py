@@ -209,3 +209,83 @@ def test_record_outputs_file_and_lazy_history(three_days):
     del hist, lazy, Counted
     gc.collect()
     assert not folder.exists()
+
+
+# ------------------------------------------------------- a record split over processes ------
+@pytest.fixture(scope="module")
+def five_days(tmp_path_factory):
+    """Five days of the buoy in one piece (the reference) and split over three processes
+    (``solver.jobs = 3``: days 1–2, 3, 4–5; the last segment spun up on day 2 and run
+    unrecorded through days 2–3), face temperatures in float64."""
+    import dataclasses
+
+    from shipthermal.app.thermal import thermal_inputs
+    from shipthermal.diurnal import run_record
+
+    inputs = thermal_inputs(_scenario(days=5))
+    inputs.pop("checkpoint_interval")
+    ref = run_record(**inputs, progress=False, face_dtype=np.float64)
+    split_inputs = dict(inputs, settings=dataclasses.replace(inputs["settings"], jobs=3))
+    folder = tmp_path_factory.mktemp("split")
+    split = run_record(**split_inputs, progress=False, face_dtype=np.float64,
+                       checkpoint=folder / "buoy.npz")
+    return split_inputs, ref, split, folder
+
+
+def test_a_record_split_over_processes_equals_one_piece(five_days):
+    """Each segment after the first starts two days early from a spin-up on that day: the
+    plates forget their start within hours (steel, 20–30 W m-2 K-1 at the surface: ~20 min
+    time constants), so two days take the start-up difference to round-off."""
+    _, ref, split, folder = five_days
+    assert split.meta["record_segments"] == [[0, 2], [2, 3], [3, 5]]
+    assert np.array_equal(split.record.times, ref.record.times)
+    np.testing.assert_array_equal(split.energy.time, ref.energy.time)
+    d = _max_change(ref, split)
+    print(f"split over 3 processes against one piece: faces within {d:.1e} K")
+    assert d < 1e-9
+    np.testing.assert_allclose(split.part_means.to_numpy(), ref.part_means.to_numpy(),
+                               rtol=0, atol=1e-9)
+    np.testing.assert_allclose(split.results.cell_temperature, ref.results.cell_temperature,
+                               rtol=0, atol=1e-9)
+    assert split.energy.max_step_imbalance <= split.settings.energy_tolerance
+    assert sorted(p.name for p in folder.glob("buoy*.npz")) == [
+        "buoy.npz", "buoy.segment1.npz", "buoy.segment2.npz"]
+
+
+def test_a_split_record_resumes_only_with_its_own_segments(five_days):
+    """Four processes cut the record elsewhere (days 1, 2, 3–4, 5): the first segment's
+    checkpoint holds days 1–2 of another cut, and resuming with it is refused, naming the
+    file and the fix."""
+    import dataclasses
+
+    from shipthermal.diurnal import run_record
+    from shipthermal.errors import InputError
+
+    inputs, _, _, folder = five_days
+    four = dict(inputs, settings=dataclasses.replace(inputs["settings"], jobs=4))
+    with pytest.raises(InputError, match=r"buoy.npz.*days 1–2 .*another split.*solver.jobs"):
+        run_record(**four, progress=False, checkpoint=folder / "buoy.npz", resume=True)
+
+
+def test_an_interrupted_split_record_resumes_to_the_uninterrupted_answer(five_days, tmp_path):
+    """Ctrl-C in the first segment after its first day: the other processes are stopped
+    wherever they are; the resumed run ends where the uninterrupted split run does, bit for
+    bit."""
+    from shipthermal.diurnal import run_record
+
+    inputs, _, split, _ = five_days
+    ckpt = tmp_path / "buoy.npz"
+
+    def stop_after_day_1(msg):
+        if msg.startswith("record day 1 of 5"):
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_record(**inputs, progress=False, face_dtype=np.float64, checkpoint=ckpt,
+                   log=stop_after_day_1)
+    res = run_record(**inputs, progress=False, face_dtype=np.float64, checkpoint=ckpt,
+                     resume=True)
+    np.testing.assert_array_equal(res.record.face_temperature[:],
+                                  split.record.face_temperature[:])
+    np.testing.assert_array_equal(res.energy.imbalance, split.energy.imbalance)
+    np.testing.assert_array_equal(res.results.cell_temperature, split.results.cell_temperature)

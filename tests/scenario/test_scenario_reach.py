@@ -267,6 +267,7 @@ CASES = {
     "solver.samples_per_face": ("builtin", 8, {T}),
     "solver.seed": ("builtin", 7, {T}),
     "solver.backend": ("builtin", "numba", {T, I}),
+    "solver.jobs": ("builtin", 2, {T}),
     "convection.model": ("builtin", "iso6946", {T}),
     "convection.parts.<part>": ("builtin", {FUNNEL: "doe2"}, {T}),
     "convection.roughness.<part>": ("builtin", {FUNNEL: "rough"}, {T}),

@@ -20,7 +20,7 @@ def settings_from_scenario(scenario) -> DiurnalSettings:
                            output_interval=scenario.time.output_interval,
                            spinup_tolerance=s.spinup_tolerance, spinup_max_days=s.spinup_max_days,
                            samples_per_face=s.samples_per_face, rays_per_face=s.rays_per_face,
-                           seed=s.seed, backend=s.backend,
+                           seed=s.seed, backend=s.backend, jobs=s.jobs,
                            convection=(scenario.convection.per_part()
                                        if scenario.convection.parts
                                        else scenario.convection.model),

@@ -11,6 +11,7 @@ the checkpoint at its end), and :func:`assemble_record`.
 from __future__ import annotations
 
 import json
+import multiprocessing
 import shutil
 import tempfile
 import time as _time
@@ -18,12 +19,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
+import numba
 import numpy as np
 import pandas as pd
 from tqdm.auto import tqdm
 
 from .. import geometry
+from .._threads import numba_threads
 from ..errors import require
+from ..parameters import RECORD_SEGMENT_WARM_DAYS
 from ..record_stream import RecordFile, RecordParts, assemble, in_sample, sample_days
 from ..results import EnergyLog, Results
 from ..units import DAY
@@ -91,11 +95,136 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
     say = log or (lambda msg: None)
     span, n_days, stop = record_days(environment, window_days, end_day)
     t_total = _time.perf_counter()
-    timings = {"record_forcing": 0.0, "record_solve": 0.0, "record_outputs": 0.0}
     ckpt, work_dir, temporary, parts, spin_ckpt = work_folder(checkpoint, work_dir)
+    bounds = segment_bounds(stop, settings.jobs, window_days, end_day)
+    common = dict(ship=ship, environment=environment, settings=settings,
+                  absorptivity=absorptivity, emissivity=emissivity, span=span, n_days=n_days,
+                  parts_folder=parts.folder, face_dtype=face_dtype, resume=resume,
+                  window_days=window_days, split=len(bounds) > 1)
+    pool, children = None, []
+    try:
+        if len(bounds) > 1:
+            say(f"record: {stop} day(s) in {len(bounds)} segments "
+                + ", ".join(f"{a + 1}–{b}" for a, b in bounds) + ", one process each")
+            pool, children = _start_segments(common, bounds[1:], ckpt)
+        with numba_threads(numba.get_num_threads() // len(bounds)):
+            rec, spun = run_days(**common, first_day=0, stop=bounds[0][1], ckpt=ckpt,
+                                 spin_ckpt=spin_ckpt, say=say, graph=graph, traced=traced,
+                                 progress=progress, log=log, end_day=end_day)
+        if children:
+            say(f"record: days 1–{bounds[0][1]} done, waiting for the other segments")
+        ends = [child.get() for child in children]
+    except BaseException:
+        if pool is not None:       # (their checkpoints and parts are written whole or not)
+            pool.terminate()
+            pool.join()
+        if temporary:
+            shutil.rmtree(work_dir, ignore_errors=True)
+        raise
+    if pool is not None:
+        pool.close()
+        pool.join()
+    timings = rec.timings
+    for end in ends:
+        for k, v in end["timings"].items():
+            if k.startswith("record_"):
+                timings[f"segments_{k}"] = timings.get(f"segments_{k}", 0.0) + v
+    rec.stop = stop
+    if ends:                       # (one window a day: a part a day)
+        rec.n_parts = stop
+        # the last day's tables (forcing summary) are the last segment's
+        rec.forcing = window_forcing(rec, spun, stop - 1, stop, False)
+    record = assemble_record(rec, work_dir, temporary)
+    pm = record.part_means()
+    energy = record.energy()
+    if ends:
+        final = _final_results(None, None, spun.graph, energy, settings, ends[-1]["final"])
+    else:
+        final = _final_results(rec.sim, ckpt, spun.graph, energy, settings)
+    timings["total"] = _time.perf_counter() - t_total
+    w = environment.weather
+    meta = {"record_days": n_days, "spinup_days": spun.days,
+            "record_start": str(w.time[0]), "record_end": str(w.time[-1]),
+            "weather_source": w.source, "record_window_days": int(window_days)}
+    if len(bounds) > 1:
+        meta["record_segments"] = [[int(a), int(b)] for a, b in bounds]
+        meta["record_segment_warm_days"] = RECORD_SEGMENT_WARM_DAYS
+    if stop < n_days:
+        meta["record_days_done"] = stop
+    return DiurnalResult(ship=ship, graph=spun.graph, forcing=rec.forcing, results=final,
+                         part_means=pm, days=spun.days + stop, day_changes=spun.day_changes,
+                         converged=spun.converged,
+                         energy=concat_energy([spun.energy, energy]), timings=timings,
+                         settings=settings, environment=environment, meta=meta,
+                         record=record)
+
+
+def segment_bounds(stop: int, jobs: int, window_days: int, end_day) -> list[tuple[int, int]]:
+    """The record's days ``0 … stop`` as ``min(jobs, stop)`` contiguous segments
+    ``(first, end)`` of near-equal length."""
+    jobs = max(1, min(int(jobs), int(stop)))
+    if jobs > 1:
+        require(int(window_days) == 1, "window_days", window_days,
+                "must be 1 when a record is split over processes (settings.jobs > 1)")
+        require(end_day is None, "end_day", end_day,
+                "must be None when a record is split over processes (settings.jobs > 1): "
+                "a segment's days are fixed by the record's length")
+    edges = np.round(np.linspace(0, stop, jobs + 1)).astype(int)
+    return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:])]
+
+
+def segment_checkpoint(ckpt: Path | None, j: int) -> tuple[Path | None, Path | None]:
+    """Checkpoint and spin-up checkpoint of segment ``j`` ≥ 1 of a split record."""
+    if ckpt is None:
+        return None, None
+    seg = ckpt.with_name(f"{ckpt.stem}.segment{j}.npz")
+    return seg, seg.with_name(f"{seg.stem}.spinup.npz")
+
+
+def _start_segments(common: dict, bounds, ckpt):
+    """Segments ``bounds`` (all but the first) each in a process of its own (spawned: the
+    solver's threads do not survive a fork): the pool (terminated on an interrupt) and the
+    segments' pending results."""
+    ctx = multiprocessing.get_context("spawn")
+    share = max(1, numba.get_num_threads() // (len(bounds) + 1))
+    pool = ctx.Pool(len(bounds), initializer=numba.set_num_threads, initargs=(share,))
+    pending = []
+    for j, (first, end) in enumerate(bounds, start=1):
+        seg_ckpt, seg_spin = segment_checkpoint(ckpt, j)
+        pending.append(pool.apply_async(_segment_worker, (dict(
+            common, first_day=first, stop=end, ckpt=seg_ckpt, spin_ckpt=seg_spin),)))
+    return pool, pending
+
+
+def _segment_worker(kwargs: dict) -> dict:
+    """One segment of a split record in its own process: its timings and final state."""
+    rec, _ = run_days(**kwargs, say=lambda msg: None, graph=None, traced=None,
+                      progress=False, log=None, end_day=None)
+    sim = rec.sim
+    if sim is None:     # resumed after its end: the state is the checkpoint's
+        with np.load(rec.ckpt) as d:
+            final = (float(d["time"]), d["temp"].copy(), d["temp_face"].copy(),
+                     d["flow_face"].copy())
+    else:
+        final = (sim.time, sim.temperature, sim.face_temperature, sim.face_flow)
+    return {"timings": rec.timings, "final": final}
+
+
+def run_days(*, ship, environment, settings, absorptivity, emissivity, span, n_days,
+             parts_folder, face_dtype, resume, window_days, split, first_day, stop, ckpt,
+             spin_ckpt, say, graph, traced, progress, log, end_day):
+    """The record's days ``first_day … stop``: spin-up (on the record's first day, or
+    :data:`RECORD_SEGMENT_WARM_DAYS` before ``first_day`` and the days to it run
+    unrecorded), then window by window, each window's part of the outputs written as it
+    ends (``split``: other processes write the other segments' parts into the same folder).
+    Returns the run's state and its spin-up."""
+    timings = {"record_forcing": 0.0, "record_solve": 0.0, "record_outputs": 0.0}
+    lead = max(0, int(first_day) - RECORD_SEGMENT_WARM_DAYS)
     rec = RecordRun(ship=ship, environment=environment, settings=settings, say=say,
                     span=span, n_days=n_days, stop=stop, ckpt=ckpt, spin_ckpt=spin_ckpt,
-                    parts=parts, timings=timings, face_dtype=face_dtype)
+                    parts=RecordParts(parts_folder), timings=timings, face_dtype=face_dtype,
+                    first_day=int(first_day), lead_day=lead, n_parts=int(first_day),
+                    parts_end=int(stop) if split else int(n_days), split=bool(split))
     if resume and ckpt is not None and ckpt.exists():
         spun = resumed_spin_up(rec, end_day, graph, absorptivity, emissivity, traced)
     else:
@@ -111,36 +240,17 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
     try:
         while day < stop:
             d1 = min(day + int(window_days), stop)
+            if day < rec.first_day:      # the warm-up of a segment: a window of its own
+                d1 = min(d1, rec.first_day)
             t0 = _time.perf_counter()
             conditions = window_conditions(rec, window_forcing(rec, spun, day, d1, progress))
             timings["record_forcing"] += _time.perf_counter() - t0
             window_simulation(rec, spun, conditions)
             run_window(rec, spun, day, d1, bar, t_loop)
             day = d1
-    except BaseException:
-        if temporary:
-            shutil.rmtree(work_dir, ignore_errors=True)
-        raise
     finally:
         bar.close()
-
-    record = assemble_record(rec, work_dir, temporary)
-    pm = record.part_means()
-    energy = record.energy()
-    final = _final_results(rec.sim, ckpt, spun.graph, energy, settings)
-    timings["total"] = _time.perf_counter() - t_total
-    w = environment.weather
-    meta = {"record_days": n_days, "spinup_days": spun.days,
-            "record_start": str(w.time[0]), "record_end": str(w.time[-1]),
-            "weather_source": w.source, "record_window_days": int(window_days)}
-    if stop < n_days:
-        meta["record_days_done"] = stop
-    return DiurnalResult(ship=ship, graph=spun.graph, forcing=rec.forcing, results=final,
-                         part_means=pm, days=spun.days + stop, day_changes=spun.day_changes,
-                         converged=spun.converged,
-                         energy=concat_energy([spun.energy, energy]), timings=timings,
-                         settings=settings, environment=environment, meta=meta,
-                         record=record)
+    return rec, spun
 
 
 def record_days(environment, window_days, end_day):
@@ -189,6 +299,10 @@ class RecordRun:
     parts: RecordParts
     timings: dict
     face_dtype: object
+    first_day: int = 0      # the first recorded day (a segment's; 0 for the whole record)
+    lead_day: int = 0       # the day spun up on, the simulation's start
+    parts_end: int = 0      # the parts from first_day up to this one are the run's own
+    split: bool = False     # a segment of a record split over processes
     groups: dict = field(default_factory=dict)
     sampled: object = None
     sim: object = None
@@ -224,8 +338,14 @@ def resumed_spin_up(rec: RecordRun, end_day, graph, absorptivity, emissivity,
     the outputs after the checkpoint's dropped."""
     with np.load(rec.ckpt) as d:
         done = int(d["extra_record_day"])
+        first = int(d["extra_record_first_day"]) if "extra_record_first_day" in d.files else 0
         spin_info = {k[len("extra_spin_"):]: d[k].copy() for k in d.files
                      if k.startswith("extra_spin_")}
+    other_cut = first != rec.first_day or (rec.split and done > rec.stop)
+    require(not other_cut, "checkpoint", str(rec.ckpt),
+            f"holds days {first + 1}–{done} of the record, a segment of another split: this "
+            f"run's segment is days {rec.first_day + 1}–{rec.stop}",
+            "resume with the solver.jobs of the interrupted run, or start afresh")
     require(done <= rec.stop, "end_day", end_day,
             f"must be ≥ the {done} days the checkpoint has done already")
     spin_energy = EnergyLog(*[spin_info.pop(f"energy_{k}") for k in EnergyLog.FIELDS])
@@ -240,25 +360,25 @@ def resumed_spin_up(rec: RecordRun, end_day, graph, absorptivity, emissivity,
     rec.say(f"record: resumed from {rec.ckpt} after {done} of {rec.n_days} recorded day(s)")
     with np.load(rec.ckpt) as d:
         rec.n_parts = int(d["extra_record_parts"])
-    rec.parts.drop_from(rec.n_parts)
+    rec.parts.drop_range(rec.n_parts, rec.parts_end)
     return spun
 
 
 def spin_up_first_day(rec: RecordRun, graph, absorptivity, emissivity, traced, progress,
                       log, resume) -> SpunUp:
-    """Spin up on the record's first day, repeated (:func:`~shipthermal.diurnal.periodic.
-    run_periodic`); no part of the outputs kept."""
-    w = rec.environment.weather
-    rec.say(f"record: spin-up on the first day ({w.time[0]:%Y-%m-%d}), then {rec.n_days} "
-            "day(s)")
-    spin = run_periodic(rec.ship, rec.environment.first_day(), rec.settings,
+    """Spin up on the record's first day (a segment's: its lead day), repeated
+    (:func:`~shipthermal.diurnal.periodic.run_periodic`); no part of the outputs kept."""
+    spin_env = rec.environment.record_day(rec.lead_day)
+    rec.say(f"record: spin-up on day {rec.lead_day + 1} ({spin_env.start:%Y-%m-%d}), then "
+            f"days {rec.lead_day + 1}–{rec.stop} of {rec.n_days}")
+    spin = run_periodic(rec.ship, spin_env, rec.settings,
                         absorptivity=absorptivity, emissivity=emissivity, graph=graph,
                         traced=traced, progress=progress, log=log, checkpoint=rec.spin_ckpt,
                         resume=resume)
     rec.timings.update(spin.timings)
     rec.timings["spinup_total"] = rec.timings.pop("total")
-    rec.parts.drop_from(0)
-    return SpunUp(done=0, graph=spin.graph, traced=spin.forcing.traced,
+    rec.parts.drop_range(rec.first_day, rec.parts_end)
+    return SpunUp(done=rec.lead_day, graph=spin.graph, traced=spin.forcing.traced,
                   absorptivity=spin.forcing.absorptivity, emissivity=spin.forcing.emissivity,
                   energy=spin.energy, days=spin.days, converged=spin.converged,
                   day_changes=list(spin.day_changes), temp0=spin.results.final_temperature,
@@ -310,7 +430,7 @@ def window_simulation(rec: RecordRun, spun: SpunUp, conditions: dict) -> None:
         model = ThermalModel(spun.graph, conditions, exchange=rec.exchange,
                              initial_temperature=300.0 if spun.temp0 is None else spun.temp0)
         rec.sim = Simulation(model, rec.settings.time_step, rec.span,
-                             scheme=rec.settings.scheme,
+                             start_time=rec.lead_day * DAY, scheme=rec.settings.scheme,
                              output_interval=rec.settings.output_interval,
                              tolerance=rec.settings.newton_tolerance,
                              energy_tolerance=rec.settings.energy_tolerance)
@@ -334,7 +454,9 @@ def run_window(rec: RecordRun, spun: SpunUp, day: int, d1: int, bar, t_loop: flo
         k = (d - day) * per_day
         run_intervals(sim, plan[k:k + per_day], d * DAY, iv, f"record day {d + 1}", False)
         timings["record_solve"] += _time.perf_counter() - t0
-        if d + 1 == d1:
+        if d + 1 == d1 and d1 <= rec.first_day:
+            sim.clear_records()      # a segment's warm-up: not recorded
+        elif d + 1 == d1:
             t0 = _time.perf_counter()
             _write_part(rec.parts, rec.n_parts, sim, rec.environment, rec.groups,
                         rec.ship.n_faces, rec.sampled, rec.face_dtype)
@@ -354,7 +476,7 @@ def run_window(rec: RecordRun, spun: SpunUp, day: int, d1: int, bar, t_loop: flo
 def _save_checkpoint(rec: RecordRun, spun: SpunUp, d1: int) -> None:
     """The checkpoint at the end of the window ending on day ``d1``, with the spin-up's
     account; the spin-up's own checkpoint is then removed."""
-    extra = {"record_day": d1, "record_parts": rec.n_parts,
+    extra = {"record_day": d1, "record_parts": rec.n_parts, "record_first_day": rec.first_day,
              "spin_days": spun.days, "spin_converged": spun.converged,
              "spin_day_changes": np.array(spun.day_changes, float),
              "spin_timings": json.dumps(
@@ -400,10 +522,13 @@ def _write_part(parts, index, sim, environment, groups, n_faces, sampled, face_d
     parts.write(index, **arrays)
 
 
-def _final_results(sim, ckpt, graph, energy, settings) -> Results:
+def _final_results(sim, ckpt, graph, energy, settings, final=None) -> Results:
     """The record's final state as :class:`Results` (one time), from the simulation or, when
-    a resumed run had nothing left to do, from its checkpoint."""
-    if sim is not None:
+    a resumed run had nothing left to do, from its checkpoint (or ``final``: ``(time, cell,
+    face temperatures, face flows)`` of the last segment's process)."""
+    if final is not None:
+        time_, temp, face, flow = final
+    elif sim is not None:
         time_, temp, face, flow = sim.time, sim.temperature, sim.face_temperature, sim.face_flow
     else:
         with np.load(ckpt) as d:

@@ -58,6 +58,11 @@ class DiurnalSettings:
         Newton's stopping rule in every step: the estimated correction left [K] and the
         step's energy residual relative to its gross boundary heat (see
         :data:`~shipthermal.parameters.NEWTON_TOLERANCE`).
+    jobs : int
+        Processes a weather record is split over: contiguous segments of days, each spun
+        up :data:`~shipthermal.parameters.RECORD_SEGMENT_WARM_DAYS` before its first day
+        (:func:`~shipthermal.diurnal.record.run_record`); 1 runs the record in one piece.
+        A periodic day ignores it.
     """
 
     time_step: float = 300.0
@@ -77,6 +82,7 @@ class DiurnalSettings:
     night_step: float = NIGHT_STEP
     newton_tolerance: float = NEWTON_TOLERANCE
     energy_tolerance: float = NEWTON_ENERGY_TOLERANCE
+    jobs: int = 1
 
     def __post_init__(self):
         check_positive("time_step", self.time_step, "s")
@@ -89,3 +95,5 @@ class DiurnalSettings:
         check_positive("night_step", self.night_step, "s")
         check_positive("newton_tolerance", self.newton_tolerance, "K")
         check_positive("energy_tolerance", self.energy_tolerance)
+        require(int(self.jobs) == self.jobs and int(self.jobs) >= 1, "jobs", self.jobs,
+                "must be a whole number ≥ 1")

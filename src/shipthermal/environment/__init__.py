@@ -291,26 +291,35 @@ class Environment:
     def first_day(self) -> "Environment":
         """The same site, ship and sky models with the first 24 h of this environment's
         weather record repeated (periodic): the spin-up day of a record run."""
+        return self.record_day(0)
+
+    def record_day(self, k: int) -> "Environment":
+        """The same site, ship and sky models with day ``k`` (from 0) of this environment's
+        weather record repeated (periodic): the spin-up day of a record run, or of a
+        segment of one starting on that day."""
         import copy
 
         w = self.weather
         require(not w.periodic, "environment.weather.periodic", w.periodic,
-                "first_day() takes a weather record (non-periodic weather)")
+                "record_day() takes a weather record (non-periodic weather)")
         n = int(round(DAY_SECONDS / w.step))
-        require(abs(n * w.step - DAY_SECONDS) < 1e-6 and len(w.time) >= n,
+        k = int(k)
+        require(abs(n * w.step - DAY_SECONDS) < 1e-6 and len(w.time) >= (k + 1) * n,
                 "environment.weather", f"{len(w.time)} steps of {w.step:g} s",
-                "must hold at least one whole day on a step dividing 24 h")
+                f"must hold at least {k + 1} whole day(s) on a step dividing 24 h")
         require(w.start == w.start.normalize(), "environment.weather.start", str(w.start),
                 "must be local midnight for a spin-up day")
         fields = ("temp_air", "relative_humidity", "wind_speed", "wind_direction",
                   "cloud_cover", "temp_sea", "ghi", "longwave_down")
-        day = Weather(time=w.time[:n], periodic=True, source=f"{w.source} (first day)",
+        rows = slice(k * n, (k + 1) * n)
+        label = "first day" if k == 0 else f"day {k + 1}"
+        day = Weather(time=w.time[rows], periodic=True, source=f"{w.source} ({label})",
                       solar_interval=w.solar_interval,
-                      **{f: None if getattr(w, f) is None else getattr(w, f)[:n]
+                      **{f: None if getattr(w, f) is None else getattr(w, f)[rows]
                          for f in fields})
         env = copy.copy(self)
         env.weather = day
-        env.start = w.start
+        env.start = w.time[k * n]
         env._skin_table = None      # the periodic day's own warm layer
         env._solar = None
         return env

@@ -10,7 +10,7 @@ amidships on the centreline. Lengths in metres.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Mapping
 
@@ -98,6 +98,13 @@ class ShipGeometry:
         object.__setattr__(self, "part_names", names)
         for attr in ("layups", "compartment_temperature", "outer_medium"):
             object.__setattr__(self, attr, MappingProxyType(dict(getattr(self, attr))))
+
+    def __reduce__(self):
+        """Pickled as its fields (the read-only tables as plain dicts): a record's segments
+        run in processes of their own."""
+        values = [getattr(self, f.name) for f in fields(self)]
+        return (type(self), tuple(dict(v) if isinstance(v, MappingProxyType) else v
+                                  for v in values))
 
     # ---- sizes and geometry ------------------------------------------------------------
     @property

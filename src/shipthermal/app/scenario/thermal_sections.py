@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Mapping
 
-from ...parameters import NIGHT_SETTLE, NIGHT_STEP
+from ...parameters import NIGHT_SETTLE, NIGHT_STEP, RECORD_SEGMENT_WARM_DAYS
 from .site_sections import _divides
 from .spec import _opt
 from .values import (CONVECTION_MODEL_SOURCES, CONVECTION_ROUGHNESS, DAY,
@@ -38,6 +38,10 @@ class SolverSettings:
                                  lo=1, hi=4096)
     seed: int = _opt(0, "int", "Seed of all Monte-Carlo sampling (runs are reproducible)",
                      lo=0, hi=2 ** 32 - 1)
+    jobs: int = _opt(1, "int", "Processes a weather record (weather.day = 'record') is split "
+                     "over: contiguous segments of days, each spun up "
+                     f"{RECORD_SEGMENT_WARM_DAYS} days before its first and run unrecorded "
+                     "to it (docs/WEATHER.md); 1 = one piece", lo=1, hi=64)
     backend: str = _opt("auto", "choice", "Ray tracer: Embree (float32) or the numba BVH "
                         "fallback; 'auto' = Embree when installed",
                         choices=("auto", "embree", "numba"))
