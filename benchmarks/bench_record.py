@@ -2,7 +2,7 @@
 where the time goes, against the same record run in one window (the peer, in the same run).
 
 Run: ``python benchmarks/bench_record.py [--days 365] [--edge 2.0] [--peer-days 7]
-[--weather FILE.epw] [--temp-sea 287] [--window 1] [--threads 1]``
+[--weather FILE.epw] [--temp-sea 287] [--window 1] [--threads 1] [--jobs 1]``
 
 Reports, for the built-in frigate under a typical year (by default EnergyPlus's San
 Francisco International TMY3 file shipped with ``pyenergyplus``, a bay shore; ``temp_sea``
@@ -17,7 +17,10 @@ the bay's mean, 287 K), scenario defaults otherwise (300 s day steps, 900 s nigh
   one window over the whole span (the tables of every day at once, every output kept in
   memory until the end: what a record run did before it ran in windows), each in its own
   process: wall-time and peak-memory ratios, and the largest difference of any face
-  temperature between the two (0: the windows change nothing).
+  temperature between the two (0: the windows change nothing);
+* with ``--jobs N`` (N > 1) the record split over N processes (``solver.jobs``) against the
+  same record in one piece, both in this run: wall-time ratio, peak memory (of the largest
+  process) and the largest difference of any face temperature at any output time.
 
 Each run is a child process (its own peak memory). ``--threads`` sets numba's threads (1 by
 default: the 2 CPUs here are shared with other jobs, and two-thread kernels then wait on
@@ -69,9 +72,12 @@ def child(args) -> dict:
     from shipthermal.app.thermal import thermal_inputs
     from shipthermal.diurnal import run_record
 
+    import dataclasses
+
     sc = _scenario(args, args.days)
     inputs = thermal_inputs(sc)
     inputs.pop("checkpoint_interval")
+    inputs["settings"] = dataclasses.replace(inputs["settings"], jobs=args.jobs)
     work = Path(tempfile.mkdtemp(prefix="bench-record-"))
     t0, c0 = time.perf_counter(), time.process_time()
     res = run_record(**inputs, progress=False, checkpoint=work / "c.npz",
@@ -81,7 +87,8 @@ def child(args) -> dict:
     tm = res.timings
     out = {"days": args.days, "window": args.window, "faces": int(res.ship.n_faces),
            "cells": int(res.graph.n_cells), "wall_s": wall, "cpu_s": cpu,
-           "peak_rss_MB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+           "peak_rss_MB": max(resource.getrusage(who).ru_maxrss for who in
+                              (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN)) / 1024,
            "spinup_s": tm.get("spinup_total", 0.0), "forcing_s": tm["record_forcing"],
            "steps_s": tm["record_solve"], "outputs_s": tm["record_outputs"],
            "steps": int(len(res.energy.time)), "spinup_days": res.meta["spinup_days"],
@@ -91,10 +98,10 @@ def child(args) -> dict:
     return out
 
 
-def _spawn(args, days: int, window: int, dump: str | None = None) -> dict:
+def _spawn(args, days: int, window: int, dump: str | None = None, jobs: int = 1) -> dict:
     cmd = [sys.executable, __file__, "--child", "--days", str(days), "--window", str(window),
            "--edge", str(args.edge), "--weather", args.weather, "--temp-sea",
-           str(args.temp_sea), "--date", args.date]
+           str(args.temp_sea), "--date", args.date, "--jobs", str(jobs)]
     if dump:
         cmd += ["--dump", dump, "--float64"]
     env = dict(os.environ, NUMBA_NUM_THREADS=str(args.threads),
@@ -123,6 +130,8 @@ def main(argv=None) -> None:
     p.add_argument("--temp-sea", type=float, default=287.0)
     p.add_argument("--date", default="2023-01-01")
     p.add_argument("--threads", type=int, default=1)
+    p.add_argument("--jobs", type=int, default=1,
+                   help="also run the record split over this many processes (> 1)")
     p.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     p.add_argument("--dump", default=None, help=argparse.SUPPRESS)
     p.add_argument("--float64", action="store_true", help=argparse.SUPPRESS)
@@ -147,7 +156,20 @@ def main(argv=None) -> None:
     print(f"  ratio daily / one window: wall {daily['wall_s'] / one['wall_s']:.2f}, peak memory "
           f"{daily['peak_rss_MB'] / one['peak_rss_MB']:.2f}; largest |dT| of any face at any "
           f"output time {diff:.3g} K")
-    rec = _spawn(args, args.days, args.window)
+    if args.jobs > 1:
+        with tempfile.TemporaryDirectory() as tmp:
+            a, b = str(Path(tmp) / "split.npy"), str(Path(tmp) / "piece.npy")
+            split = _spawn(args, args.days, 1, a, jobs=args.jobs)
+            rec = _spawn(args, args.days, 1, b)
+            diff = float(np.max(np.abs(np.load(a) - np.load(b))))
+        print(f"record: {args.days} days split over {args.jobs} processes against one "
+              f"piece, load {os.getloadavg()[0]:.1f}")
+        print(_line(f"  split over {args.jobs} ({args.days} d)", split))
+        print(f"  ratio split / one piece: wall {split['wall_s'] / rec['wall_s']:.2f}, peak "
+              f"memory of the largest process {split['peak_rss_MB'] / rec['peak_rss_MB']:.2f};"
+              f" largest |dT| of any face at any output time {diff:.3g} K")
+    else:
+        rec = _spawn(args, args.days, args.window)
     print(f"record: {args.days} days in windows of {args.window} day(s), load "
           f"{os.getloadavg()[0]:.1f}")
     print(_line(f"  record ({args.days} d)", rec))

@@ -161,7 +161,9 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
 
 def segment_bounds(stop: int, jobs: int, window_days: int, end_day) -> list[tuple[int, int]]:
     """The record's days ``0 … stop`` as ``min(jobs, stop)`` contiguous segments
-    ``(first, end)`` of near-equal length."""
+    ``(first, end)`` of near-equal work: the first, without a warm-up, takes
+    :data:`RECORD_SEGMENT_WARM_DAYS` more days than the others (when the record is long
+    enough)."""
     jobs = max(1, min(int(jobs), int(stop)))
     if jobs > 1:
         require(int(window_days) == 1, "window_days", window_days,
@@ -169,7 +171,9 @@ def segment_bounds(stop: int, jobs: int, window_days: int, end_day) -> list[tupl
         require(end_day is None, "end_day", end_day,
                 "must be None when a record is split over processes (settings.jobs > 1): "
                 "a segment's days are fixed by the record's length")
-    edges = np.round(np.linspace(0, stop, jobs + 1)).astype(int)
+    extra = RECORD_SEGMENT_WARM_DAYS if stop - RECORD_SEGMENT_WARM_DAYS >= 2 * jobs else 0
+    edges = extra + np.round(np.linspace(0, stop - extra, jobs + 1)).astype(int)
+    edges[0] = 0
     return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:])]
 
 
