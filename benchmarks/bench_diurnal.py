@@ -15,9 +15,10 @@ Reports, for the built-in frigate on the built-in design day (scenario defaults)
   (every face at every recording time: the error of the night steps);
 * the recorded day against a stored answer (per-part area means at every output time, from
   plain day-by-day stepping of the same ship and day: ``--reference``, by default
-  ``reference/frigate_summer_0.5m_part_means.csv``, the summer day at 0.5 m edges: three
-  days of 300 s BDF2 steps from midnight, day 3 repeating day 2 to 1.1e-13 K; stored with
-  two cells through every steel plate, the layups' earlier default), max |ΔT| [K];
+  ``reference/frigate_summer_0.5m_part_means.csv``, the summer day at 0.5 m edges: two
+  days of 300 s BDF2 steps from midnight, day 2 repeating day 1 to 2.3e-13 K, with the
+  sea skin and the diurnal Newton stopping rule; made by ``--plain --save-reference``
+  whenever the model's physics changes), max |ΔT| [K];
 * peak resident memory of the process (``resource.getrusage``);
 * the peer, measured in the same run: the same solver stepping day by day from midnight
   until a day repeats (no lead-in: the spin-up this code replaced) on the same ship at a

@@ -345,9 +345,11 @@ RECORD_SEGMENT_WARM_DAYS = 2
 its first recorded day [d]: spun up on the record's day this many days earlier (repeated),
 then the record as it is to the segment's first day, where the segment before it ends.
 The plates forget where they started within hours (steel with 20–30 W m-2 K-1 at its
-surface: time constants of ~20 min): measured, the frigate at 2 m over 8 days of San
-Francisco in two segments, and the patrol boat over 5 days of buoy 44009 in three, equal
-the record run in one piece to round-off (every face, every output)."""
+surface: time constants of ~20 min). Measured against the record run in one piece, every
+face at every output: the frigate at 2 m over 28 days of San Francisco in two segments
+within 1.3e-6 K (Newton's own tolerance, :data:`NEWTON_TOLERANCE`: the two runs take
+different paths to it), over 8 days equal in float32; the patrol boat over 5 days of buoy
+44009 in three segments within 1e-9 K."""
 
 NIGHT_SETTLE = 5400.0
 """Darkness before the night step [s] (see :data:`NIGHT_STEP`): the first 1.5 h after the
