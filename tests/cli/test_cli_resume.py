@@ -304,3 +304,51 @@ def test_record_interrupted_in_day_3_resumes_to_the_uninterrupted_result(tmp_pat
     sa, sb = (json.loads((x / "thermal" / "buoy" / "thermal_summary.json").read_text())
               for x in (ref, out))
     assert sa["days"] == sb["days"] and sa["record_days"] == sb["record_days"] == 3
+
+
+def test_a_split_record_interrupted_stops_its_processes_quietly_and_resumes(tmp_path):
+    """Three days of the buoy split over two processes (``solver.jobs = 2``): Ctrl-C in the
+    first segment's day 2 (SIGINT sent there, in a subprocess of the test) while the other
+    segment's process is busy: exit 130 at once, one line on stderr — the other process
+    stopped without a traceback or a leaked semaphore — and ``--resume`` writes what the
+    uninterrupted split run writes."""
+    import shutil
+
+    import h5py
+
+    from test_cli_weather import BUOY, NDBC, _with
+
+    shutil.copy(NDBC, tmp_path / "buoy.txt")
+    sc = _with(write_tiny(tmp_path, name="buoy", season="winter"),
+               BUOY.replace("days = 2", "days = 3"), "2013-03-04")
+    sc.write_text(sc.read_text().replace("[solver]\n", "[solver]\njobs = 2\n"))
+    ref, out = tmp_path / "ref", tmp_path / "run"
+    assert main(["-q", "run", str(sc), "--out", str(ref)]) == 0
+    script = textwrap.dedent(f"""
+        import multiprocessing, os, signal, sys, time
+        from shipthermal import simulation
+        from shipthermal.app.cli import main
+        original = simulation.Simulation.run_until
+        def interrupted(self, end_time, *a, **k):
+            # (spawned, the segment's process runs this file too, without the main block)
+            if multiprocessing.parent_process() is not None:
+                time.sleep(300)            # the other segment: still busy at Ctrl-C
+            elif end_time > 86400.0 + 3600.0:
+                os.kill(os.getpid(), signal.SIGINT)    # Ctrl-C, to this process alone
+            return original(self, end_time, *a, **k)
+        simulation.Simulation.run_until = interrupted
+        if __name__ == "__main__":
+            sys.exit(main(["-q", "run", {str(sc)!r}, "--out", {str(out)!r}]))
+        """)
+    (tmp_path / "interrupt.py").write_text(script)
+    done = subprocess.run([sys.executable, str(tmp_path / "interrupt.py")],
+                          capture_output=True, text=True, timeout=240)
+    assert done.returncode == 130, done.stderr[-3000:]
+    assert done.stderr.strip().splitlines() == [
+        "interrupted (an unfinished run resumes with --resume)"], done.stderr[-3000:]
+    _nothing_complete(out)
+    assert main(["-q", "run", str(sc), "--out", str(out), "--resume"]) == 0
+    with h5py.File(ref / "thermal" / "buoy" / "history.h5") as a, \
+            h5py.File(out / "thermal" / "buoy" / "history.h5") as b:
+        for name in ("times", "face_temperature", "part_means", "energy/imbalance"):
+            np.testing.assert_array_equal(a[name][:], b[name][:])

@@ -13,6 +13,8 @@ from __future__ import annotations
 import json
 import multiprocessing
 import shutil
+import signal
+import threading
 import tempfile
 import time as _time
 from dataclasses import dataclass, field
@@ -118,6 +120,8 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
         if pool is not None:       # (their checkpoints and parts are written whole or not)
             pool.terminate()
             pool.join()
+            # (the traceback keeps this frame: let the pool's queues go now, not at exit)
+            pool = children = None
         if temporary:
             shutil.rmtree(work_dir, ignore_errors=True)
         raise
@@ -191,13 +195,22 @@ def _start_segments(common: dict, bounds, ckpt):
     segments' pending results."""
     ctx = multiprocessing.get_context("spawn")
     share = max(1, numba.get_num_threads() // (len(bounds) + 1))
-    pool = ctx.Pool(len(bounds), initializer=numba.set_num_threads, initargs=(share,))
+    pool = ctx.Pool(len(bounds), initializer=_segment_process, initargs=(share,))
     pending = []
     for j, (first, end) in enumerate(bounds, start=1):
         seg_ckpt, seg_spin = segment_checkpoint(ckpt, j)
         pending.append(pool.apply_async(_segment_worker, (dict(
             common, first_day=first, stop=end, ckpt=seg_ckpt, spin_ckpt=seg_spin),)))
     return pool, pending
+
+
+def _segment_process(threads: int) -> None:
+    """A segment's process: its share of numba's threads; Ctrl-C is the caller's (which
+    stops the pool), not a traceback of every process; tqdm's lock a thread lock (its
+    default, a process semaphore, would be reported leaked when the pool is stopped)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    numba.set_num_threads(threads)
+    tqdm.set_lock(threading.RLock())
 
 
 def _segment_worker(kwargs: dict) -> dict:
