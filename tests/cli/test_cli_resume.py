@@ -328,11 +328,15 @@ def test_a_split_record_interrupted_stops_its_processes_quietly_and_resumes(tmp_
         import multiprocessing, os, signal, sys, time
         from shipthermal import simulation
         from shipthermal.app.cli import main
+        # (a test run in the background may have inherited SIGINT ignored)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         original = simulation.Simulation.run_until
+        slept = []
         def interrupted(self, end_time, *a, **k):
             # (spawned, the segment's process runs this file too, without the main block)
             if multiprocessing.parent_process() is not None:
-                time.sleep(300)            # the other segment: still busy at Ctrl-C
+                if not slept:
+                    slept.append(time.sleep(60))   # the other segment: busy at Ctrl-C
             elif end_time > 86400.0 + 3600.0:
                 os.kill(os.getpid(), signal.SIGINT)    # Ctrl-C, to this process alone
             return original(self, end_time, *a, **k)
