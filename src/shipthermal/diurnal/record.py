@@ -6,6 +6,12 @@ and checkpoints go), the spin-up (:func:`spin_up_first_day`, or :func:`resumed_s
 from a checkpoint), then per window :func:`window_forcing`, :func:`window_conditions`,
 :func:`window_simulation` and :func:`run_window` (its days, the part of the outputs and
 the checkpoint at its end), and :func:`assemble_record`.
+
+Split over processes (``DiurnalSettings.jobs``), the record's days are cut into segments
+(:func:`segment_bounds`); :func:`run_days` runs one (the first in the calling process, the
+others each in a spawned one, :func:`_segment_worker`), a segment after the first spun up
+:data:`~shipthermal.parameters.RECORD_SEGMENT_WARM_DAYS` before its first day; the parts
+of all are assembled as one record.
 """
 
 from __future__ import annotations
