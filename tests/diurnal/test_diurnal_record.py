@@ -289,3 +289,22 @@ def test_an_interrupted_split_record_resumes_to_the_uninterrupted_answer(five_da
                                   split.record.face_temperature[:])
     np.testing.assert_array_equal(res.energy.imbalance, split.energy.imbalance)
     np.testing.assert_array_equal(res.results.cell_temperature, split.results.cell_temperature)
+
+
+def test_a_worker_process_runs_a_split_record_in_one_piece(three_days, monkeypatch):
+    """A daemonic process (a dask worker running a sweep's case) may not start processes:
+    the record runs in one piece, as the reference, and says so."""
+    import dataclasses
+    import multiprocessing
+
+    from shipthermal.diurnal import run_record
+
+    inputs, ref = three_days
+    worker = type("Worker", (), {"daemon": True})()
+    monkeypatch.setattr(multiprocessing, "current_process", lambda: worker)
+    said = []
+    res = run_record(**dict(inputs, settings=dataclasses.replace(inputs["settings"], jobs=2)),
+                     progress=False, face_dtype=np.float64, log=said.append)
+    assert "record_segments" not in res.meta
+    assert any("solver.jobs ignored" in m for m in said)
+    assert _max_change(ref, res) < 1e-9

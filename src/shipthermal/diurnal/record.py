@@ -105,6 +105,10 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
     t_total = _time.perf_counter()
     ckpt, work_dir, temporary, parts, spin_ckpt = work_folder(checkpoint, work_dir)
     bounds = segment_bounds(stop, settings.jobs, window_days, end_day)
+    if len(bounds) > 1 and multiprocessing.current_process().daemon:
+        say("record: one piece (solver.jobs ignored: this process, e.g. a sweep's worker, "
+            "may not start processes)")
+        bounds = segment_bounds(stop, 1, window_days, end_day)
     common = dict(ship=ship, environment=environment, settings=settings,
                   absorptivity=absorptivity, emissivity=emissivity, span=span, n_days=n_days,
                   parts_folder=parts.folder, face_dtype=face_dtype, resume=resume,
