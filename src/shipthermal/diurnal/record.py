@@ -113,31 +113,14 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
                   absorptivity=absorptivity, emissivity=emissivity, span=span, n_days=n_days,
                   parts_folder=parts.folder, face_dtype=face_dtype, resume=resume,
                   window_days=window_days, split=len(bounds) > 1)
-    pool, children = None, []
     try:
-        if len(bounds) > 1:
-            say(f"record: {stop} day(s) in {len(bounds)} segments "
-                + ", ".join(f"{a + 1}–{b}" for a, b in bounds) + ", one process each")
-            pool, children = _start_segments(common, bounds[1:], ckpt)
-        with numba_threads(numba.get_num_threads() // len(bounds)):
-            rec, spun = run_days(**common, first_day=0, stop=bounds[0][1], ckpt=ckpt,
-                                 spin_ckpt=spin_ckpt, say=say, graph=graph, traced=traced,
-                                 progress=progress, log=log, end_day=end_day)
-        if children:
-            say(f"record: days 1–{bounds[0][1]} done, waiting for the other segments")
-        ends = [child.get() for child in children]
+        rec, spun, ends = _run_segments(common, bounds, ckpt, spin_ckpt, say=say, graph=graph,
+                                        traced=traced, progress=progress, log=log,
+                                        end_day=end_day)
     except BaseException:
-        if pool is not None:       # (their checkpoints and parts are written whole or not)
-            pool.terminate()
-            pool.join()
-            # (the traceback keeps this frame: let the pool's queues go now, not at exit)
-            pool = children = None
         if temporary:
             shutil.rmtree(work_dir, ignore_errors=True)
         raise
-    if pool is not None:
-        pool.close()
-        pool.join()
     timings = rec.timings
     for end in ends:
         for k, v in end["timings"].items():
@@ -171,6 +154,37 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
                          energy=concat_energy([spun.energy, energy]), timings=timings,
                          settings=settings, environment=environment, meta=meta,
                          record=record)
+
+
+def _run_segments(common: dict, bounds, ckpt, spin_ckpt, **first):
+    """The record's segments: the first in this process (``first``: its progress, log and
+    prebuilt mesh and tracing), the others each in a process of its own. Returns the first
+    segment's state and spin-up and the others' ends (timings, final state)."""
+    pool, children = None, []
+    try:
+        if len(bounds) > 1:
+            first["say"](f"record: {bounds[-1][1]} day(s) in {len(bounds)} segments "
+                         + ", ".join(f"{a + 1}–{b}" for a, b in bounds)
+                         + ", one process each")
+            pool, children = _start_segments(common, bounds[1:], ckpt)
+        with numba_threads(numba.get_num_threads() // len(bounds)):
+            rec, spun = run_days(**common, **first, first_day=0, stop=bounds[0][1], ckpt=ckpt,
+                                 spin_ckpt=spin_ckpt)
+        if children:
+            first["say"](f"record: days 1–{bounds[0][1]} done, waiting for the other "
+                         "segments")
+        ends = [child.get() for child in children]
+    except BaseException:
+        if pool is not None:       # (their checkpoints and parts are written whole or not)
+            pool.terminate()
+            pool.join()
+            # (the traceback keeps this frame: let the pool's queues go now, not at exit)
+            pool = children = None
+        raise
+    if pool is not None:
+        pool.close()
+        pool.join()
+    return rec, spun, ends
 
 
 def segment_bounds(stop: int, jobs: int, window_days: int, end_day) -> list[tuple[int, int]]:
