@@ -362,9 +362,10 @@ def local_cluster(n_workers: int, threads: int = CASE_THREADS):
     ``threads``, without the statistical profiler (it feeds a dashboard the sweep does
     not start), with the event loop's health tick every second instead of every 20 ms
     (each tick takes the GIL from the case's thread: a case took 5.2 s of CPU in a worker
-    against 4.6 s with the slower tick, and the sweep went from 0.74 to 0.88 of two plain
-    processes, ``benchmarks/bench_sweep.py``, patrol boat at 3 m; the tick only times the
-    loop for the "unresponsive" warning), and without the ``MALLOC_TRIM_THRESHOLD_``
+    against 4.2 s with the slower tick, and the sweep went from 0.74 to 0.86 of two plain
+    processes, ``benchmarks/bench_sweep.py``, 8 patrol-boat cases at 3 m; 0.98 with 16; the
+    tick only times the loop for the "unresponsive" warning), and without the
+    ``MALLOC_TRIM_THRESHOLD_``
     that dask's nanny sets by default: setting it switches off glibc's adaptive mmap
     threshold, so every large temporary array became a fresh mmap, zeroed page by page.
     That doubled the CPU time of a case's imaging stage (9.4 s instead of 4.0 s, 5.5 s of
