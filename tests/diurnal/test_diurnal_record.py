@@ -129,6 +129,19 @@ def test_chained_one_day_runs_equal_one_run(three_days, tmp_path):
     assert res.day_changes == ref.day_changes
 
 
+def _interrupt_when_logged(inputs, ckpt, message):
+    """A record run with checkpoints, stopped by Ctrl-C (raised by its progress log) when
+    it logs a line starting with ``message``."""
+    from shipthermal.diurnal import run_record
+
+    def stop(msg):
+        if msg.startswith(message):
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_record(**inputs, progress=False, face_dtype=np.float64, checkpoint=ckpt, log=stop)
+
+
 def test_interrupted_record_resumes_to_the_uninterrupted_answer(three_days, tmp_path):
     """Ctrl-C after day 2 (raised by the progress log): the checkpoint of day 2 is on disk;
     the resumed run skips the spin-up and day 1-2 and ends where the uninterrupted one does,
@@ -137,14 +150,7 @@ def test_interrupted_record_resumes_to_the_uninterrupted_answer(three_days, tmp_
 
     inputs, ref = three_days
     ckpt = tmp_path / "buoy.npz"
-
-    def stop_after_day_2(msg):
-        if msg.startswith("record day 2 of 3"):
-            raise KeyboardInterrupt
-
-    with pytest.raises(KeyboardInterrupt):
-        run_record(**inputs, progress=False, face_dtype=np.float64, checkpoint=ckpt,
-                   log=stop_after_day_2)
+    _interrupt_when_logged(inputs, ckpt, "record day 2 of 3")
     with np.load(ckpt) as c:
         assert float(c["time"]) == 2 * 86400.0 and int(c["extra_record_day"]) == 2
     said = []
@@ -275,14 +281,7 @@ def test_an_interrupted_split_record_resumes_to_the_uninterrupted_answer(five_da
 
     inputs, _, split, _ = five_days
     ckpt = tmp_path / "buoy.npz"
-
-    def stop_after_day_1(msg):
-        if msg.startswith("record day 1 of 5"):
-            raise KeyboardInterrupt
-
-    with pytest.raises(KeyboardInterrupt):
-        run_record(**inputs, progress=False, face_dtype=np.float64, checkpoint=ckpt,
-                   log=stop_after_day_1)
+    _interrupt_when_logged(inputs, ckpt, "record day 1 of 5")
     res = run_record(**inputs, progress=False, face_dtype=np.float64, checkpoint=ckpt,
                      resume=True)
     np.testing.assert_array_equal(res.record.face_temperature[:],

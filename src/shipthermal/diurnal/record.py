@@ -134,10 +134,8 @@ def run_record(ship, environment, settings: DiurnalSettings | None = None, *,
     record = assemble_record(rec, work_dir, temporary)
     pm = record.part_means()
     energy = record.energy()
-    if ends:
-        final = _final_results(None, None, spun.graph, energy, settings, ends[-1]["final"])
-    else:
-        final = _final_results(rec.sim, ckpt, spun.graph, energy, settings)
+    final = _final_results(spun.graph, energy, settings,
+                           ends[-1]["final"] if ends else _final_state(rec.sim, ckpt))
     timings["total"] = _time.perf_counter() - t_total
     w = environment.weather
     meta = {"record_days": n_days, "spinup_days": spun.days,
@@ -161,13 +159,14 @@ def _run_segments(common: dict, bounds, ckpt, spin_ckpt, **first):
     prebuilt mesh and tracing), the others each in a process of its own. Returns the first
     segment's state and spin-up and the others' ends (timings, final state)."""
     pool, children = None, []
+    share = max(1, numba.get_num_threads() // len(bounds))    # each process's threads
     try:
         if len(bounds) > 1:
             first["say"](f"record: {bounds[-1][1]} day(s) in {len(bounds)} segments "
                          + ", ".join(f"{a + 1}–{b}" for a, b in bounds)
                          + ", one process each")
-            pool, children = _start_segments(common, bounds[1:], ckpt)
-        with numba_threads(numba.get_num_threads() // len(bounds)):
+            pool, children = _start_segments(common, bounds[1:], ckpt, share)
+        with numba_threads(share):
             rec, spun = run_days(**common, **first, first_day=0, stop=bounds[0][1], ckpt=ckpt,
                                  spin_ckpt=spin_ckpt)
         if children:
@@ -213,12 +212,11 @@ def segment_checkpoint(ckpt: Path | None, j: int) -> tuple[Path | None, Path | N
     return seg, seg.with_name(f"{seg.stem}.spinup.npz")
 
 
-def _start_segments(common: dict, bounds, ckpt):
+def _start_segments(common: dict, bounds, ckpt, share: int):
     """Segments ``bounds`` (all but the first) each in a process of its own (spawned: the
-    solver's threads do not survive a fork): the pool (terminated on an interrupt) and the
-    segments' pending results."""
+    solver's threads do not survive a fork) of ``share`` numba threads: the pool
+    (terminated on an interrupt) and the segments' pending results."""
     ctx = multiprocessing.get_context("spawn")
-    share = max(1, numba.get_num_threads() // (len(bounds) + 1))
     pool = ctx.Pool(len(bounds), initializer=_segment_process, initargs=(share,))
     pending = []
     for j, (first, end) in enumerate(bounds, start=1):
@@ -241,14 +239,7 @@ def _segment_worker(kwargs: dict) -> dict:
     """One segment of a split record in its own process: its timings and final state."""
     rec, _ = run_days(**kwargs, say=lambda msg: None, graph=None, traced=None,
                       progress=False, log=None, end_day=None)
-    sim = rec.sim
-    if sim is None:     # resumed after its end: the state is the checkpoint's
-        with np.load(rec.ckpt) as d:
-            final = (float(d["time"]), d["temp"].copy(), d["temp_face"].copy(),
-                     d["flow_face"].copy())
-    else:
-        final = (sim.time, sim.temperature, sim.face_temperature, sim.face_flow)
-    return {"timings": rec.timings, "final": final}
+    return {"timings": rec.timings, "final": _final_state(rec.sim, rec.ckpt)}
 
 
 def run_days(*, ship, environment, settings, absorptivity, emissivity, span, n_days,
@@ -265,7 +256,7 @@ def run_days(*, ship, environment, settings, absorptivity, emissivity, span, n_d
                     span=span, n_days=n_days, stop=stop, ckpt=ckpt, spin_ckpt=spin_ckpt,
                     parts=RecordParts(parts_folder), timings=timings, face_dtype=face_dtype,
                     first_day=int(first_day), lead_day=lead, n_parts=int(first_day),
-                    parts_end=int(stop) if split else int(n_days), split=bool(split))
+                    split=bool(split))
     if resume and ckpt is not None and ckpt.exists():
         spun = resumed_spin_up(rec, end_day, graph, absorptivity, emissivity, traced)
     else:
@@ -342,7 +333,6 @@ class RecordRun:
     face_dtype: object
     first_day: int = 0      # the first recorded day (a segment's; 0 for the whole record)
     lead_day: int = 0       # the day spun up on, the simulation's start
-    parts_end: int = 0      # the parts from first_day up to this one are the run's own
     split: bool = False     # a segment of a record split over processes
     groups: dict = field(default_factory=dict)
     sampled: object = None
@@ -350,6 +340,12 @@ class RecordRun:
     exchange: object = None
     forcing: object = None
     n_parts: int = 0
+
+    @property
+    def parts_end(self) -> int:
+        """The parts from ``first_day`` up to this one are the run's own (a segment's
+        end; the whole record's when not split)."""
+        return self.stop if self.split else self.n_days
 
 
 @dataclass(eq=False)
@@ -563,18 +559,20 @@ def _write_part(parts, index, sim, environment, groups, n_faces, sampled, face_d
     parts.write(index, **arrays)
 
 
-def _final_results(sim, ckpt, graph, energy, settings, final=None) -> Results:
-    """The record's final state as :class:`Results` (one time), from the simulation or, when
-    a resumed run had nothing left to do, from its checkpoint (or ``final``: ``(time, cell,
-    face temperatures, face flows)`` of the last segment's process)."""
-    if final is not None:
-        time_, temp, face, flow = final
-    elif sim is not None:
-        time_, temp, face, flow = sim.time, sim.temperature, sim.face_temperature, sim.face_flow
-    else:
-        with np.load(ckpt) as d:
-            time_, temp, face, flow = (float(d["time"]), d["temp"].copy(),
-                                       d["temp_face"].copy(), d["flow_face"].copy())
+def _final_state(sim, ckpt) -> tuple:
+    """``(time, cell temperatures, face temperatures, face flows)`` at a run's end: the
+    simulation's or, when a resumed run had nothing left to do, its checkpoint's."""
+    if sim is not None:
+        return sim.time, sim.temperature, sim.face_temperature, sim.face_flow
+    with np.load(ckpt) as d:
+        return (float(d["time"]), d["temp"].copy(), d["temp_face"].copy(),
+                d["flow_face"].copy())
+
+
+def _final_results(graph, energy, settings, final) -> Results:
+    """The record's final state ``final`` (:func:`_final_state`) as :class:`Results` (one
+    time)."""
+    time_, temp, face, flow = final
     return Results(graph=graph, times=np.array([time_]), cell_temperature=temp[None, :],
                    face_temperature=face[None, :], face_flow=flow[None, :], energy=energy,
                    scheme=settings.scheme, time_step=settings.time_step)
