@@ -330,48 +330,61 @@ class FaceForcing:
         return self
 
 
-def evaluate(value: Value, t: float, n: int, field: str) -> np.ndarray:
-    """Evaluate a condition value at time ``t`` for a patch of ``n`` faces."""
+def evaluate(value: Value, t: float, n: int, field: str, check: bool = True) -> np.ndarray:
+    """Evaluate a condition value at time ``t`` for a patch of ``n`` faces (``check``
+    False: its finiteness is left to :func:`plausible` on the joined forcing)."""
     v = value(t) if callable(value) else value
     arr = np.asarray(v, dtype=float)
     if arr.ndim == 0:
         arr = np.full(n, float(arr))
     require(arr.shape == (n,), field, arr.shape,
             f"must be a number or an array with one value per face of the patch ({n})")
-    check_finite(field, arr)
+    if check:
+        check_finite(field, arr)
     return arr
 
 
-def fill(forcing: FaceForcing, idx: np.ndarray, bc: BoundaryCondition, t: float, field: str) -> None:
-    """Write one patch's condition at time ``t`` into ``forcing`` (faces ``idx``)."""
+def fill(forcing: FaceForcing, idx: np.ndarray, bc: BoundaryCondition, t: float, field: str,
+         check: bool = True) -> None:
+    """Write one patch's condition at time ``t`` into ``forcing`` (faces ``idx``).
+
+    ``check`` False leaves out the per-value checks of finiteness and range (a model's
+    steps: :func:`plausible` checks the joined forcing in one pass and the model fills it
+    again with the checks when it fails, for their message); the checks of shape and of
+    the condition's structure stay."""
     n = len(idx)
 
     def ev(name: str, value):
-        return evaluate(value, t, n, f"{field}.{name}")
+        return evaluate(value, t, n, f"{field}.{name}", check)
 
     if isinstance(bc, FixedTemperature):
         temp = ev("temperature", bc.temperature)
-        require(bool(np.all(temp > 0)), f"{field}.temperature", float(temp.min()), "must be > 0 K")
+        if check:
+            require(bool(np.all(temp > 0)), f"{field}.temperature", float(temp.min()),
+                    "must be > 0 K")
         forcing.fixed[idx] = True
         forcing.temp_fixed[idx] = temp
     elif isinstance(bc, HeatFlux):
         forcing.q0[idx] += ev("flux", bc.flux)
     elif isinstance(bc, Convection):
         h = ev("h", bc.h)
-        require(bool(np.all(h >= 0)), f"{field}.h", float(h.min()), "must be ≥ 0 W m-2 K-1")
+        if check:
+            require(bool(np.all(h >= 0)), f"{field}.h", float(h.min()), "must be ≥ 0 W m-2 K-1")
         forcing.h[idx] = h
         forcing.temp_fluid[idx] = ev("temp_fluid", bc.temp_fluid)
         if bc.law is not None:
-            _fill_law(forcing, idx, bc.law, t, f"{field}.law")
+            _fill_law(forcing, idx, bc.law, t, f"{field}.law", check)
     elif isinstance(bc, Radiation):
         eps = ev("emissivity", bc.emissivity)
-        _check_emissivity(f"{field}.emissivity", eps)
+        if check:
+            _check_emissivity(f"{field}.emissivity", eps)
         forcing.emissivity[idx] = eps
         forcing.longwave_in[idx] = SIGMA * ev("temp_env", bc.temp_env) ** 4
     elif isinstance(bc, SurfaceBalance):
         forcing.q0[idx] += ev("absorbed_shortwave", bc.absorbed_shortwave)
         eps = ev("emissivity", bc.emissivity)
-        _check_emissivity(f"{field}.emissivity", eps, allow_zero=True)
+        if check:
+            _check_emissivity(f"{field}.emissivity", eps, allow_zero=True)
         forcing.emissivity[idx] = eps
         if bc.longwave_in is not None and bc.temp_env is not None:
             raise InputError(f"{field}", "longwave_in and temp_env", "give one of them, not both")
@@ -383,11 +396,12 @@ def fill(forcing: FaceForcing, idx: np.ndarray, bc: BoundaryCondition, t: float,
             raise InputError(f"{field}.longwave_in", None,
                              "is needed when emissivity > 0 (or give temp_env)")
         h = ev("h", bc.h)
-        require(bool(np.all(h >= 0)), f"{field}.h", float(h.min()), "must be ≥ 0 W m-2 K-1")
+        if check:
+            require(bool(np.all(h >= 0)), f"{field}.h", float(h.min()), "must be ≥ 0 W m-2 K-1")
         forcing.h[idx] = h
         if bc.law is not None:
             forcing.temp_fluid[idx] = ev("temp_air", bc.temp_air)
-            _fill_law(forcing, idx, bc.law, t, f"{field}.law")
+            _fill_law(forcing, idx, bc.law, t, f"{field}.law", check)
         else:
             forcing.temp_fluid[idx] = ev("temp_air", bc.temp_air) if np.any(h > 0) else 0.0
     elif isinstance(bc, Adiabatic):
@@ -398,8 +412,30 @@ def fill(forcing: FaceForcing, idx: np.ndarray, bc: BoundaryCondition, t: float,
                          "SurfaceBalance, Adiabatic")
 
 
+def plausible(forcing: FaceForcing) -> bool:
+    """Whether a forcing filled without checks (:func:`fill` ``check=False``) passes what
+    the checks test, in one pass over the joined arrays: every value finite, ``h ≥ 0``,
+    emissivities in [0, 1], fixed temperatures > 0, law parameters ≥ 0, blends ≥ 1 and
+    multipliers > 0. False may also mean a sum overflowed: the caller fills again with
+    the checks, which then either name the bad value or find none."""
+    f = forcing
+    arrays = (f.temp_fixed, f.q0, f.h, f.temp_fluid, f.emissivity, f.longwave_in,
+              f.law_natural, f.law_blend, f.law_multiplier, f.law_normal_z)
+    with np.errstate(over="ignore", invalid="ignore"):
+        if not np.isfinite(sum(float(np.sum(a)) for a in arrays)):
+            return False
+    if len(f.h) and (f.h.min() < 0.0 or f.emissivity.min() < 0.0 or f.emissivity.max() > 1.0):
+        return False
+    if f.fixed.any() and f.temp_fixed[f.fixed].min() <= 0.0:
+        return False
+    if f.law_blend.shape[0] and (f.law_natural.min() < 0.0 or f.law_blend.min() < 1.0
+                                 or f.law_multiplier.min() <= 0.0):
+        return False
+    return True
+
+
 def _fill_law(forcing: FaceForcing, idx: np.ndarray, law: ConvectionLaw, t: float,
-              field: str) -> None:
+              field: str, check: bool = True) -> None:
     n = len(idx)
     nat = law.natural(t) if callable(law.natural) else law.natural
     nat = np.asarray(nat, dtype=float)
@@ -407,14 +443,18 @@ def _fill_law(forcing: FaceForcing, idx: np.ndarray, law: ConvectionLaw, t: floa
     require(nat.shape == (n, 2, len(LAW_PARAMETERS)), f"{field}.natural", nat.shape,
             f"must be ({n}, 2, {len(LAW_PARAMETERS)}): per face, [unstable, stable] × "
             f"{', '.join(LAW_PARAMETERS)}")
-    low = float(nat.min()) if nat.size else 0.0
-    require(np.isfinite(nat.sum()) and low >= 0.0, f"{field}.natural", low,
-            "must be finite and ≥ 0")
-    blend = evaluate(law.blend, t, n, f"{field}.blend")
-    require(bool(np.all(blend >= 1)), f"{field}.blend", float(blend.min()), "must be ≥ 1")
-    mult = evaluate(law.multiplier, t, n, f"{field}.multiplier")
-    require(bool(np.all(mult > 0)), f"{field}.multiplier", float(mult.min()), "must be > 0")
-    nz = evaluate(law.normal_z, t, n, f"{field}.normal_z")
+    if check:
+        low = float(nat.min()) if nat.size else 0.0
+        require(np.isfinite(nat.sum()) and low >= 0.0, f"{field}.natural", low,
+                "must be finite and ≥ 0")
+    blend = evaluate(law.blend, t, n, f"{field}.blend", check)
+    if check:
+        require(bool(np.all(blend >= 1)), f"{field}.blend", float(blend.min()), "must be ≥ 1")
+    mult = evaluate(law.multiplier, t, n, f"{field}.multiplier", check)
+    if check:
+        require(bool(np.all(mult > 0)), f"{field}.multiplier", float(mult.min()),
+                "must be > 0")
+    nz = evaluate(law.normal_z, t, n, f"{field}.normal_z", check)
     forcing.set_law(idx, np.ascontiguousarray(nat), blend, mult, nz)
 
 

@@ -43,7 +43,8 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit, prange
 
-from .conditions import BoundaryCondition, FaceForcing, evaluate, fill, law_h_and_slope
+from .conditions import (BoundaryCondition, FaceForcing, evaluate, fill, law_h_and_slope,
+                         plausible)
 from .errors import InputError, check_finite, require
 from .mesh.graph import CellGraph
 from .units import SIGMA
@@ -158,15 +159,29 @@ class ThermalModel:
         self.initial_temperature = t0
         self.exchange = exchange
         self._patch_idx = {name: graph.patch_faces(name) for name in conditions}
-        # Check the conditions once at t = 0 so that a bad value fails before any solve.
-        self.forcing(0.0)
+        # Check the conditions once at t = 0 so that a bad value fails before any solve
+        # (every check, including those plausible() cannot tell: a Radiation's ε = 0).
+        self._fill(0.0, check=True)
         self.source(0.0)
 
     def forcing(self, t: float) -> FaceForcing:
-        """Per-boundary-face forcing at time ``t`` [s]."""
+        """Per-boundary-face forcing at time ``t`` [s].
+
+        The patches are filled without their per-value checks and the joined forcing is
+        checked in one pass (:func:`~shipthermal.conditions.plausible`); when that fails
+        they are filled again with the checks, whose error names the patch, the field and
+        the value (the checks per value cost 1 ms a step of the frigate at 2 m, half the
+        forcing's time)."""
+        f = self._fill(t, check=False)
+        if plausible(f):
+            return f
+        checked = self._fill(t, check=True)   # raises, naming the bad value
+        return checked
+
+    def _fill(self, t: float, check: bool) -> FaceForcing:
         f = FaceForcing.zeros(self.graph.n_bfaces)
         for name, bc in self.conditions.items():
-            fill(f, self._patch_idx[name], bc, t, f"conditions[{name!r}]")
+            fill(f, self._patch_idx[name], bc, t, f"conditions[{name!r}]", check)
         return f.finish()
 
     def source(self, t: float) -> np.ndarray:

@@ -41,6 +41,16 @@ def test_each_models_law_is_its_correlation(name):
 
 
 @pytest.mark.parametrize("name", list(cv.CONVECTION_MODELS))
+def test_the_natural_law_alone_is_the_laws_natural_part(name):
+    # the solver's steps ask for the natural part alone (no forced part computed)
+    model = cv.CONVECTION_MODELS[name]
+    flow, ts, ta = _flows()
+    film = 0.5 * (ts + ta)
+    assert np.array_equal(model.natural_law(film, flow), model.terms(film, flow)[1].natural)
+    assert (model.natural is not None) == model.film_dependent
+
+
+@pytest.mark.parametrize("name", list(cv.CONVECTION_MODELS))
 def test_law_slope_is_the_derivative_and_the_flux_increases(name):
     model = cv.CONVECTION_MODELS[name]
     flow, ts, ta = _flows()

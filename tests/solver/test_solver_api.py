@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from shipthermal.conditions import Convection, FixedTemperature, HeatFlux, SurfaceBalance
+from shipthermal.conditions import (Convection, ConvectionLaw, FixedTemperature, HeatFlux,
+                                   SurfaceBalance)
 from shipthermal.errors import InputError
 from shipthermal.materials import Layer, Layup, Material
 from shipthermal.mesh import check_closed_surface
@@ -54,6 +55,47 @@ def test_bad_input_names_field_and_allowed(make, field, allowed):
         make()
     msg = str(info.value)
     assert field in msg and allowed in msg, msg
+
+
+def _later(bad, good):
+    """A value that turns bad after the first steps (the model's check at t = 0 passes)."""
+    return lambda t: bad if t > 25.0 else good
+
+
+_LAW = dict(natural=np.zeros((2, 6)), multiplier=1.0, normal_z=0.0)
+
+
+@pytest.mark.parametrize("condition,field,allowed", [
+    (HeatFlux(_later(float("nan"), 10.0)), "conditions['plate:outer'].flux", "finite"),
+    (Convection(_later(-1.0, 5.0), 290.0), "conditions['plate:outer'].h", "≥ 0"),
+    (Convection(5.0, _later(float("inf"), 290.0)), "temp_fluid", "finite"),
+    (SurfaceBalance(emissivity=_later(1.2, 0.9), temp_env=260.0), "emissivity", "[0, 1]"),
+    (SurfaceBalance(absorbed_shortwave=_later(np.array([0.0, np.nan]), 0.0)), "absorbed_shortwave",
+     "finite"),
+    (FixedTemperature(_later(-5.0, 290.0)), "temperature", "> 0 K"),
+    (Convection(5.0, 290.0, law=ConvectionLaw(blend=_later(0.5, 3.0), **_LAW)), "law.blend",
+     "≥ 1"),
+])
+def test_a_value_that_turns_bad_during_a_run_is_named(condition, field, allowed):
+    # the steps fill the forcing without the per-value checks and check the joined arrays
+    # in one pass; a bad value is then named as the checks at t = 0 would name it
+    model = ThermalModel(plate_graph(0.01, 2), {"plate:outer": condition,
+                                                "plate:inner": Convection(3.0, 295.0)},
+                         initial_temperature=290.0)
+    sim = Simulation(model, 10.0, 100.0)
+    with pytest.raises(InputError) as info:
+        sim.run_until(100.0)
+    msg = str(info.value)
+    assert field in msg and allowed in msg, msg
+
+
+def test_the_steps_forcing_equals_the_checked_one():
+    model = _model()
+    for t in (0.0, 3600.0, 43200.0 + 17.0):
+        fast, checked = model.forcing(t), model._fill(t, check=True)
+        for name in ("fixed", "temp_fixed", "q0", "h", "temp_fluid", "emissivity",
+                     "longwave_in", "law_index", "law_natural"):
+            assert np.array_equal(getattr(fast, name), getattr(checked, name)), name
 
 
 def test_self_intersecting_surface_rejected():

@@ -257,7 +257,7 @@ class ShipForcing:
                     if len(rows) >= 4:
                         rows.pop(next(iter(rows)))
                     film = 0.5 * (est[i].astype(float) + float(t_air[i]))
-                    rows[i] = model.terms(film, flow)[1].natural
+                    rows[i] = model.natural_law(film, flow)
                 return rows[i]
 
             def natural(t):

@@ -111,6 +111,12 @@ def _flat_plate_law(temp_film, normal_z, length_vertical, length_horizontal, sha
     return nat
 
 
+def _natural_flat_plate(temp_film, flow: ExteriorFlow) -> np.ndarray:
+    """The natural part of the flat-plate models' law (:func:`_flat_plate_law` for a flow)."""
+    return _flat_plate_law(temp_film, flow.normal_z, flow.length_vertical,
+                           flow.length_horizontal, _flow_shape(temp_film, flow))
+
+
 def _terms_flat_plate(boundary_layer):
     def terms(temp_film, flow: ExteriorFlow, law: bool = True):
         shape = _flow_shape(temp_film, flow)
@@ -118,8 +124,7 @@ def _terms_flat_plate(boundary_layer):
         hf = h_forced(flow.wind_speed, flow.length_flow, props, boundary_layer)
         if not law:
             return np.broadcast_to(hf, shape), None
-        nat = _flat_plate_law(temp_film, flow.normal_z, flow.length_vertical,
-                              flow.length_horizontal, shape)
+        nat = _natural_flat_plate(temp_film, flow)
         return np.broadcast_to(hf, shape), ConvectionLaw(nat, 3.0, 1.0, _bz(flow.normal_z, shape))
     return terms
 
@@ -195,6 +200,9 @@ class ConvectionModel:
         ``direct(temp_surface, temp_air, flow) -> h``: the same coefficient from closed-form
         correlation functions (a faster path for the forcing's quasi-steady estimate); without
         it :meth:`h_direct` is :meth:`h`, the law the solver evaluates.
+    natural : callable, optional
+        ``natural(temp_film, flow) -> (..., 2, 6)``: the law's natural part alone (see
+        :meth:`natural_law`); without it that part comes from ``terms``.
 
     Notes
     -----
@@ -210,6 +218,15 @@ class ConvectionModel:
     validity: str
     film_dependent: bool = False
     direct: Callable | None = None
+    natural: Callable | None = None
+
+    def natural_law(self, temp_film, flow: ExteriorFlow) -> np.ndarray:
+        """The natural part of the law alone, ``terms(temp_film, flow)[1].natural`` without
+        the forced part (what the solver's steps ask of a film-dependent model at every
+        table time; half the cost)."""
+        if self.natural is None:
+            return self.terms(temp_film, flow)[1].natural
+        return self.natural(temp_film, flow)
 
     def h_direct(self, temp_surface, temp_air, flow: ExteriorFlow):
         """The same coefficient from the correlation functions of this package (numpy, no
@@ -246,9 +263,10 @@ def _direct_linear(a, b):
 
 
 _MODEL_TERMS = {
-    "flat_plate_mixed": (_terms_flat_plate("mixed"), True, _direct_flat_plate("mixed")),
+    "flat_plate_mixed": (_terms_flat_plate("mixed"), True, _direct_flat_plate("mixed"),
+                         _natural_flat_plate),
     "flat_plate_turbulent": (_terms_flat_plate("turbulent"), True,
-                             _direct_flat_plate("turbulent")),
+                             _direct_flat_plate("turbulent"), _natural_flat_plate),
     "doe2": (_terms_doe2, False, lambda ts, ta, f: h_exterior_doe2(
         ts, ta, f.normal_z, f.wind_speed, f.windward, f.roughness)),
     "tarp": (_terms_tarp, False, lambda ts, ta, f: h_exterior_tarp(
@@ -260,7 +278,8 @@ _MODEL_TERMS = {
 
 CONVECTION_MODELS: dict[str, ConvectionModel] = {
     name: ConvectionModel(name, _MODEL_TERMS[name][0], **info,
-                          film_dependent=_MODEL_TERMS[name][1], direct=_MODEL_TERMS[name][2])
+                          film_dependent=_MODEL_TERMS[name][1], direct=_MODEL_TERMS[name][2],
+                          natural=(_MODEL_TERMS[name] + (None,))[3])
     for name, info in CONVECTION_MODEL_SOURCES.items()}
 """Exterior convection models by name (pvlib-style named set); names, sources and validity
 from :data:`shipthermal.parameters.CONVECTION_MODEL_SOURCES`."""
