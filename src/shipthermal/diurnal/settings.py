@@ -9,7 +9,8 @@ from typing import Mapping
 
 from ..errors import check_positive, require
 from ..forcing.build import ForcingSettings
-from ..parameters import NEWTON_ENERGY_TOLERANCE, NEWTON_TOLERANCE, NIGHT_STEP
+from ..parameters import (DAY_STEP, NEWTON_ENERGY_TOLERANCE, NEWTON_TOLERANCE, NIGHT_STEP,
+                          OUTPUT_INTERVAL, SPINUP_MAX_DAYS, SPINUP_TOLERANCE)
 from ..units import DAY
 
 
@@ -65,11 +66,11 @@ class DiurnalSettings:
         A periodic day ignores it.
     """
 
-    time_step: float = 300.0
+    time_step: float = DAY_STEP
     scheme: str = "bdf2"
-    output_interval: float = 1800.0
-    spinup_tolerance: float = 0.01
-    spinup_max_days: int = 10
+    output_interval: float = OUTPUT_INTERVAL
+    spinup_tolerance: float = SPINUP_TOLERANCE
+    spinup_max_days: int = SPINUP_MAX_DAYS
     # (the ray tracing and convection defaults are the forcing build's own)
     samples_per_face: int = ForcingSettings.samples_per_face
     rays_per_face: int = ForcingSettings.rays_per_face

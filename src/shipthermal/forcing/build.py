@@ -17,6 +17,7 @@ from .._threads import thread_map
 from ..environment import Environment, to_ship_frame
 from ..environment import convection as conv
 from ..errors import check_range, require
+from ..parameters import SUN_SAMPLES_PER_FACE, VIEW_RAYS_PER_FACE
 from .convection import (INTERIOR_EMISSIVITY, AirFaces, BackSide, InnerFaces, air_convection,
                          air_faces, back_side, inner_convection, inner_faces,
                          wetted_hull_convection)
@@ -121,8 +122,8 @@ class ForcingSettings:
     it.
     """
 
-    samples_per_face: int = 16
-    rays_per_face: int = 256
+    samples_per_face: int = SUN_SAMPLES_PER_FACE
+    rays_per_face: int = VIEW_RAYS_PER_FACE
     seed: int = 0
     backend: str = "auto"
     absorptivity: float | Mapping | None = None

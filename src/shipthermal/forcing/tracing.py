@@ -12,6 +12,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import require
+from ..parameters import SUN_SAMPLES_PER_FACE, VIEW_RAYS_PER_FACE
 from ..raytrace import make_tracer, sun_lit_fraction, symmetrize, view_factors
 from ..raytrace.viewfactors import ViewFactors
 
@@ -122,8 +123,8 @@ def _merge_triangles(tri: np.ndarray):
     return verts, inv.reshape(-1, 3).astype(np.int64)
 
 
-def trace_ship(vertices, faces, receivers=None, *, samples_per_face: int = 16,
-               rays_per_face: int = 256, seed: int = 0, backend: str = "auto",
+def trace_ship(vertices, faces, receivers=None, *, samples_per_face: int = SUN_SAMPLES_PER_FACE,
+               rays_per_face: int = VIEW_RAYS_PER_FACE, seed: int = 0, backend: str = "auto",
                progress=None) -> TracedShip:
     """Build the tracer over a ship's outer surface and trace its view factors.
 

@@ -22,6 +22,7 @@ from tqdm.auto import tqdm
 
 from shipthermal._threads import thread_map
 from shipthermal.errors import require
+from shipthermal.parameters import SUN_SAMPLES_PER_FACE
 from shipthermal.raytrace import _raygen
 from shipthermal.raytrace.sampling import unit_samples
 from shipthermal.raytrace.tracers import batch_threads
@@ -121,7 +122,7 @@ def _check_sun_dirs(sun_dirs):
     return sun / norm[:, None]
 
 
-def lit_rays(tracer, vertices, faces, samples_per_face: int = 16, seed: int = 0):
+def lit_rays(tracer, vertices, faces, samples_per_face: int = SUN_SAMPLES_PER_FACE, seed: int = 0):
     """Sample points on every face and their outward normals, for sun rays.
 
     Returns
@@ -162,7 +163,8 @@ def _trace_plane(tracer, points, samples_per_cell, sun, chunk_rays, out, bar):
     return len(points)
 
 
-def sun_lit_fraction(tracer, vertices, faces, sun_dirs, samples_per_face: int = 16,
+def sun_lit_fraction(tracer, vertices, faces, sun_dirs,
+                     samples_per_face: int = SUN_SAMPLES_PER_FACE,
                      seed: int = 0, sea_level_z: float | None = None,
                      receiver_plane: ReceiverPlane | None = None,
                      chunk_rays: int = _DEFAULT_CHUNK, progress: bool | None = None) -> SunLit:

@@ -30,6 +30,7 @@ from tqdm.auto import tqdm
 
 from shipthermal._threads import thread_map
 from shipthermal.errors import require
+from shipthermal.parameters import VIEW_RAYS_PER_FACE
 from shipthermal.raytrace import _raygen
 from shipthermal.raytrace.sampling import unit_samples
 from shipthermal.raytrace.tracers import batch_threads
@@ -159,7 +160,7 @@ def _tally(hit, submerged, t_sea, k, n_faces):
     return sea, sky, rows[:m], cols[:m]
 
 
-def view_factors(tracer, vertices, faces, rays_per_face: int = 256, seed: int = 0,
+def view_factors(tracer, vertices, faces, rays_per_face: int = VIEW_RAYS_PER_FACE, seed: int = 0,
                  sea_level_z: float | None = 0.0, reciprocity: bool = False,
                  chunk_rays: int = _DEFAULT_CHUNK, progress: bool | None = None) -> ViewFactors:
     """Monte-Carlo view factors of every face to the sky, the sea and the other faces.

@@ -12,7 +12,7 @@ from typing import Optional
 from .spec import _opt
 from .values import (CLEAR_SKY_MODELS, CLIMATE_DATES, CLOUD_MODELS, CLOUD_UNITS, DALIAN, DAY,
                      DECOMPOSITIONS, LATITUDE_MAX, MAX_GAP_HOURS, MAX_RECORD_DAYS,
-                     MAX_SITE_DISTANCE_KM, SEA_SKIN_MODELS, SEASONS, TEMP_UNITS,
+                     MAX_SITE_DISTANCE_KM, OUTPUT_INTERVAL, SEA_SKIN_MODELS, SEASONS, TEMP_UNITS,
                      VALIDATION_TIMES, WEATHER_FORMATS, WEATHER_SUFFIXES)
 
 
@@ -45,7 +45,7 @@ class Time:
                                     "time.date at the site (April-September north = summer)")
     date: str = _opt(None, "date", "Local date of the simulated day (YYYY-MM-DD)",
                      season=CLIMATE_DATES, allowed_text="YYYY-MM-DD, 1950-2100")
-    output_interval: float = _opt(1800.0, "float", "Thermal output interval over the "
+    output_interval: float = _opt(OUTPUT_INTERVAL, "float", "Thermal output interval over the "
                                   "recorded day (a multiple of solver.time_step dividing 24 h)",
                                   unit="s", lo=0.0, hi=DAY, lo_open=True)
     map_times: tuple = _opt(None, "clock_list", "Local times of the surface temperature "

@@ -7,7 +7,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Mapping
 
-from ...parameters import NIGHT_SETTLE, NIGHT_STEP, RECORD_SEGMENT_WARM_DAYS
+from ...parameters import (DAY_STEP, NIGHT_SETTLE, NIGHT_STEP, RECORD_SEGMENT_WARM_DAYS,
+                           SPINUP_MAX_DAYS, SPINUP_TOLERANCE, SUN_SAMPLES_PER_FACE,
+                           VIEW_RAYS_PER_FACE)
 from .site_sections import _divides
 from .spec import _opt
 from .values import (CONVECTION_MODEL_SOURCES, CONVECTION_ROUGHNESS, DAY,
@@ -18,7 +20,7 @@ from .values import (CONVECTION_MODEL_SOURCES, CONVECTION_ROUGHNESS, DAY,
 class SolverSettings:
     """[solver]: time stepping, spin-up and ray tracing of the thermal stage."""
 
-    time_step: float = _opt(300.0, "float", "Time step (must divide 24 h)", unit="s", lo=0.0,
+    time_step: float = _opt(DAY_STEP, "float", "Time step (must divide 24 h)", unit="s", lo=0.0,
                             hi=3600.0, lo_open=True)
     night_step: float = _opt(NIGHT_STEP, "float", "Longest time step of the night, from "
                              f"{NIGHT_SETTLE / 3600:g} h after the last sunlight to dawn: the "
@@ -27,14 +29,14 @@ class SolverSettings:
                              unit="s", lo=0.0, hi=3600.0, lo_open=True)
     scheme: str = _opt("bdf2", "choice", "Time integration scheme",
                        choices=("backward_euler", "crank_nicolson", "bdf2"))
-    spinup_tolerance: float = _opt(0.01, "float", "Spin-up stops when no cell temperature "
+    spinup_tolerance: float = _opt(SPINUP_TOLERANCE, "float", "Spin-up stops when no cell temperature "
                                    "changes more than this over a day (end vs start)", unit="K",
                                    lo=0.0, hi=10.0, lo_open=True)
-    spinup_max_days: int = _opt(10, "int", "Most days of spin-up before giving up (reported)",
+    spinup_max_days: int = _opt(SPINUP_MAX_DAYS, "int", "Most days of spin-up before giving up (reported)",
                                 lo=1, hi=100)
-    rays_per_face: int = _opt(256, "int", "Hemisphere rays per face for view factors",
+    rays_per_face: int = _opt(VIEW_RAYS_PER_FACE, "int", "Hemisphere rays per face for view factors",
                               lo=1, hi=65536)
-    samples_per_face: int = _opt(16, "int", "Sample points per face for the sun-lit fraction",
+    samples_per_face: int = _opt(SUN_SAMPLES_PER_FACE, "int", "Sample points per face for the sun-lit fraction",
                                  lo=1, hi=4096)
     seed: int = _opt(0, "int", "Seed of all Monte-Carlo sampling (runs are reproducible)",
                      lo=0, hi=2 ** 32 - 1)

@@ -46,6 +46,7 @@ from ...parameters import (  # noqa: F401
     MAX_GAP_HOURS,
     SEA_SKIN_MODEL_NAMES,
     MAX_SITE_DISTANCE_KM,
+    OUTPUT_INTERVAL,
     SHIP_SPEED_MAX,
     SEASONS,
     SOLAR_ABSORPTIVITY,
