@@ -13,7 +13,7 @@ from shipthermal.model import RadiativeExchange, ThermalModel
 from shipthermal.raytrace.analytic import parallel_rectangles
 from shipthermal.simulation import Simulation, steady_state
 from shipthermal.units import DAY, HOUR
-from solver_meshes import box_tets, plate_graph
+from solver_meshes import box_tets, kuhn_cube_tets, plate_graph
 
 
 # ------------------------------------------------ 5. manufactured solution on tets --------
@@ -50,13 +50,28 @@ def mms(unit_cube_tets):
     return np.array(out)
 
 
-def test_manufactured_solution_on_tets_is_second_order(mms):
+def test_manufactured_solution_on_tets_is_second_order():
+    # Kuhn-subdivided cubes: the same mesh every run, so the measured order is the scheme's
+    # (pytetwild's cubes differ between runs, even on one thread: their fitted order
+    # ranged 1.79–2.27 over five runs)
+    out = np.array([_mms_error(*kuhn_cube_tets(n)) for n in (5, 10, 14)])
+    hs, errs = out[:, 0], out[:, 1]
+    order = np.polyfit(np.log(hs), np.log(errs), 1)[0]
+    pairs = np.log(errs[:-1] / errs[1:]) / np.log(hs[:-1] / hs[1:])
+    print(f"MMS on Kuhn cubes: h {hs}, L2 errors {errs}, order {order:.3f}, pairwise {pairs}")
+    # measured 1.847 (pairwise 1.823, 1.909): second order approached from below as the
+    # non-orthogonal correction's gradient error shrinks
+    assert order >= 1.8, f"observed spatial order {order:.2f} < 1.8 (errors {errs})"
+    assert pairs[-1] > pairs[0] and pairs[-1] >= 1.85, pairs
+
+
+def test_manufactured_solution_on_pytetwild_tets_converges(mms):
+    # the meshes the product makes: random between runs, so only a band (a first-order
+    # scheme fits ~1; this one 1.79–2.27 over five runs)
     hs, errs = mms[:, 0], mms[:, 1]
     order = np.polyfit(np.log(hs), np.log(errs), 1)[0]
     print(f"MMS on pytetwild cubes: h {hs}, L2 errors {errs}, observed order {order:.2f}")
-    # Measured 2.0–2.5 over runs (pytetwild's meshes differ between runs; ≥ 1.8 required in
-    # L2). On Kuhn-subdivided cubes (the same mesh every run) the fit is 1.85, rising to 2.
-    assert order >= 1.8, f"observed spatial order {order:.2f} < 1.8 (errors {errs})"
+    assert order >= 1.6, f"observed spatial order {order:.2f} < 1.6 (errors {errs})"
 
 
 def test_two_point_flux_alone_is_inconsistent_on_tets(mms):
