@@ -177,6 +177,10 @@ class Simulation:
     energy_tolerance : float
         The step's energy residual ``Δt |Σ_i R_i|`` must also fall below this fraction of
         the gross boundary heat of the step [-].
+    surface_tolerance : float
+        ... and the surface temperatures' fixed point (face-to-face exchange) must have
+        changed no face by more than this fraction of the largest surface temperature in
+        its last sweep [-].
     max_iterations : int
         Newton iterations per step before :class:`SimulationError`.
     linear_solver : {'auto', 'direct', 'amg', 'column', 'cholmod'}
@@ -189,7 +193,7 @@ class Simulation:
                  start_time: float = 0.0, scheme: str = "bdf2", output_interval: float | None = None,
                  output_times=None, tolerance: float = 1e-9, max_iterations: int = 50,
                  linear_solver: str = "auto", progress: bool = False,
-                 energy_tolerance: float = 1e-12):
+                 energy_tolerance: float = 1e-12, surface_tolerance: float = 1e-11):
         require(isinstance(model, ThermalModel), "model", type(model).__name__,
                 "must be a ThermalModel")
         check_positive("time_step", time_step, "s")
@@ -208,6 +212,8 @@ class Simulation:
         self.tolerance = float(tolerance)
         check_positive("energy_tolerance", energy_tolerance)
         self.energy_tolerance = float(energy_tolerance)
+        check_positive("surface_tolerance", surface_tolerance)
+        self.surface_tolerance = float(surface_tolerance)
         self.max_iterations = int(max_iterations)
         self.backend = choose_backend(linear_solver, self.graph.n_cells, self.graph.kind)
         self.progress = progress
@@ -523,6 +529,7 @@ class Simulation:
             t1 = time.perf_counter()
             if s.fixed_corr is None:
                 corr_cell, bs = boundary_state(self.model, s.forcing, temp, face_lag,
+                                               tol=self.surface_tolerance,
                                                sweeps=BOUNDARY_SWEEPS)
             else:
                 corr_cell = s.fixed_corr[0]

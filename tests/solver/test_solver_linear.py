@@ -233,7 +233,7 @@ def test_column_groups_cut_the_pcg_iterations_of_a_ship_day(monkeypatch):
     env = Environment.from_climate_day(climate_day("summer"), ship_heading=90.0)
     s = DiurnalSettings(time_step=300.0, output_interval=1800.0, rays_per_face=32,
                         samples_per_face=8, spinup_max_days=1, spinup_tolerance=1.0,
-                        newton_tolerance=1e-9, energy_tolerance=1e-12)
+                        newton_tolerance=1e-9, energy_tolerance=1e-12, surface_tolerance=1e-11)
     grouped = run_diurnal(ship, env, s, progress=False)
     monkeypatch.setattr(simulation, "column_aggregates",
                         lambda m, cut: _aggregates.column_aggregates(m, cut, ratio=np.inf))

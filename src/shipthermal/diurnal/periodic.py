@@ -133,7 +133,8 @@ def _simulation(graph, forcing, temp0, settings: DiurnalSettings, lead: float):
                       start_time=-lead, scheme=settings.scheme,
                       output_interval=settings.output_interval,
                       tolerance=settings.newton_tolerance,
-                      energy_tolerance=settings.energy_tolerance)
+                      energy_tolerance=settings.energy_tolerance,
+                      surface_tolerance=settings.surface_tolerance)
 
 
 @dataclass(eq=False)

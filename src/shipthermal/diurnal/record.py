@@ -470,7 +470,8 @@ def window_simulation(rec: RecordRun, spun: SpunUp, conditions: dict) -> None:
                              start_time=rec.lead_day * DAY, scheme=rec.settings.scheme,
                              output_interval=rec.settings.output_interval,
                              tolerance=rec.settings.newton_tolerance,
-                             energy_tolerance=rec.settings.energy_tolerance)
+                             energy_tolerance=rec.settings.energy_tolerance,
+                             surface_tolerance=rec.settings.surface_tolerance)
         if spun.resumed:
             rec.sim.load_checkpoint(rec.ckpt)
     else:

@@ -9,8 +9,8 @@ from typing import Mapping
 
 from ..errors import check_positive, require
 from ..forcing.build import ForcingSettings
-from ..parameters import (DAY_STEP, NEWTON_ENERGY_TOLERANCE, NEWTON_TOLERANCE, NIGHT_STEP,
-                          OUTPUT_INTERVAL, SPINUP_MAX_DAYS, SPINUP_TOLERANCE)
+from ..parameters import (DAY_STEP, NEWTON_ENERGY_TOLERANCE, NEWTON_SURFACE_TOLERANCE,
+                          NEWTON_TOLERANCE, NIGHT_STEP, OUTPUT_INTERVAL, SPINUP_MAX_DAYS, SPINUP_TOLERANCE)
 from ..units import DAY
 
 
@@ -55,9 +55,10 @@ class DiurnalSettings:
         Longest time step of the night [s] (see ``NIGHT_STEP``): the night takes the longest
         multiple of ``time_step`` up to it that divides ``output_interval``. ``time_step``
         (or less) keeps the steps uniform.
-    newton_tolerance, energy_tolerance : float
-        Newton's stopping rule in every step: the estimated correction left [K] and the
-        step's energy residual relative to its gross boundary heat (see
+    newton_tolerance, energy_tolerance, surface_tolerance : float
+        Newton's stopping rule in every step: the estimated correction left [K], the
+        step's energy residual relative to its gross boundary heat and the surface
+        temperatures' last change relative to the largest (see
         :data:`~shipthermal.parameters.NEWTON_TOLERANCE`).
     jobs : int
         Processes a weather record is split over: contiguous segments of days, each spun
@@ -83,6 +84,7 @@ class DiurnalSettings:
     night_step: float = NIGHT_STEP
     newton_tolerance: float = NEWTON_TOLERANCE
     energy_tolerance: float = NEWTON_ENERGY_TOLERANCE
+    surface_tolerance: float = NEWTON_SURFACE_TOLERANCE
     jobs: int = 1
 
     def __post_init__(self):
@@ -96,5 +98,6 @@ class DiurnalSettings:
         check_positive("night_step", self.night_step, "s")
         check_positive("newton_tolerance", self.newton_tolerance, "K")
         check_positive("energy_tolerance", self.energy_tolerance)
+        check_positive("surface_tolerance", self.surface_tolerance)
         require(int(self.jobs) == self.jobs and int(self.jobs) >= 1, "jobs", self.jobs,
                 "must be a whole number ≥ 1")
