@@ -10,7 +10,8 @@ from typing import Mapping
 from ..errors import check_positive, require
 from ..forcing.build import ForcingSettings
 from ..parameters import (DAY_STEP, NEWTON_ENERGY_TOLERANCE, NEWTON_SURFACE_TOLERANCE,
-                          NEWTON_TOLERANCE, NIGHT_STEP, OUTPUT_INTERVAL, SPINUP_MAX_DAYS, SPINUP_TOLERANCE)
+                          NEWTON_TOLERANCE, NIGHT_STEP, OUTPUT_INTERVAL, SPINUP_MAX_DAYS,
+                          SPINUP_TOLERANCE)
 from ..units import DAY
 
 
