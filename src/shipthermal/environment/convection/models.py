@@ -268,18 +268,20 @@ _MODEL_TERMS = {
     "flat_plate_turbulent": (_terms_flat_plate("turbulent"), True,
                              _direct_flat_plate("turbulent"), _natural_flat_plate),
     "doe2": (_terms_doe2, False, lambda ts, ta, f: h_exterior_doe2(
-        ts, ta, f.normal_z, f.wind_speed, f.windward, f.roughness)),
+        ts, ta, f.normal_z, f.wind_speed, f.windward, f.roughness), None),
     "tarp": (_terms_tarp, False, lambda ts, ta, f: h_exterior_tarp(
-        ts, ta, f.normal_z, f.wind_speed, f.perimeter_over_area, f.windward, f.roughness)),
+        ts, ta, f.normal_z, f.wind_speed, f.perimeter_over_area, f.windward, f.roughness),
+             None),
     "mowitt": (_terms_mowitt, False, lambda ts, ta, f: h_exterior_mowitt(
-        ts, ta, f.wind_speed, f.windward)),
-    "mcadams": (_terms_linear(*MCADAMS), False, _direct_linear(*MCADAMS)),
-    "iso6946": (_terms_linear(4.0, 4.0), False, _direct_linear(4.0, 4.0))}
+        ts, ta, f.wind_speed, f.windward), None),
+    "mcadams": (_terms_linear(*MCADAMS), False, _direct_linear(*MCADAMS), None),
+    "iso6946": (_terms_linear(4.0, 4.0), False, _direct_linear(4.0, 4.0), None)}
+"""Per model: (terms, film_dependent, direct, natural) of :class:`ConvectionModel`."""
 
 CONVECTION_MODELS: dict[str, ConvectionModel] = {
     name: ConvectionModel(name, _MODEL_TERMS[name][0], **info,
                           film_dependent=_MODEL_TERMS[name][1], direct=_MODEL_TERMS[name][2],
-                          natural=(_MODEL_TERMS[name] + (None,))[3])
+                          natural=_MODEL_TERMS[name][3])
     for name, info in CONVECTION_MODEL_SOURCES.items()}
 """Exterior convection models by name (pvlib-style named set); names, sources and validity
 from :data:`shipthermal.parameters.CONVECTION_MODEL_SOURCES`."""
