@@ -307,3 +307,30 @@ def test_a_worker_process_runs_a_split_record_in_one_piece(three_days, monkeypat
     assert "record_segments" not in res.meta
     assert any("solver.jobs ignored" in m for m in said)
     assert _max_change(ref, res) < 1e-9
+
+
+def test_a_record_that_does_not_fit_on_the_disk_is_refused_before_hdf5_writes(
+        three_days, tmp_path, monkeypatch):
+    """On a full disk HDF5 fails part-way and its file closes with an error of its own; the
+    objects left behind crashed the interpreter when collected. The assembly checks the
+    room first; the parts stay, and a resume with room assembles them."""
+    import shutil
+
+    from shipthermal.diurnal import run_record
+    from shipthermal.errors import InputError
+
+    inputs, ref = three_days
+    ckpt = tmp_path / "buoy.npz"
+    real = shutil.disk_usage
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: real(p)._replace(free=2 ** 20))
+    with pytest.raises(InputError) as info:
+        run_record(**inputs, progress=False, face_dtype=np.float64, checkpoint=ckpt)
+    msg = str(info.value)
+    assert "record.h5" in msg and "1 MiB free" in msg and "--out" in msg, msg
+    assert not list(tmp_path.rglob("*.h5"))
+    monkeypatch.setattr(shutil, "disk_usage", real)
+    said = []
+    res = run_record(**inputs, progress=False, face_dtype=np.float64, checkpoint=ckpt,
+                     resume=True, log=said.append)
+    assert said[0].startswith("record: resumed")
+    np.testing.assert_array_equal(res.record.face_temperature[:], ref.record.face_temperature[:])
