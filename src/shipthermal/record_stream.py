@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .atomic import check_room
 from .errors import InputError, require
 from .results import EnergyLog, atomic_path
 
@@ -123,8 +124,9 @@ def assemble(parts: RecordParts, n_parts: int, path, *, ship, part_columns, star
             k += len(d["sample_times"])
     m = int(ship.n_faces)
     path = Path(path)
-    _check_room(path, sum(parts.path(i).stat().st_size for i in range(n_parts))
-                + np.asarray(ship.vertices).nbytes + 3 * np.asarray(ship.faces).nbytes)
+    check_room(path, sum(parts.path(i).stat().st_size for i in range(n_parts))
+               + np.asarray(ship.vertices).nbytes + 3 * np.asarray(ship.faces).nbytes,
+               "the record's outputs")
     with atomic_path(path, ".h5") as tmp:
         with h5py.File(tmp, "w") as f:
             f.attrs.update(format=RECORD_FORMAT, version=RECORD_VERSION, start=start,
@@ -178,26 +180,6 @@ def assemble(parts: RecordParts, n_parts: int, path, *, ship, part_columns, star
             g.create_dataset("part_names", data=np.array(ship.part_names,
                                                           dtype=h5py.string_dtype()))
     return path
-
-
-#: Room kept free besides a record file's own size when it is assembled [bytes] (HDF5's
-#: metadata and chunk indexes; the file system's own reserve).
-ASSEMBLY_MARGIN = 64 * 2 ** 20
-
-
-def _check_room(path: Path, needed: int) -> None:
-    """Refuse to assemble a record where its file does not fit: HDF5 fails part-way on a
-    full disk, its file then closes with an error of its own that hides the disk's, and
-    the objects left behind crashed the interpreter when collected (segmentation fault
-    after the error message, measured on a full 60 MB file system)."""
-    import shutil
-
-    free = shutil.disk_usage(path.parent).free
-    if free < needed + ASSEMBLY_MARGIN:
-        raise InputError(str(path), f"{(needed + ASSEMBLY_MARGIN) / 2 ** 20:.0f} MiB needed, "
-                         f"{free / 2 ** 20:.0f} MiB free",
-                         "no space left on the device for the record's outputs",
-                         "Free disk space, or choose --out on another disk")
 
 
 class LazyRows:

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .atomic import atomic_path
+from .atomic import atomic_path, check_room
 from .errors import require
 from .mesh.graph import VTK_TETRA, VTK_WEDGE, CellGraph
 
@@ -241,6 +241,9 @@ def write_vtkhdf(path, kind: str, points, cells, times, steps: dict, static: dic
     n_cells = len(offsets) - 1
     nt = len(times)
     n_values = len(points) if point_data else n_cells
+    check_room(path, np.asarray(points).nbytes + ids.nbytes + offsets.nbytes + n_cells
+               + 4 * nt * n_values * len(steps)
+               + sum(np.asarray(a).nbytes for a in static.values()), "the VTKHDF file")
     with atomic_path(path, ".hdf") as tmp:
         with h5py.File(tmp, "w") as f:
             root = f.create_group("VTKHDF")

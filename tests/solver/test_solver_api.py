@@ -174,6 +174,20 @@ def test_vtu_and_vtkhdf_read_back(tmp_path):
     assert not list(tmp_path.rglob("*.tmp*"))
 
 
+def test_a_vtkhdf_file_that_does_not_fit_is_refused_before_hdf5_writes(tmp_path, monkeypatch):
+    # HDF5 failing part-way on a full disk hid the error and crashed the interpreter later
+    import shutil
+
+    res = Simulation(_model(), 600.0, 7200.0, scheme="bdf2", output_interval=3600.0).run()
+    real = shutil.disk_usage
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: real(p)._replace(free=2 ** 20))
+    with pytest.raises(InputError) as info:
+        res.to_vtkhdf(tmp_path / "out" / "run.vtkhdf")
+    msg = str(info.value)
+    assert "run.vtkhdf" in msg and "1 MiB free" in msg and "--out" in msg, msg
+    assert not list(tmp_path.rglob("*.vtkhdf")) and not list(tmp_path.rglob("*.hdf"))
+
+
 def test_part_means_area_weighted():
     res = Simulation(_model(), 600.0, 3600.0, output_interval=3600.0).run()
     df = res.part_mean("outer")
