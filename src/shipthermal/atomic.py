@@ -12,8 +12,11 @@ user's file rather than the temporary.
 from __future__ import annotations
 
 import os
+import shutil
 import tempfile
 from pathlib import Path
+
+from .errors import InputError
 
 __all__ = ["atomic_path", "atomic_write_text", "check_room"]
 
@@ -71,10 +74,6 @@ def check_room(path, needed: int, what: str) -> None:
     file then closes with an error of its own that hides the disk's, and the objects left
     behind crashed the interpreter when collected (segmentation fault after the error
     message, measured on a full 60 MB file system)."""
-    import shutil
-
-    from .errors import InputError
-
     path = Path(path)
     folder = next((p for p in (path.parent, *path.parent.parents) if p.exists()), Path("."))
     free = shutil.disk_usage(folder).free
