@@ -496,8 +496,14 @@ def nonorthogonal_flows(graph: CellGraph, temp_cell: np.ndarray, temp_face: np.n
     return cell_flow, bface_flow
 
 
+#: The surface temperatures' fixed point is converged when its last sweep changed no face
+#: by more than this fraction of the largest surface temperature [-] (:func:`boundary_state`;
+#: round-off of a surface temperature's ~300 K, the solver's own default).
+SURFACE_TOLERANCE = 1e-11
+
+
 def boundary_state(model: "ThermalModel", forcing: FaceForcing, temp_cell: np.ndarray,
-                   temp_guess: np.ndarray, tol: float = 1e-11, max_iterations: int = 200,
+                   temp_guess: np.ndarray, tol: float = SURFACE_TOLERANCE, max_iterations: int = 200,
                    sweeps: int | None = None):
     """Surface temperatures and flows consistent with the cell field ``temp_cell``.
 

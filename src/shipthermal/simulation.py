@@ -43,7 +43,8 @@ from .errors import SimulationError, check_finite, check_positive, require
 from .linear import (Anderson, JacobianPattern, Preconditioner, choose_backend,
                      make_preconditioner, pcg, single_threaded_blas)
 from .steady import steady_state
-from .model import ThermalModel, boundary_state, conduction_flows, surface_balance
+from .model import (SURFACE_TOLERANCE, ThermalModel, boundary_state, conduction_flows,
+                    surface_balance)
 from .checkpoint import SolverState, read_checkpoint, write_checkpoint
 from .results import EnergyLog, Results
 from .units import SIGMA
@@ -193,7 +194,8 @@ class Simulation:
                  start_time: float = 0.0, scheme: str = "bdf2", output_interval: float | None = None,
                  output_times=None, tolerance: float = 1e-9, max_iterations: int = 50,
                  linear_solver: str = "auto", progress: bool = False,
-                 energy_tolerance: float = 1e-12, surface_tolerance: float = 1e-11):
+                 energy_tolerance: float = 1e-12,
+                 surface_tolerance: float = SURFACE_TOLERANCE):
         require(isinstance(model, ThermalModel), "model", type(model).__name__,
                 "must be a ThermalModel")
         check_positive("time_step", time_step, "s")
