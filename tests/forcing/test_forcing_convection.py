@@ -290,3 +290,30 @@ def test_models_per_part_with_their_roughness(boat):
     assert windward[:, sup].any() and (~windward[:, sup]).any()
     hull = ~deck & ~sup
     np.testing.assert_array_equal(_air_table(g)[:, hull], _air_table(f)[:, hull])
+
+
+def test_the_natural_law_between_table_times_is_each_patchs_own(boat):
+    # the solver's law of a film-dependent model is evaluated once for all the patches
+    # that use it: each patch gets its own faces' law at its own estimate's film
+    # temperature, interpolated linearly between the table times, and the values handed
+    # out are read-only (the patches share them)
+    ship, env, graph, f = boat
+    flat = [n for n, p in f.patches.items() if p.kind == "air"]
+    assert len(flat) > 1
+    i, w = 5, 0.3
+    t = (1.0 - w) * f.times[i] + w * f.times[i + 1]
+    for name in flat:
+        law = f.convection_law(name)
+        pos = f._air_positions(name)
+        air = f.air_faces
+        flow = conv.ExteriorFlow(normal_z=air.normals[pos, 2], wind_speed=0.0,
+                                 length_vertical=air.lengths.vertical[pos],
+                                 length_horizontal=air.lengths.horizontal[pos])
+        model = conv.convection_model(conv.DEFAULT_CONVECTION_MODEL)
+        rows = [model.natural_law(0.5 * (f._est[name][k] + f.temp_air[k]), flow)
+                for k in (i, i + 1)]
+        got = law.natural(t)
+        np.testing.assert_allclose(got, (1.0 - w) * rows[0] + w * rows[1], rtol=1e-14,
+                                   atol=0.0)
+        np.testing.assert_array_equal(law.natural(f.times[i]), rows[0])
+        assert not got.flags.writeable

@@ -229,6 +229,21 @@ class ShipForcing:
         pos[air.cols] = np.arange(len(air.cols))
         return pos[self.patches[patch].cols]
 
+    @functools.cached_property
+    def _natural_groups(self) -> dict:
+        """Film-dependent model name → its :class:`_NaturalRows` over the air patches that
+        use it."""
+        air = self.air_faces
+        groups: dict = {}
+        for name, p in self.patches.items():
+            if p.kind != "air":
+                continue
+            pos = self._air_positions(name)
+            model = air.convection.models[air.convection.model_index[pos[0]]]
+            if model.film_dependent:
+                groups.setdefault(model.name, (model, []))[1].append(name)
+        return {key: _NaturalRows(self, model, names) for key, (model, names) in groups.items()}
+
     def convection_law(self, patch: str) -> ConvectionLaw:
         """The law of the surface temperature of an air patch's coefficient
         (:class:`~shipthermal.conditions.ConvectionLaw`, with the forced part tabulated):
@@ -245,24 +260,8 @@ class ShipForcing:
                                  length_horizontal=air.lengths.horizontal[pos],
                                  perimeter_over_area=air.convection.perimeter_over_area[pos],
                                  roughness=air.convection.roughness[pos])
-        tab, t_air = self.table, self.temp_air
         if model.film_dependent:
-            est = self._est[patch]
-            rows: dict = {}
-
-            def at_row(i):
-                # the law at a table time's estimate (its film temperature), kept for the
-                # few rows the solver is between
-                if i not in rows:
-                    if len(rows) >= 4:
-                        rows.pop(next(iter(rows)))
-                    film = 0.5 * (est[i].astype(float) + float(t_air[i]))
-                    rows[i] = model.natural_law(film, flow)
-                return rows[i]
-
-            def natural(t):
-                i, j, w = tab.weights(t)
-                return at_row(i) if w == 0.0 else (1.0 - w) * at_row(i) + w * at_row(j)
+            natural = self._natural_groups[model.name].patch(patch)
         else:
             natural = np.ascontiguousarray(model.terms(np.full(len(pos), 300.0), flow)[1].natural)
         law = model.terms(np.full(len(pos), 300.0), flow)[1]
@@ -381,3 +380,62 @@ class ShipForcing:
         rays = ", ".join(f"{k} {v:,}" for k, v in self.n_rays.items())
         secs = ", ".join(f"{k} {v:.2f} s" for k, v in self.seconds.items())
         return f"{text}\nrays traced: {rays}\ntimings: {secs}"
+
+
+class _NaturalRows:
+    """The natural part of a film-dependent model's law over all the air patches that use
+    it, at the film temperature of the quasi-steady estimate of each table time, for the
+    solver's steps.
+
+    One evaluation of the law per table time for all those faces (not one per patch: at
+    2 m a patch has a few hundred faces and the law's ~60 array operations cost more in
+    calls than in arithmetic), kept for the few table times the solver is between; the
+    value at a step's time interpolated once for all of them. The faces are stored patch
+    after patch, so a patch's rows are a contiguous view."""
+
+    _KEEP_ROWS = 4
+
+    def __init__(self, forcing: ShipForcing, model, patches: list):
+        air = forcing.air_faces
+        pos = [forcing._air_positions(name) for name in patches]
+        bounds = np.cumsum([0] + [len(q) for q in pos])
+        self._slices = {name: slice(int(a), int(b))
+                        for name, a, b in zip(patches, bounds[:-1], bounds[1:])}
+        pos = np.concatenate(pos)
+        self._model = model
+        self._flow = conv.ExteriorFlow(
+            normal_z=air.normals[pos, 2], wind_speed=0.0, length_flow=1.0,
+            length_vertical=air.lengths.vertical[pos],
+            length_horizontal=air.lengths.horizontal[pos],
+            perimeter_over_area=air.convection.perimeter_over_area[pos],
+            roughness=air.convection.roughness[pos])
+        # the estimate's columns of every patch, in this group's face order
+        self._est = [forcing._est[name] for name in patches]
+        self._table, self._temp_air = forcing.table, forcing.temp_air
+        self._rows: dict = {}
+        self._last = (None, None)
+
+    def _at_row(self, i: int) -> np.ndarray:
+        if i not in self._rows:
+            if len(self._rows) >= self._KEEP_ROWS:
+                self._rows.pop(next(iter(self._rows)))
+            est = np.concatenate([e[i] for e in self._est]).astype(float)
+            film = 0.5 * (est + float(self._temp_air[i]))
+            self._rows[i] = self._model.natural_law(film, self._flow)
+        return self._rows[i]
+
+    def at(self, t: float) -> np.ndarray:
+        """The law's natural part of all the group's faces at ``t``, linear in time between
+        table times (the value of the last ``t`` asked is kept: every patch asks it)."""
+        if self._last[0] != t:
+            i, j, w = self._table.weights(t)
+            value = (self._at_row(i) if w == 0.0
+                     else (1.0 - w) * self._at_row(i) + w * self._at_row(j))
+            value.flags.writeable = False   # shared by the patches' views
+            self._last = (t, value)
+        return self._last[1]
+
+    def patch(self, name: str):
+        """``f(t)``: the natural part of one patch's faces (a view of :meth:`at`)."""
+        cols = self._slices[name]
+        return lambda t: self.at(t)[cols]
