@@ -129,6 +129,24 @@ def case_files(folder) -> list:
     return [json.loads(p.read_text()) for p in sorted(Path(folder, "cases").glob("*.json"))]
 
 
+def case_means(cases: list) -> str:
+    """Mean wall, CPU, thermal and imaging time of ``cases`` (case files) without each
+    process's slowest case (its first: imports, cached kernels, the port background), as
+    text."""
+    slowest = {}
+    for c in cases:
+        w = str(c.get("worker", ""))
+        if w not in slowest or c["seconds"] > slowest[w]["seconds"]:
+            slowest[w] = c
+    rest = [c for c in cases if all(c is not f for f in slowest.values())]
+
+    def mean(get):
+        return float(np.mean([float(get(c)) for c in rest])) if rest else float("nan")
+    return (f"{mean(lambda c: c['seconds']):.2f} s wall, {mean(lambda c: c['cpu_s']):.2f} s "
+            f"CPU (thermal {mean(lambda c: c['values'].get('thermal_s', 0.0)):.2f} s, imaging "
+            f"{mean(lambda c: c['values'].get('imaging_s', 0.0)):.2f} s)")
+
+
 def describe(name: str, folder, table: pd.DataFrame, wall: float) -> None:
     cases = case_files(folder)
     cpu = pd.to_numeric(table["cpu_s"]).to_numpy()
@@ -214,8 +232,13 @@ def main() -> None:
 
         print(f"split ({workers} plain processes, no scheduler), {load()}", flush=True)
         walls = split_walls(path, tmp, workers)
-        print(f"  split: process walls " + ", ".join(f"{w:.1f} s" for w in walls)
+        print("  split: process walls " + ", ".join(f"{w:.1f} s" for w in walls)
               + f"; workload ceiling serial / slowest = {t_ser / max(walls):.2f}x", flush=True)
+        split_cases = [c for k in range(workers)
+                       for c in case_files(os.path.join(tmp, f"split{k}"))]
+        print("  per case, each process's slowest left out: split "
+              + case_means(split_cases) + "; dask "
+              + case_means(case_files(os.path.join(tmp, "dask"))), flush=True)
 
         drop = ["seconds", "cpu_s", "thermal_s", "imaging_s", "worker"]
         a = par.table.drop(columns=[c for c in drop if c in par.table])
