@@ -375,8 +375,9 @@ def local_cluster(n_workers: int, threads: int = CASE_THREADS):
     monitors woken less often (:data:`WORKER_MONITORS`; a case's CPU time in each worker of
     a two-worker cluster, six patrol-boat cases, two paired runs: 3.99 → 3.68 s and 3.75 →
     3.57 s; the memory limit is still enforced, up to a second later), and without the
-    ``MALLOC_TRIM_THRESHOLD_`` that dask's nanny sets by default: setting it switches off glibc's adaptive mmap
-    threshold, so every large temporary array became a fresh mmap, zeroed page by page.
+    ``MALLOC_TRIM_THRESHOLD_`` that dask's nanny sets by default: setting it switches off
+    glibc's adaptive mmap threshold, so every large temporary array became a fresh mmap,
+    zeroed page by page.
     That doubled the CPU time of a case's imaging stage (9.4 s instead of 4.0 s, 5.5 s of
     it in the kernel, 2.3 million page faults instead of a hundred: measured on the
     patrol boat at 3 m edges).
