@@ -176,8 +176,7 @@ class ThermalModel:
         f = self._fill(t, check=False)
         if plausible(f):
             return f
-        checked = self._fill(t, check=True)   # raises, naming the bad value
-        return checked
+        return self._fill(t, check=True)   # raises, naming the bad value
 
     def _fill(self, t: float, check: bool) -> FaceForcing:
         f = FaceForcing.zeros(self.graph.n_bfaces)

@@ -229,6 +229,16 @@ class ShipForcing:
         pos[air.cols] = np.arange(len(air.cols))
         return pos[self.patches[patch].cols]
 
+    def _still_air_flow(self, pos) -> conv.ExteriorFlow:
+        """The flow of the air faces at positions ``pos`` without wind (the law's natural
+        part and its other terms need only their geometry)."""
+        air = self.air_faces
+        return conv.ExteriorFlow(normal_z=air.normals[pos, 2], wind_speed=0.0,
+                                 length_flow=1.0, length_vertical=air.lengths.vertical[pos],
+                                 length_horizontal=air.lengths.horizontal[pos],
+                                 perimeter_over_area=air.convection.perimeter_over_area[pos],
+                                 roughness=air.convection.roughness[pos])
+
     @functools.cached_property
     def _natural_groups(self) -> dict:
         """Film-dependent model name → its :class:`_NaturalRows` over the air patches that
@@ -254,12 +264,8 @@ class ShipForcing:
         air = self.air_faces
         pos = self._air_positions(patch)
         model = air.convection.models[air.convection.model_index[pos[0]]]
-        nz = air.normals[pos, 2]
-        flow = conv.ExteriorFlow(normal_z=nz, wind_speed=0.0,
-                                 length_flow=1.0, length_vertical=air.lengths.vertical[pos],
-                                 length_horizontal=air.lengths.horizontal[pos],
-                                 perimeter_over_area=air.convection.perimeter_over_area[pos],
-                                 roughness=air.convection.roughness[pos])
+        flow = self._still_air_flow(pos)
+        nz = flow.normal_z
         if model.film_dependent:
             natural = self._natural_groups[model.name].patch(patch)
         else:
@@ -396,19 +402,12 @@ class _NaturalRows:
     _KEEP_ROWS = 4
 
     def __init__(self, forcing: ShipForcing, model, patches: list):
-        air = forcing.air_faces
         pos = [forcing._air_positions(name) for name in patches]
         bounds = np.cumsum([0] + [len(q) for q in pos])
         self._slices = {name: slice(int(a), int(b))
                         for name, a, b in zip(patches, bounds[:-1], bounds[1:])}
-        pos = np.concatenate(pos)
         self._model = model
-        self._flow = conv.ExteriorFlow(
-            normal_z=air.normals[pos, 2], wind_speed=0.0, length_flow=1.0,
-            length_vertical=air.lengths.vertical[pos],
-            length_horizontal=air.lengths.horizontal[pos],
-            perimeter_over_area=air.convection.perimeter_over_area[pos],
-            roughness=air.convection.roughness[pos])
+        self._flow = forcing._still_air_flow(np.concatenate(pos))
         # the estimate's columns of every patch, in this group's face order
         self._est = [forcing._est[name] for name in patches]
         self._table, self._temp_air = forcing.table, forcing.temp_air

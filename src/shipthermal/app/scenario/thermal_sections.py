@@ -29,14 +29,16 @@ class SolverSettings:
                              unit="s", lo=0.0, hi=3600.0, lo_open=True)
     scheme: str = _opt("bdf2", "choice", "Time integration scheme",
                        choices=("backward_euler", "crank_nicolson", "bdf2"))
-    spinup_tolerance: float = _opt(SPINUP_TOLERANCE, "float", "Spin-up stops when no cell temperature "
-                                   "changes more than this over a day (end vs start)", unit="K",
-                                   lo=0.0, hi=10.0, lo_open=True)
-    spinup_max_days: int = _opt(SPINUP_MAX_DAYS, "int", "Most days of spin-up before giving up (reported)",
+    spinup_tolerance: float = _opt(SPINUP_TOLERANCE, "float", "Spin-up stops when no cell "
+                                   "temperature changes more than this over a day (end vs "
+                                   "start)", unit="K", lo=0.0, hi=10.0, lo_open=True)
+    spinup_max_days: int = _opt(SPINUP_MAX_DAYS, "int",
+                                "Most days of spin-up before giving up (reported)",
                                 lo=1, hi=100)
-    rays_per_face: int = _opt(VIEW_RAYS_PER_FACE, "int", "Hemisphere rays per face for view factors",
-                              lo=1, hi=65536)
-    samples_per_face: int = _opt(SUN_SAMPLES_PER_FACE, "int", "Sample points per face for the sun-lit fraction",
+    rays_per_face: int = _opt(VIEW_RAYS_PER_FACE, "int",
+                              "Hemisphere rays per face for view factors", lo=1, hi=65536)
+    samples_per_face: int = _opt(SUN_SAMPLES_PER_FACE, "int",
+                                 "Sample points per face for the sun-lit fraction",
                                  lo=1, hi=4096)
     seed: int = _opt(0, "int", "Seed of all Monte-Carlo sampling (runs are reproducible)",
                      lo=0, hi=2 ** 32 - 1)
