@@ -378,17 +378,18 @@ def _worker_environment():
 def test_local_cluster_workers_start_pinned_with_adaptive_malloc():
     """A sweep's LocalCluster workers start with one-thread pools and without the malloc
     trim threshold dask's nanny sets by default (it turned every large temporary array
-    into page faults), and without the profiler."""
+    into page faults), and without the profiler; the environment of this process is left
+    as it was (dask's nanny sets its pre-spawn variables in it)."""
     from dask.distributed import Client
 
     from shipthermal.app.sweep import local_cluster
 
-    here = {k: os.environ.get(k) for k in ("NUMBA_NUM_THREADS", "OMP_NUM_THREADS")}
+    here = dict(os.environ)
     with local_cluster(2, threads=1) as cluster, Client(cluster) as c:
         found = list(c.run(_worker_environment).values())
-    # ... while this process keeps its own (numba refuses to compile once its thread count
-    # and NUMBA_NUM_THREADS disagree)
-    assert {k: os.environ.get(k) for k in here} == here
+    # ... while this process keeps its own environment (numba refuses to compile once its
+    # thread count and NUMBA_NUM_THREADS disagree; later child processes inherit it)
+    assert dict(os.environ) == here
     assert len(found) == 2
     for env, profile in found:
         assert env == {"MALLOC_TRIM_THRESHOLD_": None, "NUMBA_NUM_THREADS": "1",

@@ -387,16 +387,27 @@ def local_cluster(n_workers: int, threads: int = CASE_THREADS):
     from dask.distributed import LocalCluster
 
     # Pre-spawn variables are set in this process too (dask's nanny docs: "poisoning the
-    # process running the Nanny"); only the malloc setting needs that. The thread pools are
-    # sized through the worker's own environment, set before it imports numba: a
-    # NUMBA_NUM_THREADS left in this process would make numba refuse to compile here later.
-    with dask.config.set({"distributed.worker.profile.enabled": False,
-                          "distributed.admin.tick.interval": WORKER_TICK,
-                          "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
-                          **WORKER_MONITORS}):
-        return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                            dashboard_address=None, silence_logs=40,
-                            env={k: str(threads) for k in _PIN_ENV})
+    # process running the Nanny": dask's defaults add OMP_NUM_THREADS=1 and others, which
+    # later child processes of this one would inherit); only the malloc setting needs that
+    # (glibc reads it when a process starts), so this process gets its own environment
+    # back once the workers are up (a nanny restarting a lost worker sets them again).
+    # The thread pools are sized through the worker's own environment, set before it
+    # imports numba: a NUMBA_NUM_THREADS left in this process would make numba refuse to
+    # compile here later.
+    before = dict(os.environ)
+    try:
+        with dask.config.set({"distributed.worker.profile.enabled": False,
+                              "distributed.admin.tick.interval": WORKER_TICK,
+                              "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_":
+                                  None,
+                              **WORKER_MONITORS}):
+            return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
+                                dashboard_address=None, silence_logs=40,
+                                env={k: str(threads) for k in _PIN_ENV})
+    finally:
+        for k in set(os.environ) - set(before):
+            del os.environ[k]
+        os.environ.update({k: v for k, v in before.items() if os.environ.get(k) != v})
 
 
 class _RetryLog:
