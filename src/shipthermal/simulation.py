@@ -238,6 +238,8 @@ class Simulation:
         self._column_break = None
         self._column_bounds = None
         self._aggregates = None    # column groups of the preconditioner (see _aggregates)
+        # (checkpoint path, its record files, whether the records still continue them)
+        self._record_files = (None, None, False)
         if self.backend == "column":
             cf = self.graph.metadata["cell_face"]
             self._column_break = cf[1:] != cf[:-1]
@@ -709,6 +711,8 @@ class Simulation:
         """Forget recorded outputs and the energy log (e.g. after a spin-up)."""
         st = self._state
         st.recorded_times, st.recorded_cell, st.recorded_face, st.recorded_flow = [], [], [], []
+        # the next checkpoint starts a fresh list of record files
+        self._record_files = self._record_files[:2] + (False,)
         st.energy = {k: [] for k in EnergyLog.FIELDS}
 
     def record_now(self) -> None:
@@ -737,14 +741,19 @@ class Simulation:
         """
         # the preconditioner's column groups go along, so that a resumed run solves with the
         # very same ones (found from the first Jacobian of the run)
-        return write_checkpoint(path, self._state, self._dt_now, self._signature(),
-                                self._aggregates, extra)
+        path = Path(path)
+        last = self._record_files if self._record_files[0] == path else (None, None, False)
+        files = write_checkpoint(path, self._state, self._dt_now, self._signature(),
+                                 self._aggregates, extra, records=last[1], continued=last[2])
+        self._record_files = (path, files, True)
+        return path
 
     def load_checkpoint(self, path) -> dict:
         """Continue from a checkpoint written by :meth:`save_checkpoint` of the same setup;
         returns its ``extra`` arrays."""
-        st, dt_now, groups, extra = read_checkpoint(path, self._signature(), self.dt,
-                                                    self.start_time)
+        st, dt_now, groups, extra, files = read_checkpoint(path, self._signature(), self.dt,
+                                                           self.start_time)
+        self._record_files = (Path(path), files, True)
         if groups is not None:
             self._aggregates = groups
         self._state = st

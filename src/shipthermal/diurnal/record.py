@@ -34,6 +34,7 @@ from tqdm.auto import tqdm
 
 from .. import geometry
 from .._threads import numba_threads
+from ..checkpoint import remove_checkpoint
 from ..errors import require
 from ..parameters import RECORD_SEGMENT_WARM_DAYS
 from ..record_stream import RecordFile, RecordParts, assemble, in_sample, sample_days
@@ -523,7 +524,7 @@ def _save_checkpoint(rec: RecordRun, spun: SpunUp, d1: int) -> None:
     extra.update({f"spin_energy_{k}": getattr(spun.energy, k) for k in EnergyLog.FIELDS})
     rec.sim.save_checkpoint(rec.ckpt, extra=extra)
     if rec.spin_ckpt is not None and rec.spin_ckpt.exists():
-        rec.spin_ckpt.unlink()
+        remove_checkpoint(rec.spin_ckpt)
 
 
 def assemble_record(rec: RecordRun, work_dir, temporary: bool) -> RecordFile:
