@@ -213,6 +213,27 @@ def test_convection_coefficients(boat, env, day):
     assert g.summary().loc["deck", "h_mean"] > f.summary().loc["deck", "h_mean"] + 2.0
 
 
+def test_summary_means_are_those_of_the_patches_coefficients(boat):
+    """The summary's outer convection mean of a part: the area mean of every air patch's
+    coefficient at every table time, averaged over the day (trapezoid, wrapped), each
+    patch's coefficients asked on their own, patch after patch."""
+    _, _, f = boat
+    df = f.summary()
+    A = f.traced.areas
+    for part in df.index:
+        air = [p for p in f.patches.values() if p.part == part and p.kind == "air"]
+        if not air:
+            continue
+        aa = A[np.concatenate([p.cols for p in air])]
+        hh = np.concatenate([np.stack([f.convection_coefficient(p.name, t) for t in f.times])
+                             for p in air], axis=1)
+        mean_t = hh @ aa / aa.sum()
+        y = np.r_[mean_t, mean_t[:1]]
+        t = np.r_[f.times, f.times[0] + 86400.0]
+        expect = np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(t)) / 86400.0
+        assert df.loc[part, "h_mean"] == pytest.approx(expect, rel=1e-14), part
+
+
 def test_quasi_steady_surface_temperature_solves_the_balance():
     # independent root finder (scipy brentq) on the same balance, face by face
     rng = np.random.default_rng(2)
