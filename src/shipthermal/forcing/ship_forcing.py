@@ -278,7 +278,12 @@ class ShipForcing:
     def convection_coefficient(self, patch: str, t: float, temp_surface=None) -> np.ndarray:
         """The coefficient of an air patch's faces at ``t`` [W m-2 K-1]: the law at
         ``temp_surface`` [K] (default the quasi-steady estimate)."""
-        law = self.convection_law(patch)
+        return self._coefficient(patch, self.convection_law(patch), t, temp_surface)
+
+    def _coefficient(self, patch: str, law: ConvectionLaw, t: float,
+                     temp_surface=None) -> np.ndarray:
+        """:meth:`convection_coefficient` with the patch's law given (building it
+        evaluates the model's law at 300 K: not once per time of a series)."""
         nat = law.natural(t) if callable(law.natural) else law.natural
         ts = self.table(self._est[patch], t) if temp_surface is None else temp_surface
         return law_h(self.table(self._h[patch], t),
@@ -340,10 +345,12 @@ class ShipForcing:
                 air = [p for p in outer if p.kind == "air"]
                 if air:
                     sw = np.concatenate([self._sw[p.name] for p in air], axis=1).astype(float)
-                    # table time after table time, all of the part's patches at each:
-                    # the natural law's rows are then computed once per time, not once per
-                    # patch and time (5.4 s of writing the frigate's day at 0.5 m)
-                    hh = np.stack([np.concatenate([self.convection_coefficient(p.name, t)
+                    # each patch's law built once (not per table time), the times in
+                    # turn, all of the part's patches at each: the natural law's rows are
+                    # then computed once per time (5.4 s of writing the frigate's day at
+                    # 0.5 m under the profiler, most of it building the laws)
+                    laws = {p.name: self.convection_law(p.name) for p in air}
+                    hh = np.stack([np.concatenate([self._coefficient(p.name, laws[p.name], t)
                                                    for p in air]) for t in self.times])
                     ca = np.concatenate([p.cols for p in air])
                     aa = A[ca]
