@@ -98,6 +98,27 @@ def test_brightness_temperature_inverts_band_radiance(band):
     assert np.max(np.abs(back - temps)) < 1e-9
 
 
+def test_radiance_and_its_derivative_in_one_pass_are_the_separate_ones():
+    from shipthermal.optics.planck import _band_sum_and_dt
+
+    for band in ("3-5", "8-14"):
+        lum, dlum = _band_sum_and_dt(TEMPS, band, 8, PLANCK_C1, PLANCK_C2)
+        np.testing.assert_allclose(lum, rad.band_radiance(TEMPS, band), rtol=1e-14)
+        np.testing.assert_allclose(dlum, rad.band_radiance_dt(TEMPS, band), rtol=1e-14)
+
+
+def test_brightness_temperature_stops_at_round_off():
+    """The Newton steps stop once none exceeds 1e-9 K: the temperatures are then exact to
+    round-off also through a measured response (the Landsat 8 band 10 table, 800
+    quadrature nodes)."""
+    from imaging.instruments import instrument
+
+    resp = instrument("landsat8_tirs").band("landsat8_tirs_b10").response
+    temps = np.linspace(200.0, 350.0, 151)
+    back = rad.brightness_temperature(rad.band_radiance(temps, resp), resp)
+    assert np.max(np.abs(back - temps)) < 1e-11
+
+
 def test_brightness_temperature_of_grey_body_is_lower():
     t = 300.0
     tb = rad.brightness_temperature(0.9 * rad.band_radiance(t, "8-14"), "8-14")
