@@ -16,11 +16,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from .atomic import atomic_path
 
 __all__ = ["OKABE_ITO", "CLASS_COLOURS", "BAND_STYLES", "LINE_STYLES", "PART_LINE_STYLES",
            "MIN_CVD_DELTA_E", "unit_label", "band_label", "FigureOptions", "save_figure",
-           "VECTOR_FORMATS", "add_scale_bar"]
+           "VECTOR_FORMATS", "add_scale_bar", "polygon_index_raster"]
 
 #: The Okabe–Ito palette (SOURCED: Okabe & Ito 2008)
 OKABE_ITO = {"black": "#000000", "orange": "#E69F00", "sky_blue": "#56B4E9",
@@ -135,3 +137,25 @@ def add_scale_bar(ax, width_km: float, colour: str = "white") -> None:
     ax.add_artist(AnchoredSizeBar(ax.transData, length, label, "lower right", pad=0.3,
                                   color=colour, frameon=False, size_vertical=0.0,
                                   fontproperties={"size": 7}))
+
+
+def polygon_index_raster(fig, ax, coll) -> np.ndarray:
+    """The index (in ``coll``'s order) of the polygon drawn at each pixel of ``ax``, -1
+    where none is: the figure drawn once with the polygons in colours that encode their
+    index (24 bits, without antialiasing, so every pixel holds one polygon's exact
+    colour), read back from the canvas inside the axes."""
+    n = len(coll.get_paths())
+    code = np.arange(1, n + 1)
+    coll.set_array(None)
+    coll.set_facecolor(np.stack([(code >> 16) & 255, (code >> 8) & 255, code & 255],
+                                axis=1) / 255.0)
+    fig.canvas.draw()
+    rgb = np.asarray(fig.canvas.buffer_rgba())[..., :3].astype(np.int64)
+    x0, y0, x1, y1 = ax.get_window_extent().extents
+    height = rgb.shape[0]
+    rows = slice(int(round(height - y1)), int(round(height - y0)))
+    cols = slice(int(round(x0)), int(round(x1)))
+    rgb = rgb[rows, cols]
+    index = (rgb[..., 0] << 16) + (rgb[..., 1] << 8) + rgb[..., 2] - 1
+    # the figure's white background decodes past the last polygon
+    return np.where(index < n, index, -1)

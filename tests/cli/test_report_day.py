@@ -206,3 +206,69 @@ def test_the_slow_day_night_swing_of_the_spread_is_not_a_collapse(tmp_path):
     std[100] /= 3.0
     m["std_background"], m["scr"] = std, 1.0 / std
     assert [r["time_h"] for r in _collapsed_spread(m)] == [pytest.approx(t[100])]
+
+
+def test_surface_frames_are_the_triangles_drawn_frame_by_frame(tmp_path):
+    """The slider's frames (one picture of triangle indices, coloured per frame) show what
+    drawing every triangle for every frame showed: a faceted sphere whose temperatures
+    move round it over the day, compared pixel by pixel with a direct PolyCollection
+    drawing of the same figure."""
+    import base64
+    import io
+
+    import matplotlib
+    import trimesh
+    from matplotlib.collections import PolyCollection
+    from PIL import Image
+
+    from imaging.thermal_history import ShipThermalHistory
+    from shipthermal.app.pipeline import save_history
+    from shipthermal.app.report_day import _surface_frames
+    from shipthermal.geometry.surface_maps import OBLIQUE_VIEW_DEG, project
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    mesh = trimesh.creation.icosphere(subdivisions=3, radius=5.0)
+    v, f = mesh.vertices + [0.0, 0.0, 6.0], mesh.faces
+    times = np.arange(0.0, 86400.0 + 1.0, 3600.0)
+    centre = mesh.triangles_center
+    temp = 290.0 + 20.0 * np.cos(np.arctan2(centre[:, 1], centre[:, 0])[None, :]
+                                 - 2 * np.pi * times[:, None] / 86400.0)
+    save_history(ShipThermalHistory(v, f, np.zeros(len(f), int), ("hull",), times, temp,
+                                    label="sphere"), tmp_path / "history.npz")
+    hours = (6.0, 12.0)
+    uris, _ = _surface_frames(tmp_path, "sphere", hours)
+
+    def pixels(data):
+        return np.asarray(Image.open(io.BytesIO(data)).convert("RGB")).astype(int)
+
+    got = [pixels(base64.b64decode(u.split(",", 1)[1])) for u in uris]
+    assert np.mean(np.abs(got[0] - got[1]).max(axis=-1) > 30) > 0.05   # the day moves
+    # the reference: every triangle drawn for the frame (the same figure otherwise)
+    vmin, vmax = np.nanpercentile(temp[[6, 12]], [0.5, 99.5])
+    u, w, depth = project(v, *OBLIQUE_VIEW_DEG)
+    order = np.argsort(depth[f].mean(axis=1))
+    for k, hour in enumerate(hours):
+        fig, ax = plt.subplots(figsize=(5.2, 2.6), dpi=80)
+        coll = PolyCollection(np.stack([u[f], w[f]], axis=-1)[order], cmap="inferno",
+                              edgecolors="none", antialiaseds=False)
+        coll.set_clim(vmin, vmax)
+        coll.set_array(temp[int(hour)][order])
+        ax.add_collection(coll)
+        ax.set_xlim(u.min() - 1, u.max() + 1)
+        ax.set_ylim(w.min() - 1, w.max() + 1)
+        ax.set_aspect("equal")
+        ax.axis("off")
+        cb = fig.colorbar(coll, ax=ax, shrink=0.8, pad=0.01)
+        cb.set_label("outer-surface temperature [K]", fontsize=7)
+        cb.ax.tick_params(labelsize=6)
+        ax.set_title(f"sphere, {int(hour):02d}:00 local", fontsize=8)
+        buf = io.BytesIO()
+        fig.savefig(buf, format="png")
+        plt.close(fig)
+        ref = pixels(buf.getvalue())
+        assert ref.shape == got[k].shape
+        diff = np.abs(ref - got[k]).max(axis=-1)
+        # colour rounding (a level or two) everywhere; another triangle nowhere
+        assert np.mean(diff > 12) < 2e-3, (hour, np.mean(diff > 12))

@@ -42,7 +42,7 @@ from imaging.metrics import background_window
 from imaging.parameters import SENSOR_BANDS
 from shipthermal.optics.planck import brightness_temperature
 
-from ..figures import BAND_STYLES, OKABE_ITO, band_label, unit_label
+from ..figures import BAND_STYLES, OKABE_ITO, band_label, polygon_index_raster, unit_label
 from ..geometry.surface_maps import OBLIQUE_VIEW_DEG, project
 from ..units import latitude_text, longitude_text, strip_units, zone_text
 from .pipeline import history_file, load_history
@@ -527,7 +527,13 @@ def _image_frames(nc: Path, band: str, hours=SLIDER_HOURS):
 
 def _surface_frames(case_dir: Path, title: str, hours=SLIDER_HOURS, zone: str = ""):
     """(PNG data URIs per slider time ``hours``, caption) of the ship coloured by its surface
-    temperature, one colour scale over the day (a weather record's first day)."""
+    temperature, one colour scale over the day (a weather record's first day).
+
+    The triangles are drawn once, each in a colour that encodes its index; every frame is
+    then that picture of indices coloured by the frame's temperatures, shown as an image in
+    the same axes (:func:`~shipthermal.figures.polygon_index_raster`). The 25 frames of
+    the default ship (60,000 triangles): 1.7 s, against 3.3 s drawing every triangle for
+    every frame."""
     # lazy: matplotlib takes most of a second to import (measured)
     import matplotlib
 
@@ -557,9 +563,16 @@ def _surface_frames(case_dir: Path, title: str, hours=SLIDER_HOURS, zone: str = 
     cb.set_label("outer-surface temperature [K]", fontsize=7)
     cb.ax.tick_params(labelsize=6)
     ttl = ax.set_title("", fontsize=8)
+    shown = polygon_index_raster(fig, ax, coll)         # triangle (in ``order``) per pixel
+    coll.set_visible(False)
+    image = ax.imshow(np.zeros(shown.shape + (4,)), extent=(*ax.get_xlim(), *ax.get_ylim()),
+                      interpolation="nearest", origin="upper")
+    hit = shown >= 0
     uris = []
     for hr, k in zip(hours, ks):
-        coll.set_array(temp[k][order])
+        rgba = np.zeros(shown.shape + (4,))
+        rgba[hit] = coll.to_rgba(temp[k][order][shown[hit]])
+        image.set_data(rgba)
         ttl.set_text(f"{title}, {_hhmm(th[k] % 24 if th[k] < 24 - 1e-9 else th[k])} local"
                      + (f" ({zone})" if zone else ""))
         buf = io.BytesIO()
