@@ -201,6 +201,31 @@ def test_checkpoints_write_each_record_once_and_resume_from_any(tmp_path, monkey
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_checkpoint_holding_its_records_itself_still_resumes(tmp_path):
+    """Checkpoints written before the records had files of their own held them inline
+    (``rec_times``, ``rec_cell``, ``rec_face``, ``rec_flow``): they resume as before."""
+    kw = dict(scheme="bdf2", output_interval=3600.0)
+    sim = Simulation(_model(), 300.0, 86400.0, **kw)
+    sim.run_until(5 * 3600.0)
+    path = sim.save_checkpoint(tmp_path / "ck.npz")
+    res = sim.results()
+    with np.load(path) as d:
+        arrays = {k: d[k] for k in d.files if not k.startswith("records_")}
+    arrays.update(rec_times=res.times, rec_cell=res.cell_temperature,
+                  rec_face=res.face_temperature, rec_flow=res.face_flow)
+    old = tmp_path / "old.npz"
+    np.savez(old, **arrays)
+    again = Simulation(_model(), 300.0, 86400.0, **kw)
+    again.load_checkpoint(old)
+    np.testing.assert_array_equal(again.results().cell_temperature, res.cell_temperature)
+    np.testing.assert_array_equal(again.results().times, res.times)
+    # its next checkpoint starts a list of record files with all of them
+    again.run_until(6 * 3600.0)
+    again.save_checkpoint(old)
+    with np.load(old) as d:
+        assert [int(c) for c in d["records_counts"]] == [7]
+
+
 # --------------------------------------------------------------- outputs --------------------
 def test_vtu_and_vtkhdf_read_back(tmp_path):
     import pyvista as pv
