@@ -194,9 +194,9 @@ def remove_checkpoint(path) -> None:
 
 def read_checkpoint(path, signature: np.ndarray, dt: float, start_time: float):
     """``(state, next step length, column groups or None, extra arrays, record files or
-    None)`` of a checkpoint
-    written for the setup ``signature`` (another setup's is refused); ``dt`` and
-    ``start_time`` stand in for what older checkpoints did not store."""
+    None)`` of a checkpoint written for the setup ``signature`` (another setup's is
+    refused); ``dt`` and ``start_time`` stand in for what older checkpoints did not
+    store."""
     groups = None
     with np.load(path) as d:
         if not np.allclose(d["signature"], signature):

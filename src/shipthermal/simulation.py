@@ -736,6 +736,11 @@ class Simulation:
     def save_checkpoint(self, path, extra: dict | None = None) -> Path:
         """Write the full state (and what was recorded) to ``path`` (.npz), atomically.
 
+        What was recorded goes into ``<path>.records/`` beside it, each record once: a
+        checkpoint adds the records taken since the last one written to the same path
+        (:mod:`shipthermal.checkpoint`; remove both with
+        :func:`~shipthermal.checkpoint.remove_checkpoint`).
+
         ``extra``: arrays of a caller's own bookkeeping (e.g. a spin-up's day counter),
         stored under ``extra_<name>`` and returned by :meth:`load_checkpoint`.
         """

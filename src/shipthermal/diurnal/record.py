@@ -523,7 +523,7 @@ def _save_checkpoint(rec: RecordRun, spun: SpunUp, d1: int) -> None:
                   if not k.startswith("record_")}, default=float)}
     extra.update({f"spin_energy_{k}": getattr(spun.energy, k) for k in EnergyLog.FIELDS})
     rec.sim.save_checkpoint(rec.ckpt, extra=extra)
-    if rec.spin_ckpt is not None and rec.spin_ckpt.exists():
+    if rec.spin_ckpt is not None:
         remove_checkpoint(rec.spin_ckpt)
 
 

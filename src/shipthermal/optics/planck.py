@@ -239,11 +239,57 @@ def band_radiance_rectangular_exact(temp, low_um, high_um,
 
 BRIGHTNESS_NEWTON_STEP_K = 1e-9
 """Newton step of :func:`brightness_temperature` below which it stops [K]: the error
-after a step is about ``(L''/2L') step²`` (L''/L' < 0.1 K⁻¹ above 40 K), far below the
+after a step is about ``(L''/2L') step²``, and ``L''/L' ≈ (x − 2)/T`` with ``x = c2/(λT)``
+(0.03 K⁻¹ at 4 um and 300 K, 2.2 K⁻¹ at 4 um and 40 K): at most ~1e-18 K, far below the
 round-off of the band sum. Measured on 200,000 pixels at 270–320 K: 1.1e-13 K from the
 true temperature in the Landsat 8 band 10 response (800 quadrature nodes; 5.7e-14 K with
 six steps), 5.7e-14 K in 8–14 um; 5.7× and 2.5× faster than six steps of separate radiance
 and derivative passes."""
+
+
+def brightness_temperature(radiance, band="8-14", nodes_per_segment: int = 8,
+                           c1: float = PLANCK_C1, c2: float = PLANCK_C2, iterations: int = 6):
+    """Invert :func:`band_radiance`: the blackbody temperature giving ``radiance``.
+
+    Parameters
+    ----------
+    radiance : array_like
+        Band radiance [W m-2 sr-1], > 0.
+    band : str or SpectralResponse
+        The band the radiance belongs to.
+    nodes_per_segment : int
+        Quadrature nodes, as in :func:`band_radiance` [-].
+    c1, c2 : float
+        Radiation constants [W um4 m-2 sr-1], [um K].
+    iterations : int
+        Newton steps after the tabulated first guess, at most [-]; 6 reach round-off
+        (tested). They stop once no step exceeded :data:`BRIGHTNESS_NEWTON_STEP_K` (the
+        error after such a step is of the order of its square: round-off).
+
+    Returns
+    -------
+    numpy.ndarray
+        Brightness temperature [K].
+
+    Notes
+    -----
+    First guess: linear interpolation in ``log L`` on a 40-1500 K table (log L is nearly
+    linear in 1/T, so the guess is within ~1 K); then Newton on ``L(T) - radiance``, the
+    radiance and its derivative from one pass over the quadrature nodes.
+    """
+    lum = np.asarray(radiance, dtype=float)
+    check_positive("radiance", lum, "W m-2 sr-1")
+    t_grid = 1.0 / np.linspace(1 / 40.0, 1 / 1500.0, 400)
+    l_grid = band_radiance(t_grid, band, nodes_per_segment, c1, c2)
+    ok = l_grid > 0
+    temp = 1.0 / np.interp(np.log(lum), np.log(l_grid[ok]), 1.0 / t_grid[ok])
+    for _ in range(iterations):
+        value, slope = _band_sum_and_dt(temp, band, nodes_per_segment, c1, c2)
+        step = (value - lum) / slope
+        temp = temp - step
+        if not np.any(np.abs(step) > BRIGHTNESS_NEWTON_STEP_K):
+            break
+    return temp
 
 
 @dataclass(frozen=True)
@@ -307,49 +353,3 @@ def band_radiance_table(band="8-14", temp_min: float = 150.0, temp_max: float = 
     exact = band_radiance(probe, band, nodes_per_segment, c1, c2)
     err = float(np.max(np.abs(table(probe) / exact - 1.0)))
     return BandRadianceTable(t, lum, dl, err)
-
-
-def brightness_temperature(radiance, band="8-14", nodes_per_segment: int = 8,
-                           c1: float = PLANCK_C1, c2: float = PLANCK_C2, iterations: int = 6):
-    """Invert :func:`band_radiance`: the blackbody temperature giving ``radiance``.
-
-    Parameters
-    ----------
-    radiance : array_like
-        Band radiance [W m-2 sr-1], > 0.
-    band : str or SpectralResponse
-        The band the radiance belongs to.
-    nodes_per_segment : int
-        Quadrature nodes, as in :func:`band_radiance` [-].
-    c1, c2 : float
-        Radiation constants [W um4 m-2 sr-1], [um K].
-    iterations : int
-        Newton steps after the tabulated first guess, at most [-]; 6 reach round-off
-        (tested). They stop once no step exceeded :data:`BRIGHTNESS_NEWTON_STEP_K` (the
-        error after such a step is of the order of its square: round-off).
-
-    Returns
-    -------
-    numpy.ndarray
-        Brightness temperature [K].
-
-    Notes
-    -----
-    First guess: linear interpolation in ``log L`` on a 40-1500 K table (log L is nearly
-    linear in 1/T, so the guess is within ~1 K); then Newton on ``L(T) - radiance``, the
-    radiance and its derivative from one pass over the quadrature nodes.
-    """
-    lum = np.asarray(radiance, dtype=float)
-    check_positive("radiance", lum, "W m-2 sr-1")
-    t_grid = 1.0 / np.linspace(1 / 40.0, 1 / 1500.0, 400)
-    l_grid = band_radiance(t_grid, band, nodes_per_segment, c1, c2)
-    ok = l_grid > 0
-    temp = 1.0 / np.interp(np.log(lum), np.log(l_grid[ok]), 1.0 / t_grid[ok])
-    for _ in range(iterations):
-        value, slope = _band_sum_and_dt(temp, band, nodes_per_segment, c1, c2)
-        step = (value - lum) / slope
-        temp = temp - step
-        if not np.any(np.abs(step) > BRIGHTNESS_NEWTON_STEP_K):
-            break
-    return temp
-
