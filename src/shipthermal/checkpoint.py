@@ -8,10 +8,10 @@ the setup (step, start, scheme, mesh size: a checkpoint of another setup is refu
 caller's own arrays (``extra_<name>``) and the list of its record files.
 
 What was recorded since the records were last cleared (every cell and face at every output
-time: 2.9 MB a record of the frigate at 0.5 m) lives in files of its own beside it, in the
+time: 3.5 MB a record of the frigate at 0.5 m) lives in files of its own beside it, in the
 folder ``<checkpoint name>.records/``: each checkpoint writes only the records taken since
 the one before (:class:`RecordFiles`). Rewritten whole every time, an hourly checkpoint of
-that ship's day wrote 4.8 GB and took 5.6 s of a 30 s run. The files a checkpoint lists are
+that ship's day wrote 5.9 GB and took 5.6 s of a 30 s run. The files a checkpoint lists are
 never replaced (each list of records has its own random token in the names), so a run
 killed at any moment leaves a checkpoint whose record files are complete; the files of an
 earlier list go once a checkpoint no longer names them.

@@ -132,7 +132,7 @@ def test_checkpoint_resume_reproduces_uninterrupted_run(tmp_path, scheme):
 
 def test_checkpoints_write_each_record_once_and_resume_from_any(tmp_path, monkeypatch):
     """Each checkpoint writes only the records taken since the one before (a day's hourly
-    checkpoints rewrote the whole day so far: 4.8 GB for the frigate at 0.5 m); a resume
+    checkpoints rewrote the whole day so far: 5.9 GB for the frigate at 0.5 m); a resume
     reads them all back in order; after the records are cleared a fresh list starts and
     the old files go once the new checkpoint is in place; a checkpoint whose write failed
     leaves the one before readable with its files; removal takes the files along."""
