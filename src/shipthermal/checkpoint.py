@@ -58,6 +58,10 @@ class SolverState:
     energy: dict = field(default_factory=lambda: {k: [] for k in EnergyLog.FIELDS})
 
 
+_RECORDS = {"rec_times": "recorded_times", "rec_cell": "recorded_cell",
+            "rec_face": "recorded_face", "rec_flow": "recorded_flow"}
+"""A checkpoint's arrays of records → the :class:`SolverState` lists they hold."""
+
 _RECORD_FILE = re.compile(r"[0-9a-f]{12}-[0-9]{5}\.npz")
 """The name of a record file (:meth:`RecordFiles.file`)."""
 
@@ -112,10 +116,8 @@ def write_checkpoint(path, st: SolverState, dt_now: float, signature: np.ndarray
         lo = keep.total
         written = keep.file(path, len(keep.counts))
         with atomic_path(written) as tmp:
-            np.savez(tmp, rec_times=np.array(st.recorded_times[lo:]),
-                     rec_cell=np.array(st.recorded_cell[lo:]),
-                     rec_face=np.array(st.recorded_face[lo:]),
-                     rec_flow=np.array(st.recorded_flow[lo:]))
+            np.savez(tmp, **{key: np.array(getattr(st, name)[lo:])
+                             for key, name in _RECORDS.items()})
         keep = RecordFiles(keep.token, keep.counts + (n - lo,))
     arrays = dict(
         time=st.time, step=st.step, temp=st.temp,
@@ -153,10 +155,8 @@ def _read_records(path, d, st: SolverState) -> RecordFiles | None:
     """The records of the checkpoint ``d`` (open ``np.load`` of ``path``) into ``st``, and
     its record files (None: an older checkpoint that held them itself)."""
     if "records_token" not in d.files:
-        st.recorded_times = list(d["rec_times"])
-        st.recorded_cell = list(d["rec_cell"])
-        st.recorded_face = list(d["rec_face"])
-        st.recorded_flow = list(d["rec_flow"])
+        for key, name in _RECORDS.items():
+            setattr(st, name, list(d[key]))
         return None
     files = RecordFiles(str(d["records_token"]),
                         tuple(int(c) for c in d["records_counts"]))
@@ -171,10 +171,8 @@ def _read_records(path, d, st: SolverState) -> RecordFiles | None:
                 raise InputError("checkpoint", str(f), f"holds {got} records, not the "
                                  f"{files.counts[k]} its checkpoint lists",
                                  "Start afresh without --resume")
-            st.recorded_times += list(r["rec_times"])
-            st.recorded_cell += list(r["rec_cell"])
-            st.recorded_face += list(r["rec_face"])
-            st.recorded_flow += list(r["rec_flow"])
+            for key, name in _RECORDS.items():
+                getattr(st, name).extend(r[key])
     return files
 
 

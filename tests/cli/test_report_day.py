@@ -216,18 +216,14 @@ def test_surface_frames_are_the_triangles_drawn_frame_by_frame(tmp_path):
     import base64
     import io
 
-    import matplotlib
+    import matplotlib.pyplot as plt
     import trimesh
-    from matplotlib.collections import PolyCollection
     from PIL import Image
 
     from imaging.thermal_history import ShipThermalHistory
     from shipthermal.app.pipeline import save_history
     from shipthermal.app.report_day import _surface_frames
-    from shipthermal.geometry.surface_maps import OBLIQUE_VIEW_DEG, project
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from shipthermal.geometry.surface_maps import surface_frame_figure
 
     mesh = trimesh.creation.icosphere(subdivisions=3, radius=5.0)
     v, f = mesh.vertices + [0.0, 0.0, 6.0], mesh.faces
@@ -247,23 +243,10 @@ def test_surface_frames_are_the_triangles_drawn_frame_by_frame(tmp_path):
     assert np.mean(np.abs(got[0] - got[1]).max(axis=-1) > 30) > 0.05   # the day moves
     # the reference: every triangle drawn for the frame (the same figure otherwise)
     vmin, vmax = np.nanpercentile(temp[[6, 12]], [0.5, 99.5])
-    u, w, depth = project(v, *OBLIQUE_VIEW_DEG)
-    order = np.argsort(depth[f].mean(axis=1))
     for k, hour in enumerate(hours):
-        fig, ax = plt.subplots(figsize=(5.2, 2.6), dpi=80)
-        coll = PolyCollection(np.stack([u[f], w[f]], axis=-1)[order], cmap="inferno",
-                              edgecolors="none", antialiaseds=False)
-        coll.set_clim(vmin, vmax)
+        fig, _, coll, title, order = surface_frame_figure(v, f, vmin, vmax)
         coll.set_array(temp[int(hour)][order])
-        ax.add_collection(coll)
-        ax.set_xlim(u.min() - 1, u.max() + 1)
-        ax.set_ylim(w.min() - 1, w.max() + 1)
-        ax.set_aspect("equal")
-        ax.axis("off")
-        cb = fig.colorbar(coll, ax=ax, shrink=0.8, pad=0.01)
-        cb.set_label("outer-surface temperature [K]", fontsize=7)
-        cb.ax.tick_params(labelsize=6)
-        ax.set_title(f"sphere, {int(hour):02d}:00 local", fontsize=8)
+        title.set_text(f"sphere, {int(hour):02d}:00 local")
         buf = io.BytesIO()
         fig.savefig(buf, format="png")
         plt.close(fig)

@@ -43,7 +43,7 @@ from imaging.parameters import SENSOR_BANDS
 from shipthermal.optics.planck import brightness_temperature
 
 from ..figures import BAND_STYLES, OKABE_ITO, band_label, polygon_index_raster, unit_label
-from ..geometry.surface_maps import OBLIQUE_VIEW_DEG, project
+from ..geometry.surface_maps import surface_frame_figure
 from ..units import latitude_text, longitude_text, strip_units, zone_text
 from .pipeline import history_file, load_history
 
@@ -539,7 +539,6 @@ def _surface_frames(case_dir: Path, title: str, hours=SLIDER_HOURS, zone: str = 
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib.collections import PolyCollection
 
     hist = load_history(case_dir)
     v, f = hist.vertices, hist.faces
@@ -548,21 +547,7 @@ def _surface_frames(case_dir: Path, title: str, hours=SLIDER_HOURS, zone: str = 
     # only the rows shown (a record's are read from its file)
     temp = {k: np.asarray(hist.face_temperature[k], dtype=float) for k in set(ks)}
     vmin, vmax = np.nanpercentile(np.stack([temp[k] for k in ks]), [0.5, 99.5])
-    u, w, depth = project(v, *OBLIQUE_VIEW_DEG)
-    order = np.argsort(depth[f].mean(axis=1))           # far faces first (painter's order)
-    polys = np.stack([u[f], w[f]], axis=-1)[order]
-    fig, ax = plt.subplots(figsize=(5.2, 2.6), dpi=80)
-    coll = PolyCollection(polys, cmap="inferno", edgecolors="none", antialiaseds=False)
-    coll.set_clim(vmin, vmax)
-    ax.add_collection(coll)
-    ax.set_xlim(u.min() - 1, u.max() + 1)
-    ax.set_ylim(w.min() - 1, w.max() + 1)
-    ax.set_aspect("equal")
-    ax.axis("off")
-    cb = fig.colorbar(coll, ax=ax, shrink=0.8, pad=0.01)
-    cb.set_label("outer-surface temperature [K]", fontsize=7)
-    cb.ax.tick_params(labelsize=6)
-    ttl = ax.set_title("", fontsize=8)
+    fig, ax, coll, ttl, order = surface_frame_figure(v, f, vmin, vmax)
     shown = polygon_index_raster(fig, ax, coll)         # triangle (in ``order``) per pixel
     coll.set_visible(False)
     image = ax.imshow(np.zeros(shown.shape + (4,)), extent=(*ax.get_xlim(), *ax.get_ylim()),

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..figures import save_figure
 
-__all__ = ["render_surface_map", "ship_to_enu", "project"]
+__all__ = ["render_surface_map", "ship_to_enu", "project", "surface_frame_figure"]
 
 #: Oblique view of the left panel in the ship frame (x bow, y port, z up): azimuth and
 #: elevation of the viewer [deg] (matplotlib convention: starboard-aft quarter).
@@ -187,3 +187,32 @@ def render_surface_map(vertices, faces, values, path, *, heading_deg: float,
     save_figure(fig, path, figures, dpi=None if figures else dpi)
     plt.close(fig)
     return path
+
+
+def surface_frame_figure(vertices, faces, vmin: float, vmax: float):
+    """The figure of a slider frame: the ship's triangles seen obliquely, far ones first,
+    as a polygon collection on the colour scale ``vmin`` … ``vmax`` [K] with its colour
+    bar and an empty title. Returns ``(fig, ax, collection, title, order)``: ``order``
+    the triangles' drawing order (the collection's rows)."""
+    # lazy: matplotlib takes most of a second to import (measured)
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import PolyCollection
+
+    u, w, depth = project(vertices, *OBLIQUE_VIEW_DEG)
+    order = np.argsort(depth[faces].mean(axis=1))       # far faces first (painter's order)
+    polys = np.stack([u[faces], w[faces]], axis=-1)[order]
+    fig, ax = plt.subplots(figsize=(5.2, 2.6), dpi=80)
+    coll = PolyCollection(polys, cmap="inferno", edgecolors="none", antialiaseds=False)
+    coll.set_clim(vmin, vmax)
+    ax.add_collection(coll)
+    ax.set_xlim(u.min() - 1, u.max() + 1)
+    ax.set_ylim(w.min() - 1, w.max() + 1)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    cb = fig.colorbar(coll, ax=ax, shrink=0.8, pad=0.01)
+    cb.set_label("outer-surface temperature [K]", fontsize=7)
+    cb.ax.tick_params(labelsize=6)
+    return fig, ax, coll, ax.set_title("", fontsize=8), order
