@@ -203,3 +203,48 @@ def test_user_surface_finer_than_target_is_reported_not_hidden(monkeypatch):
         assert g.patch_area[f"{n}:outer"] == pytest.approx(a, rel=1e-10)
     _, rep2 = build_ship_mesh(dataclasses.replace(frigate(4.0), parameters=None), edge_length=2.0)
     assert "note" not in rep2 and rep2["edge_median"] <= 2.0
+
+
+def _fake_tetwild(results):
+    """A stand-in for fTetWild returning the given (points, tets) in turn."""
+    calls = []
+
+    def tetwild(vertices, faces, **kwargs):
+        calls.append(kwargs)
+        return results[min(len(calls), len(results)) - 1]
+    return tetwild, calls
+
+
+_P = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0, -1, 0], [0, 0, -1]], float)
+_PINCHED = (_P, np.array([[0, 1, 2, 3], [0, 1, 4, 5]]))     # two tets touching along edge 0-1
+_CLEAN = (_P[:4], np.array([[0, 2, 1, 3]]))                  # one tet, wound inward
+
+
+def test_tetwild_pinched_result_is_repaired_again(monkeypatch):
+    """fTetWild now and then returns two parts of the solid touching along one edge (seen
+    once in 300 repairs of an open box): that surface is not a manifold, so the repair is
+    run again; a clean result is used whatever the winding of its tets."""
+    import shipthermal.mesh.tets as tets_module
+    from shipthermal.geometry.remesh import tetwild_surface
+
+    fake, calls = _fake_tetwild([_PINCHED, _CLEAN])
+    monkeypatch.setattr(tets_module, "tetwild", fake)
+    f_in = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    v, f, lab, rep = tetwild_surface(_P[:4], f_in, np.zeros(4, int))
+    assert len(calls) == 2 and rep["attempts"] == 2
+    assert signed_volume(v, f) == pytest.approx(1 / 6, rel=1e-12)     # outward
+    o, nm = boundary_edges(f)
+    assert len(o) == 0 and len(nm) == 0
+
+
+def test_tetwild_always_pinched_is_refused(monkeypatch):
+    import shipthermal.mesh.tets as tets_module
+    from shipthermal.geometry.remesh import TETWILD_ATTEMPTS, tetwild_surface
+
+    fake, calls = _fake_tetwild([_PINCHED])
+    monkeypatch.setattr(tets_module, "tetwild", fake)
+    f_in = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    with pytest.raises(InputError, match=r"each of 3 pytetwild repairs came back with edges "
+                                         r"shared by more than two triangles \(the last: 1\)"):
+        tetwild_surface(_P[:4], f_in, np.zeros(4, int))
+    assert len(calls) == TETWILD_ATTEMPTS == 3

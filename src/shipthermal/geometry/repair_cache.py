@@ -30,9 +30,10 @@ from ..atomic import atomic_path
 
 __all__ = ["CACHE_VERSION", "cache_folder", "repair_key", "load_repaired", "save_repaired"]
 
-CACHE_VERSION = 1
+CACHE_VERSION = 2
 """Changes whenever a repair's algorithm or its cached fields change (old entries are
-then never found)."""
+then never found). 2: a tetwild repair with pinched edges is run again (a version-1 entry
+may hold such a surface, which every read then refused)."""
 
 
 def cache_folder() -> Path | None:
