@@ -6,8 +6,10 @@ Euler: the spin-up loop forced to run exactly 4 days (``tolerance`` tiny, ``min_
 ``max_days`` = 4) after the steady start. Timed in the same run:
 
 - **ours, numba**: on one thread (``numba.set_num_threads(1)``) and on all of them, with a
-  temperature-independent coefficient (``h = 4 + 4 v``: the kernel and the time loop) and
-  with the default correlation (``flat_plate_mixed`` evaluated in numpy every step);
+  temperature-independent coefficient (``h = 4 + 4 v``: the kernel and the time loop), with
+  the default correlation (``flat_plate_mixed`` evaluated in numpy every step) and with the
+  port background's convection (the log-law with stability factors,
+  :func:`convection_aerodynamic`), whose whole span runs in one compiled call;
 - **peer 1, the numpy reference** (:func:`_step_reference`, same blocks and arithmetic)
   on one day, scaled to four;
 - **peer 2, scipy.linalg.solve_banded per column**: one LAPACK banded solve of each column's
@@ -31,6 +33,7 @@ import numpy as np
 from scipy.linalg import solve_banded
 
 from imaging.background import surface_energy as se
+from shipthermal.units import DAY
 
 DT = 300.0
 
@@ -39,12 +42,12 @@ def problem(n: int, seed: int = 0):
     rng = np.random.default_rng(seed)
     names = rng.choice(["land", "building", "vegetation"], size=n, p=[0.5, 0.3, 0.2])
     cols = se.build_columns(list(names), rng.uniform(285.0, 295.0, n))
-    n_t = int(se.DAY / DT)
+    n_t = int(DAY / DT)
     t = np.arange(n_t) * DT
-    sun = np.clip(np.sin(2 * np.pi * (t / se.DAY - 0.25)), 0.0, None)
+    sun = np.clip(np.sin(2 * np.pi * (t / DAY - 0.25)), 0.0, None)
     absorbed = 850.0 * sun[:, None] * rng.uniform(0.65, 0.92, n)
     sky = (320.0 + 20.0 * sun)[:, None] * np.ones(n)
-    temp_air = 293.0 + 6.0 * np.sin(2 * np.pi * (t / se.DAY - 0.375))
+    temp_air = 293.0 + 6.0 * np.sin(2 * np.pi * (t / DAY - 0.375))
     forcing = se.SurfaceForcing(DT, absorbed, sky, temp_air, 60.0 - 20.0 * sun,
                                 2.0 + 2.0 * sun)
     return cols, forcing
@@ -90,18 +93,22 @@ def main() -> None:
     args = ap.parse_args()
     n, days = args.columns, args.days
     cols, forcing = problem(n)
-    steps = days * int(se.DAY / DT)
+    steps = days * int(DAY / DT)
     cells = np.mean([cols.meshes[c].n_cells for c in cols.class_index])
     print(f"{n} columns ({cells:.1f} cells on average), {days} days of {DT:g} s steps "
           f"= {steps} steps; numba threads available: {numba.get_num_threads()}")
     linear = se.convection_linear(4.0, 4.0)
     correlation = se.convection_correlation()
+    aerodynamic = se.convection_aerodynamic(0.05, stability=True, height_wind=10.0,
+                                            height_temp=2.0)
     for size in (64, 64 * 40):                 # compile / load the serial and parallel kernels
         warm_cols, warm_forcing = problem(size)
         run(warm_cols, warm_forcing, 2, linear)
+        run(warm_cols, warm_forcing, 2, aerodynamic)
     threads = numba.get_num_threads()
     rows = []
-    for label, conv in (("h = 4 + 4v", linear), ("flat_plate_mixed", correlation)):
+    for label, conv in (("h = 4 + 4v", linear), ("flat_plate_mixed", correlation),
+                        ("log law (compiled)", aerodynamic)):
         numba.set_num_threads(1)
         t1, c1 = run(cols, forcing, days, conv, cpu=True)
         numba.set_num_threads(threads)

@@ -387,12 +387,10 @@ def __getattr__(name):
 #: A module's lines at most, and a function's (its ``def`` to its last line, docstring included)
 MODULE_LINES, FUNCTION_LINES = 800, 120
 #: Functions allowed to be longer, by name: the command line's argument parser (one
-#: declaration per option, read top to bottom) and the background's column-step kernel
-#: (compiled by numba twice, threaded and serial, so not decorated). numba kernels
-#: (decorated ``@njit``, e.g. ``shipthermal.raytrace._bvh.build_bvh``) are excepted too:
-#: splitting one costs a call boundary in the compiled loop.
-LONG_FUNCTIONS = ("shipthermal.app.cli.build_parser",
-                  "imaging.background.surface_energy.kernels._step_blocks")
+#: declaration per option, read top to bottom). numba kernels (decorated ``@njit``, e.g.
+#: ``shipthermal.raytrace._bvh.build_bvh``) are excepted too: splitting one costs a call
+#: boundary in the compiled loop.
+LONG_FUNCTIONS = ("shipthermal.app.cli.build_parser",)
 
 
 def _is_numba_kernel(node) -> bool:

@@ -122,6 +122,9 @@ def convection_aerodynamic(roughness_length, roughness_length_heat=None,
                           (1.0 - 5.0 * np.maximum(ri, 0.0)) ** 2)
         return hn * factor
 
+    # what the solver's compiled loop needs to compute the same coefficient
+    # (:func:`.kernels._h_aerodynamic`)
+    h.aerodynamic = (log_product, zt, stability, pressure)
     return h
 
 

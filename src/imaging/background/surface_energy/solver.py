@@ -15,7 +15,8 @@ from shipthermal.units import DAY
 from .columns import Columns
 from .convection import convection_correlation
 from .forcing import SurfaceForcing
-from .kernels import _KERNELS, _blocks, _factorise, _step_numba, _step_numba_serial
+from .kernels import (_KERNELS, _blocks, _factorise, _span_numba, _step_numba,
+                      _step_numba_serial)
 
 
 SCHEMES = {"backward_euler": 1.0, "crank_nicolson": 0.5}
@@ -110,6 +111,15 @@ class _Stepper:
         self.emis = np.ascontiguousarray(columns.emissivity)
         self.rs = np.ascontiguousarray(columns.surface_resistance)
         self.tbot = np.ascontiguousarray(columns.bottom_temperature)
+        # the aerodynamic convection's parameters when the whole span can run compiled
+        aero = getattr(convection, "aerodynamic", None)
+        self.span_convection = None
+        if aero is not None and kernel in (_step_numba, _step_numba_serial):
+            log_product, height_temp, stability, pressure = aero
+            self.span_convection = (
+                np.ascontiguousarray(np.broadcast_to(log_product, (n,)), dtype=np.float64),
+                float(height_temp), bool(stability),
+                np.ascontiguousarray(np.broadcast_to(pressure, (n,)), dtype=np.float64))
 
     def surface(self, state: _State) -> np.ndarray:
         """Surface temperature in the columns' order."""
@@ -201,17 +211,40 @@ class _Run:
             if name in o:
                 o[name][k_to] = value
 
+    def span(self, state: _State, k_from: np.ndarray, k_to: np.ndarray) -> None:
+        """The intervals ``k_from[n] → k_to[n]`` in turn (:meth:`interval`); with the
+        aerodynamic convection and the numba kernel in one compiled call
+        (:func:`.kernels._span_numba`: the same arithmetic, each block of columns through the
+        whole span on one thread: the year of the default port's 2 200 columns at 600 s
+        with two substeps, 37.6 → 21.1 s)."""
+        conv = self.stepper.span_convection
+        if conv is None:
+            for a, b in zip(k_from, k_to):
+                self.interval(state, int(a), int(b))
+            return
+        st = self.stepper
+        dtype = next(iter(self.outputs.values())).dtype
+        dummy = np.zeros((1, 1), dtype)
+        outputs = tuple(self.outputs.get(name, dummy) for name in _OUTPUTS)
+        keep = np.array([name in self.outputs for name in _OUTPUTS])
+        now = np.zeros((7, st.columns.n_columns))
+        _span_numba(np.asarray(k_from, np.int64), np.asarray(k_to, np.int64), self.substeps,
+                    tuple(self.rows), conv, state.temp, st.order, st.blocks, st.n_cells,
+                    st.cap_dt, st.cond, st.q, st.inv_den, st.theta, st.emis, st.rs, st.tbot,
+                    st.dt, st.out, state.sb_old, state.acc, state.acc_abs, state.imbalance,
+                    st.work, now, keep, outputs)
+
     def periodic_day(self, state: _State) -> np.ndarray:
         """The first day of the forcing once, wrapping onto index 0; its surface temperature
         (n_day, N)."""
-        for k in range(1, self.n_day + 1):
-            self.interval(state, k - 1, k % self.n_day)
+        k = np.arange(1, self.n_day + 1)
+        self.span(state, k - 1, k % self.n_day)
         return self.outputs["temp_surface"][:self.n_day].copy()
 
     def record(self, state: _State) -> None:
         """The whole forcing from index 0 (the state at index 0 given)."""
-        for k in range(1, len(self.rows[0])):
-            self.interval(state, k - 1, k)
+        k = np.arange(1, len(self.rows[0]))
+        self.span(state, k - 1, k)
 
     def start_accounting(self, state: _State) -> np.ndarray:
         """Zero the flux integrals; the stored energy now [J m-2]."""
