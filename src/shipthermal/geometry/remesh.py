@@ -107,7 +107,8 @@ def tetwild_surface(vertices, faces, face_part, edge_length: float | None = None
                          f"each of {TETWILD_ATTEMPTS} pytetwild repairs came back with edges "
                          f"shared by more than two triangles (the last: {pinched}), a pinched "
                          "solid the solver cannot mesh",
-                         "Close the gaps in CAD, or pass a different repair edge length")
+                         "Close the gaps in CAD, or set another tet size "
+                         "(ship.files.repair_edge_length)")
     src = trimesh.Trimesh(v, f, process=False, validate=False)
     cen = nv[nf].mean(axis=1)
     _, _, tri_id = trimesh.proximity.closest_point(src, cen)
