@@ -223,7 +223,6 @@ def _block_step(bk, temp, order, blocks, n_cells, cap_dt, cond, q, inv_den, thet
             imbalance[j] = d
 
 
-
 @njit(cache=True)
 def _h_aerodynamic(temp_surface, temp_air, wind, log_product, height_temp, stability,
                    pressure):
