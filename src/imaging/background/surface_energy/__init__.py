@@ -25,7 +25,8 @@ Pieces, each a function:
   form;
 * :func:`solve_surface_energy` — the time loop (periodic design day or record with a periodic
   spin-up on its first day), with a numba kernel (:func:`.kernels._step_numba`: columns in
-  parallel, Thomas algorithm per column) and a plain numpy reference
+  parallel, Thomas algorithm per column; with the log-law convection whole spans of steps in
+  one compiled call, :func:`.kernels._span_numba`) and a plain numpy reference
   (:func:`.kernels._step_reference`) doing the same arithmetic.
 
 Time discretisation: θ-scheme, backward Euler by default (θ = 1). The surface node has no

@@ -1,6 +1,7 @@
 """Step kernels of the surface energy balance: the Thomas elimination of each column with
-Newton on its surface node, a numba build (blocks of one class in parallel or on one thread)
-and a plain numpy reference doing the same arithmetic."""
+Newton on its surface node, a numba build (blocks of one class in parallel or on one thread),
+a plain numpy reference doing the same arithmetic, and a numba kernel that runs a whole span
+of steps with the log-law convection (each block through every step on one thread)."""
 
 from __future__ import annotations
 
