@@ -28,7 +28,7 @@ import numpy as np
 from ..errors import InputError, check_positive, require
 from . import isoremesh
 from .limits import check_surface_size
-from .parts import face_areas, signed_volume, split_at_waterline
+from .parts import boundary_edges, face_areas, signed_volume, split_at_waterline
 from .ship.build import build_ship
 from .surface_ops import collapse_short_edges, flip_coplanar_edges, surface_quality
 
@@ -80,7 +80,7 @@ def tetwild_surface(vertices, faces, face_part, edge_length: float | None = None
     """
     # deferred: the FV mesh package loads scipy (0.15 s) and trimesh takes 0.45 s (measured);
     # loading a scenario imports neither (test_load_is_lazy)
-    from ..mesh.tets import orient_tets, tetwild as _tetwild
+    from ..mesh.tets import orient_tets, tet_faces, tetwild as _tetwild
     import trimesh
 
     v = np.array(vertices, dtype=float)           # writable copies for the fTetWild binding
@@ -98,8 +98,13 @@ def tetwild_surface(vertices, faces, face_part, edge_length: float | None = None
                              "The surface is flat or has no inside; check the file")
         pts = np.asarray(pts, float)
         tets = orient_tets(pts, np.asarray(tets, np.int64))
-        nv, nf = _tet_boundary(pts, tets)
-        pinched = _pinched_edges(nf)
+        # the boundary triangles, outward from their tets, on the vertices they use
+        used, inv = np.unique(tet_faces(tets)[4], return_inverse=True)
+        nv, nf = pts[used], inv.reshape(-1, 3)
+        if signed_volume(nv, nf) < 0:        # outward by construction; checked, not trusted
+            nf = nf[:, ::-1]
+        # two parts of the solid touching along an edge: edges of more than two triangles
+        pinched = len(boundary_edges(nf)[1])
         if not pinched:
             break
     else:
@@ -120,29 +125,6 @@ def tetwild_surface(vertices, faces, face_part, edge_length: float | None = None
                   volume_change=(v1 - v0) / abs(v0) if v0 != 0 else float("inf"),
                   n_tets=int(len(tets)), attempts=attempt, seconds=time.perf_counter() - t0)
     return nv, nf, labels, report
-
-
-def _tet_boundary(pts: np.ndarray, tets: np.ndarray):
-    """The boundary of a positively oriented tet mesh (triangles used by one tet only),
-    wound outward, on the vertices it uses."""
-    local = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
-    tri = tets[:, local].reshape(-1, 3)
-    key = np.sort(tri, axis=1)
-    _, inv, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    btri = tri[counts[inv.ravel()] == 1]
-    used, inv2 = np.unique(btri, return_inverse=True)
-    nv, nf = pts[used], inv2.reshape(-1, 3)
-    if signed_volume(nv, nf) < 0:        # outward by construction; checked rather than trusted
-        nf = nf[:, ::-1]
-    return nv, nf
-
-
-def _pinched_edges(faces: np.ndarray) -> int:
-    """How many edges of a closed surface are shared by more than two triangles (two parts
-    of a tet mesh touching along an edge only)."""
-    edges = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-    _, counts = np.unique(edges, axis=0, return_counts=True)
-    return int((counts > 2).sum())
 
 
 def remesh_ship(ship, edge_length: float, improve: bool = True, return_report: bool = False):

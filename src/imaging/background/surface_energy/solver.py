@@ -223,8 +223,7 @@ class _Run:
                 self.interval(state, int(a), int(b))
             return
         st = self.stepper
-        dtype = next(iter(self.outputs.values())).dtype
-        dummy = np.zeros((1, 1), dtype)
+        dummy = np.zeros((1, 1), self.outputs["temp_surface"].dtype)   # outputs not kept
         outputs = tuple(self.outputs.get(name, dummy) for name in _OUTPUTS)
         keep = np.array([name in self.outputs for name in _OUTPUTS])
         now = np.zeros((7, st.columns.n_columns))
