@@ -370,15 +370,17 @@ def test_cases_are_pinned():
 def _worker_environment():
     import dask
 
-    return ({k: os.environ.get(k) for k in ("MALLOC_TRIM_THRESHOLD_", "NUMBA_NUM_THREADS",
-                                            "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS")},
+    return ({k: os.environ.get(k) for k in ("MALLOC_TRIM_THRESHOLD_", "MALLOC_ARENA_MAX",
+                                            "NUMBA_NUM_THREADS", "OMP_NUM_THREADS",
+                                            "OPENBLAS_NUM_THREADS")},
             dask.config.get("distributed.worker.profile.enabled"))
 
 
 def test_local_cluster_workers_start_pinned_with_adaptive_malloc():
-    """A sweep's LocalCluster workers start with one-thread pools and without the malloc
+    """A sweep's LocalCluster workers start with one-thread pools, without the malloc
     trim threshold dask's nanny sets by default (it turned every large temporary array
-    into page faults), and without the profiler; the environment of this process is left
+    into page faults) and with one malloc arena (the task thread's own arena faulted its
+    arrays in again and again), and without the profiler; the environment of this process is left
     as it was (dask's nanny sets its pre-spawn variables in it)."""
     from dask.distributed import Client
 
@@ -392,7 +394,8 @@ def test_local_cluster_workers_start_pinned_with_adaptive_malloc():
     assert dict(os.environ) == here
     assert len(found) == 2
     for env, profile in found:
-        assert env == {"MALLOC_TRIM_THRESHOLD_": None, "NUMBA_NUM_THREADS": "1",
+        assert env == {"MALLOC_TRIM_THRESHOLD_": None, "MALLOC_ARENA_MAX": "1",
+                       "NUMBA_NUM_THREADS": "1",
                        "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
         assert profile is False
 
