@@ -317,17 +317,33 @@ class FaceForcing:
         parts = self.__dict__.setdefault("_law_parts", [])
         start = sum(len(p[0]) for p in parts) + self.law_blend.shape[0]
         self.law_index[idx] = start + np.arange(len(idx))
-        parts.append((natural, blend, multiplier, normal_z))
+        parts.append((natural, blend, multiplier, normal_z, idx))
 
     def finish(self) -> "FaceForcing":
         """Join the laws given by :meth:`set_law` (one copy instead of one per patch)."""
         parts = self.__dict__.pop("_law_parts", None)
         if parts:
+            if self.law_blend.shape[0] == 0:      # every row from set_law, in order
+                self.__dict__["_law_faces"] = np.concatenate(
+                    [np.asarray(p[4], np.int64) for p in parts])
             self.law_natural = np.concatenate([self.law_natural] + [p[0] for p in parts])
             self.law_blend = np.concatenate([self.law_blend] + [p[1] for p in parts])
             self.law_multiplier = np.concatenate([self.law_multiplier] + [p[2] for p in parts])
             self.law_normal_z = np.concatenate([self.law_normal_z] + [p[3] for p in parts])
         return self
+
+    @property
+    def law_faces(self) -> np.ndarray:
+        """The face of every law row (``law_index``'s inverse): the solver's loops over
+        the faces with a law take these, not every face (an even share per thread: the
+        frigate's law faces are the first half of its boundary faces, the outer sides)."""
+        faces = self.__dict__.get("_law_faces")
+        if faces is None or faces.shape[0] != self.law_blend.shape[0]:
+            has = self.law_index >= 0
+            faces = np.empty(self.law_blend.shape[0], np.int64)
+            faces[self.law_index[has]] = np.flatnonzero(has)
+            self.__dict__["_law_faces"] = faces
+        return faces
 
 
 def evaluate(value: Value, t: float, n: int, field: str, check: bool = True) -> np.ndarray:

@@ -318,18 +318,20 @@ def law_coefficients(forcing: FaceForcing, temp_face: np.ndarray):
     h = forcing.h.copy()
     slope = np.zeros_like(h)
     temp = np.ascontiguousarray(temp_face, dtype=np.float64)
-    _law_kernel(forcing.law_index, forcing.h, forcing.temp_fluid, forcing.law_natural,
+    _law_kernel(forcing.law_faces, forcing.h, forcing.temp_fluid, forcing.law_natural,
                 forcing.law_blend, forcing.law_multiplier, forcing.law_normal_z, temp, h, slope)
     return h, slope, temp
 
 
 @njit(parallel=True, cache=True)
-def _law_kernel(law_index, h_forced, tfl, natural, blend, mult, nz, temp_face, h, slope):
-    for i in prange(law_index.shape[0]):
-        j = law_index[i]
-        if j >= 0:
-            h[i], slope[i] = law_h_and_slope(h_forced[i], blend[j], mult[j], nz[j], natural[j],
-                                             temp_face[i] - tfl[i])
+def _law_kernel(law_faces, h_forced, tfl, natural, blend, mult, nz, temp_face, h, slope):
+    """Each law row ``j`` at its face ``law_faces[j]``: the threads share the law faces,
+    not all faces (frigate at 0.5 m, 40 288 law faces of 119 388: 5.1 → 2.6 ms a call on
+    two threads, the same on one)."""
+    for j in prange(law_faces.shape[0]):
+        i = law_faces[j]
+        h[i], slope[i] = law_h_and_slope(h_forced[i], blend[j], mult[j], nz[j], natural[j],
+                                         temp_face[i] - tfl[i])
 
 
 @njit(parallel=True, cache=True)

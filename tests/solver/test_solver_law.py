@@ -91,3 +91,43 @@ def test_every_step_uses_the_law_at_its_solved_temperature_and_conserves_energy(
     assert res.energy.max_step_imbalance <= 1e-10, res.energy.summary()
     print(f"\nlaw at the solved temperature: largest flow mismatch {worst:.1e} W m-2, "
           f"step imbalance {res.energy.max_step_imbalance:.1e}")
+
+
+def test_law_coefficients_of_scattered_law_patches_equal_the_law_face_by_face():
+    # two patches with laws among faces without one (the solver's loop takes the law rows
+    # and their faces, FaceForcing.law_faces): every face's h and slope against law_h
+    # evaluated face by face, and the faces without a law keep their h
+    from shipthermal.conditions import FaceForcing
+    from shipthermal.model import law_coefficients
+
+    rng = np.random.default_rng(3)
+    b = 40
+    f = FaceForcing.zeros(b)
+    f.h[:] = rng.uniform(1.0, 12.0, b)
+    f.temp_fluid[:] = rng.uniform(280.0, 300.0, b)
+    patches = (np.array([31, 5, 17, 2]), np.arange(20, 29))
+    laws = {}
+    for k, idx in enumerate(patches):
+        hf, law = _doe2(1.0 + k, nz=(1.0, -1.0)[k])
+        nat = np.repeat(law.natural[:1], len(idx), axis=0)
+        blend, mult, nz = np.full(len(idx), 2.0), np.full(len(idx), 1.0 + 0.5 * k), \
+            np.full(len(idx), (1.0, -1.0)[k])
+        f.set_law(idx, nat, blend, mult, nz)
+        laws.update({int(i): (nat[j], blend[j], mult[j], nz[j]) for j, i in enumerate(idx)})
+    f.finish()
+    assert np.array_equal(f.law_index[f.law_faces], np.arange(len(laws)))
+    temp = rng.uniform(270.0, 330.0, b)
+    h, slope, _ = law_coefficients(f, temp)
+    for i in range(b):
+        if i in laws:
+            nat, blend, mult, nz = laws[i]
+            want = law_h(f.h[i], ConvectionLaw(nat, blend, mult, nz), temp[i] - f.temp_fluid[i],
+                         return_slope=True)
+            assert (h[i], slope[i]) == pytest.approx((float(want[0]), float(want[1])),
+                                                     rel=1e-14), i
+        else:
+            assert (h[i], slope[i]) == (f.h[i], 0.0)
+    # a forcing whose law rows were not given through set_law finds the same faces
+    g = FaceForcing.zeros(b)
+    g.law_index, g.law_blend = f.law_index.copy(), f.law_blend.copy()
+    assert np.array_equal(g.law_faces, f.law_faces)
