@@ -456,8 +456,9 @@ def planck_weighted_transmittance(model, band, view_zenith_deg: float, temp_K,
 @lru_cache(maxsize=64)
 def _tau_planck_spline(name: str, band_name: str, view_zenith_deg: float) -> CubicSpline:
     """The tables' Planck-weighted view transmittance of a model and named band at its own
-    state, cubic in the source temperature (10 K grid): the same for every frame of a view
-    (a year's hourly frames built it 2 × 8 760 times: 17 % of a dense frame's time)."""
+    state, cubic in the source temperature (10 K grid): the same for every frame of a view,
+    built once (every call built it again: twice a frame and band, 8 760 frames of a year's
+    hourly calendar)."""
     tab = tb.load_table()
     per_t = _geom("view", tab.grid("view"),
                   tab.get(name, "tau_planck")[tab.band_index(band_name)], view_zenith_deg)
