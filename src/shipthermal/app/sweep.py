@@ -96,10 +96,10 @@ WORKER_MALLOC = {"MALLOC_TRIM_THRESHOLD_": None, "MALLOC_ARENA_MAX": "1"}
 """glibc's malloc in a sweep worker (set before the worker process starts; see
 :func:`local_cluster`): dask's default ``MALLOC_TRIM_THRESHOLD_`` removed, and one arena.
 A case runs on a worker's task thread, not its main thread, so by default its arrays come
-from a thread arena of its own, not the main arena a plain process's main thread uses; a
-patrol-boat case at 3 m (thermal + imaging), the same case run again and again in a
-one-worker cluster, took 300 000 - 400 000 page faults and 0.7 - 0.8 s of system time
-from its third run on, and 6 000 - 8 000 faults and 0.04 - 0.07 s with one arena, as in a
+from a thread arena of its own, not the main arena a plain process's main thread uses; four
+patrol-boat cases at 3 m (thermal + imaging) one after the other in a one-worker cluster
+took 300 000 - 400 000 page faults and 0.7 - 0.8 s of system time each from the third
+on, and 6 000 - 8 000 faults and 0.04 - 0.07 s with one arena, as in a
 plain process's main thread (large arrays given back to the system and faulted in again:
 glibc trims a thread arena's heaps as they shrink)."""
 
