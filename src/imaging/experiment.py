@@ -39,7 +39,7 @@ from . import products as P
 from .atmosphere import cloud_type_number, model_for_record_day, model_label, model_name
 from .atmosphere.weather_sky import SkyWeather
 from .band_conditions import BandConditions, conditions_from_atmosphere
-from .metrics import crossover_times, local_scr
+from .metrics import background_window, crossover_times, local_scr
 from .parameters import DEFAULT_CLOUD_TYPE
 from .render import SceneRenderer, SensorOptions
 from .scene import ShipPlacement, as_scene_background
@@ -367,6 +367,8 @@ def _render_series(history, scenario, bands, times_s, keep_times_s, crop_px, pro
     leaves = {b: np.empty((n_stack, r1 - r0, c1 - c0), np.float32) for b in bands}
     frames = {b: {} for b in bands}
     mask = r.coverage > 0
+    w0, w1, w2, w3 = scr_window = background_window(mask)   # local_scr's, of every frame
+    scr_mask = mask[w0:w1, w2:w3]
     water = bg.class_map == 1
     rays = r.n_view_rays
     it = tqdm(enumerate(t), total=t.size, desc=f"{scenario.season} {'+'.join(bands)}",
@@ -387,8 +389,13 @@ def _render_series(history, scenario, bands, times_s, keep_times_s, crop_px, pro
                                               sky_now, aerosol, scenario.cloud_type)
             opts = scenario.sensor_options
             opts = opts.get(b) if isinstance(opts, dict) else opts
-            fr = r.render(cond, temp_f, temp_bg, temp_sea, sun, opts, tk)
-            m = local_scr(fr.radiance, mask)
+            kept = any(abs(tk - kt) < 1e-6 for kt in keep)
+            if stored[k] or kept or (opts is not None and (opts.psf or opts.netd_k is not None)):
+                fr = r.render(cond, temp_f, temp_bg, temp_sea, sun, opts, tk)
+                m = local_scr(fr.radiance, mask)
+            else:   # only the SCR's window of this frame is read: only it is rendered
+                m = local_scr(r.window_radiance(cond, temp_f, temp_bg, scr_window, temp_sea,
+                                                sun, opts), scr_mask)
             rows[b].append(dict(
                 time_s=tk, time_h=tk / HOUR, scr=m.scr, contrast=m.contrast,
                 mean_target=m.mean_target, mean_background=m.mean_background,
@@ -401,7 +408,7 @@ def _render_series(history, scenario, bands, times_s, keep_times_s, crop_px, pro
             if stored[k]:
                 stacks[b][slot[k]] = fr.radiance[r0:r1, c0:c1]
                 leaves[b][slot[k]] = fr.leaving[r0:r1, c0:c1]
-            if any(abs(tk - kt) < 1e-6 for kt in keep):
+            if kept:
                 frames[b][float(tk)] = fr
     seconds = _time.perf_counter() - t0
     out = {}

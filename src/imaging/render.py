@@ -523,6 +523,44 @@ class SceneRenderer:
             sun_zenith_deg=c.sun_zenith_deg, sun_azimuth_deg=c.sun_azimuth_deg,
             rays={"view": self.n_view_rays, "sun": sun.n_rays})
 
+    def window_radiance(self, conditions: BandConditions, face_temperature,
+                        background_temperature, window, temp_sea: float | None = None,
+                        sun: SunGeometry | None = None,
+                        sensor_options: SensorOptions | None = None) -> np.ndarray:
+        """At-aperture radiance of the pixels ``window = (row0, row1, col0, col1)`` alone
+        [W m-2 sr-1], float32: the values of :meth:`render`'s ``radiance[row0:row1,
+        col0:col1]`` (every step of it is per pixel), for a series that needs only a window
+        of each frame (the local SCR of a calendar's dense frames: the background's radiance
+        over the whole image was a third of a frame's time). Arguments as :meth:`render`;
+        the sensor options may quantise but not blur or add noise (both mix pixels: use
+        :meth:`render`)."""
+        c = conditions
+        opts = sensor_options or SensorOptions()
+        require(not opts.psf and opts.netd_k is None, "sensor_options", opts,
+                "a window of a frame has no PSF and no NETD noise (they mix pixels)",
+                "render the whole frame (SceneRenderer.render)")
+        r0, r1, c0, c1 = (int(v) for v in window)
+        ny, nx = self.shape
+        require(0 <= r0 < r1 <= ny and 0 <= c0 < c1 <= nx, "window", window,
+                f"must be (row0, row1, col0, col1) inside the image {self.shape}")
+        temp_f, temp_bg = self._checked_temperatures(face_temperature, background_temperature)
+        if sun is None:
+            sun = self.sun_geometry(c.sun_direction)
+        planck = self._planck_table(c.band)
+        if temp_sea is None:
+            water = self.background.class_map == 1
+            temp_sea = float(temp_bg[water].mean()) if water.any() else float(temp_bg.mean())
+        rows, cols = slice(r0, r1), slice(c0, c1)
+        # the background outside the window is not computed (NaN: never read)
+        full = [np.full(self.shape, np.nan) for _ in range(3)]
+        for arr, part in zip(full, self._background_radiance(c, planck, temp_bg[rows, cols],
+                                                             (rows, cols))):
+            arr[rows, cols] = part
+        smp_leave, smp_ap = self._ship_sample_radiance(c, sun, planck, temp_f, temp_sea)
+        _, out_ap, _ = self._mix_pixels(c, sun, *full, smp_leave, smp_ap)
+        radiance = out_ap.reshape(self.shape)[rows, cols] + c.path_radiance
+        return self._detector(c, radiance, opts)[0].astype(np.float32)
+
     def _checked_temperatures(self, face_temperature, background_temperature) -> tuple:
         """Face and background temperatures as float arrays of the right shapes [K]."""
         temp_f = np.asarray(face_temperature, dtype=float)
@@ -535,11 +573,12 @@ class SceneRenderer:
         check_range("background_temperature", temp_bg, 150.0, 450.0, "K")
         return temp_f, temp_bg
 
-    def _background_radiance(self, c: BandConditions, planck, temp_bg) -> tuple:
+    def _background_radiance(self, c: BandConditions, planck, temp_bg, window=None) -> tuple:
         """Background pixels (eq. 2): surface-leaving and at-aperture radiance (ny, nx)
-        [W m-2 sr-1], and the reflected sun's share of the leaving radiance."""
+        [W m-2 sr-1], and the reflected sun's share of the leaving radiance (of the pixels
+        ``window``, a pair of slices, alone when given: ``temp_bg`` is then the window's)."""
         optics = self.background_optics(c.band)
-        cls = self.background.class_map
+        cls = self.background.class_map if window is None else self.background.class_map[window]
         water = cls == 1
         cos_sun = max(float(c.sun_direction[2]), 0.0) if c.sun_up else 0.0
         eps_bg = optics.emissivity[cls]

@@ -153,3 +153,42 @@ def test_run_experiment_writes_every_product_atomically(tmp_path, frigate_coarse
     assert len(comp) == 4 and {"scr_in_crossover_mean", "scr_out_crossover_mean"} <= set(comp)
     assert (tmp_path / "summary.json").exists()
     assert not [q for q in tmp_path.iterdir() if ".part" in q.name or ".tmp" in q.name]
+
+
+@pytest.mark.parametrize("x_m, options", [(600.0, None), (70.0, "bits")])
+def test_frames_not_kept_render_only_the_scr_window_with_the_same_metrics(frigate_coarse,
+                                                                          x_m, options):
+    # a series keeping every frame renders each whole; keeping none, it renders only the
+    # local SCR's window of each frame (SceneRenderer.window_radiance): the metrics must be
+    # the same to the bit, by day (sun, shadows on a textured port with land) and by night,
+    # with the ship mid-port and at the image's edge (window clipped), with quantisation
+    from imaging.render import SensorOptions
+
+    h = synthetic_history(frigate_coarse, "summer", 3 * 3600.0)
+    opts = SensorOptions(bits=12, radiance_range=(0.0, 20.0)) if options == "bits" else None
+    scen = ImagingScenario("summer", _textured_port((40, 40)), wind_speed=4.0,
+                           placement=ShipPlacement(x_m, 600.0, 30.0), samples_per_pixel=4,
+                           sensor_options=opts, **DALIAN)
+    frames = np.arange(3 * 3600.0, 24 * 3600.0, 2 * 3600.0)
+    every = render_series(h, scen, ("8-14",), frames, progress=False)["8-14"]
+    window = render_series(h, scen, ("8-14",), frames, progress=False,
+                           stack_step_s=1e12)["8-14"]
+    assert window.radiance.shape[0] == 1 and every.radiance.shape[0] == len(frames)
+    assert (window.metrics["sun_zenith_deg"] < 90).any() and \
+        (window.metrics["sun_zenith_deg"] > 90).any()
+    pd.testing.assert_frame_equal(window.metrics, every.metrics, check_exact=True)
+    if x_m < 100.0:     # the ship at the edge: the window is clipped to the image
+        assert every.metrics["n_background"].iloc[0] > 0
+
+
+def test_window_radiance_refuses_options_that_mix_pixels(frigate_coarse):
+    from imaging.render import SensorOptions
+
+    h = synthetic_history(frigate_coarse, "summer", 3 * 3600.0)
+    scen = ImagingScenario("summer", _textured_port((40, 40)), wind_speed=4.0,
+                           placement=ShipPlacement(600.0, 600.0, 30.0), samples_per_pixel=4,
+                           **DALIAN)
+    r = scen.renderer(h)
+    with pytest.raises(InputError, match="sensor_options"):
+        r.window_radiance(None, h.at(0.0), scen.background.temperature_at(0.0), (0, 5, 0, 5),
+                          sensor_options=SensorOptions(psf=True))
