@@ -367,8 +367,11 @@ def _render_series(history, scenario, bands, times_s, keep_times_s, crop_px, pro
     leaves = {b: np.empty((n_stack, r1 - r0, c1 - c0), np.float32) for b in bands}
     frames = {b: {} for b in bands}
     mask = r.coverage > 0
-    w0, w1, w2, w3 = scr_window = background_window(mask)   # local_scr's, of every frame
-    scr_mask = mask[w0:w1, w2:w3]
+    # local_scr's window, the same in every frame (none without the ship in the image:
+    # local_scr then says so)
+    scr_window = background_window(mask) if mask.any() else None
+    scr_mask = None if scr_window is None else mask[scr_window[0]:scr_window[1],
+                                                    scr_window[2]:scr_window[3]]
     water = bg.class_map == 1
     rays = r.n_view_rays
     it = tqdm(enumerate(t), total=t.size, desc=f"{scenario.season} {'+'.join(bands)}",
@@ -390,7 +393,8 @@ def _render_series(history, scenario, bands, times_s, keep_times_s, crop_px, pro
             opts = scenario.sensor_options
             opts = opts.get(b) if isinstance(opts, dict) else opts
             kept = any(abs(tk - kt) < 1e-6 for kt in keep)
-            if stored[k] or kept or (opts is not None and (opts.psf or opts.netd_k is not None)):
+            if stored[k] or kept or scr_window is None or \
+                    (opts is not None and (opts.psf or opts.netd_k is not None)):
                 fr = r.render(cond, temp_f, temp_bg, temp_sea, sun, opts, tk)
                 m = local_scr(fr.radiance, mask)
             else:   # only the SCR's window of this frame is read: only it is rendered
