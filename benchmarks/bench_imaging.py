@@ -10,6 +10,11 @@
    (``EmbreeTracer``, measured in the same run).
 2. The full experiment: 24 h every 10 min x {3-5, 8-14} um x {summer, winter}
    (580 images of 334 x 334 pixels) with the synthetic stand-in temperatures, all products.
+3. A calendar's dense series: 72 hourly frames x {3-5, 8-14} um of the summer scene
+   (334 x 334 pixels), metrics only (frames neither stacked nor kept: each renders the local
+   SCR's window, ``SceneRenderer.window_radiance``), against the peer: the same frames
+   rendered whole (every frame stacked), measured in the same run; the two metrics tables
+   must be equal.
 
 Timings are wall clock on a shared 2-core machine (other agents run too): expect +-30 %.
 """
@@ -27,7 +32,8 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "src"))
 
 from imaging.background import build_port_background  # noqa: E402
-from imaging.experiment import ImagingScenario, run_experiment, sun_positions  # noqa: E402
+from imaging.experiment import (ImagingScenario, render_series, run_experiment,  # noqa: E402
+                                sun_positions)
 from imaging.render import SceneRenderer, conditions_from_atmosphere  # noqa: E402
 from imaging.scene import enu_direction  # noqa: E402
 from imaging.thermal_history import synthetic_history  # noqa: E402
@@ -138,6 +144,25 @@ def full_experiment():
     print(res.crossovers.to_string(index=False))
 
 
+def dense_series():
+    print("== a dense series: 72 hourly frames x 2 bands, summer (334^2 px), metrics only")
+    ship = frigate()
+    hist = synthetic_history(ship, "summer")
+    scen = ImagingScenario.default("summer")
+    frames = np.arange(0.0, 72 * 3600.0, 3600.0)
+    r = scen.renderer(hist)
+    bands = ("3-5", "8-14")
+    t_win, win = _best(lambda: render_series(hist, scen, bands, frames, crop_px=32,
+                                             progress=False, renderer=r, stack_step_s=1e12), 2)
+    t_all, every = _best(lambda: render_series(hist, scen, bands, frames, crop_px=32,
+                                               progress=False, renderer=r), 2)
+    same = all(win[b].metrics.equals(every[b].metrics) for b in bands)
+    n = len(frames) * len(bands)
+    print(f"windows {t_win:.2f} s ({t_win / n * 1e3:.1f} ms a frame and band) vs whole frames "
+          f"{t_all:.2f} s ({t_all / n * 1e3:.1f} ms); ratio {t_win / t_all:.2f}; metrics "
+          f"{'identical' if same else 'DIFFER'}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="256^2 image, no full experiment")
@@ -146,6 +171,7 @@ def main():
     dense_variant(256 if args.quick else 1024)
     if not args.quick:
         full_experiment()
+    dense_series()
 
 
 if __name__ == "__main__":
