@@ -393,8 +393,8 @@ def _render_series(history, scenario, bands, times_s, keep_times_s, crop_px, pro
             opts = scenario.sensor_options
             opts = opts.get(b) if isinstance(opts, dict) else opts
             kept = any(abs(tk - kt) < 1e-6 for kt in keep)
-            if stored[k] or kept or scr_window is None or \
-                    (opts is not None and (opts.psf or opts.netd_k is not None)):
+            if stored[k] or kept or scr_window is None or (opts is not None
+                                                            and opts.mixes_pixels):
                 fr = r.render(cond, temp_f, temp_bg, temp_sea, sun, opts, tk)
                 m = local_scr(fr.radiance, mask)
             else:   # only the SCR's window of this frame is read: only it is rendered

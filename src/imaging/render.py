@@ -108,6 +108,12 @@ class SensorOptions:
             require(self.radiance_range is not None, "sensor_options.radiance_range", None,
                     "must be given with bits", "e.g. radiance_range=(1.0, 12.0) [W m-2 sr-1]")
 
+    @property
+    def mixes_pixels(self) -> bool:
+        """Whether a pixel's result depends on other pixels (PSF blur, NETD noise drawn over
+        the image); quantisation does not."""
+        return self.psf or self.netd_k is not None
+
 
 @dataclass(frozen=True, eq=False)
 class Frame:
@@ -505,9 +511,7 @@ class SceneRenderer:
         if sun is None:
             sun = self.sun_geometry(c.sun_direction)
         planck = self._planck_table(band)
-        water = self.background.class_map == 1
-        if temp_sea is None:
-            temp_sea = float(temp_bg[water].mean()) if water.any() else float(temp_bg.mean())
+        temp_sea = self._sea_temperature(temp_bg, temp_sea)
         leave, ap, sun_bg = self._background_radiance(c, planck, temp_bg)
         smp_leave, smp_ap = self._ship_sample_radiance(c, sun, planck, temp_f, temp_sea)
         out_leave, out_ap, shadow = self._mix_pixels(c, sun, leave, ap, sun_bg, smp_leave,
@@ -536,7 +540,7 @@ class SceneRenderer:
         :meth:`render`)."""
         c = conditions
         opts = sensor_options or SensorOptions()
-        require(not opts.psf and opts.netd_k is None, "sensor_options", opts,
+        require(not opts.mixes_pixels, "sensor_options", opts,
                 "a window of a frame has no PSF and no NETD noise (they mix pixels)",
                 "render the whole frame (SceneRenderer.render)")
         r0, r1, c0, c1 = (int(v) for v in window)
@@ -547,9 +551,7 @@ class SceneRenderer:
         if sun is None:
             sun = self.sun_geometry(c.sun_direction)
         planck = self._planck_table(c.band)
-        if temp_sea is None:
-            water = self.background.class_map == 1
-            temp_sea = float(temp_bg[water].mean()) if water.any() else float(temp_bg.mean())
+        temp_sea = self._sea_temperature(temp_bg, temp_sea)
         rows, cols = slice(r0, r1), slice(c0, c1)
         # the background outside the window is not computed (NaN: never read)
         full = [np.full(self.shape, np.nan) for _ in range(3)]
@@ -560,6 +562,14 @@ class SceneRenderer:
         _, out_ap, _ = self._mix_pixels(c, sun, *full, smp_leave, smp_ap)
         radiance = out_ap.reshape(self.shape)[rows, cols] + c.path_radiance
         return self._detector(c, radiance, opts)[0].astype(np.float32)
+
+    def _sea_temperature(self, temp_bg, temp_sea: float | None) -> float:
+        """The sea temperature the hull sides see [K]: ``temp_sea``, or by default the mean
+        of the background's water pixels (of all pixels without water)."""
+        if temp_sea is not None:
+            return temp_sea
+        water = self.background.class_map == 1
+        return float(temp_bg[water].mean()) if water.any() else float(temp_bg.mean())
 
     def _checked_temperatures(self, face_temperature, background_temperature) -> tuple:
         """Face and background temperatures as float arrays of the right shapes [K]."""

