@@ -13,7 +13,8 @@ Measures, for the built-in frigate (~60 000 triangles at 0.5 m) on the Dalian su
   call behind trimesh's ``intersects_first`` — on the very same rays (regenerated batch by
   batch; only the ``run`` calls are timed), one thread and as many threads as CPUs;
 * the cost of evaluating every patch's ``f(t)`` per solver step (the solver calls them each
-  step of a ~10-day spin-up);
+  step of a ~10-day spin-up), and of the whole forcing a step asks for
+  (``ThermalModel.forcing``: those, the natural-convection law, filling and checks);
 * a rebuild with another environment reusing the tracer (``traced=``): the sensitivity-run
   path, nothing traced again.
 
@@ -196,6 +197,18 @@ def main():
     print(f"\nconditions: {len(cond)} patches, {len(fields)} f(t) per step, {n_faces} faces: "
           f"{per_step * 1e3:.2f} ms per solver step "
           f"({per_step / n_faces * 1e9:.1f} ns per face)")
+    # what a solver step asks for: every patch filled into the joined face arrays, the
+    # natural-convection law's parameters interpolated (and, at each new table time,
+    # evaluated at that time's film temperature), the joined arrays checked
+    from shipthermal.model import ThermalModel
+
+    model = ThermalModel(graph, cond)
+    t0 = time.perf_counter()
+    for t in steps:
+        model.forcing(t)
+    per_forcing = (time.perf_counter() - t0) / len(steps)
+    print(f"the solver's forcing: {per_forcing * 1e3:.2f} ms per step "
+          f"(ThermalModel.forcing: the f(t) above, the law's natural part, filling and checks)")
 
     # --- sensitivity rebuild: nothing traced again ---------------------------------------------
     windy = Environment.from_climate_day(day.perturbed(wind=1.0), ship_heading=90.0)
