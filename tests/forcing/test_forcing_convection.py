@@ -290,6 +290,11 @@ def test_models_per_part_with_their_roughness(boat):
     assert windward[:, sup].any() and (~windward[:, sup]).any()
     hull = ~deck & ~sup
     np.testing.assert_array_equal(_air_table(g)[:, hull], _air_table(f)[:, hull])
+    # (f's one model takes every air face as a view, g's three models their own columns:
+    # the equality above holds between those two ways of taking the columns)
+    assert [cols for _, cols in f.air_faces.convection.groups()] == [slice(None)]
+    cols = [c for _, c in g.air_faces.convection.groups()]
+    assert len(cols) == 3 and sorted(np.concatenate(cols)) == list(range(len(air)))
 
 
 def test_the_natural_law_between_table_times_is_each_patchs_own(boat):
