@@ -433,9 +433,10 @@ def planck_weighted_transmittance(model, band, view_zenith_deg: float, temp_K,
     if backend == "table":
         tab = tb.load_table()
         grid_t = tab.grid("planck_temp_K")
-        if named and float(t.min()) >= grid_t[0] and float(t.max()) <= grid_t[-1]:
+        if named:
             ratio = float(_ratio_std(name, band_name, st, "tau_planck300", view_zenith_deg))
-            return _tau_planck_spline(name, band_name, float(view_zenith_deg))(t) * ratio
+            if float(t.min()) >= grid_t[0] and float(t.max()) <= grid_t[-1]:
+                return _tau_planck_spline(name, band_name, float(view_zenith_deg))(t) * ratio
         w = _user_weights((tuple(resp.wavelength_um), tuple(resp.response), resp.name))
         tau = _geom("view", tab.grid("view"), tab.get(name, "spectral_transmittance"),
                     view_zenith_deg)
@@ -444,7 +445,6 @@ def planck_weighted_transmittance(model, band, view_zenith_deg: float, temp_K,
             f = np.exp(sb.bin_log_factors(name, "transmittance", *_state_key(name, st),
                                           view_zenith_deg))
             return (((b * tau * w) @ _bin_matrix()) @ f / (b @ w)).reshape(t.shape)
-        ratio = float(_ratio_std(name, band_name, st, "tau_planck300", view_zenith_deg))
         return ((b * tau) @ w / (b @ w)).reshape(t.shape) * ratio
     up = lb.upward(name, view_zenith_deg, st)
     lam = up["wavelength_um"]
