@@ -370,7 +370,11 @@ class Simulation:
         ``∂T_s/∂T_cell = s = 1 − G_eff/g`` on each side, so cells i and j couple by
         ``s_i 4σ R_ij T̄³ s_j`` (T̄³ the mean of the two faces' cubes keeps it symmetric). The
         losses ``4σ Σ_j R_ij T_i³`` are already in the diagonal. With this term Newton
-        converges quadratically instead of linearly in the exchange.
+        converges quadratically instead of linearly in the exchange. All of it pays: on the
+        frigate's day at 0.5 m (1.2 M exchange entries of the Jacobian), keeping only the
+        larger half of the entries (77 % of their sum) or a fifth (59 %) or none made the
+        time loop 21.6 → 23.3, 26.6 and 23.5 s (Newton passes a step 2.18 → 2.47, 2.78 and
+        2.96): the smaller matrix saves less than the extra passes cost.
         """
         ex = self.model.exchange
         g = self.graph
