@@ -5,7 +5,7 @@ and the wetted hull in sea water.
 Temperatures in K, speeds in m/s, lengths in m, coefficients h in W m-2 K-1.
 
 The functions are numpy array code, not compiled kernels: their cost is in the powers and
-roots, which numpy evaluates with SIMD (here AVX-512: ``cbrt`` 1.9 ns and ``x ** 0.8``
+roots, which numpy evaluates with SIMD (here AVX-512: ``cbrt`` 2-4 ns and ``x ** 0.8``
 5.5 ns an element) while a compiled loop calls the C library's scalar functions (21 ns each;
 the llvmlite wheels carry no SVML). :func:`h_exterior_air` fused into one numba kernel took
 1.3 - 1.6 s against numpy's 1.6 - 1.8 s for 144 x 40 288 faces on one thread (the frigate's
