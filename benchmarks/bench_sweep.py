@@ -1,6 +1,7 @@
 """Benchmark of a sweep on dask.distributed against the same cases run one by one.
 
     python benchmarks/bench_sweep.py [--cases 8] [--edge 3.0] [--workers N] [--thermal-only]
+                                     [--rounds 1]
 
 The sweep: the built-in patrol boat (56 m) at ``--edge`` m surface edges, summer design
 day, default solver settings (300 s steps, BDF2, spin-up to 0.01 K, 256 rays per face),
@@ -36,6 +37,11 @@ any scheduler:
    cases serially (``run_sweep(serial=True)`` on cases k, k + n, ...; start-up, imports and
    cached numba kernels included, as a worker pays them). serial wall / slowest process
    wall is the best any scheduler could do for these cases on this machine now.
+
+The dask / split ratio compares two runs minutes apart, and this machine's speed drifts by
+more than the ratio's last tenth within minutes: ``--rounds N`` (N > 1) runs dask and split
+N - 1 more times, alternating which goes first (dask, split, split, dask, dask, ...), prints
+each round's ratio and their median.
 """
 
 from __future__ import annotations
@@ -54,7 +60,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from shipthermal.app.sweep import (default_workers, load_sweep, local_cluster,  # noqa: E402
-                               run_sweep)
+                                   pin_workers, run_sweep)
 
 HEADINGS = (0, 45, 90, 135, 180, 225, 270, 315, 30, 60, 120, 150, 210, 240, 300, 330)
 WINDS = (-1.0, 1.0)
@@ -93,24 +99,27 @@ def machine_ceiling(n: int) -> float:
 
 def run_part(path: str, out: str, part: int, parts: int) -> None:
     """Run cases ``part, part + parts, ...`` of the sweep at ``path`` serially into ``out``
-    and print the wall time [s] (the ``split`` run; a process of its own)."""
+    and print the clock when done [s since the epoch] (the ``split`` run; a process of its
+    own)."""
     import dataclasses
 
-    t0 = time.perf_counter()
     spec = load_sweep(path)
     spec = dataclasses.replace(spec, cases=spec.cases[part::parts])
     run_sweep(spec, out, serial=True, progress=False)
-    print(time.perf_counter() - t0)
+    print(time.time())
 
 
 def split_walls(path: str, tmp: str, parts: int) -> list:
-    """Wall times of ``parts`` concurrent plain processes sharing the cases (see run_part)."""
+    """Wall times of ``parts`` concurrent plain processes sharing the cases (see run_part),
+    each from its start (before the interpreter starts and imports what it needs: a dask
+    worker's start-up is in the sweep's wall time too) to its last case's table written."""
     import subprocess
 
+    start = time.time()
     procs = [subprocess.Popen([sys.executable, __file__, "--part", f"{k}/{parts}", path,
                                os.path.join(tmp, f"split{k}")], stdout=subprocess.PIPE,
                               text=True) for k in range(parts)]
-    return [float(p.communicate()[0].split()[-1]) for p in procs]
+    return [float(p.communicate()[0].split()[-1]) - start for p in procs]
 
 
 def process_cpu() -> float:
@@ -185,6 +194,8 @@ def main() -> None:
     ap.add_argument("--workers", type=int, default=None,
                     help="LocalCluster workers (default: the usable cores, as a sweep does)")
     ap.add_argument("--thermal-only", action="store_true")
+    ap.add_argument("--rounds", type=int, default=1,
+                    help="dask and split runs, alternating which goes first (see above)")
     ap.add_argument("--part", nargs=3, metavar=("K/N", "SWEEP", "OUT"), help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.part:
@@ -218,6 +229,7 @@ def main() -> None:
         # the sweep's own LocalCluster, started here so that the workers' whole CPU time
         # (imports, the port background, the cases, dask itself) can be read before it stops
         with local_cluster(workers) as cluster, Client(cluster) as client:
+            pin_workers(client)              # as a sweep does on its own LocalCluster
             startup = time.perf_counter() - t0
             par = run_sweep(spec, os.path.join(tmp, "dask"),
                             scheduler=cluster.scheduler_address, progress=False,
@@ -271,6 +283,37 @@ def main() -> None:
         print(f"CPU-bound projection (a free core per worker): serial {c_ser:.1f} s CPU / "
               f"(start {startup:.1f} s + busiest worker {max(busy.values()):.1f} s CPU + "
               f"this process {c_par:.1f} s CPU) = {projected:.2f}x")
+        if args.rounds > 1:
+            ratios = [max(walls) / t_par] + more_rounds(spec, path, tmp, workers, args.rounds)
+            print(f"dask / split over {len(ratios)} rounds: "
+                  + ", ".join(f"{r:.2f}" for r in ratios)
+                  + f"; median {float(np.median(ratios)):.2f}")
+
+
+def dask_wall(spec, out: str, workers: int) -> float:
+    """Wall time of the sweep ``spec`` on its own LocalCluster of ``workers`` (start-up
+    included) [s]."""
+    t0 = time.perf_counter()
+    run_sweep(spec, out, n_workers=workers, progress=False)
+    return time.perf_counter() - t0
+
+
+def more_rounds(spec, path: str, tmp: str, workers: int, rounds: int) -> list:
+    """dask / split of rounds 2 … ``rounds``, split first in the even rounds (the first
+    round, run above, took dask first)."""
+    ratios = []
+    for r in range(1, rounds):
+        first_split = r % 2 == 1
+        if first_split:
+            split = max(split_walls(path, os.path.join(tmp, f"r{r}"), workers))
+        dask = dask_wall(spec, os.path.join(tmp, f"r{r}", "dask"), workers)
+        if not first_split:
+            split = max(split_walls(path, os.path.join(tmp, f"r{r}"), workers))
+        ratios.append(split / dask)
+        print(f"round {r + 1} ({'split' if first_split else 'dask'} first; {load()}): "
+              f"dask {dask:.1f} s, split {split:.1f} s (slowest process): "
+              f"dask / split {split / dask:.2f}", flush=True)
+    return ratios
 
 
 if __name__ == "__main__":

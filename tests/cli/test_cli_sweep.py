@@ -381,14 +381,26 @@ def test_local_cluster_workers_start_pinned_with_adaptive_malloc():
     trim threshold dask's nanny sets by default (it turned every large temporary array
     into page faults) and with one malloc arena (the task thread's own arena faulted its
     arrays in again and again), and without the profiler; the environment of this process is left
-    as it was (dask's nanny sets its pre-spawn variables in it)."""
+    as it was (dask's nanny sets its pre-spawn variables in it). ``pin_workers`` then holds
+    each worker to a core of its own."""
     from dask.distributed import Client
 
-    from shipthermal.app.sweep import local_cluster
+    from shipthermal.app.sweep import local_cluster, pin_workers
 
     here = dict(os.environ)
     with local_cluster(2, threads=1) as cluster, Client(cluster) as c:
         found = list(c.run(_worker_environment).values())
+        # each worker on a core of its own when the workers fill the cores, else left to
+        # the system
+        cores = os.sched_getaffinity(0)
+        pinned = pin_workers(c)
+        held = [frozenset(a) for a in c.run(os.sched_getaffinity, 0).values()]
+    assert pinned == (len(cores) == 2)
+    if pinned:
+        assert all(len(a) == 1 for a in held) and len(set(held)) == 2
+        assert set().union(*held) <= cores
+    else:
+        assert held == [frozenset(cores)] * 2
     # ... while this process keeps its own environment (numba refuses to compile once its
     # thread count and NUMBA_NUM_THREADS disagree; later child processes inherit it)
     assert dict(os.environ) == here
