@@ -430,8 +430,8 @@ def pin_workers(client) -> bool:
     boat at 3 m (thermal + imaging, 8 cases on two workers, each worker's first case left
     out): 4.29 - 4.70 s a case pinned, 4.26 - 5.14 s not, with 75 - 204 involuntary
     context switches a case against 295 - 478; ``benchmarks/bench_sweep.py``: a case next
-    to another took 1.03 - 1.05x its time alone pinned (two runs), 1.30 - 1.31x in two of
-    three runs unpinned. A worker the nanny restarts runs unpinned. Fewer workers than
+    to another took 0.98 - 1.05x its time alone pinned (three runs), 1.30 - 1.31x in two
+    of three runs unpinned. A worker the nanny restarts runs unpinned. Fewer workers than
     cores (``--workers``, e.g. on a host other jobs keep busy) are left to the system, which
     moves them off busy cores.
     """
