@@ -363,14 +363,20 @@ def _read_cases(cases_dir: Path, spec: SweepSpec) -> dict:
     return done
 
 
+def _allowed_cores() -> list[int] | None:
+    """The cores this process may run on (its CPU affinity, not the machine's count), or
+    None where the system does not say (not on Linux)."""
+    try:
+        return sorted(os.sched_getaffinity(0))
+    except AttributeError:
+        return None
+
+
 def default_workers(n_cases: int) -> int:
     """LocalCluster workers when none are asked for: the cores this process may run on
     (its CPU affinity, not the machine's count), at most one per case."""
-    try:
-        cores = len(os.sched_getaffinity(0))
-    except AttributeError:                      # not on Linux
-        cores = os.cpu_count() or 1
-    return max(1, min(cores, n_cases))
+    cores = _allowed_cores()
+    return max(1, min(len(cores) if cores is not None else (os.cpu_count() or 1), n_cases))
 
 
 def local_cluster(n_workers: int, threads: int = CASE_THREADS):
@@ -435,12 +441,9 @@ def pin_workers(client) -> bool:
     cores (``--workers``, e.g. on a host other jobs keep busy) are left to the system, which
     moves them off busy cores.
     """
-    try:
-        cores = sorted(os.sched_getaffinity(0))
-    except AttributeError:                      # not on Linux
-        return False
+    cores = _allowed_cores()
     workers = sorted(client.scheduler_info().get("workers", {}))
-    if len(workers) < 2 or len(workers) != len(cores):
+    if cores is None or len(workers) < 2 or len(workers) != len(cores):
         return False
     for core, w in zip(cores, workers):
         client.run(os.sched_setaffinity, 0, {core}, workers=[w])
